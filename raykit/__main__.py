@@ -1,0 +1,5 @@
+import sys
+
+from raykit.cli import main
+
+sys.exit(main())

@@ -1,0 +1,118 @@
+"""Billboards: flat parallelograms with a colour or an image on them, seen from both sides.
+
+Geometry. With the corners of the scene file and the edges
+
+    a = upper_right - upper_left,   b = lower_left - upper_left,
+
+the billboard is the set of points upper_left + alpha·a + beta·b with alpha, beta in [0, 1]
+(edges included). It lies in the plane through upper_left with normal n = a × b, so a ray meets
+it where it meets that plane (:func:`raykit.planes.hit_plane`), if the hit point's (alpha, beta)
+fall in the unit square.
+
+(alpha, beta) of a point q = p - upper_left in the plane come from the dual vectors of a and b,
+
+    alpha = q·(b × n) / |n|²,   beta = q·(n × a) / |n|²,
+
+which is q written in the basis (a, b): (b × n)·a = |n|², (b × n)·b = 0, and likewise for beta.
+
+Texture lookup (nearest texel). For an image W texels wide and H high, with image row 0 at the
+top (:mod:`raykit.textures`), the texel at (alpha, beta) is
+
+    column = min(floor(alpha·W), W - 1),   row = min(floor(beta·H), H - 1),
+
+so the upper-left texel sits at the upper_left corner whichever side the billboard is seen from
+(from behind, the image is seen mirrored). A texel with alpha-channel < 128 is a hole: the ray
+does not hit the billboard there and goes on to whatever lies behind.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+from raykit.planes import hit_plane, hit_points_on_plane
+from raykit.rays import MISS
+from raykit.textures import OPAQUE_FROM, Texture
+
+
+@dataclass(frozen=True)
+class Billboard:
+    """A parallelogram from three corners ``(3,)``, with a flat ``color (3,)`` or a ``texture``."""
+
+    upper_left: np.ndarray
+    lower_left: np.ndarray
+    upper_right: np.ndarray
+    color: np.ndarray | None = None
+    texture: Texture | None = None
+    name: str | None = None
+
+    @cached_property
+    def a(self) -> np.ndarray:
+        """Edge upper_left -> upper_right, ``(3,)``: the direction of alpha (image columns)."""
+        return np.asarray(self.upper_right, float) - np.asarray(self.upper_left, float)
+
+    @cached_property
+    def b(self) -> np.ndarray:
+        """Edge upper_left -> lower_left, ``(3,)``: the direction of beta (image rows)."""
+        return np.asarray(self.lower_left, float) - np.asarray(self.upper_left, float)
+
+    @cached_property
+    def n(self) -> np.ndarray:
+        """Normal a × b, ``(3,)`` (not unit length)."""
+        return np.cross(self.a, self.b)
+
+    @cached_property
+    def dual_axes(self) -> tuple[np.ndarray, np.ndarray]:
+        """The dual vectors ((b × n)/|n|², (n × a)/|n|²) that turn a point into (alpha, beta)."""
+        n_squared = self.n @ self.n
+        return np.cross(self.b, self.n) / n_squared, np.cross(self.n, self.a) / n_squared
+
+
+def is_degenerate(a: np.ndarray, b: np.ndarray) -> bool:
+    """True when edges a and b ``(3,)`` span no parallelogram (zero or parallel)."""
+    return bool(np.linalg.norm(np.cross(a, b)) <= 1e-12 * np.linalg.norm(a) * np.linalg.norm(b))
+
+
+def hit_billboard(
+    origins: np.ndarray, directions: np.ndarray, billboard: Billboard
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Where rays ``(N, 3)`` meet the billboard's parallelogram, ignoring its texture.
+
+    Returns ``t (N,)`` (``MISS`` outside the parallelogram) and the hit's ``alpha (N,)``,
+    ``beta (N,)`` (NaN where the plane is missed).
+    """
+    corner = np.asarray(billboard.upper_left, float)
+    t = hit_plane(origins, directions, corner, billboard.n)
+    q = hit_points_on_plane(origins, directions, t, corner)
+    alpha_axis, beta_axis = billboard.dual_axes
+    alpha = q @ alpha_axis
+    beta = q @ beta_axis
+    with np.errstate(invalid="ignore"):
+        inside = (alpha >= 0) & (alpha <= 1) & (beta >= 0) & (beta <= 1)
+    return np.where(inside, t, MISS), alpha, beta
+
+
+def texel_indices(
+    alpha: np.ndarray, beta: np.ndarray, width: int, height: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """Nearest-texel (row, column) ``(N,)`` ints for (alpha, beta) in [0, 1]²."""
+    column = np.minimum(np.floor(alpha * width), width - 1).astype(np.intp)
+    row = np.minimum(np.floor(beta * height), height - 1).astype(np.intp)
+    return row, column
+
+
+def billboard_colors(
+    billboard: Billboard, alpha: np.ndarray, beta: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Colour ``(N, 3)`` in [0, 1] and opacity ``(N,)`` bool at points (alpha, beta) inside."""
+    if len(alpha) == 0:  # no ray reached it: leave the texture undecoded
+        return np.empty((0, 3)), np.empty(0, dtype=bool)
+    if billboard.texture is None:
+        colors = np.broadcast_to(np.asarray(billboard.color, float), (len(alpha), 3))
+        return colors, np.ones(len(alpha), dtype=bool)
+    texels = billboard.texture.rgba
+    row, column = texel_indices(alpha, beta, texels.shape[1], texels.shape[0])
+    rgba = texels[row, column]
+    return rgba[:, :3] / 255.0, rgba[:, 3] >= OPAQUE_FROM

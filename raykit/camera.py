@@ -1,0 +1,138 @@
+"""The 3D camera: the u, v, w frame, the image plane, and one ray per pixel sample.
+
+Conventions (owned here; every other 3D module refers to this page)
+-------------------------------------------------------------------
+* Frame: w = normalize(eye - lookat) points *backwards*, from what we look at to the eye;
+  u = normalize(up × w) points to the right of the image; v = w × u points up the image.
+  (u, v, w) is right-handed and orthonormal; ``up`` need only not be parallel to w.
+* Image plane: it passes through lookat, at distance d = |lookat - eye| from the eye, and is
+  Hp = 2·d·tan(fov_angle / 2) high and Wp = Hp·width / height wide. ``fov_angle`` is the
+  *vertical* field of view, in degrees.
+* Pixels: row r counts from the *top* of the image (row 0 is the top row, as in the PNG and in
+  numpy's ``image[r, c]``), column c from the left. A point inside pixel (r, c) has continuous
+  image coordinates x = c + a, y = r + b with the sample offset (a, b) in [0, 1)²; the pixel
+  centre is (a, b) = (0.5, 0.5). The image-plane point is
+
+      s = -Wp/2 + x·Wp/width,   t = Hp/2 - y·Hp/height,   P = eye - d·w + s·u + t·v.
+
+* Perspective: origin e = eye, direction P - eye = -d·w + s·u + t·v (formed without subtracting
+  eye, so a camera at 1e6 loses no digits), scaled to unit length so that the ray parameter is
+  the distance from the eye.
+* Orthographic: origin eye + s·u + t·v, direction -w: parallel rays that frame the plane
+  through lookat exactly as the perspective camera does.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+from raykit.rays import normalize
+
+PROJECTIONS = ("perspective", "orthographic")
+
+
+class DegenerateFrameError(ValueError):
+    """No camera frame exists; ``culprit`` names the input to change ("lookat" or "up")."""
+
+    def __init__(self, culprit: str, problem: str) -> None:
+        self.culprit = culprit
+        super().__init__(problem)
+
+
+@dataclass(frozen=True)
+class Camera:
+    """Where the eye is, what it looks at, and the image it takes (see the module conventions)."""
+
+    eye: np.ndarray
+    lookat: np.ndarray
+    up: np.ndarray
+    fov_angle: float
+    width: int
+    height: int
+    projection: str = "perspective"
+
+    @cached_property
+    def frame(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The orthonormal camera frame (u, v, w), each ``(3,)``."""
+        return camera_frame(self.eye, self.lookat, self.up)
+
+    @property
+    def d(self) -> float:
+        """Distance from the eye to the image plane, |lookat - eye|."""
+        return float(np.linalg.norm(np.asarray(self.lookat) - np.asarray(self.eye)))
+
+    @property
+    def plane_size(self) -> tuple[float, float]:
+        """(Wp, Hp): width and height of the image plane, in scene units."""
+        Hp = 2.0 * self.d * math.tan(math.radians(self.fov_angle) / 2.0)
+        return Hp * self.width / self.height, Hp
+
+
+def camera_frame(
+    eye: np.ndarray, lookat: np.ndarray, up: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The frame (u, v, w) of the conventions above; :class:`DegenerateFrameError` if none exists.
+
+    Raises when eye == lookat (no view direction) or when up is zero or parallel to w.
+    """
+    eye, lookat, up = (np.asarray(x, dtype=float) for x in (eye, lookat, up))
+    backwards = eye - lookat
+    if not np.any(backwards):
+        raise DegenerateFrameError(
+            "lookat", "is the same point as eye, so there is no view direction"
+        )
+    w = normalize(backwards)
+    if not np.any(up):
+        raise DegenerateFrameError("up", "is the zero vector")
+    up_cross_w = np.cross(up, w)
+    if np.linalg.norm(up_cross_w) <= 1e-12 * np.linalg.norm(up):
+        raise DegenerateFrameError(
+            "up", "is parallel to the view direction, so it fixes no image rotation"
+        )
+    u = normalize(up_cross_w)
+    v = np.cross(w, u)
+    return u, v, w
+
+
+def sample_offsets(samples: int) -> np.ndarray:
+    """The n x n sample offsets (a, b) inside a pixel, ``(n*n, 2)``: a regular grid of sub-pixel
+    centres, so n = 1 gives the pixel centre (0.5, 0.5) and odd n always includes it."""
+    centres = (np.arange(samples) + 0.5) / samples
+    a, b = np.meshgrid(centres, centres, indexing="xy")
+    return np.column_stack([a.ravel(), b.ravel()])
+
+
+def rays_through(camera: Camera, x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Rays through continuous image points (x along columns, y down rows), ``(N,)`` each.
+
+    Returns ``origins (N, 3)`` and unit ``directions (N, 3)``. Pixel (r, c) sampled at offset
+    (a, b) is x = c + a, y = r + b.
+    """
+    u, v, w = camera.frame
+    Wp, Hp = camera.plane_size
+    s = -Wp / 2 + np.asarray(x, dtype=float) * (Wp / camera.width)
+    t = Hp / 2 - np.asarray(y, dtype=float) * (Hp / camera.height)
+    in_plane = s[:, None] * u + t[:, None] * v  # P - (eye - d·w)
+    eye = np.asarray(camera.eye, dtype=float)
+    if camera.projection == "orthographic":
+        origins = eye + in_plane
+        directions = np.broadcast_to(-w, origins.shape).copy()
+    else:
+        origins = np.broadcast_to(eye, in_plane.shape).copy()
+        directions = normalize(in_plane - camera.d * w)
+    return origins, directions
+
+
+def pixel_points(
+    width: int, rows: range, a: float = 0.5, b: float = 0.5
+) -> tuple[np.ndarray, np.ndarray]:
+    """Continuous image coordinates (x, y) ``(len(rows)*width,)`` of one sample in every pixel
+    of the given rows, in row-major order (the order of ``image[rows].reshape(-1, 3)``)."""
+    cols = np.arange(width, dtype=float)
+    x = np.tile(cols + a, len(rows))
+    y = np.repeat(np.asarray(rows, dtype=float) + b, width)
+    return x, y

@@ -1,0 +1,50 @@
+"""Images out: quantising float colours to 8 bits and writing files without half-written results.
+
+Quantising follows the scene format: value = floor(clamp(c, 0, 1)·255 + 0.5), so halves round up
+(0.3 -> 77), unlike numpy's round-half-to-even.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+from PIL import Image
+
+
+def quantize(rgb: np.ndarray) -> np.ndarray:
+    """Float colours ``(..., 3)`` in [0, 1] to uint8, halves rounding up."""
+    return np.floor(np.clip(rgb, 0.0, 1.0) * 255.0 + 0.5).astype(np.uint8)
+
+
+def save_image(pixels: np.ndarray, path: str | Path) -> None:
+    """Write ``pixels`` (float in [0, 1] or uint8, ``(H, W, 3)`` or ``(H, W)``) to ``path``.
+
+    The format follows the file's suffix (``.png`` and anything else Pillow writes). The image is
+    written to a temporary file beside ``path`` and renamed over it, so ``path`` is either the
+    whole new image or untouched. Raises ``OSError`` or ``ValueError`` (unknown suffix).
+    """
+    path = Path(path)
+    image_format = Image.registered_extensions().get(path.suffix.lower())
+    if image_format is None:
+        raise ValueError(f"{path}: unknown image suffix {path.suffix!r}; use .png")
+    if pixels.dtype != np.uint8:
+        pixels = quantize(pixels)
+    folder = path.parent if str(path.parent) else Path(".")
+    handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=folder)
+    try:
+        with os.fdopen(handle, "wb") as stream:
+            Image.fromarray(pixels).save(stream, format=image_format)
+        os.chmod(temporary, 0o666 & ~_umask())  # mkstemp makes it private; give it the usual mode
+        os.replace(temporary, path)
+    except BaseException:
+        Path(temporary).unlink(missing_ok=True)
+        raise
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask

@@ -1,0 +1,52 @@
+"""Rays: p(t) = o + t·d.
+
+Conventions for every intersection routine in raykit (2D and 3D alike)
+----------------------------------------------------------------------
+* A bundle of N rays is two float64 arrays, ``origins (N, k)`` and ``directions (N, k)``,
+  with k = 3 in the 3D renderer and k = 2 in the line-scan world. The math is written once,
+  over the last axis, and serves both.
+* Directions need not be unit length; the cameras hand out unit directions, so there the
+  ray parameter t is also the distance from the ray's origin.
+* An intersection routine returns ``t (N,)``: the ray parameter of the nearest hit with
+  t > 0, or ``MISS`` (+inf) where there is none. A hit at exactly t = 0 is a miss (a ray does not
+  hit the surface it starts on), and so is a ray that runs parallel to a plane.
+* Using +inf for a miss lets "nearest hit wins" be a plain ``<`` comparison and ``np.minimum``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+MISS = np.inf
+
+
+def normalize(vectors: np.ndarray) -> np.ndarray:
+    """Scale vectors ``(..., k)`` to unit length along the last axis (zero vectors give NaN)."""
+    vectors = np.asarray(vectors, dtype=float)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return vectors / np.linalg.norm(vectors, axis=-1, keepdims=True)
+
+
+def dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Row-wise dot product over the last axis: ``(..., k) · (..., k) -> (...)``."""
+    return np.einsum("...i,...i->...", a, b)
+
+
+def point_at(origins: np.ndarray, directions: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """The points p(t) = o + t·d, ``(N, k)``; rows where t is not finite give NaN."""
+    t = np.asarray(t, dtype=float)
+    finite = np.isfinite(t)
+    points = origins + np.where(finite, t, 0.0)[..., None] * directions
+    points[~finite] = np.nan
+    return points
+
+
+def nearest_positive(t0: np.ndarray, t1: np.ndarray) -> np.ndarray:
+    """Per ray, the smaller of two candidate parameters that is > 0, else ``MISS``.
+
+    ``t0`` and ``t1`` ``(N,)`` may hold NaN or ±inf for "no candidate".
+    """
+    t_near = np.fmin(t0, t1)  # fmin/fmax ignore a NaN partner
+    t_far = np.fmax(t0, t1)
+    with np.errstate(invalid="ignore"):
+        return np.where(t_near > 0, t_near, np.where(t_far > 0, t_far, MISS))

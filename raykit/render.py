@@ -1,0 +1,100 @@
+"""The renderer: for every pixel, the nearest object its ray hits, and that object's colour.
+
+This is the lecture's loop, "for each pixel: make its ray, find the nearest hit, copy the
+colour of the object at that point", run for all pixels of a band of rows at once (numpy arrays
+instead of a per-pixel Python loop). Conventions: pixels and rays per :mod:`raykit.camera`,
+object indices per :mod:`raykit.scene`, colours are linear floats in [0, 1] with no lighting
+and no gamma.
+
+With n x n samples per pixel (:func:`raykit.camera.sample_offsets`), the pixel's colour is the
+mean of its samples' colours, taken before quantising to 8 bits (:mod:`raykit.images`). The
+``object_index`` and ``t`` images always describe the ray through the pixel *centre*.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from raykit.billboards import billboard_colors, hit_billboard
+from raykit.camera import pixel_points, rays_through, sample_offsets
+from raykit.rays import MISS
+from raykit.scene import Scene
+from raykit.spheres import hit_sphere
+
+RAYS_PER_BAND = 1 << 16  # bounds memory for huge images; big enough that numpy's overhead is small
+
+
+@dataclass(frozen=True)
+class Hits:
+    """Nearest hits of N rays: ``index (N,)`` int (-1 none), ``t (N,)`` (MISS none),
+    ``color (N, 3)`` (the background where nothing was hit)."""
+
+    index: np.ndarray
+    t: np.ndarray
+    color: np.ndarray
+
+
+@dataclass(frozen=True)
+class Render:
+    """A rendered image: ``rgb (H, W, 3)`` float in [0, 1]; for the ray through each pixel
+    centre, ``object_index (H, W)`` int (-1 for the background) and hit distance ``t (H, W)``
+    (inf for the background)."""
+
+    rgb: np.ndarray
+    object_index: np.ndarray
+    t: np.ndarray
+
+
+def cast(scene: Scene, origins: np.ndarray, directions: np.ndarray) -> Hits:
+    """The nearest hit of each ray ``(N, 3)`` over all objects of the scene."""
+    n = len(origins)
+    t_near = np.full(n, MISS)
+    index = np.full(n, -1)
+    color = np.broadcast_to(scene.background, (n, 3)).copy()
+
+    for i, sphere in enumerate(scene.spheres):
+        t = hit_sphere(origins, directions, sphere.center, sphere.radius)
+        nearer = t < t_near  # strict: on a tie the object listed first keeps the pixel
+        t_near[nearer], index[nearer], color[nearer] = t[nearer], i, sphere.color
+
+    for j, billboard in enumerate(scene.billboards, start=len(scene.spheres)):
+        t, alpha, beta = hit_billboard(origins, directions, billboard)
+        nearer = np.flatnonzero(t < t_near)
+        texel_color, opaque = billboard_colors(billboard, alpha[nearer], beta[nearer])
+        nearer, texel_color = nearer[opaque], texel_color[opaque]  # holes let the ray go on
+        t_near[nearer], index[nearer], color[nearer] = t[nearer], j, texel_color
+
+    return Hits(index, t_near, color)
+
+
+def render(scene: Scene, samples: int = 1) -> Render:
+    """Render ``scene`` with ``samples`` x ``samples`` rays per pixel."""
+    if samples < 1:
+        raise ValueError(f"samples must be >= 1, got {samples}")
+    camera = scene.camera
+    height, width = camera.height, camera.width
+    rgb = np.zeros((height, width, 3))
+    object_index = np.empty((height, width), dtype=np.int64)
+    t_image = np.empty((height, width))
+    offsets = sample_offsets(samples)
+    centre_sample = samples // 2 * (samples + 1) if samples % 2 else None  # (0.5, 0.5)
+
+    rows_per_band = max(1, RAYS_PER_BAND // width)
+    for top in range(0, height, rows_per_band):
+        rows = range(top, min(top + rows_per_band, height))
+        band = slice(rows.start, rows.stop)
+        for k, (a, b) in enumerate(offsets):
+            hits = cast(scene, *rays_through(camera, *pixel_points(width, rows, a, b)))
+            rgb[band] += hits.color.reshape(len(rows), width, 3)
+            if k == centre_sample:
+                object_index[band] = hits.index.reshape(len(rows), width)
+                t_image[band] = hits.t.reshape(len(rows), width)
+        if centre_sample is None:  # even n: no sample sits at the centre, so cast one there
+            hits = cast(scene, *rays_through(camera, *pixel_points(width, rows)))
+            object_index[band] = hits.index.reshape(len(rows), width)
+            t_image[band] = hits.t.reshape(len(rows), width)
+
+    rgb /= len(offsets)
+    return Render(rgb, object_index, t_image)

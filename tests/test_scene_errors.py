@@ -1,0 +1,307 @@
+"""One test per class of bad input: a one-line SceneError naming file and field, exit status 2
+from the CLI with no traceback, and no output file. The same cases pin down where the JSON
+Schema agrees with the loader (structural rules) and where only the loader can tell (geometry,
+texture files)."""
+
+import json
+import struct
+import subprocess
+import sys
+import zlib
+
+import jsonschema
+import pytest
+
+from conftest import REPO, scene_dict
+from raykit.cli import main
+from raykit.errors import SceneError
+from raykit.scene import load_scene
+
+SCHEMA = json.loads((REPO / "raykit/schemas/scene-v1.schema.json").read_text())
+
+
+def _set(path: str, value):
+    """A mutation that sets the field at a dotted path (list indices as numbers)."""
+
+    def mutate(scene):
+        *parents, last = [int(k) if k.isdigit() else k for k in path.split(".")]
+        node = scene
+        for key in parents:
+            node = node[key]
+        node[last] = value
+
+    return mutate
+
+
+def _delete(path: str):
+    def mutate(scene):
+        *parents, last = path.split(".")
+        node = scene
+        for key in parents:
+            node = node[int(key) if key.isdigit() else key]
+        del node[last]
+
+    return mutate
+
+
+BOARD = {"upper_left": [-1, 1, 0], "lower_left": [-1, -1, 0], "upper_right": [1, 1, 0]}
+
+# (id, mutation, field named in the message, words in the message, the schema rejects it too)
+CASES = [
+    ("missing field", _delete("camera.eye"), "camera.eye", "required field is missing", True),
+    (
+        "mistyped field",
+        _set("spheres.0.raduis", 1),
+        "spheres[0].raduis",
+        'did you mean "radius"',
+        True,
+    ),
+    ("unknown top-level field", _set("sphere", []), "sphere", 'did you mean "spheres"', True),
+    ("wrong type", _set("camera.fov_angle", "wide"), "camera.fov_angle", "must be a number", True),
+    ("wrong type: not a list", _set("spheres", {}), "spheres", "must be a list", True),
+    (
+        "wrong type: bool as number",
+        _set("spheres.0.radius", True),
+        "spheres[0].radius",
+        "must be a number",
+        True,
+    ),
+    ("wrong length", _set("camera.eye", [0, 0]), "camera.eye", "must have 3 numbers, got 2", True),
+    (
+        "NaN",
+        _set("spheres.0.center", [0, float("nan"), 0]),
+        "spheres[0].center[1]",
+        "finite number, got NaN",
+        False,
+    ),
+    (
+        "infinity",
+        _set("camera.lookat", [0, 0, float("-inf")]),
+        "camera.lookat[2]",
+        "finite number, got -Infinity",
+        False,
+    ),
+    ("radius zero", _set("spheres.0.radius", 0), "spheres[0].radius", "must be > 0, got 0", True),
+    (
+        "radius negative",
+        _set("spheres.0.radius", -1),
+        "spheres[0].radius",
+        "must be > 0, got -1",
+        True,
+    ),
+    ("fov_angle zero", _set("camera.fov_angle", 0), "camera.fov_angle", "must be > 0", True),
+    ("fov_angle 180", _set("camera.fov_angle", 180), "camera.fov_angle", "must be < 180", True),
+    ("width zero", _set("camera.width", 0), "camera.width", "must be >= 1", True),
+    (
+        "height fractional",
+        _set("camera.height", 10.5),
+        "camera.height",
+        "must be a whole number",
+        True,
+    ),
+    ("width absurd", _set("camera.width", 20000), "camera.width", "must be <= 16384", True),
+    (
+        "projection unknown",
+        _set("camera.projection", "fisheye"),
+        "camera.projection",
+        '"perspective" or "orthographic"',
+        True,
+    ),
+    (
+        "colour out of range",
+        _set("spheres.0.color", [1.5, 0, 0]),
+        "spheres[0].color[0]",
+        "must be <= 1",
+        True,
+    ),
+    (
+        "eye equals lookat",
+        _set("camera.lookat", [0, 0, 5]),
+        "camera.lookat",
+        "same point as eye",
+        False,
+    ),
+    (
+        "up parallel",
+        _set("camera.up", [0, 0, -2]),
+        "camera.up",
+        "parallel to the view direction",
+        False,
+    ),
+    ("up zero", _set("camera.up", [0, 0, 0]), "camera.up", "zero vector", False),
+    (
+        "corners collinear",
+        _set("billboards", [{**BOARD, "upper_right": [-1, 3, 0], "color": [1, 1, 1]}]),
+        "billboards[0]",
+        "collinear",
+        False,
+    ),
+    (
+        "corners coincident",
+        _set("billboards", [{**BOARD, "upper_right": [-1, 1, 0], "color": [1, 1, 1]}]),
+        "billboards[0].upper_right",
+        "coincides with upper_left",
+        False,
+    ),
+    (
+        "both image and color",
+        _set("billboards", [{**BOARD, "color": [1, 1, 1], "image": "x.png"}]),
+        "billboards[0]",
+        "exactly one",
+        True,
+    ),
+    (
+        "neither image nor color",
+        _set("billboards", [dict(BOARD)]),
+        "billboards[0]",
+        "got neither",
+        True,
+    ),
+    (
+        "texture missing",
+        _set("billboards", [{**BOARD, "image": "nope.png"}]),
+        "billboards[0].image",
+        "not found",
+        False,
+    ),
+    (
+        "texture is a folder",
+        _set("billboards", [{**BOARD, "image": "."}]),
+        "billboards[0].image",
+        "folder",
+        False,
+    ),
+    (
+        "texture not an image",
+        _set("billboards", [{**BOARD, "image": "notes.txt"}]),
+        "billboards[0].image",
+        "not an image",
+        False,
+    ),
+    (
+        "texture absurdly large",
+        _set("billboards", [{**BOARD, "image": "bomb.png"}]),
+        "billboards[0].image",
+        "too large to be sane",
+        False,
+    ),
+]
+
+
+def _png_header_only(width: int, height: int) -> bytes:
+    """A PNG that claims a size in its header, with no pixel data: enough to test the guard."""
+
+    def chunk(kind: bytes, data: bytes) -> bytes:
+        crc = zlib.crc32(kind + data) & 0xFFFFFFFF
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", crc)
+
+    ihdr = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
+    return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + chunk(b"IEND", b"")
+
+
+@pytest.fixture
+def folder(tmp_path):
+    (tmp_path / "notes.txt").write_text("not an image\n")
+    (tmp_path / "bomb.png").write_bytes(_png_header_only(100_000, 100_000))
+    return tmp_path
+
+
+def _write(folder, scene) -> str:
+    path = folder / "scene.json"
+    path.write_text(json.dumps(scene))  # json writes NaN and Infinity as Python's json reads them
+    return str(path)
+
+
+@pytest.mark.parametrize(
+    ("mutate", "field", "words"), [c[1:4] for c in CASES], ids=[c[0] for c in CASES]
+)
+def test_bad_scene_gets_one_line_naming_file_and_field_exit_2_and_no_output(
+    folder, capsys, mutate, field, words
+):
+    scene = scene_dict()
+    mutate(scene)
+    path = _write(folder, scene)
+    with pytest.raises(SceneError) as info:
+        load_scene(path)
+    assert isinstance(info.value, ValueError)
+    assert info.value.field == field
+    out = folder / "out.png"
+    assert main(["render", path, "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1, err
+    assert err.startswith(f"raykit: error: {path}: {field}: ")
+    assert words in err
+    assert not out.exists()
+    assert [p.name for p in folder.iterdir() if p.name.startswith(".out")] == []
+
+
+@pytest.mark.parametrize(
+    ("mutate", "schema_rejects"), [(c[1], c[4]) for c in CASES], ids=[c[0] for c in CASES]
+)
+def test_json_schema_rejects_exactly_the_structural_errors(mutate, schema_rejects):
+    scene = scene_dict()
+    mutate(scene)
+    errors = list(jsonschema.Draft202012Validator(SCHEMA).iter_errors(scene))
+    if schema_rejects:
+        assert errors, "the schema accepts what the loader rejects"
+    else:
+        assert not errors, "a geometric or file rule belongs to the loader alone"
+
+
+def test_schema_accepts_every_example_scene():
+    for path in sorted((REPO / "scenes").glob("*.json")):
+        if json.loads(path.read_text()).get("$schema", "").endswith("scene-v1.schema.json"):
+            jsonschema.validate(json.loads(path.read_text()), SCHEMA)
+
+
+@pytest.mark.parametrize(
+    ("text", "words"),
+    [
+        ("{ not json", "not valid JSON"),
+        ("[1, 2]", "must be a JSON object, got a list"),
+        ("", "not valid JSON"),
+    ],
+)
+def test_file_that_is_no_scene_object_is_refused(tmp_path, capsys, text, words):
+    path = tmp_path / "scene.json"
+    path.write_text(text)
+    assert main(["render", str(path), "-o", str(tmp_path / "out.png")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and words in err and str(path) in err
+
+
+def test_missing_scene_file_is_refused(tmp_path, capsys):
+    assert main(["render", str(tmp_path / "nope.json"), "-o", str(tmp_path / "o.png")]) == 2
+    assert "scene file not found" in capsys.readouterr().err
+
+
+def test_undecodable_texture_fails_at_render_time_without_output(tmp_path, capsys):
+    # a valid header but truncated pixel data: only decoding finds out
+    from PIL import Image
+
+    Image.new("RGB", (64, 64), "red").save(tmp_path / "t.png")
+    data = (tmp_path / "t.png").read_bytes()
+    (tmp_path / "t.png").write_bytes(data[: len(data) // 2])
+    scene = scene_dict(billboards=[{**BOARD, "image": "t.png"}])
+    path = _write(tmp_path, scene)
+    out = tmp_path / "out.png"
+    assert main(["render", path, "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "billboards[0].image: texture cannot be decoded" in err and err.count("\n") == 1
+    assert not out.exists()
+
+
+def test_cli_in_a_real_process_prints_no_traceback(folder):
+    scene = scene_dict()
+    scene["spheres"][0]["radius"] = -1
+    path = _write(folder, scene)
+    out = folder / "out.png"
+    run = subprocess.run(
+        [sys.executable, "-m", "raykit", "render", path, "-o", str(out)],
+        capture_output=True,
+        text=True,
+    )
+    assert run.returncode == 2
+    assert run.stderr == f"raykit: error: {path}: spheres[0].radius: must be > 0, got -1\n"
+    assert "Traceback" not in run.stdout + run.stderr
+    assert not out.exists()

@@ -1,0 +1,78 @@
+from fractions import Fraction
+
+import numpy as np
+import pytest
+
+from raykit.rays import MISS, normalize
+from raykit.spheres import hit_sphere, hit_sphere_textbook
+
+
+def rays(origins, directions):
+    return np.atleast_2d(np.asarray(origins, float)), np.atleast_2d(np.asarray(directions, float))
+
+
+def test_ray_through_centre_hits_at_distance_minus_radius():
+    o, d = rays([0, 0, 10], [0, 0, -1])
+    assert hit_sphere(o, d, np.zeros(3), 2.0)[0] == pytest.approx(8.0)
+
+
+def test_ray_from_inside_hits_the_far_side():
+    o, d = rays([0, 0, 0.5], [0, 0, -1])
+    assert hit_sphere(o, d, np.zeros(3), 2.0)[0] == pytest.approx(2.5)
+
+
+def test_sphere_behind_the_ray_is_missed():
+    o, d = rays([0, 0, 10], [0, 0, 1])
+    assert hit_sphere(o, d, np.zeros(3), 2.0)[0] == MISS
+
+
+def test_ray_starting_on_the_surface_and_leaving_misses():
+    o, d = rays([0, 0, 2], [0, 0, 1])
+    assert hit_sphere(o, d, np.zeros(3), 2.0)[0] == MISS
+
+
+def test_negative_discriminant_misses_and_tangent_grazes():
+    o, d = rays([[3, 0, 10], [2, 0, 10]], [[0, 0, -1], [0, 0, -1]])
+    t = hit_sphere(o, d, np.zeros(3), 2.0)
+    assert t[0] == MISS
+    assert t[1] == pytest.approx(10.0)
+
+
+def test_unnormalised_direction_gives_parameter_not_distance():
+    o, d = rays([0, 0, 10], [0, 0, -4])
+    assert hit_sphere(o, d, np.zeros(3), 2.0)[0] == pytest.approx(2.0)
+
+
+def test_works_in_two_dimensions_as_ray_circle():
+    o, d = rays([0, 10], [0, -1])
+    assert hit_sphere(o, d, np.zeros(2), 3.0)[0] == pytest.approx(7.0)
+
+
+def _exact_hit(origin, direction, center, radius) -> bool:
+    """Whether the ray hits, in exact rational arithmetic (every float is a rational)."""
+    f = [Fraction(float(o)) - Fraction(float(c)) for o, c in zip(origin, center, strict=True)]
+    d = [Fraction(float(x)) for x in direction]
+    a = sum(x * x for x in d)
+    b = sum(x * y for x, y in zip(f, d, strict=True))
+    c = sum(x * x for x in f) - Fraction(float(radius)) ** 2
+    return b * b - a * c >= 0 and b < 0  # in front of the origin, origin outside
+
+
+@pytest.mark.parametrize("dtype", [np.float64, np.float32])
+def test_tiny_far_sphere_stable_form_classifies_every_ray_textbook_does_not(dtype):
+    """A 1e-3 sphere at 1e5: b'^2 and a*c' are ~1e10 and agree to 16 digits, so the textbook
+    discriminant is rounding noise near the silhouette. The stable one matches exact math on
+    the very rays it is given, in float64 and in float32."""
+    rng = np.random.default_rng(7)
+    center, radius = np.array([0.0, 0.0, -1e5], dtype), dtype(1e-3)
+    n = 400
+    aim = center + np.column_stack(
+        [rng.uniform(-1.5e-3, 1.5e-3, n), rng.uniform(-1.5e-3, 1.5e-3, n), np.zeros(n)]
+    )
+    origins, directions = np.zeros((n, 3), dtype), normalize(aim).astype(dtype)
+    exact = np.array([_exact_hit(origins[i], directions[i], center, radius) for i in range(n)])
+    stable = np.isfinite(hit_sphere(origins, directions, center, radius))
+    textbook = np.isfinite(hit_sphere_textbook(origins, directions, center, radius))
+    assert 0.2 * n < exact.sum() < 0.8 * n  # the sample straddles the silhouette
+    assert np.array_equal(stable, exact)
+    assert (textbook != exact).sum() > 0.1 * n

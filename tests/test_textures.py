@@ -1,0 +1,47 @@
+import subprocess
+import sys
+
+import numpy as np
+from PIL import Image
+
+from conftest import SCENES
+from raykit.textures import Texture, to_rgba8
+
+
+def test_16_bit_grey_is_scaled_not_clipped():
+    image = Image.fromarray(np.array([[0, 256, 32768, 65535]], np.uint16))
+    assert to_rgba8(image)[0, :, 0].tolist() == [0, 1, 128, 255]
+
+
+def test_palette_transparency_becomes_alpha():
+    image = Image.fromarray(np.array([[0, 1]], np.uint8), "P")
+    image.putpalette([10, 20, 30, 200, 100, 50])
+    image.info["transparency"] = 0
+    assert to_rgba8(image).tolist() == [[[10, 20, 30, 0], [200, 100, 50, 255]]]
+
+
+def test_grey_and_rgb_without_alpha_are_opaque():
+    grey = Image.fromarray(np.array([[7, 200]], np.uint8), "L")
+    assert to_rgba8(grey).tolist() == [[[7, 7, 7, 255], [200, 200, 200, 255]]]
+    rgb = Image.fromarray(np.array([[[1, 2, 3]]], np.uint8), "RGB")
+    assert to_rgba8(rgb).tolist() == [[[1, 2, 3, 255]]]
+
+
+def test_texture_reads_its_header_at_once_and_decodes_on_first_use(tmp_path):
+    Image.new("RGBA", (5, 3), (9, 8, 7, 6)).save(tmp_path / "t.png")
+    texture = Texture(tmp_path / "t.png", "scene.json", "billboards[0].image")
+    assert (texture.width, texture.height) == (5, 3)
+    assert "rgba" not in vars(texture)  # nothing decoded yet
+    assert texture.rgba.shape == (3, 5, 4)
+    assert texture.rgba[0, 0].tolist() == [9, 8, 7, 6]
+
+
+def test_committed_textures_are_what_the_generator_makes(tmp_path):
+    script = SCENES / "textures" / "make_textures.py"
+    subprocess.run([sys.executable, str(script), str(tmp_path)], check=True, capture_output=True)
+    made = sorted(p.name for p in tmp_path.glob("*.png"))
+    assert made == sorted(p.name for p in (SCENES / "textures").glob("*.png"))
+    for name in made:
+        fresh, committed = Image.open(tmp_path / name), Image.open(SCENES / "textures" / name)
+        assert fresh.mode == committed.mode, name
+        assert np.array_equal(to_rgba8(fresh), to_rgba8(committed)), name
