@@ -2,35 +2,51 @@
 
     python docs/make_images.py [OUT_FOLDER]
 
-runs each command below (the same ones README shows) and writes into OUT_FOLDER (default:
-docs/images). The tests run it into a temporary folder and compare with the committed images.
+runs each ``raykit`` command below (the ones README shows, with ``docs/images/`` as the output
+folder) and writes into OUT_FOLDER (default: docs/images). The tests run it into a temporary
+folder and compare the results with the committed images.
 """
 
 from __future__ import annotations
 
+import os
+import shlex
 import sys
 from pathlib import Path
 
-from raykit.cli import main
-
 REPO = Path(__file__).resolve().parent.parent
 
-# (output name, the raykit command line that makes it, with {out} for the output path)
-IMAGES = [
-    ("classic.png", "render scenes/classic.json -o {out}"),
-    ("cutouts.png", "render scenes/cutouts.json -o {out} --samples 3"),
+# raykit command lines, run from the repository's folder; {out} is the output folder
+COMMANDS = [
+    "render scenes/classic.json -o {out}/classic.png",
+    "render scenes/cutouts.json -o {out}/cutouts.png --samples 3",
+    "scan scenes/linescan/slide.json -o {out}/slide_scan.png --height 24"
+    " --diagram {out}/slide_rays.png",
+    "sweep scenes/linescan/passing_car.json -o {out}/passing_car_sweep.png"
+    " --diagram {out}/passing_car_sweep_diagram.png",
+    "sweep scenes/linescan/conveyor.json -o {out}/conveyor_sweep.png",
 ]
 
 
-def make(folder: Path, names: list[str] | None = None) -> None:
+def outputs(command: str) -> list[str]:
+    """The file names a command line writes (its -o and --diagram arguments)."""
+    args = shlex.split(command)
+    return [Path(args[i + 1]).name for i, a in enumerate(args) if a in ("-o", "--diagram")]
+
+
+def make(folder: Path) -> None:
+    from raykit.cli import main
+
+    folder = Path(folder).resolve()
     folder.mkdir(parents=True, exist_ok=True)
-    for name, command in IMAGES:
-        if names and name not in names:
-            continue
-        args = command.format(out=folder / name).split()
-        args[1] = str(REPO / args[1])  # the scene, wherever this is run from
-        if main(args) != 0:
-            raise SystemExit(f"failed: raykit {command}")
+    here = Path.cwd()
+    os.chdir(REPO)  # scene paths in the commands are relative to the repository
+    try:
+        for command in COMMANDS:
+            if main(shlex.split(command.format(out=folder))) != 0:
+                raise SystemExit(f"failed: raykit {command}")
+    finally:
+        os.chdir(here)
 
 
 if __name__ == "__main__":

@@ -32,9 +32,10 @@ from functools import cached_property
 
 import numpy as np
 
+from raykit.hits import ColorAt, solid
 from raykit.planes import hit_plane, hit_points_on_plane
 from raykit.rays import MISS
-from raykit.textures import OPAQUE_FROM, Texture
+from raykit.textures import Texture, colors_and_opacity
 
 
 @dataclass(frozen=True)
@@ -103,16 +104,15 @@ def texel_indices(
     return row, column
 
 
-def billboard_colors(
-    billboard: Billboard, alpha: np.ndarray, beta: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
-    """Colour ``(N, 3)`` in [0, 1] and opacity ``(N,)`` bool at points (alpha, beta) inside."""
-    if len(alpha) == 0:  # no ray reached it: leave the texture undecoded
-        return np.empty((0, 3)), np.empty(0, dtype=bool)
+def billboard_color_at(billboard: Billboard, alpha: np.ndarray, beta: np.ndarray) -> ColorAt:
+    """The billboard's colours and opacity at the hits (alpha, beta) ``(N,)`` of N rays, as a
+    :data:`raykit.hits.ColorAt`: asked about some of the rays, it looks up only their texels."""
     if billboard.texture is None:
-        colors = np.broadcast_to(np.asarray(billboard.color, float), (len(alpha), 3))
-        return colors, np.ones(len(alpha), dtype=bool)
-    texels = billboard.texture.rgba
-    row, column = texel_indices(alpha, beta, texels.shape[1], texels.shape[0])
-    rgba = texels[row, column]
-    return rgba[:, :3] / 255.0, rgba[:, 3] >= OPAQUE_FROM
+        return solid(billboard.color)
+
+    def color_at(rays: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        texels = billboard.texture.rgba
+        row, column = texel_indices(alpha[rays], beta[rays], texels.shape[1], texels.shape[0])
+        return colors_and_opacity(texels[row, column])
+
+    return color_at

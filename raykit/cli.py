@@ -1,4 +1,8 @@
-"""The ``raykit`` command: ``raykit render SCENE.json -o OUT.png [--samples N]``.
+"""The ``raykit`` command.
+
+    raykit render SCENE.json -o OUT.png [--samples N]            the 3D renderer
+    raykit scan SCENE2D.json -o strip.png [--diagram rays.png]   one line-scan
+    raykit sweep SCENE2D.json -o sweep.png [--scans M]           M line-scans stacked
 
 Bad input (a :class:`raykit.errors.SceneError`, or an output file that cannot be written) is
 reported as one line on stderr with exit status 2, never as a traceback, and leaves no output
@@ -25,28 +29,91 @@ def _samples(text: str) -> int:
     return value
 
 
+def _command(
+    commands, name: str, *, summary: str, description: str, scene: str, output: str, samples: str
+) -> argparse.ArgumentParser:
+    """A subcommand with the arguments all share: the scene, -o and --samples."""
+    parser = commands.add_parser(name, help=summary, description=description)
+    parser.add_argument("scene", metavar=scene, help="the scene file")
+    parser.add_argument("-o", "--output", required=True, metavar=output, help="image to write")
+    parser.add_argument(
+        "--samples",
+        type=_samples,
+        default=1,
+        metavar="N",
+        help=f"{samples} per pixel, averaged (1..{MAX_SAMPLES}; default 1)",
+    )
+    return parser
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="raykit", description="raykit: the ray-tracing lecture's renderer and figures."
     )
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
-    render = commands.add_parser(
+    render = _command(
+        commands,
         "render",
-        help="render a 3D scene (JSON, format v1) to an image",
+        summary="render a 3D scene (JSON, format v1) to an image",
         description="Render a balls-and-billboards scene (JSON, format v1) to an image.",
-    )
-    render.add_argument("scene", metavar="SCENE.json", help="the scene file")
-    render.add_argument("-o", "--output", required=True, metavar="OUT.png", help="image to write")
-    render.add_argument(
-        "--samples",
-        type=_samples,
-        default=1,
-        metavar="N",
-        help=f"N x N rays per pixel, averaged (1..{MAX_SAMPLES}; default 1)",
+        scene="SCENE.json",
+        output="OUT.png",
+        samples="N x N rays",
     )
     render.set_defaults(run=_run_render)
+
+    scan = _command(
+        commands,
+        "scan",
+        summary="one scan of a line-scan scene (JSON) as a strip image, and its ray diagram",
+        description="Take one scan of a 2D line-scan scene: a strip of N pixels.",
+        scene="SCENE2D.json",
+        output="strip.png",
+        samples="N rays",
+    )
+    scan.add_argument("--diagram", metavar="rays.png", help="also draw the ray diagram here")
+    scan.add_argument(
+        "--height",
+        type=_positive,
+        default=1,
+        metavar="H",
+        help="repeat the scan H times down the strip image, to see it better (default 1)",
+    )
+    scan.set_defaults(run=_run_scan)
+
+    sweep = _command(
+        commands,
+        "sweep",
+        summary="M scans of a moving line-scan scene, stacked into an image",
+        description="Take M scans while camera and objects move; scan m is image row m.",
+        scene="SCENE2D.json",
+        output="sweep.png",
+        samples="N rays",
+    )
+    sweep.add_argument(
+        "--scans",
+        type=_positive,
+        metavar="M",
+        help='how many scans (default: the scene\'s "scans")',
+    )
+    sweep.add_argument(
+        "--diagram",
+        metavar="sweep_rays.png",
+        help="also draw the world at three scan times above the growing image",
+    )
+    sweep.set_defaults(run=_run_sweep)
     return parser
+
+
+def _positive(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a whole number, got {text!r}") from None
+    if not 1 <= value <= 16384:
+        raise argparse.ArgumentTypeError(f"must be between 1 and 16384, got {value}")
+    return value
 
 
 def _run_render(args: argparse.Namespace) -> None:
@@ -64,6 +131,55 @@ def _run_render(args: argparse.Namespace) -> None:
         f"wrote {args.output} ({camera.width}x{camera.height}, "
         f"{args.samples}x{args.samples} samples per pixel) in {seconds:.2f} s"
     )
+
+
+def _run_scan(args: argparse.Namespace) -> None:
+    import numpy as np
+
+    from raykit.images import save_image
+    from raykit.linescan.scan import scan
+    from raykit.linescan.scene import load_line_scene
+
+    start = time.perf_counter()
+    scene = load_line_scene(args.scene)
+    strip = scan(scene, samples=args.samples).colors
+    save_image(np.repeat(strip[None], args.height, axis=0), args.output)
+    wrote = [f"{args.output} ({scene.camera.pixels} pixels)"]
+    if args.diagram:
+        wrote.append(_save_diagram("ray_diagram", scene, args.diagram))
+    print(f"wrote {' and '.join(wrote)} in {time.perf_counter() - start:.2f} s")
+
+
+def _run_sweep(args: argparse.Namespace) -> None:
+    from raykit.images import save_image
+    from raykit.linescan.scan import sweep
+    from raykit.linescan.scene import load_line_scene
+
+    start = time.perf_counter()
+    scene = load_line_scene(args.scene)
+    scans = args.scans or scene.scans
+    save_image(sweep(scene, scans, samples=args.samples).image, args.output)
+    wrote = [f"{args.output} ({scans} scans x {scene.camera.pixels} pixels)"]
+    if args.diagram:
+        wrote.append(_save_diagram("sweep_diagram", scene, args.diagram, scans=scans))
+    print(f"wrote {' and '.join(wrote)} in {time.perf_counter() - start:.2f} s")
+
+
+def _save_diagram(kind: str, scene, path: str, **options) -> str:
+    import matplotlib
+
+    matplotlib.use("Agg")  # files only: no window, works headless
+    import matplotlib.pyplot as plt
+
+    from raykit.images import save_figure
+    from raykit.linescan import diagrams
+
+    figure = getattr(diagrams, kind)(scene, **options)
+    try:
+        save_figure(figure, path)
+    finally:
+        plt.close(figure)
+    return path
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -102,13 +102,23 @@ class Field:
         known = required + optional
         for key in self.value:
             if key not in known:
-                close = difflib.get_close_matches(key, known, n=1)
+                close = difflib.get_close_matches(key, known, n=1) or [
+                    k
+                    for k in known
+                    if len(key) >= 2 and key.lower() in k  # "fov" -> fov_angle
+                ]
                 hint = f'; did you mean "{close[0]}"?' if close else f"; known: {', '.join(known)}"
                 raise SceneError(self.source, self._child_path(key), "unknown field" + hint)
         for key in required:
             if key not in self.value:
                 raise SceneError(self.source, self._child_path(key), "required field is missing")
         return {key: Field(v, self.source, self._child_path(key)) for key, v in self.value.items()}
+
+    def exactly_one_of(self, fields: dict[str, Field], first: str, second: str) -> None:
+        """Check that an object (read by :meth:`object`) has exactly one of two keys."""
+        if (first in fields) == (second in fields):
+            both = "both" if first in fields else "neither"
+            raise self.error(f'needs exactly one of "{first}" and "{second}", got {both}')
 
     def items(self) -> list[Field]:
         """The value as a list of fields."""

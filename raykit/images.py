@@ -8,7 +8,9 @@ from __future__ import annotations
 
 import os
 import tempfile
+from collections.abc import Callable
 from pathlib import Path
+from typing import BinaryIO
 
 import numpy as np
 from PIL import Image
@@ -32,11 +34,27 @@ def save_image(pixels: np.ndarray, path: str | Path) -> None:
         raise ValueError(f"{path}: unknown image suffix {path.suffix!r}; use .png")
     if pixels.dtype != np.uint8:
         pixels = quantize(pixels)
+    _write_whole(path, lambda stream: Image.fromarray(pixels).save(stream, format=image_format))
+
+
+def save_figure(figure, path: str | Path, dpi: int = 120) -> None:
+    """Write a matplotlib ``figure`` to ``path`` (format from the suffix), whole or not at all."""
+    path = Path(path)
+    if not path.suffix:
+        raise ValueError(f"{path}: give the figure file a suffix such as .png, .svg or .pdf")
+    kind = path.suffix[1:].lower()
+    if kind not in figure.canvas.get_supported_filetypes():
+        raise ValueError(f"{path}: matplotlib cannot write {path.suffix!r} figures; use .png")
+    _write_whole(path, lambda stream: figure.savefig(stream, format=kind, dpi=dpi))
+
+
+def _write_whole(path: Path, write: Callable[[BinaryIO], None]) -> None:
+    """Call ``write`` on a temporary file beside ``path``, then rename it to ``path``."""
     folder = path.parent if str(path.parent) else Path(".")
     handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=folder)
     try:
         with os.fdopen(handle, "wb") as stream:
-            Image.fromarray(pixels).save(stream, format=image_format)
+            write(stream)
         os.chmod(temporary, 0o666 & ~_umask())  # mkstemp makes it private; give it the usual mode
         os.replace(temporary, path)
     except BaseException:

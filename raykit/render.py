@@ -17,23 +17,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from raykit.billboards import billboard_colors, hit_billboard
+from raykit.billboards import billboard_color_at, hit_billboard
 from raykit.camera import pixel_points, rays_through, sample_offsets
-from raykit.rays import MISS
+from raykit.hits import Hits, solid
 from raykit.scene import Scene
 from raykit.spheres import hit_sphere
 
 RAYS_PER_BAND = 1 << 16  # bounds memory for huge images; big enough that numpy's overhead is small
-
-
-@dataclass(frozen=True)
-class Hits:
-    """Nearest hits of N rays: ``index (N,)`` int (-1 none), ``t (N,)`` (MISS none),
-    ``color (N, 3)`` (the background where nothing was hit)."""
-
-    index: np.ndarray
-    t: np.ndarray
-    color: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -49,24 +39,14 @@ class Render:
 
 def cast(scene: Scene, origins: np.ndarray, directions: np.ndarray) -> Hits:
     """The nearest hit of each ray ``(N, 3)`` over all objects of the scene."""
-    n = len(origins)
-    t_near = np.full(n, MISS)
-    index = np.full(n, -1)
-    color = np.broadcast_to(scene.background, (n, 3)).copy()
-
+    hits = Hits.none(len(origins), scene.background)
     for i, sphere in enumerate(scene.spheres):
         t = hit_sphere(origins, directions, sphere.center, sphere.radius)
-        nearer = t < t_near  # strict: on a tie the object listed first keeps the pixel
-        t_near[nearer], index[nearer], color[nearer] = t[nearer], i, sphere.color
-
-    for j, billboard in enumerate(scene.billboards, start=len(scene.spheres)):
+        hits.keep_nearer(i, t, solid(sphere.color))
+    for i, billboard in enumerate(scene.billboards, start=len(scene.spheres)):
         t, alpha, beta = hit_billboard(origins, directions, billboard)
-        nearer = np.flatnonzero(t < t_near)
-        texel_color, opaque = billboard_colors(billboard, alpha[nearer], beta[nearer])
-        nearer, texel_color = nearer[opaque], texel_color[opaque]  # holes let the ray go on
-        t_near[nearer], index[nearer], color[nearer] = t[nearer], j, texel_color
-
-    return Hits(index, t_near, color)
+        hits.keep_nearer(i, t, billboard_color_at(billboard, alpha, beta))
+    return hits
 
 
 def render(scene: Scene, samples: int = 1) -> Render:

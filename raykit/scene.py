@@ -105,11 +105,7 @@ def _read_billboard(node: Field, folder: Path) -> Billboard:
             raise f[corner].error("coincides with upper_left, so the billboard has no area")
     if is_degenerate(upper_right - upper_left, lower_left - upper_left):
         raise node.error("corners upper_left, lower_left and upper_right are collinear")
-    if ("image" in f) == ("color" in f):
-        raise node.error(
-            'needs exactly one of "image" and "color", got '
-            + ("both" if "image" in f else "neither")
-        )
+    node.exactly_one_of(f, "image", "color")
     color = f["color"].color() if "color" in f else None
     texture = None
     if "image" in f:

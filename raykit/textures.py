@@ -82,6 +82,11 @@ class Texture:
             raise self._error(f"texture cannot be decoded: {self.path} ({exc})") from None
 
 
+def colors_and_opacity(rgba: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Texels ``(M, 4)`` uint8 as colours ``(M, 3)`` in [0, 1] and opacity ``(M,)`` bool."""
+    return rgba[:, :3] / 255.0, rgba[:, 3] >= OPAQUE_FROM
+
+
 def to_rgba8(image: Image.Image) -> np.ndarray:
     """Any Pillow image as ``(H, W, 4)`` uint8 RGBA.
 

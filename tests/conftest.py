@@ -28,6 +28,32 @@ def scene_dict(**overrides) -> dict:
     return scene
 
 
+def set_field(path: str, value):
+    """A scene mutation that sets the field at a dotted path (list indices as numbers)."""
+
+    def mutate(scene: dict) -> None:
+        *parents, last = [int(k) if k.isdigit() else k for k in path.split(".")]
+        node = scene
+        for key in parents:
+            node = node[key]
+        node[last] = value
+
+    return mutate
+
+
+def delete_field(path: str):
+    """A scene mutation that deletes the field at a dotted path."""
+
+    def mutate(scene: dict) -> None:
+        *parents, last = [int(k) if k.isdigit() else k for k in path.split(".")]
+        node = scene
+        for key in parents:
+            node = node[key]
+        del node[last]
+
+    return mutate
+
+
 @pytest.fixture
 def repo() -> Path:
     return REPO

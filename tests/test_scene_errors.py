@@ -12,7 +12,7 @@ import zlib
 import jsonschema
 import pytest
 
-from conftest import REPO, scene_dict
+from conftest import REPO, delete_field, scene_dict, set_field
 from raykit.cli import main
 from raykit.errors import SceneError
 from raykit.scene import load_scene
@@ -20,167 +20,167 @@ from raykit.scene import load_scene
 SCHEMA = json.loads((REPO / "raykit/schemas/scene-v1.schema.json").read_text())
 
 
-def _set(path: str, value):
-    """A mutation that sets the field at a dotted path (list indices as numbers)."""
-
-    def mutate(scene):
-        *parents, last = [int(k) if k.isdigit() else k for k in path.split(".")]
-        node = scene
-        for key in parents:
-            node = node[key]
-        node[last] = value
-
-    return mutate
-
-
-def _delete(path: str):
-    def mutate(scene):
-        *parents, last = path.split(".")
-        node = scene
-        for key in parents:
-            node = node[int(key) if key.isdigit() else key]
-        del node[last]
-
-    return mutate
-
-
 BOARD = {"upper_left": [-1, 1, 0], "lower_left": [-1, -1, 0], "upper_right": [1, 1, 0]}
 
 # (id, mutation, field named in the message, words in the message, the schema rejects it too)
 CASES = [
-    ("missing field", _delete("camera.eye"), "camera.eye", "required field is missing", True),
+    ("missing field", delete_field("camera.eye"), "camera.eye", "required field is missing", True),
     (
         "mistyped field",
-        _set("spheres.0.raduis", 1),
+        set_field("spheres.0.raduis", 1),
         "spheres[0].raduis",
         'did you mean "radius"',
         True,
     ),
-    ("unknown top-level field", _set("sphere", []), "sphere", 'did you mean "spheres"', True),
-    ("wrong type", _set("camera.fov_angle", "wide"), "camera.fov_angle", "must be a number", True),
-    ("wrong type: not a list", _set("spheres", {}), "spheres", "must be a list", True),
+    ("unknown top-level field", set_field("sphere", []), "sphere", 'did you mean "spheres"', True),
+    (
+        "wrong type",
+        set_field("camera.fov_angle", "wide"),
+        "camera.fov_angle",
+        "must be a number",
+        True,
+    ),
+    ("wrong type: not a list", set_field("spheres", {}), "spheres", "must be a list", True),
     (
         "wrong type: bool as number",
-        _set("spheres.0.radius", True),
+        set_field("spheres.0.radius", True),
         "spheres[0].radius",
         "must be a number",
         True,
     ),
-    ("wrong length", _set("camera.eye", [0, 0]), "camera.eye", "must have 3 numbers, got 2", True),
+    (
+        "wrong length",
+        set_field("camera.eye", [0, 0]),
+        "camera.eye",
+        "must have 3 numbers, got 2",
+        True,
+    ),
     (
         "NaN",
-        _set("spheres.0.center", [0, float("nan"), 0]),
+        set_field("spheres.0.center", [0, float("nan"), 0]),
         "spheres[0].center[1]",
         "finite number, got NaN",
         False,
     ),
     (
         "infinity",
-        _set("camera.lookat", [0, 0, float("-inf")]),
+        set_field("camera.lookat", [0, 0, float("-inf")]),
         "camera.lookat[2]",
         "finite number, got -Infinity",
         False,
     ),
-    ("radius zero", _set("spheres.0.radius", 0), "spheres[0].radius", "must be > 0, got 0", True),
+    (
+        "radius zero",
+        set_field("spheres.0.radius", 0),
+        "spheres[0].radius",
+        "must be > 0, got 0",
+        True,
+    ),
     (
         "radius negative",
-        _set("spheres.0.radius", -1),
+        set_field("spheres.0.radius", -1),
         "spheres[0].radius",
         "must be > 0, got -1",
         True,
     ),
-    ("fov_angle zero", _set("camera.fov_angle", 0), "camera.fov_angle", "must be > 0", True),
-    ("fov_angle 180", _set("camera.fov_angle", 180), "camera.fov_angle", "must be < 180", True),
-    ("width zero", _set("camera.width", 0), "camera.width", "must be >= 1", True),
+    ("fov_angle zero", set_field("camera.fov_angle", 0), "camera.fov_angle", "must be > 0", True),
+    (
+        "fov_angle 180",
+        set_field("camera.fov_angle", 180),
+        "camera.fov_angle",
+        "must be < 180",
+        True,
+    ),
+    ("width zero", set_field("camera.width", 0), "camera.width", "must be >= 1", True),
     (
         "height fractional",
-        _set("camera.height", 10.5),
+        set_field("camera.height", 10.5),
         "camera.height",
         "must be a whole number",
         True,
     ),
-    ("width absurd", _set("camera.width", 20000), "camera.width", "must be <= 16384", True),
+    ("width absurd", set_field("camera.width", 20000), "camera.width", "must be <= 16384", True),
     (
         "projection unknown",
-        _set("camera.projection", "fisheye"),
+        set_field("camera.projection", "fisheye"),
         "camera.projection",
         '"perspective" or "orthographic"',
         True,
     ),
     (
         "colour out of range",
-        _set("spheres.0.color", [1.5, 0, 0]),
+        set_field("spheres.0.color", [1.5, 0, 0]),
         "spheres[0].color[0]",
         "must be <= 1",
         True,
     ),
     (
         "eye equals lookat",
-        _set("camera.lookat", [0, 0, 5]),
+        set_field("camera.lookat", [0, 0, 5]),
         "camera.lookat",
         "same point as eye",
         False,
     ),
     (
         "up parallel",
-        _set("camera.up", [0, 0, -2]),
+        set_field("camera.up", [0, 0, -2]),
         "camera.up",
         "parallel to the view direction",
         False,
     ),
-    ("up zero", _set("camera.up", [0, 0, 0]), "camera.up", "zero vector", False),
+    ("up zero", set_field("camera.up", [0, 0, 0]), "camera.up", "zero vector", False),
     (
         "corners collinear",
-        _set("billboards", [{**BOARD, "upper_right": [-1, 3, 0], "color": [1, 1, 1]}]),
+        set_field("billboards", [{**BOARD, "upper_right": [-1, 3, 0], "color": [1, 1, 1]}]),
         "billboards[0]",
         "collinear",
         False,
     ),
     (
         "corners coincident",
-        _set("billboards", [{**BOARD, "upper_right": [-1, 1, 0], "color": [1, 1, 1]}]),
+        set_field("billboards", [{**BOARD, "upper_right": [-1, 1, 0], "color": [1, 1, 1]}]),
         "billboards[0].upper_right",
         "coincides with upper_left",
         False,
     ),
     (
         "both image and color",
-        _set("billboards", [{**BOARD, "color": [1, 1, 1], "image": "x.png"}]),
+        set_field("billboards", [{**BOARD, "color": [1, 1, 1], "image": "x.png"}]),
         "billboards[0]",
         "exactly one",
         True,
     ),
     (
         "neither image nor color",
-        _set("billboards", [dict(BOARD)]),
+        set_field("billboards", [dict(BOARD)]),
         "billboards[0]",
         "got neither",
         True,
     ),
     (
         "texture missing",
-        _set("billboards", [{**BOARD, "image": "nope.png"}]),
+        set_field("billboards", [{**BOARD, "image": "nope.png"}]),
         "billboards[0].image",
         "not found",
         False,
     ),
     (
         "texture is a folder",
-        _set("billboards", [{**BOARD, "image": "."}]),
+        set_field("billboards", [{**BOARD, "image": "."}]),
         "billboards[0].image",
         "folder",
         False,
     ),
     (
         "texture not an image",
-        _set("billboards", [{**BOARD, "image": "notes.txt"}]),
+        set_field("billboards", [{**BOARD, "image": "notes.txt"}]),
         "billboards[0].image",
         "not an image",
         False,
     ),
     (
         "texture absurdly large",
-        _set("billboards", [{**BOARD, "image": "bomb.png"}]),
+        set_field("billboards", [{**BOARD, "image": "bomb.png"}]),
         "billboards[0].image",
         "too large to be sane",
         False,

@@ -80,6 +80,31 @@ def ramp16(width: int = 16, height: int = 4) -> Image.Image:
     return Image.fromarray(np.tile(values, (height, 1)))
 
 
+def car_side(width: int = 40) -> Image.Image:
+    """One row (RGB): a car's side from the front bumper to the rear one, for line-scan scenes."""
+    palette = {
+        "b": [60, 60, 60],  # bumper
+        "r": [200, 30, 40],  # body
+        "l": [255, 240, 150],  # lamp
+        "g": [150, 200, 235],  # glass
+        "k": [25, 25, 25],  # pillar
+    }
+    side = "bblrrrrrggggggkgggggggkggggrrrrrrrrrllbb"
+    assert len(side) == width
+    return Image.fromarray(np.array([[palette[c] for c in side]], np.uint8), "RGB")
+
+
+def parts(width: int = 24) -> Image.Image:
+    """Three rows (RGBA), one per part on the conveyor: row 0 a good plate, row 1 a plate with
+    a hole (transparent texels), row 2 a plate with a bad spot."""
+    rows = np.zeros((3, width, 4), dtype=np.uint8)
+    rows[:] = [90, 120, 160, 255]
+    rows[:, ::6] = [40, 50, 70, 255]  # bolts
+    rows[1, width // 2 - 3 : width // 2 + 3, 3] = 0
+    rows[2, width // 3 : width // 3 + 2] = [230, 120, 20, 255]
+    return Image.fromarray(rows, "RGBA")
+
+
 TEXTURES = {
     "checker.png": checker,
     "letter_f.png": letter_f,
@@ -87,6 +112,8 @@ TEXTURES = {
     "fence.png": fence,
     "window.png": window,
     "ramp16.png": ramp16,
+    "car_side.png": car_side,
+    "parts.png": parts,
 }
 
 

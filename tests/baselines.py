@@ -1,0 +1,54 @@
+"""The figures whose pictures are pinned as baselines in tests/baseline_images/.
+
+    python tests/baselines.py        # regenerate every baseline after a deliberate change
+
+The tests draw each figure again and compare it with its baseline using matplotlib's own
+``compare_images`` (RMS tolerance ``TOLERANCE``), so small anti-aliasing differences pass and
+a moved ray, a lost label or a wrong colour does not.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt  # noqa: E402
+
+from raykit.linescan.diagrams import ray_diagram, sweep_diagram  # noqa: E402
+from raykit.linescan.scene import load_line_scene  # noqa: E402
+
+HERE = Path(__file__).resolve().parent
+SCENES = HERE.parent / "scenes"
+FOLDER = HERE / "baseline_images"
+TOLERANCE = 3.0
+DPI = 60
+
+
+def _linescan(name: str) -> object:
+    return load_line_scene(SCENES / "linescan" / f"{name}.json")
+
+
+FIGURES = {
+    "linescan_slide_rays": lambda: ray_diagram(_linescan("slide")),
+    "linescan_conveyor_rays": lambda: ray_diagram(_linescan("conveyor"), every=8),
+    "linescan_car_sweep": lambda: sweep_diagram(_linescan("passing_car"), scans=150),
+}
+
+
+def draw(name: str, path: Path) -> None:
+    figure = FIGURES[name]()
+    try:
+        figure.savefig(path, dpi=DPI)
+    finally:
+        plt.close(figure)
+
+
+if __name__ == "__main__":
+    FOLDER.mkdir(exist_ok=True)
+    for name in sys.argv[1:] or FIGURES:
+        draw(name, FOLDER / f"{name}.png")
+        print(f"wrote {FOLDER / name}.png")
