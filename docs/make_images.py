@@ -25,6 +25,16 @@ COMMANDS = [
     "sweep scenes/linescan/passing_car.json -o {out}/passing_car_sweep.png"
     " --diagram {out}/passing_car_sweep_diagram.png",
     "sweep scenes/linescan/conveyor.json -o {out}/conveyor_sweep.png",
+    "diagram scenes/classic.json -o {out}/classic_rays_top.png --view top",
+    "diagram scenes/cutouts.json -o {out}/cutouts_rays_side.png --view side --rays 60",
+    "diagram scenes/classic.json -o {out}/classic_camera.png --view camera",
+]
+
+# figures that no command draws: (file name, function in raykit.diagrams.math_figures)
+MATH_FIGURES = [
+    ("math_sphere_cases.png", "sphere_cases"),
+    ("math_plane_hit.png", "plane_hit"),
+    ("math_dot_projection.png", "dot_projection"),
 ]
 
 
@@ -47,6 +57,25 @@ def make(folder: Path) -> None:
                 raise SystemExit(f"failed: raykit {command}")
     finally:
         os.chdir(here)
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from raykit.diagrams import math_figures
+    from raykit.images import save_figure
+
+    for name, function in MATH_FIGURES:
+        figure = getattr(math_figures, function)()
+        save_figure(figure, folder / name)
+        plt.close(figure)
+        print(f"wrote {folder / name}")
+
+
+def all_outputs() -> list[str]:
+    """Every file name :func:`make` writes."""
+    return [n for c in COMMANDS for n in outputs(c)] + [n for n, _ in MATH_FIGURES]
 
 
 if __name__ == "__main__":

@@ -106,6 +106,20 @@ def sample_offsets(samples: int) -> np.ndarray:
     return np.column_stack([a.ravel(), b.ravel()])
 
 
+def image_plane_points(camera: Camera, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """The points P = eye - d·w + s·u + t·v ``(N, 3)`` of continuous image points (x, y)."""
+    u, v, w = camera.frame
+    return np.asarray(camera.eye, float) - camera.d * w + _in_plane(camera, x, y)
+
+
+def image_plane_corners(camera: Camera) -> np.ndarray:
+    """The image plane's corners ``(4, 3)``: upper left, upper right, lower right, lower left."""
+    width, height = camera.width, camera.height
+    return image_plane_points(
+        camera, np.array([0, width, width, 0]), np.array([0, 0, height, height])
+    )
+
+
 def rays_through(camera: Camera, x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Rays through continuous image points (x along columns, y down rows), ``(N,)`` each.
 
@@ -113,10 +127,7 @@ def rays_through(camera: Camera, x: np.ndarray, y: np.ndarray) -> tuple[np.ndarr
     (a, b) is x = c + a, y = r + b.
     """
     u, v, w = camera.frame
-    Wp, Hp = camera.plane_size
-    s = -Wp / 2 + np.asarray(x, dtype=float) * (Wp / camera.width)
-    t = Hp / 2 - np.asarray(y, dtype=float) * (Hp / camera.height)
-    in_plane = s[:, None] * u + t[:, None] * v  # P - (eye - d·w)
+    in_plane = _in_plane(camera, x, y)
     eye = np.asarray(camera.eye, dtype=float)
     if camera.projection == "orthographic":
         origins = eye + in_plane
@@ -125,6 +136,15 @@ def rays_through(camera: Camera, x: np.ndarray, y: np.ndarray) -> tuple[np.ndarr
         origins = np.broadcast_to(eye, in_plane.shape).copy()
         directions = normalize(in_plane - camera.d * w)
     return origins, directions
+
+
+def _in_plane(camera: Camera, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """s·u + t·v ``(N, 3)``: where (x, y) lies on the image plane, from its centre."""
+    u, v, _ = camera.frame
+    Wp, Hp = camera.plane_size
+    s = -Wp / 2 + np.asarray(x, dtype=float) * (Wp / camera.width)
+    t = Hp / 2 - np.asarray(y, dtype=float) * (Hp / camera.height)
+    return s[:, None] * u + t[:, None] * v
 
 
 def pixel_points(

@@ -3,6 +3,7 @@
     raykit render SCENE.json -o OUT.png [--samples N]            the 3D renderer
     raykit scan SCENE2D.json -o strip.png [--diagram rays.png]   one line-scan
     raykit sweep SCENE2D.json -o sweep.png [--scans M]           M line-scans stacked
+    raykit diagram SCENE.json -o rays.png [--view 3d|top|side|camera] [--rays K]
 
 Bad input (a :class:`raykit.errors.SceneError`, or an output file that cannot be written) is
 reported as one line on stderr with exit status 2, never as a traceback, and leaves no output
@@ -103,6 +104,35 @@ def build_parser() -> argparse.ArgumentParser:
         help="also draw the world at three scan times above the growing image",
     )
     sweep.set_defaults(run=_run_sweep)
+
+    diagram = commands.add_parser(
+        "diagram",
+        help="draw a 3D scene's primary rays, or its camera",
+        description="Draw a 3D scene (JSON, format v1) and the rays of every K-th pixel, from "
+        "the eye to what they hit, in 3D or in a top or side view; or draw its camera "
+        "(--view camera: perspective and orthographic side by side).",
+    )
+    diagram.add_argument("scene", metavar="SCENE.json", help="the scene file")
+    diagram.add_argument(
+        "-o",
+        "--output",
+        required=True,
+        metavar="rays.png",
+        help="figure to write (.png, .svg, .pdf)",
+    )
+    diagram.add_argument(
+        "--view",
+        choices=("3d", "top", "side", "camera"),
+        default="3d",
+        help="what to draw (default 3d)",
+    )
+    diagram.add_argument(
+        "--rays",
+        type=_positive,
+        metavar="K",
+        help="draw the ray of every K-th pixel across and down (default: at most 8 a side)",
+    )
+    diagram.set_defaults(run=_run_diagram)
     return parser
 
 
@@ -146,7 +176,8 @@ def _run_scan(args: argparse.Namespace) -> None:
     save_image(np.repeat(strip[None], args.height, axis=0), args.output)
     wrote = [f"{args.output} ({scene.camera.pixels} pixels)"]
     if args.diagram:
-        wrote.append(_save_diagram("ray_diagram", scene, args.diagram))
+        _save_figure("raykit.linescan.diagrams", "ray_diagram", scene, args.diagram)
+        wrote.append(args.diagram)
     print(f"wrote {' and '.join(wrote)} in {time.perf_counter() - start:.2f} s")
 
 
@@ -161,25 +192,46 @@ def _run_sweep(args: argparse.Namespace) -> None:
     save_image(sweep(scene, scans, samples=args.samples).image, args.output)
     wrote = [f"{args.output} ({scans} scans x {scene.camera.pixels} pixels)"]
     if args.diagram:
-        wrote.append(_save_diagram("sweep_diagram", scene, args.diagram, scans=scans))
+        _save_figure("raykit.linescan.diagrams", "sweep_diagram", scene, args.diagram, scans=scans)
+        wrote.append(args.diagram)
     print(f"wrote {' and '.join(wrote)} in {time.perf_counter() - start:.2f} s")
 
 
-def _save_diagram(kind: str, scene, path: str, **options) -> str:
+def _run_diagram(args: argparse.Namespace) -> None:
+    from raykit.scene import load_scene
+
+    start = time.perf_counter()
+    scene = load_scene(args.scene)
+    if args.view == "camera":
+        _save_figure("raykit.diagrams.camera", "camera_diagrams", scene.camera, args.output)
+    else:
+        _save_figure(
+            "raykit.diagrams.rays",
+            "ray_diagram",
+            scene,
+            args.output,
+            view=args.view,
+            every=args.rays,
+        )
+    print(f"wrote {args.output} in {time.perf_counter() - start:.2f} s")
+
+
+def _save_figure(module: str, function: str, subject, path: str, **options) -> None:
+    """Draw ``module.function(subject, **options)`` and write it to ``path``, whole or not."""
+    import importlib
+
     import matplotlib
 
     matplotlib.use("Agg")  # files only: no window, works headless
     import matplotlib.pyplot as plt
 
     from raykit.images import save_figure
-    from raykit.linescan import diagrams
 
-    figure = getattr(diagrams, kind)(scene, **options)
+    figure = getattr(importlib.import_module(module), function)(subject, **options)
     try:
         save_figure(figure, path)
     finally:
         plt.close(figure)
-    return path
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -49,6 +49,18 @@ def cast(scene: Scene, origins: np.ndarray, directions: np.ndarray) -> Hits:
     return hits
 
 
+def cast_pixels(
+    scene: Scene, rows: np.ndarray, cols: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, Hits]:
+    """The rays through the centres of pixels (rows, cols) ``(N,)`` and their nearest hits:
+    ``origins (N, 3)``, ``directions (N, 3)`` and :class:`raykit.hits.Hits`. The same rays,
+    and the same hits, as the pixel centres of :func:`render`."""
+    origins, directions = rays_through(
+        scene.camera, np.asarray(cols, float) + 0.5, np.asarray(rows, float) + 0.5
+    )
+    return origins, directions, cast(scene, origins, directions)
+
+
 def render(scene: Scene, samples: int = 1) -> Render:
     """Render ``scene`` with ``samples`` x ``samples`` rays per pixel."""
     if samples < 1:

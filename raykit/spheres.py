@@ -47,13 +47,13 @@ class Sphere:
     name: str | None = None
 
 
-def hit_sphere(
+def sphere_roots(
     origins: np.ndarray, directions: np.ndarray, center: np.ndarray, radius: float
-) -> np.ndarray:
-    """Nearest t > 0 ``(N,)`` where each ray meets the sphere, or ``MISS``; the stable form.
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Both roots and the discriminant of the ray–sphere quadratic, by the stable form.
 
-    ``origins``, ``directions``: ``(N, k)``; ``center``: ``(k,)``. A ray starting inside the
-    sphere hits its far side.
+    Returns ``(t0, t1, discriminant)``, each ``(N,)``; the roots are NaN where the
+    discriminant is negative (the ray's line misses), and in no particular order.
     """
     f = origins - center
     a = dot(directions, directions)
@@ -63,10 +63,19 @@ def hit_sphere(
         closest = f - (b / a)[:, None] * directions  # centre -> closest point on the line
         discriminant = a * (radius * radius - dot(closest, closest))
         q = -(b + np.copysign(np.sqrt(discriminant), b))
-        t0 = q / a
-        t1 = c / q
-        t = nearest_positive(t0, t1)
-    return np.where(discriminant >= 0, t, MISS)
+        return q / a, c / q, discriminant
+
+
+def hit_sphere(
+    origins: np.ndarray, directions: np.ndarray, center: np.ndarray, radius: float
+) -> np.ndarray:
+    """Nearest t > 0 ``(N,)`` where each ray meets the sphere, or ``MISS``; the stable form.
+
+    ``origins``, ``directions``: ``(N, k)``; ``center``: ``(k,)``. A ray starting inside the
+    sphere hits its far side.
+    """
+    t0, t1, discriminant = sphere_roots(origins, directions, center, radius)
+    return np.where(discriminant >= 0, nearest_positive(t0, t1), MISS)
 
 
 def hit_sphere_textbook(

@@ -18,8 +18,12 @@ matplotlib.use("Agg")
 
 import matplotlib.pyplot as plt  # noqa: E402
 
+from raykit.diagrams import math_figures  # noqa: E402
+from raykit.diagrams.camera import camera_diagrams  # noqa: E402
+from raykit.diagrams.rays import ray_diagram as ray_diagram_3d  # noqa: E402
 from raykit.linescan.diagrams import ray_diagram, sweep_diagram  # noqa: E402
 from raykit.linescan.scene import load_line_scene  # noqa: E402
+from raykit.scene import load_scene  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 SCENES = HERE.parent / "scenes"
@@ -32,7 +36,18 @@ def _linescan(name: str) -> object:
     return load_line_scene(SCENES / "linescan" / f"{name}.json")
 
 
+def _scene(name: str) -> object:
+    return load_scene(SCENES / f"{name}.json")
+
+
 FIGURES = {
+    "rays_classic_3d": lambda: ray_diagram_3d(_scene("classic"), view="3d"),
+    "rays_classic_top": lambda: ray_diagram_3d(_scene("classic"), view="top"),
+    "rays_cutouts_side": lambda: ray_diagram_3d(_scene("cutouts"), view="side", every=60),
+    "camera_classic": lambda: camera_diagrams(_scene("classic").camera),
+    "math_sphere_cases": lambda: math_figures.sphere_cases(),
+    "math_plane_hit": lambda: math_figures.plane_hit(),
+    "math_dot_projection": lambda: math_figures.dot_projection(),
     "linescan_slide_rays": lambda: ray_diagram(_linescan("slide")),
     "linescan_conveyor_rays": lambda: ray_diagram(_linescan("conveyor"), every=8),
     "linescan_car_sweep": lambda: sweep_diagram(_linescan("passing_car"), scans=150),

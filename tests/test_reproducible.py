@@ -22,11 +22,12 @@ def _load_docs_maker():
 def test_readme_and_docs_images_are_what_their_commands_make(tmp_path):
     maker = _load_docs_maker()
     maker.make(tmp_path)
-    names = [name for command in maker.COMMANDS for name in maker.outputs(command)]
+    names = maker.all_outputs()
     assert sorted(names) == sorted(p.name for p in (REPO / "docs/images").glob("*.png"))
     for name in names:
         committed = REPO / "docs/images" / name
-        if "diagram" in name or "rays" in name:  # matplotlib figures: anti-aliasing may vary
+        if any(word in name for word in ("diagram", "rays", "camera", "math")):
+            # matplotlib figures: anti-aliasing may vary a little between platforms
             assert compare_images(str(committed), str(tmp_path / name), tol=3) is None, name
             continue
         fresh = np.asarray(Image.open(tmp_path / name).convert("RGB"))

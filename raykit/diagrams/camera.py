@@ -1,0 +1,124 @@
+"""The camera of the conventions in :mod:`raykit.camera`, drawn: e, lookat, up, the u, v, w
+frame, the frustum to the image plane, a coarse pixel grid with its centres, d and fov_angle.
+
+Points come from the camera's own functions (:func:`raykit.camera.image_plane_points`,
+:func:`raykit.camera.rays_through`) on a coarse copy of the camera, so the grid is readable
+while the geometry is exactly the camera's.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.figure import Figure
+
+from raykit.camera import Camera, image_plane_corners, image_plane_points, pixel_points
+from raykit.diagrams.views import draw_lines, draw_outline, view_for
+
+COARSE_COLUMNS = 8
+
+
+def coarse(camera: Camera, columns: int = COARSE_COLUMNS) -> Camera:
+    """The camera with at most ``columns`` pixel columns and rows in the same aspect ratio."""
+    width = min(camera.width, columns)
+    height = max(1, round(width * camera.height / camera.width))
+    return replace(camera, width=width, height=height)
+
+
+def camera_diagram(camera: Camera, *, ax: Axes | None = None) -> Figure:
+    """One camera in 3D axes (``ax`` must be 3D if given). Returns the figure."""
+    if ax is None:
+        ax = plt.figure(figsize=(6, 6), layout="constrained").add_subplot(projection="3d")
+    view = view_for(camera, "3d")
+    grid = coarse(camera)
+    u, v, w = camera.frame
+    eye, lookat = np.asarray(camera.eye, float), np.asarray(camera.lookat, float)
+    d = camera.d
+    x_edges, y_edges = np.arange(grid.width + 1), np.arange(grid.height + 1)
+
+    # the image plane: its pixel grid lines and the pixel centres
+    lines = [image_plane_points(grid, np.full(2, x), np.array([0, grid.height])) for x in x_edges]
+    lines += [image_plane_points(grid, np.array([0, grid.width]), np.full(2, y)) for y in y_edges]
+    draw_lines(ax, view, np.stack(lines), colors="0.35", linewidths=0.7)
+    centres = image_plane_points(grid, *pixel_points(grid.width, range(grid.height)))
+    ax.scatter(*view.project(centres).T, color="black", s=6, depthshade=False)
+
+    # the frustum: the eye to the plane's corners, or the parallel rays of the orthographic view
+    corners = image_plane_corners(grid)
+    if camera.projection == "orthographic":
+        starts = corners + d * w  # the eye plane: eye + s·u + t·v
+        draw_outline(ax, view, starts, colors="0.5", linewidths=0.8, linestyles="dashed")
+    else:
+        starts = np.broadcast_to(eye, corners.shape)
+    draw_lines(ax, view, np.stack([starts, corners], axis=1), colors="0.5", linewidths=0.8)
+
+    # the frame at the eye, up, and d along -w to lookat
+    size = 0.35 * d
+    for vector, label, color in (
+        (u, "u", "tab:red"),
+        (v, "v", "tab:green"),
+        (w, "w", "tab:blue"),
+        (normalize_up(camera), "up", "0.4"),
+    ):
+        tip = eye + size * vector
+        draw_lines(ax, view, np.stack([eye, tip])[None], colors=color, linewidths=2)
+        ax.text(
+            *view.project(tip + 0.08 * size * vector),
+            label,
+            color=color,
+            fontsize=11,
+            fontweight="bold",
+        )
+    draw_lines(
+        ax, view, np.stack([eye, lookat])[None], colors="black", linewidths=1, linestyles="dotted"
+    )
+    ax.text(*view.project((eye + lookat) / 2), "  d", fontsize=11, style="italic")
+    ax.scatter(*view.project(np.stack([eye, lookat])).T, color="black", s=18, depthshade=False)
+    ax.text(*view.project(eye), "  e", fontsize=11)
+    ax.text(*view.project(lookat), "  lookat", fontsize=9)
+
+    if camera.projection == "perspective":  # fov_angle: from the top edge to the bottom edge
+        Hp = camera.plane_size[1]
+        angles = np.linspace(-camera.fov_angle / 2, camera.fov_angle / 2, 25)
+        radius = 0.5 * d
+        arc = eye + radius * (
+            np.cos(np.radians(angles))[:, None] * -w + np.sin(np.radians(angles))[:, None] * v
+        )
+        ax.plot(*view.project(arc).T, color="black", lw=1)
+        ax.text(*view.project(arc[-1]), " fov_angle", fontsize=9)
+        edge = lookat + Hp / 2 * v
+        draw_lines(ax, view, np.stack([eye, edge])[None], colors="black", linewidths=0.8)
+
+    points = np.vstack([eye[None], corners, starts, eye + size * np.stack([u, v, w])])
+    shown = view.project(points)
+    centre = (shown.min(axis=0) + shown.max(axis=0)) / 2
+    half = (shown.max(axis=0) - shown.min(axis=0)).max() / 2 * 1.05
+    for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), centre, strict=True):
+        setter(c - half, c + half)
+    ax.set_box_aspect((1, 1, 1))
+    ax.view_init(elev=18, azim=-62)
+    ax.set_title(
+        f"{camera.projection}: {camera.width} x {camera.height} pixels "
+        f"(drawn {grid.width} x {grid.height}), fov_angle = {camera.fov_angle:g}°",
+        fontsize=9,
+    )
+    for label, axis in zip((ax.set_xlabel, ax.set_ylabel, ax.set_zlabel), view.axes, strict=True):
+        label("xyz"[axis])
+    return ax.figure
+
+
+def normalize_up(camera: Camera) -> np.ndarray:
+    up = np.asarray(camera.up, float)
+    return up / np.linalg.norm(up)
+
+
+def camera_diagrams(camera: Camera) -> Figure:
+    """The camera as perspective and as orthographic, side by side."""
+    figure = plt.figure(figsize=(11, 5.5), layout="constrained")
+    for k, projection in enumerate(("perspective", "orthographic")):
+        ax = figure.add_subplot(1, 2, k + 1, projection="3d")
+        camera_diagram(replace(camera, projection=projection), ax=ax)
+    return figure

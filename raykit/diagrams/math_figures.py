@@ -1,0 +1,146 @@
+"""The lecture's math, drawn with the functions that compute it.
+
+* :func:`sphere_cases`: a ray and a circle (the sphere's cross-section) for discriminant < 0,
+  = 0 and > 0, with the roots t0 and t1 that :func:`raykit.spheres.sphere_roots` returns.
+* :func:`plane_hit`: the plane through a with normal n, a ray o + t·d, and t_hit from
+  :func:`raykit.planes.hit_plane`.
+* :func:`dot_projection`: the dot product as a projection: r·u is the length of the shadow
+  that r casts on the unit vector u.
+
+Drawn in a 2D cross-section (k = 2): the math is the same in every dimension (raykit.rays).
+"""
+
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.figure import Figure
+from matplotlib.patches import Circle
+
+from raykit.planes import hit_plane
+from raykit.rays import dot, point_at
+from raykit.spheres import sphere_roots
+
+CENTER, RADIUS = np.array([0.0, 0.0]), 1.0
+
+
+def _arrow(ax: Axes, start, end, label: str | None = None, color="black", **text) -> None:
+    ax.annotate("", end, start, arrowprops=dict(arrowstyle="-|>", color=color, lw=1.4))
+    if label:
+        ax.annotate(
+            label,
+            end,
+            xytext=text.pop("offset", (5, 5)),
+            textcoords="offset points",
+            color=color,
+            fontsize=11,
+            **text,
+        )
+
+
+def _ray_case(ax: Axes, height: float) -> None:
+    o, d = np.array([[-2.6, height]]), np.array([[1.0, 0.0]])
+    t0, t1, discriminant = sphere_roots(o, d, CENTER, RADIUS)
+    ax.add_patch(Circle(CENTER, RADIUS, facecolor="0.9", edgecolor="black", lw=1.2))
+    ax.plot(*CENTER, "k+", ms=8)
+    ax.annotate("c", CENTER, xytext=(4, -12), textcoords="offset points")
+    ax.plot([o[0, 0], 2.6], [height, height], color="tab:blue", lw=1.4)
+    _arrow(ax, o[0], o[0] + 0.6 * d[0], "d", color="tab:blue")
+    ax.plot(*o[0], "o", color="tab:blue")
+    ax.annotate("o", o[0], xytext=(-4, -14), textcoords="offset points")
+    roots = sorted({float(t) for t in (t0[0], t1[0]) if np.isfinite(t)})
+    names = ["t0 = t1"] if len(roots) == 1 else ["t0", "t1"]
+    for t, name in zip(roots, names, strict=False):
+        p = point_at(o, d, np.array([t]))[0]
+        ax.plot(*p, "o", color="black", ms=6, zorder=5)
+        ax.annotate(f"{name} = {t:.2f}", p, xytext=(-14, 9), textcoords="offset points", fontsize=9)
+    sign = "< 0" if discriminant[0] < -1e-12 else "= 0" if abs(discriminant[0]) <= 1e-12 else "> 0"
+    outcome = {"< 0": "no root: a miss", "= 0": "one root: grazes", "> 0": "two roots"}[sign]
+    ax.set_title(f"discriminant {sign}: {outcome}", fontsize=10)
+    ax.set_xlim(-2.9, 2.9)
+    ax.set_ylim(-1.5, 1.9)
+    ax.set_aspect("equal")
+    ax.set_xticks([])
+    ax.set_yticks([])
+
+
+def sphere_cases(axes: list[Axes] | None = None) -> Figure:
+    """Three panels: a ray past, grazing and through a sphere, roots marked. ``axes``: three."""
+    if axes is None:
+        _, axes = plt.subplots(1, 3, figsize=(10, 3.4), layout="constrained")
+    for ax, height in zip(axes, (1.4, RADIUS, 0.45), strict=True):
+        _ray_case(ax, height)
+    return axes[0].figure
+
+
+def plane_hit(ax: Axes | None = None) -> Figure:
+    """The plane through a with normal n, and where the ray o + t·d meets it."""
+    if ax is None:
+        _, ax = plt.subplots(figsize=(5.5, 4.5), layout="constrained")
+    a, n = np.array([1.5, 0.5]), np.array([-1.0, 0.35])
+    n = n / np.linalg.norm(n)
+    along = np.array([n[1], -n[0]])
+    o, d = np.array([[-2.0, -0.8]]), np.array([[1.0, 0.55]])
+    t_hit = hit_plane(o, d, a, n)
+    p = point_at(o, d, t_hit)[0]
+    ax.plot(*np.stack([a - 2.4 * along, a + 2.0 * along]).T, color="black", lw=2)
+    ax.annotate(
+        "plane: (p - a)·n = 0",
+        a - 2.3 * along,
+        xytext=(8, 0),
+        textcoords="offset points",
+        fontsize=9,
+        va="center",
+    )
+    ax.plot(*a, "ks")
+    ax.annotate("a", a, xytext=(6, -12), textcoords="offset points", fontsize=11)
+    _arrow(ax, a, a + 0.9 * n, "n")
+    ax.plot([o[0, 0], p[0]], [o[0, 1], p[1]], color="tab:blue", lw=1.4)
+    _arrow(ax, o[0], o[0] + 0.7 * d[0], "d", color="tab:blue")
+    ax.plot(*o[0], "o", color="tab:blue")
+    ax.annotate("o", o[0], xytext=(-4, -14), textcoords="offset points", fontsize=11)
+    ax.plot(*p, "o", color="black", ms=7, zorder=5)
+    ax.annotate("p(t_hit)", p, xytext=(-52, 4), textcoords="offset points", fontsize=10)
+    ax.text(
+        0.03,
+        0.03,
+        f"t_hit = ((a - o)·n) / (d·n) = {t_hit[0]:.2f}",
+        transform=ax.transAxes,
+        fontsize=9,
+    )
+    ax.set_aspect("equal")
+    ax.set_xticks([])
+    ax.set_yticks([])
+    ax.set_title("ray–plane", fontsize=10)
+    return ax.figure
+
+
+def dot_projection(ax: Axes | None = None) -> Figure:
+    """r·u as the length of r's shadow on the unit vector u."""
+    if ax is None:
+        _, ax = plt.subplots(figsize=(5.5, 3.8), layout="constrained")
+    origin = np.zeros(2)
+    u = np.array([1.0, 0.25]) / np.linalg.norm([1.0, 0.25])
+    r = np.array([1.7, 1.5])
+    length = float(dot(r, u))
+    shadow = length * u
+    ax.plot(*np.stack([origin - 0.3 * u, origin + 2.8 * u]).T, color="0.7", lw=1)
+    ax.plot(*np.stack([origin, shadow]).T, color="0.25", lw=6, alpha=0.5, solid_capstyle="butt")
+    ax.plot(*np.stack([r, shadow]).T, color="black", lw=1, ls="dashed")
+    _arrow(ax, origin, r, "r")
+    _arrow(ax, origin, u, "u (unit)", color="tab:red", offset=(-10, -16))
+    ax.annotate(
+        f"r·u = {length:.2f}: the shadow of r on u",
+        shadow,
+        xytext=(-150, -30),
+        textcoords="offset points",
+        fontsize=9,
+    )
+    ax.set_aspect("equal")
+    ax.set_xlim(-0.4, 3.2)
+    ax.set_ylim(-0.6, 1.9)
+    ax.set_xticks([])
+    ax.set_yticks([])
+    ax.set_title("the dot product as a projection", fontsize=10)
+    return ax.figure

@@ -1,0 +1,134 @@
+"""A scene's primary rays: from the eye (or the orthographic eye plane) to what they hit.
+
+The rays and hit points are the renderer's own (:func:`raykit.render.cast_pixels`), so the ray
+drawn through pixel (r, c) ends on the object that pixel of the render shows. Hits are drawn
+solid in the colour of what they hit; misses dashed and faded, to the edge of the picture.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.figure import Figure
+
+from raykit.camera import image_plane_corners
+from raykit.diagrams.views import (
+    draw_lines,
+    draw_outline,
+    draw_scene_objects,
+    finish_axes,
+    new_axes,
+    view_for,
+)
+from raykit.rays import point_at
+from raykit.render import cast_pixels
+from raykit.scene import Scene
+
+MOST_RAYS_A_SIDE = 8
+
+
+def chosen_pixels(
+    width: int,
+    height: int,
+    every: int | None = None,
+    row: int | None = None,
+    pixels: list[tuple[int, int]] | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """(rows, cols) ``(N,)`` of the pixels whose rays to draw: the given ``pixels``; else every
+    k-th pixel of ``row``; else every k-th pixel in both directions, centred in the image.
+    k defaults to a value that draws at most 8 rays a side."""
+    if pixels is not None:
+        rows, cols = np.array(pixels, dtype=int).reshape(-1, 2).T
+        return rows, cols
+    every = every or max(1, math.ceil(max(width, height) / MOST_RAYS_A_SIDE))
+    cols = np.arange((width - 1) % every // 2, width, every)
+    if row is not None:
+        return np.full(len(cols), row), cols
+    rows = np.arange((height - 1) % every // 2, height, every)
+    grid_rows, grid_cols = np.meshgrid(rows, cols, indexing="ij")
+    return grid_rows.ravel(), grid_cols.ravel()
+
+
+def ray_diagram(
+    scene: Scene,
+    *,
+    view: str = "3d",
+    every: int | None = None,
+    row: int | None = None,
+    pixels: list[tuple[int, int]] | None = None,
+    ax: Axes | None = None,
+) -> Figure:
+    """Draw ``scene`` and the primary rays of the chosen pixels (see :func:`chosen_pixels`).
+
+    ``view``: "3d" (3D axes), "top" or "side" (2D projections, see
+    :mod:`raykit.diagrams.views`). ``ax`` must be 3D axes for the 3D view. Returns the figure.
+    """
+    camera = scene.camera
+    shown = view_for(camera, view)
+    ax = new_axes(shown, ax)
+    rows, cols = chosen_pixels(camera.width, camera.height, every, row, pixels)
+    origins, directions, hits = cast_pixels(scene, rows, cols)
+    ends = point_at(origins, directions, hits.t)
+    hit = hits.index >= 0
+
+    corners = image_plane_corners(camera)
+    extent = _scene_points(scene, corners)
+    reach = np.linalg.norm(np.ptp(np.vstack([extent, ends[hit]]), axis=0))
+    draw_scene_objects(ax, shown, scene)
+    draw_lines(
+        ax,
+        shown,
+        np.stack([origins[hit], ends[hit]], axis=1),
+        gid="rays-hit",
+        colors=np.clip(hits.color[hit], 0, 1),
+        linewidths=1.2,
+        zorder=4,
+    )
+    misses = np.stack([origins[~hit], origins[~hit] + reach * directions[~hit]], axis=1)
+    draw_lines(
+        ax,
+        shown,
+        misses,
+        gid="rays-missed",
+        colors="0.5",
+        linewidths=0.8,
+        linestyles=(0, (4, 3)),
+        alpha=0.6,
+        zorder=1,
+    )
+    draw_outline(ax, shown, corners, colors="black", linewidths=1.0, zorder=5)
+    _mark(ax, shown, camera.eye, "eye")
+    _mark(ax, shown, corners[1], "image plane", marker=None)
+    if shown.is_3d:
+        ax.scatter(*shown.project(ends[hit]).T, color="black", s=4, depthshade=False)
+    else:
+        ax.plot(*shown.project(ends[hit]).T, "o", color="black", ms=2, zorder=6)
+    finish_axes(ax, shown, np.vstack([extent, ends[hit]]), camera)
+    title = f"{len(rows)} rays through pixel centres ({int(hit.sum())} hit): solid = hit, "
+    ax.set_title(title + "dashed = miss", fontsize=10)
+    return ax.figure
+
+
+def _scene_points(scene: Scene, corners: np.ndarray) -> np.ndarray:
+    """Points ``(N, 3)`` that the picture must hold: eye, image plane, objects."""
+    points = [np.asarray(scene.camera.eye, float)[None], corners]
+    for sphere in scene.spheres:
+        points.append(sphere.center + np.array([[-1, -1, -1], [1, 1, 1]]) * sphere.radius)
+    for billboard in scene.billboards:
+        ul = np.asarray(billboard.upper_left, float)
+        points.append(
+            np.stack([ul, ul + billboard.a, ul + billboard.b, ul + billboard.a + billboard.b])
+        )
+    return np.vstack(points)
+
+
+def _mark(ax: Axes, view, point: np.ndarray, label: str, marker: str | None = "o") -> None:
+    shown = view.project(point)
+    if marker:
+        ax.plot(*[[c] for c in shown], marker, color="black", ms=5, zorder=7)
+    if view.is_3d:
+        ax.text(*shown, f" {label}", fontsize=9)
+    else:
+        ax.annotate(label, shown, xytext=(4, 4), textcoords="offset points", fontsize=9)

@@ -1,0 +1,156 @@
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+
+from conftest import SCENES  # noqa: E402
+from raykit.camera import image_plane_points, pixel_points, rays_through  # noqa: E402
+from raykit.cli import main  # noqa: E402
+from raykit.diagrams import math_figures  # noqa: E402
+from raykit.diagrams.camera import camera_diagram, coarse  # noqa: E402
+from raykit.diagrams.rays import chosen_pixels, ray_diagram  # noqa: E402
+from raykit.diagrams.views import view_for  # noqa: E402
+from raykit.rays import point_at  # noqa: E402
+from raykit.render import cast_pixels, render  # noqa: E402
+from raykit.scene import load_scene  # noqa: E402
+from raykit.spheres import sphere_roots  # noqa: E402
+
+
+@pytest.fixture(autouse=True)
+def close_figures():
+    yield
+    plt.close("all")
+
+
+def _segments(figure, gid):
+    found = [c for ax in figure.axes for c in ax.collections if c.get_gid() == gid]
+    assert len(found) == 1
+    segments = found[0].get_segments()
+    return np.array(segments).reshape(-1, 2, np.shape(segments[0])[-1]) if segments else None
+
+
+def test_cast_pixels_are_the_renderers_own_centre_rays():
+    scene = load_scene(SCENES / "cutouts.json")
+    rows, cols = chosen_pixels(scene.camera.width, scene.camera.height, every=17)
+    _, _, hits = cast_pixels(scene, rows, cols)
+    image = render(scene)
+    assert np.array_equal(hits.index, image.object_index[rows, cols])
+    assert np.array_equal(hits.t, image.t[rows, cols])
+
+
+@pytest.mark.parametrize("view", ["top", "side"])
+@pytest.mark.parametrize("name", ["classic", "cutouts", "orthographic", "wide_fov"])
+def test_drawn_rays_end_at_the_renderers_hit_points_on_the_pixel_showing_that_object(name, view):
+    scene = load_scene(SCENES / f"{name}.json")
+    figure = ray_diagram(scene, view=view)
+    rows, cols = chosen_pixels(scene.camera.width, scene.camera.height)
+    origins, directions, hits = cast_pixels(scene, rows, cols)
+    hit = hits.index >= 0
+    shown = view_for(scene.camera, view)
+    drawn = _segments(figure, "rays-hit")
+    assert np.array_equal(drawn[:, 1], shown.project(point_at(origins, directions, hits.t))[hit])
+    # the object each drawn ray ends on is the object the render shows at that pixel
+    assert np.array_equal(render(scene).object_index[rows, cols][hit], hits.index[hit])
+
+
+def test_3d_view_draws_the_same_hit_points_in_its_axes_order():
+    scene = load_scene(SCENES / "classic.json")
+    figure = ray_diagram(scene, view="3d", every=100)
+    rows, cols = chosen_pixels(scene.camera.width, scene.camera.height, every=100)
+    origins, directions, hits = cast_pixels(scene, rows, cols)
+    ends = view_for(scene.camera, "3d").project(point_at(origins, directions, hits.t))
+    (rays,) = [c for c in figure.axes[0].collections if c.get_gid() == "rays-hit"]
+    drawn = np.asarray(rays._segments3d)  # mplot3d keeps the 3D segments here until drawn
+    assert np.array_equal(drawn[:, 1], ends[hits.index >= 0])
+
+
+def test_number_of_rays_drawn_every_kth_pixel_a_row_or_given_pixels():
+    scene = load_scene(SCENES / "classic.json")  # 640 x 480
+
+    def count(**kw):
+        figure = ray_diagram(scene, view="top", **kw)
+        return sum(
+            len(c.get_segments())
+            for c in figure.axes[0].collections
+            if c.get_gid() in ("rays-hit", "rays-missed")
+        )
+
+    assert count(every=80) == 8 * 6
+    assert count(every=64, row=240) == 10
+    assert count(pixels=[(0, 0), (240, 320), (479, 639)]) == 3
+    assert count() <= 64
+
+
+def test_chosen_pixels_are_centred_in_the_image():
+    rows, cols = chosen_pixels(9, 5, every=4)
+    assert sorted(set(cols)) == [0, 4, 8] and sorted(set(rows)) == [0, 4]
+
+
+def test_top_and_side_views_follow_the_camera_up_and_view_direction():
+    camera = load_scene(SCENES / "classic.json").camera  # y up, looking along -z
+    assert view_for(camera, "top").axes == (0, 2)
+    assert view_for(camera, "side").axes == (2, 1)
+    assert view_for(camera, "3d").axes == (0, 2, 1)
+    with pytest.raises(ValueError):
+        view_for(camera, "front")
+
+
+def test_camera_diagram_draws_the_cameras_own_pixel_centres():
+    camera = load_scene(SCENES / "classic.json").camera
+    figure = camera_diagram(camera)
+    grid = coarse(camera)
+    assert (grid.width, grid.height) == (8, 6)
+    centres = image_plane_points(grid, *pixel_points(8, range(6)))
+    drawn = figure.axes[0].collections
+    offsets = [np.asarray(c._offsets3d).T for c in drawn if hasattr(c, "_offsets3d")]
+    view = view_for(camera, "3d")
+    assert any(o.shape == (48, 3) and np.allclose(o, view.project(centres)) for o in offsets)
+    # the image plane's centre is lookat, and the centre ray goes there
+    _, d = rays_through(camera, np.array([camera.width / 2]), np.array([camera.height / 2]))
+    assert np.allclose(np.cross(d[0], camera.lookat - camera.eye), 0, atol=1e-9)
+
+
+def test_sphere_cases_mark_the_roots_the_math_returns():
+    figure = math_figures.sphere_cases()
+    titles = [ax.get_title() for ax in figure.axes]
+    assert titles == [
+        "discriminant < 0: no root: a miss",
+        "discriminant = 0: one root: grazes",
+        "discriminant > 0: two roots",
+    ]
+    t0, t1, _ = sphere_roots(np.array([[-2.6, 0.45]]), np.array([[1.0, 0.0]]), np.zeros(2), 1.0)
+    labels = [t.get_text() for t in figure.axes[2].texts]
+    assert f"t0 = {min(t0[0], t1[0]):.2f}" in labels and f"t1 = {max(t0[0], t1[0]):.2f}" in labels
+
+
+def test_diagram_command_writes_each_view(tmp_path, capsys):
+    for view in ("3d", "top", "side", "camera"):
+        out = tmp_path / f"{view}.png"
+        assert (
+            main(
+                [
+                    "diagram",
+                    str(SCENES / "classic.json"),
+                    "-o",
+                    str(out),
+                    "--view",
+                    view,
+                    "--rays",
+                    "120",
+                ]
+            )
+            == 0
+        )
+        assert out.stat().st_size > 10_000
+    assert capsys.readouterr().out.count("wrote") == 4
+
+
+def test_diagram_command_on_a_bad_scene_is_one_line_exit_2(tmp_path, capsys):
+    bad = tmp_path / "bad.json"
+    bad.write_text('{"camera": {}}')
+    assert main(["diagram", str(bad), "-o", str(tmp_path / "d.png")]) == 2
+    assert capsys.readouterr().err.count("\n") == 1
+    assert not (tmp_path / "d.png").exists()
