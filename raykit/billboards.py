@@ -84,6 +84,9 @@ def hit_billboard(
     Returns ``t (N,)`` (``MISS`` outside the parallelogram) and the hit's ``alpha (N,)``,
     ``beta (N,)`` (NaN where the plane is missed).
     """
+    # BEGIN SOLUTION
+    # hint: t from hit_plane with n = a × b through upper_left; alpha = q·(b × n)/|n|², beta = q·(n
+    #       × a)/|n|²; inside when both are in [0, 1]
     corner = np.asarray(billboard.upper_left, float)
     t = hit_plane(origins, directions, corner, billboard.n)
     q = hit_points_on_plane(origins, directions, t, corner)
@@ -93,15 +96,19 @@ def hit_billboard(
     with np.errstate(invalid="ignore"):
         inside = (alpha >= 0) & (alpha <= 1) & (beta >= 0) & (beta <= 1)
     return np.where(inside, t, MISS), alpha, beta
+    # END SOLUTION
 
 
 def texel_indices(
     alpha: np.ndarray, beta: np.ndarray, width: int, height: int
 ) -> tuple[np.ndarray, np.ndarray]:
     """Nearest-texel (row, column) ``(N,)`` ints for (alpha, beta) in [0, 1]²."""
+    # BEGIN SOLUTION
+    # hint: column = min(floor(alpha·W), W - 1), row = min(floor(beta·H), H - 1), as integers
     column = np.minimum(np.floor(alpha * width), width - 1).astype(np.intp)
     row = np.minimum(np.floor(beta * height), height - 1).astype(np.intp)
     return row, column
+    # END SOLUTION
 
 
 def billboard_color_at(billboard: Billboard, alpha: np.ndarray, beta: np.ndarray) -> ColorAt:

@@ -79,6 +79,9 @@ def camera_frame(
 
     Raises when eye == lookat (no view direction) or when up is zero or parallel to w.
     """
+    # BEGIN SOLUTION
+    # hint: w = normalize(eye - lookat), u = normalize(up × w), v = w × u; raise
+    #       DegenerateFrameError when there is no frame
     eye, lookat, up = (np.asarray(x, dtype=float) for x in (eye, lookat, up))
     backwards = eye - lookat
     if not np.any(backwards):
@@ -96,6 +99,7 @@ def camera_frame(
     u = normalize(up_cross_w)
     v = np.cross(w, u)
     return u, v, w
+    # END SOLUTION
 
 
 def sample_offsets(samples: int) -> np.ndarray:
@@ -126,6 +130,9 @@ def rays_through(camera: Camera, x: np.ndarray, y: np.ndarray) -> tuple[np.ndarr
     Returns ``origins (N, 3)`` and unit ``directions (N, 3)``. Pixel (r, c) sampled at offset
     (a, b) is x = c + a, y = r + b.
     """
+    # BEGIN SOLUTION
+    # hint: perspective: origin eye, direction normalize(s·u + t·v - d·w); orthographic: origin eye
+    #       + s·u + t·v, direction -w
     u, v, w = camera.frame
     in_plane = _in_plane(camera, x, y)
     eye = np.asarray(camera.eye, dtype=float)
@@ -136,15 +143,19 @@ def rays_through(camera: Camera, x: np.ndarray, y: np.ndarray) -> tuple[np.ndarr
         origins = np.broadcast_to(eye, in_plane.shape).copy()
         directions = normalize(in_plane - camera.d * w)
     return origins, directions
+    # END SOLUTION
 
 
 def _in_plane(camera: Camera, x: np.ndarray, y: np.ndarray) -> np.ndarray:
     """s·u + t·v ``(N, 3)``: where (x, y) lies on the image plane, from its centre."""
+    # BEGIN SOLUTION
+    # hint: s = -Wp/2 + x·Wp/width, t = Hp/2 - y·Hp/height; return s·u + t·v, shape (N, 3)
     u, v, _ = camera.frame
     Wp, Hp = camera.plane_size
     s = -Wp / 2 + np.asarray(x, dtype=float) * (Wp / camera.width)
     t = Hp / 2 - np.asarray(y, dtype=float) * (Hp / camera.height)
     return s[:, None] * u + t[:, None] * v
+    # END SOLUTION
 
 
 def pixel_points(

@@ -41,6 +41,8 @@ class Hits:
         ``color_at`` is asked only about the rays where it is nearer, so a texture is read only
         where it can be seen.
         """
+        # BEGIN SOLUTION
+        # hint: where t < self.t and the object is opaque there, store t, the index and the colour
         nearer = np.flatnonzero(t < self.t)
         if len(nearer) == 0:  # nothing to ask: a texture nobody sees stays undecoded
             return
@@ -49,6 +51,7 @@ class Hits:
         self.t[nearer] = t[nearer]
         self.index[nearer] = index
         self.color[nearer] = colors[opaque]
+        # END SOLUTION
 
 
 def solid(color: np.ndarray) -> ColorAt:

@@ -26,11 +26,14 @@ def hit_plane(
     ``origins``, ``directions``: ``(N, k)``. Either side of the plane counts (planes are
     two-sided). Rays parallel to the plane, and hits at t <= 0, give ``MISS``.
     """
+    # BEGIN SOLUTION
+    # hint: t = ((a - o)·n) / (d·n); rays parallel to the plane and hits with t <= 0 are MISS
     d_dot_n = directions @ n
     a_minus_o_dot_n = (a - origins) @ n
     with np.errstate(divide="ignore", invalid="ignore"):
         t = a_minus_o_dot_n / d_dot_n
     return np.where((d_dot_n != 0) & (t > 0), t, MISS)
+    # END SOLUTION
 
 
 def hit_points_on_plane(

@@ -39,6 +39,9 @@ class Render:
 
 def cast(scene: Scene, origins: np.ndarray, directions: np.ndarray) -> Hits:
     """The nearest hit of each ray ``(N, 3)`` over all objects of the scene."""
+    # BEGIN SOLUTION
+    # hint: start from Hits.none, then offer every sphere and every billboard, in index order, to
+    #       Hits.keep_nearer
     hits = Hits.none(len(origins), scene.background)
     for i, sphere in enumerate(scene.spheres):
         t = hit_sphere(origins, directions, sphere.center, sphere.radius)
@@ -47,6 +50,7 @@ def cast(scene: Scene, origins: np.ndarray, directions: np.ndarray) -> Hits:
         t, alpha, beta = hit_billboard(origins, directions, billboard)
         hits.keep_nearer(i, t, billboard_color_at(billboard, alpha, beta))
     return hits
+    # END SOLUTION
 
 
 def cast_pixels(

@@ -55,6 +55,9 @@ def sphere_roots(
     Returns ``(t0, t1, discriminant)``, each ``(N,)``; the roots are NaN where the
     discriminant is negative (the ray's line misses), and in no particular order.
     """
+    # BEGIN SOLUTION
+    # hint: f = o - c, a = d·d, b' = f·d, c' = f·f - r²; Δ = a·(r² - |f - (b'/a)·d|²); q = -(b' +
+    #       sign(b')·√Δ), t0 = q/a, t1 = c'/q
     f = origins - center
     a = dot(directions, directions)
     b = dot(f, directions)  # b' = half the textbook b
@@ -64,6 +67,7 @@ def sphere_roots(
         discriminant = a * (radius * radius - dot(closest, closest))
         q = -(b + np.copysign(np.sqrt(discriminant), b))
         return q / a, c / q, discriminant
+    # END SOLUTION
 
 
 def hit_sphere(
@@ -74,8 +78,12 @@ def hit_sphere(
     ``origins``, ``directions``: ``(N, k)``; ``center``: ``(k,)``. A ray starting inside the
     sphere hits its far side.
     """
+    # BEGIN SOLUTION
+    # hint: the nearest root with t > 0 where the discriminant is >= 0, else MISS (see
+    #       raykit.rays.nearest_positive)
     t0, t1, discriminant = sphere_roots(origins, directions, center, radius)
     return np.where(discriminant >= 0, nearest_positive(t0, t1), MISS)
+    # END SOLUTION
 
 
 def hit_sphere_textbook(

@@ -56,9 +56,13 @@ class LineCamera:
 def pixel_x(pixels: int, samples: int = 1) -> np.ndarray:
     """Image-line coordinates x of every sample, ``(pixels * samples,)``, pixel by pixel:
     x = -1 + (i + (k + 0.5)/n)·2/N, so n = 1 gives the pixel centres x_i."""
+    # BEGIN SOLUTION
+    # hint: x = -1 + (i + (k + 0.5)/n)·2/N for pixel i = 0..N-1 and sample k = 0..n-1, pixel by
+    #       pixel
     i = np.repeat(np.arange(pixels), samples)
     k = np.tile(np.arange(samples), pixels)
     return -1.0 + (i + (k + 0.5) / samples) * (2.0 / pixels)
+    # END SOLUTION
 
 
 def pixel_positions(camera: LineCamera, samples: int = 1) -> np.ndarray:
@@ -71,6 +75,9 @@ def pixel_positions(camera: LineCamera, samples: int = 1) -> np.ndarray:
 def line_rays(camera: LineCamera, samples: int = 1) -> tuple[np.ndarray, np.ndarray]:
     """All rays of the camera: ``origins (M, 2)`` and unit ``directions (M, 2)``, with
     M = pixels·samples, in pixel order (the samples of pixel 0 first)."""
+    # BEGIN SOLUTION
+    # hint: perspective: origins e, directions normalize(x·u + D·w); orthographic: origins e +
+    #       (width/2)·x·u, directions w
     u, w = camera.frame
     x = pixel_x(camera.pixels, samples)
     e = np.asarray(camera.e, float)
@@ -81,3 +88,4 @@ def line_rays(camera: LineCamera, samples: int = 1) -> tuple[np.ndarray, np.ndar
         origins = np.broadcast_to(e, (len(x), 2)).copy()
         directions = normalize(x[:, None] * u + camera.D * w)  # p_i - e, no digits lost to e
     return origins, directions
+    # END SOLUTION

@@ -70,6 +70,9 @@ def hit_segment(
     origins: np.ndarray, directions: np.ndarray, billboard: Billboard
 ) -> tuple[np.ndarray, np.ndarray]:
     """Where rays ``(N, 2)`` meet the segment: ``t (N,)`` (``MISS`` off it) and ``s (N,)``."""
+    # BEGIN SOLUTION
+    # hint: the segment's line is a 2D plane through start with normal (end - start) turned a
+    #       quarter: use hit_plane, then s = q·a / (a·a)
     start = np.asarray(billboard.start, float)
     a = np.asarray(billboard.end, float) - start
     n = np.array([-a[1], a[0]])
@@ -78,6 +81,7 @@ def hit_segment(
     with np.errstate(invalid="ignore"):
         on_segment = (s >= 0) & (s <= 1)
     return np.where(on_segment, t, MISS), s
+    # END SOLUTION
 
 
 def segment_color_at(billboard: Billboard, s: np.ndarray) -> ColorAt:
