@@ -1,0 +1,173 @@
+"""What runs inside the child process: one task of the submission's code, arrays out.
+
+    python -I -S child.py WORK_FOLDER
+
+reads ``task.json`` and ``inputs.npz`` from WORK_FOLDER, puts the submission and the allowed
+libraries (numpy, Pillow) on ``sys.path`` and nothing else, runs the task, and writes the
+results to ``outputs.npz`` (plain arrays: the parent loads them with ``allow_pickle=False``).
+
+The same :data:`TASKS` run in the grader with the reference raykit, to make the expected
+results; so a task is written once and means the same on both sides. This file imports only
+numpy and raykit, and only inside the tasks, so the child imports whichever raykit comes first
+on its path: the submission's.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+
+def _line_camera(spec: dict):
+    import numpy as np
+
+    from raykit.linescan.camera import LineCamera
+
+    return LineCamera(
+        np.array(spec["e"], float),
+        np.array(spec["w"], float),
+        spec["fov_angle"],
+        spec["pixels"],
+        spec.get("projection", "perspective"),
+        spec.get("width", 2.0),
+    )
+
+
+def _camera(spec: dict):
+    import numpy as np
+
+    from raykit.camera import Camera
+
+    return Camera(
+        np.array(spec["eye"], float),
+        np.array(spec["lookat"], float),
+        np.array(spec["up"], float),
+        spec["fov_angle"],
+        spec["width"],
+        spec["height"],
+        spec.get("projection", "perspective"),
+    )
+
+
+def task_pixel_x(spec, arrays):
+    from raykit.linescan.camera import pixel_x
+
+    return {"x": pixel_x(spec["pixels"], spec.get("samples", 1))}
+
+
+def task_line_rays(spec, arrays):
+    from raykit.linescan.camera import line_rays
+
+    origins, directions = line_rays(_line_camera(spec["camera"]), spec.get("samples", 1))
+    return {"origins": origins, "directions": directions}
+
+
+def task_hit_segment(spec, arrays):
+    import numpy as np
+
+    from raykit.linescan.objects import Billboard, hit_segment
+
+    board = Billboard(
+        np.array(spec["start"], float), np.array(spec["end"], float), color=np.ones(3)
+    )
+    t, s = hit_segment(arrays["origins"], arrays["directions"], board)
+    return {"t": t, "s": np.where(np.isfinite(t), s, np.nan)}
+
+
+def task_hit_plane(spec, arrays):
+    from raykit.planes import hit_plane
+
+    return {"t": hit_plane(arrays["origins"], arrays["directions"], arrays["a"], arrays["n"])}
+
+
+def task_hit_sphere(spec, arrays):
+    from raykit.spheres import hit_sphere
+
+    return {
+        "t": hit_sphere(
+            arrays["origins"], arrays["directions"], arrays["center"], float(spec["radius"])
+        )
+    }
+
+
+def task_camera_frame(spec, arrays):
+    import numpy as np
+
+    from raykit.camera import camera_frame
+
+    u, v, w = camera_frame(*(np.array(spec[k], float) for k in ("eye", "lookat", "up")))
+    return {"u": u, "v": v, "w": w}
+
+
+def task_rays_through(spec, arrays):
+    from raykit.camera import rays_through
+
+    origins, directions = rays_through(_camera(spec["camera"]), arrays["x"], arrays["y"])
+    return {"origins": origins, "directions": directions}
+
+
+def task_hit_billboard(spec, arrays):
+    import numpy as np
+
+    from raykit.billboards import Billboard, hit_billboard
+
+    board = Billboard(
+        *(np.array(spec[k], float) for k in ("upper_left", "lower_left", "upper_right")),
+        color=np.ones(3),
+    )
+    t, alpha, beta = hit_billboard(arrays["origins"], arrays["directions"], board)
+    hit = np.isfinite(t)
+    return {"t": t, "alpha": np.where(hit, alpha, np.nan), "beta": np.where(hit, beta, np.nan)}
+
+
+def task_texel_indices(spec, arrays):
+    from raykit.billboards import texel_indices
+
+    row, column = texel_indices(arrays["alpha"], arrays["beta"], spec["width"], spec["height"])
+    return {"row": row, "column": column}
+
+
+def task_render(spec, arrays):
+    from raykit.render import render
+    from raykit.scene import scene_from_dict
+
+    scene = scene_from_dict(spec["scene"], folder=spec["folder"])
+    return {"rgb": render(scene, samples=spec.get("samples", 1)).rgb}
+
+
+def task_scan(spec, arrays):
+    from raykit.linescan.scan import scan
+    from raykit.linescan.scene import line_scene_from_dict
+
+    return {"rgb": scan(line_scene_from_dict(spec["scene"], folder=spec["folder"])).colors[None]}
+
+
+def task_sweep(spec, arrays):
+    from raykit.linescan.scan import sweep
+    from raykit.linescan.scene import line_scene_from_dict
+
+    scene = line_scene_from_dict(spec["scene"], folder=spec["folder"])
+    return {"rgb": sweep(scene, spec.get("scans")).image}
+
+
+TASKS = {name[len("task_") :]: f for name, f in dict(globals()).items() if name.startswith("task_")}
+
+
+def main(work: Path) -> int:
+    order = json.loads((work / "task.json").read_text())
+    sys.path[:0] = [str(work / "submission"), *order["library_paths"]]
+    import numpy as np  # only now, from the allowed paths
+
+    with np.load(work / "inputs.npz", allow_pickle=False) as data:
+        arrays = {k: data[k] for k in data.files}
+    spec = order["spec"]
+    if "folder" in spec:
+        spec["folder"] = str(work / spec["folder"])
+    outputs = TASKS[order["task"]](spec, arrays)
+    np.savez(work / "outputs.npz", **{k: np.asarray(v) for k, v in outputs.items()})
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(Path(sys.argv[1])))

@@ -1,0 +1,104 @@
+"""Comparing a submission's results with the reference: arrays within a tolerance, and images
+fairly at silhouettes.
+
+Arrays (:func:`check_arrays`): the same shape, numbers, and equal within rtol 1e-6, atol 1e-9;
+a miss may be NaN or inf on either side.
+
+Images (:func:`compare_images`):
+A pixel *matches* when each of its channels is within ``tolerance`` (8-bit levels) of the
+reference pixel, or of one of that pixel's 3x3 neighbours: an edge pixel that rounding put on
+the other side of a silhouette costs nothing, a wrong colour or a shifted object does. The
+score follows the matched fraction: full at ``full_at`` (99.5%) and above, none below
+``none_below`` (90%), linear between. PSNR is reported beside it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Scoring:
+    tolerance: int = 2
+    full_at: float = 0.995
+    none_below: float = 0.90
+
+
+DEFAULT_SCORING = Scoring()
+
+
+@dataclass(frozen=True)
+class Comparison:
+    matched: np.ndarray  # (H, W) bool
+    fraction: float
+    psnr: float
+
+    def score(self, scoring: Scoring = DEFAULT_SCORING) -> float:
+        """The share of an image's points earned, in [0, 1]."""
+        span = scoring.full_at - scoring.none_below
+        return float(np.clip((self.fraction - scoring.none_below) / span, 0.0, 1.0))
+
+
+def compare_images(
+    student: np.ndarray, reference: np.ndarray, scoring: Scoring = DEFAULT_SCORING
+) -> Comparison:
+    """Compare two uint8 images ``(H, W, 3)`` of the same shape."""
+    student = student.astype(np.int16)
+    reference = reference.astype(np.int16)
+    height, width = reference.shape[:2]
+    padded = np.pad(reference, ((1, 1), (1, 1), (0, 0)), mode="edge")
+    matched = np.zeros((height, width), dtype=bool)
+    for dy in range(3):
+        for dx in range(3):
+            neighbour = padded[dy : dy + height, dx : dx + width]
+            matched |= (np.abs(student - neighbour) <= scoring.tolerance).all(axis=-1)
+    mse = float(np.mean((student.astype(float) - reference) ** 2))
+    psnr = float("inf") if mse == 0 else 10 * np.log10(255.0**2 / mse)
+    return Comparison(matched, float(matched.mean()), psnr)
+
+
+def strict_fraction(student: np.ndarray, reference: np.ndarray, tolerance: int = 2) -> float:
+    """The share of pixels within ``tolerance`` of the reference pixel itself (no neighbours):
+    for telling apart images that the fair comparison cannot, such as a half-pixel shift."""
+    difference = np.abs(student.astype(np.int16) - reference.astype(np.int16))
+    return float((difference <= tolerance).all(axis=-1).mean())
+
+
+def feedback_picture(student: np.ndarray, reference: np.ndarray, matched: np.ndarray) -> np.ndarray:
+    """Student | reference | mismatches in red over a greyed reference, side by side, uint8."""
+    grey = reference.mean(axis=-1, keepdims=True)
+    greyed = np.repeat(0.35 * grey + 0.65 * 255, 3, axis=-1)
+    greyed[~matched] = [230, 20, 20]
+    gap = np.full((reference.shape[0], 4, 3), 255)
+    return np.concatenate([student, gap, reference, gap, greyed], axis=1).astype(np.uint8)
+
+
+def check_arrays(got: dict[str, np.ndarray], want: dict[str, np.ndarray]) -> tuple[bool, str]:
+    """Every expected array present, of the same shape, numeric, and equal within tolerance.
+
+    A miss may be NaN or inf in either; integers must be equal exactly.
+    """
+    for key, reference in want.items():
+        if key not in got:
+            return False, f"no result named {key!r}"
+        value = got[key]
+        if value.shape != reference.shape:
+            return False, f"{key}: shape {value.shape}, expected {reference.shape}"
+        if not (np.issubdtype(value.dtype, np.number) or value.dtype == bool):
+            return False, f"{key}: values of type {value.dtype}, expected numbers"
+        value = value.astype(float)
+        reference = reference.astype(float)
+        miss_got, miss_want = ~np.isfinite(value), ~np.isfinite(reference)
+        wrong = miss_got != miss_want
+        both = ~miss_got & ~miss_want
+        wrong[both] |= ~np.isclose(value[both], reference[both], rtol=1e-6, atol=1e-9)
+        if wrong.any():
+            first = np.argwhere(wrong)[0]
+            where = tuple(int(i) for i in first)
+            return False, (
+                f"{key}: {int(wrong.sum())} of {wrong.size} values differ; first at "
+                f"{where}: got {value[where]!r}, expected {reference[where]!r}"
+            )
+    return True, "all values match"

@@ -1,0 +1,153 @@
+"""The classic mistakes of the 3D renderer, rendered by the reference code made to make them.
+
+Each :class:`Mistake` swaps one piece of the reference renderer for the wrong version a student
+typically writes (rows counted from the bottom, u and v swapped, fov_angle taken as horizontal,
+…) while the task runs in the grader. When a submission's image fails, the grader compares it
+with these too; if one matches it better than the reference does, the feedback says which.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Iterator
+from contextlib import ExitStack, contextmanager
+from dataclasses import dataclass, field
+from unittest import mock
+
+import numpy as np
+
+import raykit.billboards
+import raykit.camera
+import raykit.render
+from raykit.camera import Camera
+from raykit.rays import MISS
+from raykit.spheres import sphere_roots
+
+
+@dataclass(frozen=True)
+class Mistake:
+    """``says`` completes "your image matches what the renderer gives when …"."""
+
+    key: str
+    says: str
+    patches: Callable[[], list] = field(default=lambda: [])
+    after: Callable[[np.ndarray], np.ndarray] = field(default=lambda rgb: rgb)
+
+    @contextmanager
+    def active(self) -> Iterator[None]:
+        with ExitStack() as stack:
+            for patch in self.patches():
+                stack.enter_context(patch)
+            yield
+
+
+def _frame(change: Callable[[np.ndarray, np.ndarray, np.ndarray], tuple]) -> list:
+    original = raykit.camera.camera_frame
+
+    def wrong(eye, lookat, up):
+        return change(*original(eye, lookat, up))
+
+    return [mock.patch.object(raykit.camera, "camera_frame", wrong)]
+
+
+def _plane_size(size: Callable[[Camera], tuple[float, float]]) -> list:
+    return [mock.patch.object(Camera, "plane_size", property(size))]
+
+
+def _horizontal_fov(camera: Camera) -> tuple[float, float]:
+    Wp = 2 * camera.d * math.tan(math.radians(camera.fov_angle) / 2)
+    return Wp, Wp * camera.height / camera.width
+
+
+def _no_aspect(camera: Camera) -> tuple[float, float]:
+    Hp = 2 * camera.d * math.tan(math.radians(camera.fov_angle) / 2)
+    return Hp, Hp
+
+
+def _radians(camera: Camera) -> tuple[float, float]:
+    Hp = 2 * camera.d * math.tan(camera.fov_angle / 2)
+    return Hp * camera.width / camera.height, Hp
+
+
+def _far_root(origins, directions, center, radius):
+    t0, t1, discriminant = sphere_roots(origins, directions, center, radius)
+    far = np.fmax(t0, t1)
+    with np.errstate(invalid="ignore"):
+        return np.where((discriminant >= 0) & (far > 0), far, MISS)
+
+
+def _any_root(origins, directions, center, radius):
+    t0, t1, discriminant = sphere_roots(origins, directions, center, radius)
+    return np.where(discriminant >= 0, np.fmin(t0, t1), MISS)
+
+
+def _plane_any_side(origins, directions, a, n):
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = ((a - origins) @ n) / (directions @ n)
+    return np.where(np.isfinite(t), t, MISS)
+
+
+def _rows_flipped_texels(alpha, beta, width, height):
+    row, column = ORIGINAL_TEXEL_INDICES(alpha, beta, width, height)
+    return height - 1 - row, column
+
+
+ORIGINAL_TEXEL_INDICES = raykit.billboards.texel_indices
+
+MISTAKES = [
+    Mistake(
+        "rows_flipped",
+        "image rows are counted from the bottom (the picture is upside down)",
+        after=lambda rgb: rgb[::-1],
+    ),
+    Mistake(
+        "u_v_swapped", "u and v are swapped", patches=lambda: _frame(lambda u, v, w: (v, u, w))
+    ),
+    Mistake(
+        "u_negated",
+        "u points left instead of right (the picture is mirrored)",
+        patches=lambda: _frame(lambda u, v, w: (-u, v, w)),
+    ),
+    Mistake(
+        "fov_horizontal",
+        "fov_angle is used as the horizontal field of view",
+        patches=lambda: _plane_size(_horizontal_fov),
+    ),
+    Mistake(
+        "aspect_ignored",
+        "the aspect ratio is ignored (the image plane is made square)",
+        patches=lambda: _plane_size(_no_aspect),
+    ),
+    Mistake(
+        "pixel_corners",
+        "rays go through pixel corners instead of pixel centres",
+        patches=lambda: [
+            mock.patch.object(raykit.render, "sample_offsets", lambda n: np.zeros((1, 2)))
+        ],
+    ),
+    Mistake(
+        "degrees_as_radians",
+        "fov_angle in degrees is given to tan() as radians",
+        patches=lambda: _plane_size(_radians),
+    ),
+    Mistake(
+        "far_root",
+        "the far root of the quadratic is taken instead of the near one",
+        patches=lambda: [mock.patch.object(raykit.render, "hit_sphere", _far_root)],
+    ),
+    Mistake(
+        "texture_rows_flipped",
+        "texture rows are read upside down",
+        patches=lambda: [
+            mock.patch.object(raykit.billboards, "texel_indices", _rows_flipped_texels)
+        ],
+    ),
+    Mistake(
+        "behind_the_eye",
+        "hits behind the eye (t < 0) are accepted",
+        patches=lambda: [
+            mock.patch.object(raykit.render, "hit_sphere", _any_root),
+            mock.patch.object(raykit.billboards, "hit_plane", _plane_any_side),
+        ],
+    ),
+]

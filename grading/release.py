@@ -1,0 +1,161 @@
+"""The student release: the package with the solutions taken out, visible tests, scenes.
+
+    python -m grading release -o student-release/
+
+writes a folder students can ``pip install -e`` and test with ``python -m pytest``:
+
+* ``raykit/``: every ``# BEGIN SOLUTION`` region replaced by a NotImplementedError with its
+  hint (:mod:`grading.markers`); everything else as in the solution.
+* ``scenes/``: the example scenes and their textures.
+* ``tests/``: the visible grading tests, each with its inputs and the reference results (and,
+  for renders, the reference image as a PNG to look at), checked by the same task code and
+  comparison the grader uses (copied in as ``tests/_grading``).
+* ``README.md``: what to write, how to test, how to submit.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+
+from grading import child
+from grading.catalog import REPO, TESTS, VISIBLE
+from grading.markers import strip_solutions
+from raykit.images import quantize, save_image
+
+VISIBLE_TESTS = '''"""The visible grading tests: your functions against the reference results.
+
+Each folder in expected/ holds one test: task.json (what to run), inputs.npz, expected.npz
+(the reference results) and, for renders, reference.png. The grader runs the same tasks and
+comparisons, in a sandbox, plus hidden tests.
+"""
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from _grading.child import TASKS
+from _grading.compare import check_arrays, compare_images
+
+from raykit.images import quantize
+
+EXPECTED = Path(__file__).parent / "expected"
+CASES = sorted(p.name for p in EXPECTED.iterdir() if p.is_dir())
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_visible(case):
+    folder = EXPECTED / case
+    order = json.loads((folder / "task.json").read_text())
+    spec = order["spec"]
+    if "folder" in spec:
+        spec["folder"] = str(folder / spec["folder"])
+    with np.load(folder / "inputs.npz") as data:
+        arrays = {k: data[k] for k in data.files}
+    with np.load(folder / "expected.npz") as data:
+        want = {k: data[k] for k in data.files}
+    got = {k: np.asarray(v) for k, v in TASKS[order["task"]](spec, arrays).items()}
+    if order["kind"] == "image":
+        mine, reference = quantize(got["rgb"]), quantize(want["rgb"])
+        assert mine.shape == reference.shape, f"shape {mine.shape}, expected {reference.shape}"
+        fraction = compare_images(mine, reference).fraction
+        assert fraction >= 0.995, f"{fraction:.2%} of pixels match {folder / 'reference.png'}"
+    else:
+        passed, message = check_arrays(got, want)
+        assert passed, message
+'''
+
+STUDENT_README = """# raykit: the starter kit
+
+You write the lecture's functions; everything around them is given. Each function below raises
+`NotImplementedError` with a hint until you write it:
+
+{functions}
+
+## Set up and test
+
+```bash
+pip install -e ".[test]"
+python -m pytest
+```
+
+The tests in `tests/` are the visible grading tests: your functions' results against the
+reference, within a stated tolerance, and your renders against the reference images in
+`tests/expected/*/reference.png` (a pixel counts as right when it is within 2 levels of the
+reference pixel or one of its neighbours). The grader also runs hidden tests of the same kind.
+
+Look at your pictures as you go: `raykit render scenes/classic.json -o classic.png`,
+`raykit scan scenes/linescan/slide.json -o strip.png --diagram rays.png`.
+
+## Submit
+
+Upload your `raykit/` folder (or a zip of it). Only that folder is graded.
+"""
+
+
+def build_release(out: Path) -> list[str]:
+    """Build the release in ``out`` (which must not exist); returns the stubbed functions."""
+    out = Path(out)
+    if out.exists():
+        raise SystemExit(f"{out} exists; give a new folder")
+    stubbed: list[str] = []
+    for source in sorted((REPO / "raykit").rglob("*")):
+        if "__pycache__" in source.parts or source.is_dir():
+            continue
+        target = out / source.relative_to(REPO)
+        target.parent.mkdir(parents=True, exist_ok=True)
+        if source.suffix == ".py":
+            text, names = strip_solutions(source.read_text(), str(source))
+            target.write_text(text)
+            stubbed += [f"{source.relative_to(REPO)}: {n}" for n in names]
+        else:
+            shutil.copy(source, target)
+    shutil.copytree(
+        REPO / "scenes",
+        out / "scenes",
+        ignore=shutil.ignore_patterns("__pycache__", "make_textures.py"),
+    )
+    shutil.copy(REPO / "pyproject.toml", out / "pyproject.toml")
+    _visible_tests(out / "tests")
+    functions = "\n".join(f"- `{name}`" for name in stubbed)
+    (out / "README.md").write_text(STUDENT_README.format(functions=functions))
+    print(
+        f"wrote {out}: {len(stubbed)} functions to write, "
+        f"{sum(t.visibility == VISIBLE for t in TESTS)} visible tests"
+    )
+    return stubbed
+
+
+def _visible_tests(tests: Path) -> None:
+    helpers = tests / "_grading"
+    helpers.mkdir(parents=True)
+    (helpers / "__init__.py").write_text("")
+    for name in ("child.py", "compare.py"):
+        shutil.copy(Path(__file__).with_name(name), helpers / name)
+    (tests / "test_visible.py").write_text(VISIBLE_TESTS)
+    (tests / "conftest.py").write_text(
+        "import sys\nfrom pathlib import Path\n\nsys.path.insert(0, str(Path(__file__).parent))\n"
+    )
+    for test in TESTS:
+        if test.visibility != VISIBLE:
+            continue
+        folder = tests / "expected" / test.name.split()[0].replace(".", "_")
+        folder.mkdir(parents=True)
+        spec, arrays, files = test.inputs()
+        for relative, source in files.items():
+            (folder / relative).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy(source, folder / relative)
+        order = {"task": test.task, "kind": test.kind, "name": test.name, "spec": spec}
+        (folder / "task.json").write_text(json.dumps(order, indent=1))
+        np.savez(folder / "inputs.npz", **arrays)
+        reference = dict(spec)
+        if "folder" in reference:
+            reference["folder"] = str(folder / reference["folder"])
+        want = child.TASKS[test.task](reference, arrays)
+        np.savez(folder / "expected.npz", **{k: np.asarray(v) for k, v in want.items()})
+        if test.kind == "image":
+            save_image(quantize(want["rgb"]), folder / "reference.png")

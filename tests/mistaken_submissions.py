@@ -1,0 +1,85 @@
+"""Submissions with one classic mistake each: the solution with one line written wrong, the way
+students get it wrong. Each entry: the mistake's key in grading.mistakes, then (file, the right
+line, the wrong line) edits applied to a copy of raykit/."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parent.parent
+
+EDITS = {
+    "rows_flipped": [
+        (
+            "camera.py",
+            "t = Hp / 2 - np.asarray(y, dtype=float) * (Hp / camera.height)",
+            "t = -Hp / 2 + np.asarray(y, dtype=float) * (Hp / camera.height)",
+        )
+    ],
+    "u_v_swapped": [("camera.py", "    return u, v, w\n", "    return v, u, w\n")],
+    "u_negated": [
+        (
+            "camera.py",
+            "return s[:, None] * u + t[:, None] * v",
+            "return -s[:, None] * u + t[:, None] * v",
+        )
+    ],
+    "fov_horizontal": [
+        (
+            "camera.py",
+            "return Hp * self.width / self.height, Hp",
+            "return Hp, Hp * self.height / self.width",
+        )
+    ],
+    "aspect_ignored": [("camera.py", "return Hp * self.width / self.height, Hp", "return Hp, Hp")],
+    "pixel_corners": [
+        (
+            "camera.py",
+            "centres = (np.arange(samples) + 0.5) / samples",
+            "centres = np.arange(samples) / samples",
+        )
+    ],
+    "degrees_as_radians": [
+        (
+            "camera.py",
+            "math.tan(math.radians(self.fov_angle) / 2.0)",
+            "math.tan(self.fov_angle / 2.0)",
+        )
+    ],
+    "far_root": [
+        (
+            "spheres.py",
+            "nearest_positive(t0, t1), MISS)",
+            "np.where(np.fmax(t0, t1) > 0, np.fmax(t0, t1), MISS), MISS)",
+        )
+    ],
+    "texture_rows_flipped": [
+        (
+            "billboards.py",
+            "row = np.minimum(np.floor(beta * height), height - 1)",
+            "row = height - 1 - np.minimum(np.floor(beta * height), height - 1)",
+        )
+    ],
+    "behind_the_eye": [
+        ("spheres.py", "nearest_positive(t0, t1), MISS)", "np.fmin(t0, t1), MISS)"),
+        (
+            "planes.py",
+            "np.where((d_dot_n != 0) & (t > 0), t, MISS)",
+            "np.where(d_dot_n != 0, t, MISS)",
+        ),
+    ],
+}
+
+
+def make_submission(folder: Path, key: str | None = None) -> Path:
+    """A submission folder holding raykit/ with the mistake ``key`` made (None: the solution)."""
+    shutil.copytree(
+        REPO / "raykit", folder / "raykit", ignore=shutil.ignore_patterns("__pycache__")
+    )
+    for name, right, wrong in EDITS.get(key, []) if key else []:
+        path = folder / "raykit" / name
+        text = path.read_text()
+        assert text.count(right) == 1, f"{key}: {right!r} is not once in {name}"
+        path.write_text(text.replace(right, wrong))
+    return folder

@@ -1,0 +1,235 @@
+"""The autograder: the solution scores full marks, the student release 0, each classic mistake
+is named, and results.json follows Gradescope's specification."""
+
+import json
+import subprocess
+import sys
+
+import jsonschema
+import numpy as np
+import pytest
+from mistaken_submissions import EDITS, make_submission
+
+from conftest import REPO
+from grading.catalog import HIDDEN, TESTS, VISIBLE
+from grading.compare import check_arrays, compare_images, feedback_picture, strict_fraction
+from grading.grade import grade, grade_to_file
+from grading.markers import MarkerError, strip_solutions
+from grading.mistakes import MISTAKES
+from grading.release import build_release
+
+# Gradescope's results.json, as its autograder specification documents it
+RESULTS_SCHEMA = {
+    "type": "object",
+    "required": ["tests"],
+    "properties": {
+        "score": {"type": "number"},
+        "execution_time": {"type": "number"},
+        "output": {"type": "string"},
+        "visibility": {"enum": ["hidden", "after_due_date", "after_published", "visible"]},
+        "stdout_visibility": {"enum": ["hidden", "after_due_date", "after_published", "visible"]},
+        "extra_data": {"type": "object"},
+        "tests": {
+            "type": "array",
+            "items": {
+                "type": "object",
+                "required": ["score", "max_score", "name", "output", "visibility"],
+                "properties": {
+                    "score": {"type": "number"},
+                    "max_score": {"type": "number"},
+                    "status": {"enum": ["passed", "failed"]},
+                    "name": {"type": "string"},
+                    "number": {"type": "string"},
+                    "output": {"type": "string"},
+                    "tags": {"type": "array", "items": {"type": "string"}},
+                    "visibility": {
+                        "enum": ["hidden", "after_due_date", "after_published", "visible"]
+                    },
+                },
+            },
+        },
+    },
+}
+TOTAL = sum(t.points for t in TESTS)
+
+
+@pytest.fixture(scope="session")
+def solution(tmp_path_factory):
+    return make_submission(tmp_path_factory.mktemp("solution"))
+
+
+@pytest.fixture(scope="session")
+def release(tmp_path_factory):
+    out = tmp_path_factory.mktemp("release") / "student"
+    build_release(out)
+    return out
+
+
+def test_catalog_has_points_visibility_and_every_stage():
+    assert {t.visibility for t in TESTS} == {VISIBLE, HIDDEN}
+    assert {t.stage.split()[0] for t in TESTS} == {"1", "2", "3"}
+    assert len({t.name.split()[0] for t in TESTS}) == len(TESTS)
+    assert all(t.points > 0 for t in TESTS)
+
+
+def test_solution_scores_full_marks_in_a_valid_results_file(solution, child_python, tmp_path):
+    results = grade_to_file(
+        solution,
+        tmp_path / "results.json",
+        child_python=child_python,
+        feedback=tmp_path / "feedback",
+    )
+    written = json.loads((tmp_path / "results.json").read_text())
+    jsonschema.validate(written, RESULTS_SCHEMA)
+    failed = [(t["name"], t["output"]) for t in written["tests"] if t["score"] < t["max_score"]]
+    assert failed == []
+    assert results["score"] == pytest.approx(TOTAL)
+    assert {t["visibility"] for t in written["tests"]} == {"visible", "after_due_date"}
+    assert len(list((tmp_path / "feedback").glob("*.png"))) == sum(t.kind == "image" for t in TESTS)
+
+
+def test_release_imports_cleanly_and_its_stubs_raise(release):
+    code = (
+        "import importlib, pkgutil, raykit\n"
+        "names = [m.name for m in pkgutil.walk_packages(raykit.__path__, 'raykit.')]\n"
+        "[importlib.import_module(n) for n in names if 'diagrams' not in n and 'main' not in n]\n"
+        "from raykit.planes import hit_plane\n"
+        "import numpy as np\n"
+        "try:\n    hit_plane(np.zeros((1, 3)), np.ones((1, 3)), np.zeros(3), np.ones(3))\n"
+        "except NotImplementedError as e:\n    print('stub:', e)\n"
+    )
+    run = subprocess.run(
+        [sys.executable, "-c", code],
+        cwd=release,
+        capture_output=True,
+        text=True,
+        env={"PYTHONPATH": str(release), "PATH": "/usr/bin:/bin"},
+    )
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.startswith("stub: hit_plane: write this function. Hint: t = ((a - o)·n)")
+
+
+def test_release_visible_tests_fail_with_not_implemented_only(release):
+    run = subprocess.run(
+        [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "tests"],
+        cwd=release,
+        capture_output=True,
+        text=True,
+        env={"PYTHONPATH": str(release), "PATH": "/usr/bin:/bin"},
+    )
+    visible = sum(t.visibility == VISIBLE for t in TESTS)
+    assert f"{visible} failed" in run.stdout
+    failures = [line for line in run.stdout.splitlines() if line.startswith("FAILED")]
+    assert len(failures) == visible
+    assert all("NotImplementedError" in line for line in failures), failures
+
+
+def test_solution_dropped_into_the_release_passes_its_visible_tests(release, tmp_path):
+    import shutil
+
+    copy = tmp_path / "student"
+    shutil.copytree(release, copy)
+    shutil.rmtree(copy / "raykit")
+    shutil.copytree(REPO / "raykit", copy / "raykit")
+    run = subprocess.run(
+        [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "tests"],
+        cwd=copy,
+        capture_output=True,
+        text=True,
+        env={"PYTHONPATH": str(copy), "PATH": "/usr/bin:/bin"},
+    )
+    assert run.returncode == 0, run.stdout[-2000:]
+
+
+def test_release_hides_the_solutions_and_the_hidden_scenes(release):
+    sources = "".join(p.read_text() for p in (release / "raykit").rglob("*.py"))
+    assert "BEGIN SOLUTION" not in sources
+    assert "(a - origins) @ n" not in sources  # the ray-plane solution line
+    assert not list(release.rglob("odd.json")) and not list(release.rglob("overlaps.json"))
+    assert (release / "tests/expected/3_6/reference.png").is_file()
+
+
+def test_grader_scores_the_bare_release_zero_and_says_what_to_write(release, child_python):
+    results = grade(release, child_python=child_python)
+    assert results["score"] == 0
+    assert all(t["output"].startswith("not written yet: ") for t in results["tests"])
+
+
+def test_submission_without_a_package_scores_zero(tmp_path, child_python):
+    (tmp_path / "notes.txt").write_text("oops")
+    results = grade(tmp_path, child_python=child_python)
+    assert results["score"] == 0 and "no raykit package" in results["tests"][0]["output"]
+
+
+@pytest.mark.parametrize("key", sorted(EDITS))
+def test_each_classic_mistake_is_named_in_the_feedback(key, tmp_path, child_python):
+    submission = make_submission(tmp_path, key)
+    says = next(m.says for m in MISTAKES if m.key == key)
+    names = ["3.6", "3.9", "3.11"]  # classic, inside a ring (behind the eye), overlaps
+    results = grade(submission, child_python=child_python, names=names)
+    outputs = [t["output"] for t in results["tests"]]
+    assert any(f"when {says}" in out for out in outputs), outputs
+    for out in outputs:  # no other mistake is named instead
+        assert all(f"when {m.says}" not in out for m in MISTAKES if m.key != key)
+
+
+def test_no_mistake_is_named_for_the_solution(solution, child_python):
+    results = grade(solution, child_python=child_python, names=["3.6", "3.9", "3.11"])
+    assert not any("matches what the renderer gives" in t["output"] for t in results["tests"])
+
+
+def test_markers_become_stubs_with_the_hint_and_must_balance():
+    source = (
+        'def f(x):\n    """Doc."""\n    # BEGIN SOLUTION\n    # hint: add one\n'
+        "    #       to x\n    return x + 1\n    # END SOLUTION\n"
+    )
+    stripped, names = strip_solutions(source)
+    assert names == ["f"]
+    assert stripped == (
+        'def f(x):\n    """Doc."""\n    raise NotImplementedError('
+        "'f: write this function. Hint: add one to x')\n"
+    )
+    with pytest.raises(MarkerError):
+        strip_solutions("def f():\n    # BEGIN SOLUTION\n    pass\n")
+    with pytest.raises(MarkerError):
+        strip_solutions("def f():\n    pass\n    # END SOLUTION\n")
+
+
+def test_every_marked_function_in_raykit_has_a_hint():
+    for path in (REPO / "raykit").rglob("*.py"):
+        stripped, _ = strip_solutions(path.read_text(), str(path))
+        assert "Hint: see the lecture slides" not in stripped, path
+
+
+def test_image_comparison_forgives_a_silhouette_pixel_but_not_a_wrong_colour():
+    reference = np.zeros((20, 20, 3), np.uint8)
+    reference[5:15, 5:15] = 200
+    shifted_edge = reference.copy()
+    shifted_edge[5, 5:15] = 0  # the silhouette one pixel in
+    assert compare_images(shifted_edge, reference).fraction == 1.0
+    assert strict_fraction(shifted_edge, reference) < 1.0
+    recoloured = reference.copy()
+    recoloured[5:15, 5:15] = 150
+    result = compare_images(recoloured, reference)
+    assert result.fraction == pytest.approx(1 - 100 / 400)  # no neighbour has the new colour
+    assert result.score() == 0.0
+    assert np.isfinite(result.psnr) and result.psnr < 30
+    picture = feedback_picture(recoloured, reference, result.matched)
+    assert picture.shape == (20, 68, 3) and picture.dtype == np.uint8
+
+
+def test_score_is_linear_between_the_thresholds():
+    from grading.compare import Comparison
+
+    assert Comparison(None, 0.995, 0).score() == 1.0
+    assert Comparison(None, 0.9475, 0).score() == pytest.approx(0.5)
+    assert Comparison(None, 0.89, 0).score() == 0.0
+
+
+def test_array_check_accepts_nan_or_inf_for_a_miss_and_names_the_first_difference():
+    want = {"t": np.array([1.0, np.inf, 2.0])}
+    assert check_arrays({"t": np.array([1.0, np.nan, 2.0])}, want)[0]
+    ok, message = check_arrays({"t": np.array([1.0, np.inf, 2.5])}, want)
+    assert not ok and "1 of 3 values differ; first at (2,)" in message
+    assert not check_arrays({"t": np.ones(4)}, want)[0]
+    assert not check_arrays({"t": np.array(["a", "b", "c"])}, want)[0]
