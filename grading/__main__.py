@@ -46,29 +46,41 @@ def main(argv: list[str] | None = None) -> int:
             metavar="NAME",
             help="grade only the tests whose names start with these",
         )
+        sub.add_argument(
+            "--wall-seconds",
+            type=float,
+            default=20.0,
+            help="time one test's code may take before it is stopped (default 20)",
+        )
     args = parser.parse_args(argv)
 
     if args.command == "grade":
         from grading.grade import grade_to_file
+        from grading.sandbox import Limits
 
+        limits = Limits(wall_seconds=args.wall_seconds, cpu_seconds=int(args.wall_seconds) + 1)
         results = grade_to_file(
             args.submission,
             args.output,
             child_python=args.child_python,
             names=args.only,
             feedback=args.feedback,
+            limits=limits,
         )
         total = sum(t["max_score"] for t in results["tests"])
         print(f"wrote {args.output}: {results['score']:g} of {total:g} points")
     elif args.command == "batch":
         from grading.batch import grade_folder
+        from grading.sandbox import Limits
 
+        limits = Limits(wall_seconds=args.wall_seconds, cpu_seconds=int(args.wall_seconds) + 1)
         grade_folder(
             args.submissions,
             args.output,
             jobs=args.jobs,
             child_python=args.child_python,
             names=args.only,
+            limits=limits,
         )
     elif args.command == "release":
         from grading.release import build_release

@@ -5,9 +5,9 @@
 The zip holds ``setup.sh`` and ``run_autograder`` at its top, and ``source/`` with the grader,
 the reference raykit, the scenes and the hidden scenes. On Gradescope's Ubuntu image:
 
-* ``setup.sh`` installs Python with numpy and Pillow for the grader, makes the unprivileged
-  user ``raykit-sandbox`` and a separate virtual environment (numpy and Pillow only) that
-  submissions run in, and closes ``/autograder/source`` to everyone but root.
+* ``setup.sh`` installs Python with numpy and Pillow for the grader, and a separate virtual
+  environment (numpy and Pillow only, readable by all) that submissions run in, as an
+  unprivileged uid; and it closes ``/autograder/source`` to everyone but root.
 * ``run_autograder`` grades ``/autograder/submission`` and writes
   ``/autograder/results/results.json`` (the grader writes it in every case).
 
@@ -33,8 +33,7 @@ python3 -m venv /opt/raykit-grader
 python3 -m venv /opt/raykit-sandbox
 /opt/raykit-sandbox/bin/pip install -q numpy Pillow
 chmod -R a+rX /opt/raykit-sandbox
-id raykit-sandbox >/dev/null 2>&1 ||
-  useradd --system --no-create-home --shell /usr/sbin/nologin raykit-sandbox
+# submissions run as an unprivileged uid (50000-59999) that can read none of this
 chmod 700 /autograder/source
 """
 

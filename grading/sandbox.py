@@ -10,9 +10,11 @@ the grader's is there. The child gets:
 * limits (:class:`Limits`): wall-clock time (then the whole process group is killed), CPU
   seconds, address space, processes, the size of any file it writes (stdout and stderr go to
   files, so printing megabytes ends the child, not the grader), no core dumps.
-* when the grader runs as root (Gradescope does): another, unprivileged user, so it cannot read
-  the grader's files, the references or the hidden scenes, nor write the results. Its Python
-  must then be one that user may run (``child_python``; Gradescope's ``setup.sh`` makes one).
+* when the grader runs as root (Gradescope does): an unprivileged uid of its own (one per
+  grader process, from :data:`SANDBOX_UIDS`), so it cannot read the grader's files, the
+  references or the hidden scenes, nor write the results, and the grader can kill every
+  process that uid has left behind. Its Python must then be one any user may run
+  (``child_python``; Gradescope's ``setup.sh`` makes one).
 
 The parent reads back ``outputs.npz`` with ``allow_pickle=False`` and checks every array's
 shape, type and values itself (:func:`grading.grade.check_arrays`); nothing the child says is
@@ -23,11 +25,11 @@ from __future__ import annotations
 
 import json
 import os
-import pwd
 import resource
 import shutil
 import signal
 import subprocess
+import sys
 import tempfile
 import time
 from dataclasses import dataclass, field
@@ -36,7 +38,7 @@ from pathlib import Path
 import numpy as np
 
 CHILD_SCRIPT = Path(__file__).with_name("child.py")
-SANDBOX_USERS = ("raykit-sandbox", "nobody")
+SANDBOX_UIDS = range(50000, 60000)  # unprivileged uids the grader runs submissions as, as root
 OUTPUT_EXCERPT = 2000
 
 
@@ -49,6 +51,13 @@ class Limits:
     memory_bytes: int = 2 * 1024**3
     processes: int = 64
     file_bytes: int = 64 * 1024**2
+
+
+@dataclass(frozen=True)
+class SandboxUser:
+    pw_name: str
+    pw_uid: int
+    pw_gid: int
 
 
 @dataclass
@@ -90,6 +99,7 @@ class Sandbox:
                     (self._libraries / name).symlink_to(Path(folder) / name)
         if self.user is not None:
             self._check_user_can_run_python()
+            self._warn_if_grader_is_readable()
 
     def close(self) -> None:
         shutil.rmtree(self._libraries, ignore_errors=True)
@@ -101,13 +111,15 @@ class Sandbox:
         self.close()
 
     @staticmethod
-    def _sandbox_user() -> pwd.struct_passwd:
-        for name in SANDBOX_USERS:
-            try:
-                return pwd.getpwnam(name)
-            except KeyError:
-                continue
-        raise RuntimeError("running as root but no unprivileged user to run submissions as")
+    def _sandbox_user() -> SandboxUser:
+        """An unprivileged uid and gid for this grader's children alone.
+
+        A uid of its own, not shared with other graders running at the same time, so that
+        killing "every process of the sandbox user" after a task never hits another grader's
+        child. It needs no entry in /etc/passwd: as root, setuid to any uid works.
+        """
+        uid = SANDBOX_UIDS.start + os.getpid() % len(SANDBOX_UIDS)
+        return SandboxUser(f"uid {uid}", uid, uid)
 
     def _check_user_can_run_python(self) -> None:
         work = Path(tempfile.mkdtemp(prefix="raykit-probe-"))
@@ -118,10 +130,25 @@ class Sandbox:
             shutil.rmtree(work, ignore_errors=True)
         if probe[0] != 0:
             raise RuntimeError(
-                f"as root, submissions run as user {self.user.pw_name!r}, who cannot run "
+                f"as root, submissions run as {self.user.pw_name}, which cannot run "
                 f"{self.python}; give --child-python a Python that user may run "
                 "(e.g. a venv made with /usr/bin/python3 and numpy, Pillow installed)"
             )
+
+    def _warn_if_grader_is_readable(self) -> None:
+        """The user separation protects only files that user cannot read (setup.sh closes
+        /autograder/source); say so when the grader's own folder is open to it."""
+        grader = Path(__file__).resolve().parent.parent
+        for folder in [grader, *grader.parents]:
+            mode = folder.stat().st_mode
+            if not mode & 0o001:  # a folder on the way that others cannot enter
+                return
+        print(
+            f"warning: {grader} is readable by user {self.user.pw_name}: a submission could "
+            "read the grader and its hidden scenes; close it (chmod 700) as Gradescope's "
+            "setup.sh does",
+            file=sys.stderr,
+        )
 
     def _limit(self) -> None:
         """In the child, before exec: its own session, the limits, then the unprivileged user."""

@@ -233,3 +233,51 @@ def test_array_check_accepts_nan_or_inf_for_a_miss_and_names_the_first_differenc
     assert not ok and "1 of 3 values differ; first at (2,)" in message
     assert not check_arrays({"t": np.ones(4)}, want)[0]
     assert not check_arrays({"t": np.array(["a", "b", "c"])}, want)[0]
+
+
+def test_batch_grades_a_folder_into_a_csv_and_a_feedback_folder_each(
+    tmp_path, child_python, release
+):
+    import csv
+    import shutil
+
+    from grading.batch import grade_folder
+
+    students = tmp_path / "submissions"
+    make_submission(students / "ada")
+    make_submission(students / "bob", "u_v_swapped")
+    shutil.copytree(release / "raykit", students / "cy" / "raykit")
+    path = grade_folder(
+        students, tmp_path / "out", jobs=2, child_python=child_python, names=["2.1", "3.6"]
+    )
+    rows = {row["student"]: row for row in csv.DictReader(path.open())}
+    assert set(rows) == {"ada", "bob", "cy"}
+    assert float(rows["ada"]["score"]) == float(rows["ada"]["max_score"]) == 6
+    assert float(rows["bob"]["score"]) == 2 and float(rows["cy"]["score"]) == 0
+    bob = json.loads((tmp_path / "out/feedback/bob/results.json").read_text())
+    assert "u and v are swapped" in bob["tests"][1]["output"]
+    assert (tmp_path / "out/feedback/bob/3.6.png").is_file()
+
+
+def test_grading_command_line_writes_results(tmp_path, child_python, solution):
+    run = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "grading",
+            "grade",
+            str(solution),
+            "-o",
+            str(tmp_path / "r.json"),
+            "--child-python",
+            child_python,
+            "--only",
+            "1.1",
+            "2.1",
+        ],
+        capture_output=True,
+        text=True,
+        cwd=REPO,
+    )
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.strip() == f"wrote {tmp_path / 'r.json'}: 3 of 3 points"
