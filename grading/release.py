@@ -119,7 +119,7 @@ def build_release(out: Path) -> list[str]:
         out / "scenes",
         ignore=shutil.ignore_patterns("__pycache__", "make_textures.py"),
     )
-    shutil.copy(REPO / "pyproject.toml", out / "pyproject.toml")
+    (out / "pyproject.toml").write_text(_student_pyproject())
     _visible_tests(out / "tests")
     functions = "\n".join(f"- `{name}`" for name in stubbed)
     (out / "README.md").write_text(STUDENT_README.format(functions=functions))
@@ -128,6 +128,22 @@ def build_release(out: Path) -> list[str]:
         f"{sum(t.visibility == VISIBLE for t in TESTS)} visible tests"
     )
     return stubbed
+
+
+def _student_pyproject() -> str:
+    """The solution's pyproject.toml without what only the course repository has (the
+    grader, the notebooks and their nbval run)."""
+    text = (REPO / "pyproject.toml").read_text()
+    text = text.replace('include = ["raykit*", "grading*"]', 'include = ["raykit*"]')
+    text = text.replace('testpaths = ["tests", "notebooks"]', 'testpaths = ["tests"]')
+    lines = [
+        line
+        for line in text.splitlines()
+        if not line.startswith(
+            ("addopts", "grading = ", "# every notebook", "# the instructor's autograder")
+        )
+    ]
+    return "\n".join(lines) + "\n"
 
 
 def _visible_tests(tests: Path) -> None:
