@@ -133,7 +133,9 @@ def task_render(spec, arrays):
     from raykit.scene import scene_from_dict
 
     scene = scene_from_dict(spec["scene"], folder=spec["folder"])
-    return {"rgb": render(scene, samples=spec.get("samples", 1)).rgb}
+    # every object against every ray: skipping assumes right answers (t > 0), and a student's
+    # wrong ones must show in the image
+    return {"rgb": render(scene, samples=spec.get("samples", 1), skip_hidden=False).rgb}
 
 
 def task_scan(spec, arrays):

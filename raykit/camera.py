@@ -163,7 +163,14 @@ def pixel_points(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Continuous image coordinates (x, y) ``(len(rows)*width,)`` of one sample in every pixel
     of the given rows, in row-major order (the order of ``image[rows].reshape(-1, 3)``)."""
-    cols = np.arange(width, dtype=float)
-    x = np.tile(cols + a, len(rows))
-    y = np.repeat(np.asarray(rows, dtype=float) + b, width)
+    return region_points(rows, range(width), a, b)
+
+
+def region_points(
+    rows: range, cols: range, a: float = 0.5, b: float = 0.5
+) -> tuple[np.ndarray, np.ndarray]:
+    """Continuous image coordinates (x, y) ``(len(rows)*len(cols),)`` of one sample, at offset
+    (a, b), in every pixel of rows x cols, row-major."""
+    x = np.tile(np.asarray(cols, dtype=float) + a, len(rows))
+    y = np.repeat(np.asarray(rows, dtype=float) + b, len(cols))
     return x, y

@@ -1,8 +1,10 @@
 """The renderer: for every pixel, the nearest object its ray hits, and that object's colour.
 
 This is the lecture's loop, "for each pixel: make its ray, find the nearest hit, copy the
-colour of the object at that point", run for all pixels of a band of rows at once (numpy arrays
-instead of a per-pixel Python loop). Conventions: pixels and rays per :mod:`raykit.camera`,
+colour of the object at that point", run for all pixels of a region at once (numpy arrays
+instead of a per-pixel Python loop). A region is a tile of pixels with only the objects that can
+be seen in it, so hidden objects cost nothing (:mod:`raykit.tiles`, which names what it skips).
+Conventions: pixels and rays per :mod:`raykit.camera`,
 object indices per :mod:`raykit.scene`, colours are linear floats in [0, 1] with no lighting
 and no gamma.
 
@@ -18,12 +20,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from raykit.billboards import billboard_color_at, hit_billboard
-from raykit.camera import pixel_points, rays_through, sample_offsets
+from raykit.camera import rays_through, region_points, sample_offsets
 from raykit.hits import Hits, solid
 from raykit.scene import Scene
 from raykit.spheres import hit_sphere
-
-RAYS_PER_BAND = 1 << 16  # bounds memory for huge images; big enough that numpy's overhead is small
+from raykit.tiles import regions
 
 
 @dataclass(frozen=True)
@@ -65,8 +66,12 @@ def cast_pixels(
     return origins, directions, cast(scene, origins, directions)
 
 
-def render(scene: Scene, samples: int = 1) -> Render:
-    """Render ``scene`` with ``samples`` x ``samples`` rays per pixel."""
+def render(scene: Scene, samples: int = 1, *, skip_hidden: bool = True) -> Render:
+    """Render ``scene`` with ``samples`` x ``samples`` rays per pixel.
+
+    ``skip_hidden``: test each tile of pixels only against the objects that can be seen in it
+    (:mod:`raykit.tiles`); the image is the same either way, only the time differs.
+    """
     if samples < 1:
         raise ValueError(f"samples must be >= 1, got {samples}")
     camera = scene.camera
@@ -77,20 +82,22 @@ def render(scene: Scene, samples: int = 1) -> Render:
     offsets = sample_offsets(samples)
     centre_sample = samples // 2 * (samples + 1) if samples % 2 else None  # (0.5, 0.5)
 
-    rows_per_band = max(1, RAYS_PER_BAND // width)
-    for top in range(0, height, rows_per_band):
-        rows = range(top, min(top + rows_per_band, height))
-        band = slice(rows.start, rows.stop)
+    for region in regions(scene, skip_hidden):
+        shape = (len(region.rows), len(region.cols))
+        pixels = region.pixels
         for k, (a, b) in enumerate(offsets):
-            hits = cast(scene, *rays_through(camera, *pixel_points(width, rows, a, b)))
-            rgb[band] += hits.color.reshape(len(rows), width, 3)
+            x, y = region_points(region.rows, region.cols, a, b)
+            hits = cast(region.scene, *rays_through(camera, x, y))
+            rgb[pixels] += hits.color.reshape(*shape, 3)
             if k == centre_sample:
-                object_index[band] = hits.index.reshape(len(rows), width)
-                t_image[band] = hits.t.reshape(len(rows), width)
+                object_index[pixels] = region.index_of[hits.index].reshape(shape)
+                t_image[pixels] = hits.t.reshape(shape)
         if centre_sample is None:  # even n: no sample sits at the centre, so cast one there
-            hits = cast(scene, *rays_through(camera, *pixel_points(width, rows)))
-            object_index[band] = hits.index.reshape(len(rows), width)
-            t_image[band] = hits.t.reshape(len(rows), width)
+            hits = cast(
+                region.scene, *rays_through(camera, *region_points(region.rows, region.cols))
+            )
+            object_index[pixels] = region.index_of[hits.index].reshape(shape)
+            t_image[pixels] = hits.t.reshape(shape)
 
     rgb /= len(offsets)
     return Render(rgb, object_index, t_image)

@@ -193,15 +193,17 @@ def test_object_index_and_t_describe_the_pixel_centre_whatever_the_samples(sampl
     assert np.array_equal(one.t, many.t)
 
 
-def test_rendering_in_bands_gives_the_same_image(monkeypatch):
-    import raykit.render as render_module
+def test_band_and_tile_sizes_do_not_change_the_image(monkeypatch):
+    import raykit.tiles as tiles
 
     scene = scene_from_dict(scene_dict())
-    whole = render(scene, samples=2)
-    monkeypatch.setattr(render_module, "RAYS_PER_BAND", 70)  # two rows of 32 per band
-    banded = render(scene, samples=2)
-    assert np.array_equal(whole.rgb, banded.rgb)
-    assert np.array_equal(whole.object_index, banded.object_index)
+    whole = render(scene, samples=2, skip_hidden=False)
+    monkeypatch.setattr(tiles, "RAYS_PER_BAND", 70)  # two rows of 32 per band
+    monkeypatch.setattr(tiles, "TILE", 5)  # tiles that do not divide the image
+    for skip in (False, True):
+        other = render(scene, samples=2, skip_hidden=skip)
+        assert np.array_equal(whole.rgb, other.rgb)
+        assert np.array_equal(whole.object_index, other.object_index)
 
 
 def test_scene_moved_to_1e6_shows_the_same_objects():

@@ -1,0 +1,69 @@
+"""Tiles: each square of pixels is tested only against the objects that can be seen in it.
+
+The renderer (:func:`raykit.render.render`) walks the image region by region and calls the
+same ``cast`` on each. Without skipping, a region is a band of whole rows and sees every object.
+With skipping (the default), a region is a ``TILE`` x ``TILE`` square and sees only the objects
+whose screen bounds (:mod:`raykit.screen_bounds`) overlap it, in their scene order, so the
+nearest hit and the tie rule are the same as with every object: the bounds are conservative.
+``index_of`` maps a region's object numbers back to the scene's (and -1 to -1).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from raykit.scene import Scene
+from raykit.screen_bounds import object_bounds
+
+TILE = 64  # pixels a side: measured best among 32, 64, 96, 128 on the example scenes
+RAYS_PER_BAND = 1 << 16  # without skipping: bounds memory, big enough to keep numpy busy
+
+
+@dataclass(frozen=True)
+class Region:
+    """Pixels ``rows`` x ``cols`` of the image, the scene as seen there, and ``index_of``."""
+
+    rows: range
+    cols: range
+    scene: Scene
+    index_of: np.ndarray
+
+    @property
+    def pixels(self) -> tuple[slice, slice]:
+        return slice(self.rows.start, self.rows.stop), slice(self.cols.start, self.cols.stop)
+
+
+def regions(scene: Scene, skip_hidden: bool = True) -> Iterator[Region]:
+    """The regions that cover the image, each with the objects it must test."""
+    camera = scene.camera
+    width, height = camera.width, camera.height
+    everything = np.append(np.arange(len(scene.objects)), -1)
+    if not skip_hidden:
+        rows_per_band = max(1, RAYS_PER_BAND // width)
+        for top in range(0, height, rows_per_band):
+            rows = range(top, min(top + rows_per_band, height))
+            yield Region(rows, range(width), scene, everything)
+        return
+    bounds = object_bounds(camera, scene.objects)  # (K, 4): x0, x1, y0, y1
+    spheres = len(scene.spheres)
+    for top in range(0, height, TILE):
+        for left in range(0, width, TILE):
+            rows = range(top, min(top + TILE, height))
+            cols = range(left, min(left + TILE, width))
+            with np.errstate(invalid="ignore"):  # NaN bounds: never visible
+                overlap = (
+                    (bounds[:, 0] <= cols.stop)
+                    & (bounds[:, 1] >= cols.start)
+                    & (bounds[:, 2] <= rows.stop)
+                    & (bounds[:, 3] >= rows.start)
+                )
+            ids = np.flatnonzero(overlap)
+            seen = replace(
+                scene,
+                spheres=tuple(scene.spheres[i] for i in ids if i < spheres),
+                billboards=tuple(scene.billboards[i - spheres] for i in ids if i >= spheres),
+            )
+            yield Region(rows, cols, seen, np.append(ids, -1))

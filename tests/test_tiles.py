@@ -1,0 +1,72 @@
+"""Skipping hidden objects changes no pixel; the screen bounds are conservative."""
+
+import numpy as np
+import pytest
+from test_render import _random_scene, _texture
+
+from conftest import SCENES
+from raykit.render import render
+from raykit.scene import load_scene, scene_from_dict
+from raykit.screen_bounds import billboard_bounds, object_bounds, sphere_bounds
+from raykit.spheres import Sphere
+
+EXAMPLES = sorted(SCENES.glob("*.json")) + sorted((SCENES.parent / "grading/scenes").glob("*.json"))
+
+
+def _same(a, b) -> bool:
+    return (
+        np.array_equal(a.rgb, b.rgb)
+        and np.array_equal(a.object_index, b.object_index)
+        and np.array_equal(a.t, b.t)
+    )
+
+
+@pytest.mark.parametrize("path", EXAMPLES, ids=lambda p: p.stem)
+@pytest.mark.parametrize("samples", [1, 2])
+def test_skipping_changes_no_pixel_on_the_example_scenes(path, samples):
+    scene = load_scene(path)
+    assert _same(render(scene, samples, skip_hidden=False), render(scene, samples))
+
+
+def test_skipping_changes_no_pixel_on_random_scenes(tmp_path):
+    rng = np.random.default_rng(99)
+    _texture(tmp_path, "noise.png", rng.integers(0, 256, size=(5, 7, 4)))
+    for _ in range(60):
+        scene = scene_from_dict(_random_scene(rng, "noise.png"), folder=tmp_path)
+        assert _same(render(scene, skip_hidden=False), render(scene))
+
+
+def test_bounds_hold_every_pixel_where_the_object_is_seen(tmp_path):
+    rng = np.random.default_rng(5)
+    _texture(tmp_path, "noise.png", rng.integers(0, 256, size=(5, 7, 4)))
+    for _ in range(40):
+        scene = scene_from_dict(_random_scene(rng, "noise.png"), folder=tmp_path)
+        index = render(scene, skip_hidden=False).object_index
+        bounds = object_bounds(scene.camera, scene.objects)
+        for k in range(len(scene.objects)):
+            rows, cols = np.nonzero(index == k)
+            if len(rows) == 0:
+                continue
+            x0, x1, y0, y1 = bounds[k]
+            assert x0 <= cols.min() + 0.5 and cols.max() + 0.5 <= x1
+            assert y0 <= rows.min() + 0.5 and rows.max() + 0.5 <= y1
+
+
+def test_objects_behind_the_eye_have_no_bounds_and_ones_around_it_the_whole_image():
+    camera = load_scene(SCENES / "classic.json").camera  # eye (0, 3, 10) looking along -z
+    behind = Sphere(np.array([0.0, 3.0, 14.0]), 1.0, np.ones(3))
+    around = Sphere(np.array([0.0, 3.0, 10.5]), 1.0, np.ones(3))
+    assert sphere_bounds(camera, behind) is None
+    assert sphere_bounds(camera, around) == (0.0, 640.0, 0.0, 480.0)
+    ground = load_scene(SCENES / "classic.json").billboards[0]
+    x0, x1, y0, y1 = billboard_bounds(camera, ground)
+    assert x0 == 0 and x1 == 640 and y1 == 480 and 100 < y0 < 300  # below the horizon
+
+
+def test_a_sphere_bound_is_tight_to_a_pixel():
+    camera = load_scene(SCENES / "classic.json").camera
+    sphere = load_scene(SCENES / "classic.json").spheres[0]  # the red ball, fully in view
+    index = render(load_scene(SCENES / "classic.json"), skip_hidden=False).object_index
+    rows, cols = np.nonzero(index == 0)
+    x0, x1, y0, y1 = sphere_bounds(camera, sphere)
+    assert cols.min() - x0 < 2.5 and x1 - cols.max() < 3.5
