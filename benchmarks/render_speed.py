@@ -1,0 +1,146 @@
+"""Render time of raykit's variants, side by side in one run.
+
+    python benchmarks/render_speed.py [--quick] [--repeats N] [--plot time_vs_objects.png]
+
+Variants, on the same scene in the same process:
+
+* per-pixel loop: a Python loop over pixels calling the same ray and intersection code for
+  one ray at a time (what a first renderer looks like). Timed on a crop of 32 x 24 pixels
+  (--quick: 8 x 6) and scaled to the whole image, as the table says.
+* every object: each object tested against every pixel's ray (``skip_hidden=False``).
+* tiles: each 64 x 64 tile tested only against the objects that can be seen in it (default).
+
+Times are medians of ``--repeats`` runs of the render alone (not loading); the ratio columns
+compare the variants measured in this run. ``--quick`` uses small images and few objects, for CI.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import sys
+import time
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+
+from raykit.camera import rays_through  # noqa: E402
+from raykit.render import cast, render  # noqa: E402
+from raykit.scene import Scene, load_scene  # noqa: E402
+from scenes import many_spheres, sphereflake  # noqa: E402
+
+CROP = (32, 24)  # pixels the per-pixel loop renders (--quick: 8 x 6), scaled up to the image
+EVERY_OBJECT_LIMIT = 3e8  # rays x objects beyond which "every object" is not run (minutes)
+
+
+def median_time(function, repeats: int) -> float:
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        function()
+        times.append(time.perf_counter() - start)
+    return statistics.median(times)
+
+
+def per_pixel_loop(scene: Scene, crop: tuple[int, int]) -> None:
+    """The first renderer: one ray at a time, over a crop in the middle of the image."""
+    camera = scene.camera
+    width, height = min(crop[0], camera.width), min(crop[1], camera.height)
+    left, top = (camera.width - width) // 2, (camera.height - height) // 2
+    for r in range(top, top + height):
+        for c in range(left, left + width):
+            cast(scene, *rays_through(camera, np.array([c + 0.5]), np.array([r + 0.5])))
+
+
+def measure(name: str, scene: Scene, repeats: int, crop: tuple[int, int]) -> dict:
+    camera = scene.camera
+    pixels = camera.width * camera.height
+    cropped = min(crop[0], camera.width) * min(crop[1], camera.height)
+    row = {"scene": name, "size": f"{camera.width}x{camera.height}", "objects": len(scene.objects)}
+    row["loop"] = median_time(lambda: per_pixel_loop(scene, crop), 1) * pixels / cropped
+    if pixels * len(scene.objects) <= EVERY_OBJECT_LIMIT:
+        row["every"] = median_time(lambda: render(scene, skip_hidden=False), repeats)
+    else:
+        row["every"] = None
+    row["tiles"] = median_time(lambda: render(scene), repeats)
+    return row
+
+
+def scenes(quick: bool) -> list[tuple[str, Scene]]:
+    classic = load_scene(HERE.parent / "scenes" / "classic.json")
+    if quick:
+        small = replace(classic, camera=replace(classic.camera, width=160, height=120))
+        return [
+            ("classic", small),
+            ("sphereflake 2", sphereflake(2, 128, 128)),
+            ("100 spheres", many_spheres(100, 240, 135)),
+        ]
+    return [
+        ("classic", classic),
+        ("sphereflake 2", sphereflake(2)),
+        ("sphereflake 3", sphereflake(3)),
+        ("sphereflake 4", sphereflake(4)),
+        ("1,000 spheres", many_spheres(1000)),
+    ]
+
+
+def seconds(value: float | None) -> str:
+    if value is None:
+        return "not run"
+    return f"{value * 1000:.0f} ms" if value < 10 else f"{value:.0f} s"
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--quick", action="store_true", help="small images, for CI")
+    parser.add_argument("--repeats", type=int, default=5, help="runs per variant (median)")
+    parser.add_argument("--plot", type=Path, help="write time against number of objects here")
+    args = parser.parse_args()
+    crop = (8, 6) if args.quick else CROP
+    rows = [measure(name, scene, args.repeats, crop) for name, scene in scenes(args.quick)]
+
+    print(
+        "| scene | image | objects | per-pixel loop* | every object | tiles "
+        "| every object / tiles | loop / tiles |"
+    )
+    print("|---|---|---|---|---|---|---|---|")
+    for row in rows:
+        versus = f"{row['every'] / row['tiles']:.1f}x" if row["every"] else "-"
+        print(
+            f"| {row['scene']} | {row['size']} | {row['objects']:,} | {seconds(row['loop'])} "
+            f"| {seconds(row['every'])} | {seconds(row['tiles'])} | {versus} "
+            f"| {row['loop'] / row['tiles']:.0f}x |"
+        )
+    print(
+        f"\n* per-pixel loop: a Python loop over pixels calling raykit's own functions with one "
+        f"ray at a time, timed on a {crop[0]} x {crop[1]} crop and scaled to the image. "
+        f"Medians of {args.repeats} runs (the loop: 1). 'not run': over "
+        f"{EVERY_OBJECT_LIMIT:.0e} ray-object tests."
+    )
+
+    if args.plot:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        from raykit.images import save_figure
+
+        flakes = [r for r in rows if r["scene"].startswith("sphereflake")]
+        figure, ax = plt.subplots(figsize=(5, 3.5), layout="constrained")
+        for key, label, style in (("every", "every object", "s--"), ("tiles", "tiles", "o-")):
+            points = [(r["objects"], r[key]) for r in flakes if r[key]]
+            ax.loglog(*zip(*points, strict=True), style, label=label)
+        ax.set_xlabel("objects (sphereflake levels)")
+        ax.set_ylabel("render time (s)")
+        ax.legend()
+        save_figure(figure, args.plot)
+        print(f"wrote {args.plot}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,98 @@
+"""Benchmark scenes made in code: the sphereflake and many small spheres.
+
+sphereflake(level)   Eric Haines' recursive flake: a sphere with 9 spheres a third its size
+                     around it, each with 9 around it, ... (level 4: 7,381 spheres), on a
+                     ground billboard.
+many_spheres(n)      n small spheres scattered in front of the camera.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from raykit.scene import Scene, scene_from_dict
+
+
+def _directions() -> np.ndarray:
+    """The 9 child directions about +z: 6 around the equator, 3 raised 60 degrees."""
+    around = [(np.cos(a), np.sin(a), 0.0) for a in np.radians(np.arange(0, 360, 60))]
+    raised = [
+        (0.5 * np.cos(a), 0.5 * np.sin(a), np.sqrt(3) / 2)
+        for a in np.radians(np.arange(30, 390, 120))
+    ]
+    return np.array(around + raised)
+
+
+def _frame_to(axis: np.ndarray) -> np.ndarray:
+    """A rotation taking +z to ``axis``."""
+    z = axis / np.linalg.norm(axis)
+    helper = np.array([1.0, 0, 0]) if abs(z[0]) < 0.9 else np.array([0, 1.0, 0])
+    x = np.cross(helper, z)
+    x /= np.linalg.norm(x)
+    return np.column_stack([x, np.cross(z, x), z])
+
+
+def sphereflake(level: int, width: int = 512, height: int = 512) -> Scene:
+    spheres = []
+    palette = [
+        [0.85, 0.25, 0.2],
+        [0.95, 0.7, 0.2],
+        [0.3, 0.7, 0.35],
+        [0.25, 0.45, 0.85],
+        [0.7, 0.4, 0.8],
+    ]
+
+    def grow(center, radius, axis, depth):
+        spheres.append(
+            {"center": center.tolist(), "radius": radius, "color": palette[depth % len(palette)]}
+        )
+        if depth == level:
+            return
+        rotation = _frame_to(axis)
+        for direction in _directions() @ rotation.T:
+            grow(center + direction * (radius + radius / 3), radius / 3, direction, depth + 1)
+
+    grow(np.array([0.0, 1.0, 0.0]), 1.0, np.array([0.0, 1.0, 0.0]), 0)
+    camera = {
+        "eye": [2.1, 3.3, 4.6],
+        "lookat": [0, 1.1, 0],
+        "up": [0, 1, 0],
+        "fov_angle": 45,
+        "width": width,
+        "height": height,
+    }
+    ground = {
+        "upper_left": [-6, -0.6, -6],
+        "upper_right": [6, -0.6, -6],
+        "lower_left": [-6, -0.6, 6],
+        "color": [0.6, 0.6, 0.55],
+    }
+    return scene_from_dict(
+        {
+            "camera": camera,
+            "background": [0.75, 0.85, 1.0],
+            "spheres": spheres,
+            "billboards": [ground],
+        }
+    )
+
+
+def many_spheres(count: int, width: int = 1920, height: int = 1080, seed: int = 0) -> Scene:
+    rng = np.random.default_rng(seed)
+    spheres = [
+        {
+            "center": rng.uniform([-8, -4.5, -30], [8, 4.5, -5]).tolist(),
+            "radius": float(rng.uniform(0.05, 0.3)),
+            "color": rng.uniform(0, 1, 3).tolist(),
+        }
+        for _ in range(count)
+    ]
+    camera = {
+        "eye": [0, 0, 5],
+        "lookat": [0, 0, 0],
+        "up": [0, 1, 0],
+        "fov_angle": 50,
+        "width": width,
+        "height": height,
+    }
+    return scene_from_dict({"camera": camera, "background": [0.05, 0.05, 0.1], "spheres": spheres})
