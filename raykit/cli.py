@@ -56,8 +56,9 @@ def build_parser() -> argparse.ArgumentParser:
     render = _command(
         commands,
         "render",
-        summary="render a 3D scene (JSON, format v1) to an image",
-        description="Render a balls-and-billboards scene (JSON, format v1) to an image.",
+        summary="render a 3D scene (JSON, format v1, or NFF) to an image",
+        description="Render a balls-and-billboards scene (JSON, format v1; or an NFF file of "
+        "the Standard Procedural Databases) to an image.",
         scene="SCENE.json",
         output="OUT.png",
         samples="N x N rays",
@@ -146,13 +147,23 @@ def _positive(text: str) -> int:
     return value
 
 
+def _load_3d(path: str):
+    """A 3D scene from JSON (format v1) or, for a .nff file, from NFF (raykit.nff)."""
+    if path.lower().endswith(".nff"):
+        from raykit.nff import load_nff
+
+        return load_nff(path)
+    from raykit.scene import load_scene
+
+    return load_scene(path)
+
+
 def _run_render(args: argparse.Namespace) -> None:
     from raykit.images import save_image
     from raykit.render import render
-    from raykit.scene import load_scene
 
     start = time.perf_counter()
-    scene = load_scene(args.scene)
+    scene = _load_3d(args.scene)
     image = render(scene, samples=args.samples)
     save_image(image.rgb, args.output)
     seconds = time.perf_counter() - start
@@ -198,10 +209,8 @@ def _run_sweep(args: argparse.Namespace) -> None:
 
 
 def _run_diagram(args: argparse.Namespace) -> None:
-    from raykit.scene import load_scene
-
     start = time.perf_counter()
-    scene = load_scene(args.scene)
+    scene = _load_3d(args.scene)
     if args.view == "camera":
         _save_figure("raykit.diagrams.camera", "camera_diagrams", scene.camera, args.output)
     else:

@@ -1,0 +1,138 @@
+"""Scenes in NFF, the format of Eric Haines' Standard Procedural Databases (SPD).
+
+What is read (one entity per line, ``#`` starts a comment):
+
+* ``v`` and the view block after it: ``from``, ``at``, ``up``, ``angle``, ``hither``,
+  ``resolution``. NFF's ``angle`` is measured between the centres of the outermost pixels,
+  raykit's ``fov_angle`` between the outer edges of the image, so for yres rows
+  tan(fov_angle/2) = tan(angle/2) · yres / (yres - 1). The angle is taken as the vertical one
+  (SPD images are square, where the two agree). ``hither`` is ignored: a hit counts for t > 0.
+* ``b r g b``: the background.
+* ``f r g b Kd Ks Shine T ior``: the colour of the objects that follow (raykit shades flat, so
+  only r g b is used).
+* ``s x y z r``: a sphere.
+* ``p n`` or ``pp n`` and n vertex lines (``pp`` lines also carry a normal, ignored): a polygon,
+  read as a billboard when it is a parallelogram (v0 + v2 = v1 + v3), v0 its upper_left, v1
+  upper_right, v3 lower_left.
+* ``l x y z [r g b]``: a light; ignored, as the renderer shades flat.
+
+Anything else (cones and cylinders ``c``, other polygons, unknown entities) is a one-line
+:class:`raykit.errors.SceneError` naming the file and the line.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from raykit.errors import SceneError
+from raykit.scene import Scene, scene_from_dict
+
+VIEW_KEYS = ("from", "at", "up", "angle", "hither", "resolution")
+
+
+def load_nff(path: str | Path) -> Scene:
+    """Read an NFF file as a scene; raises :class:`raykit.errors.SceneError`."""
+    source = str(path)
+    try:
+        lines = Path(path).read_text(encoding="utf-8", errors="replace").splitlines()
+    except FileNotFoundError:
+        raise SceneError(source, "", "scene file not found") from None
+    except OSError as exc:
+        raise SceneError(source, "", f"scene file cannot be read ({exc.strerror})") from None
+    return scene_from_nff(lines, source)
+
+
+def _numbers(words: list[str], count: int, source: str, number: int) -> list[float]:
+    try:
+        values = [float(w) for w in words[:count]]
+    except ValueError:
+        values = []
+    if len(values) != count or not all(math.isfinite(v) for v in values):
+        raise SceneError(
+            source, f"line {number}", f"expected {count} numbers after {words and words[0]!r}"
+        )
+    return values
+
+
+def scene_from_nff(lines: list[str], source: str = "<nff>") -> Scene:
+    """Read NFF ``lines`` (see the module docstring) into a validated scene."""
+    view: dict[str, list[float]] = {}
+    background = [0.0, 0.0, 0.0]
+    color = [1.0, 1.0, 1.0]
+    spheres, billboards = [], []
+    numbered = [(i + 1, line.split("#", 1)[0].split()) for i, line in enumerate(lines)]
+    numbered = [(n, words) for n, words in numbered if words]
+    k = 0
+    while k < len(numbered):
+        number, words = numbered[k]
+        k += 1
+        entity, rest = words[0], words[1:]
+        if entity == "v":
+            continue
+        if entity in VIEW_KEYS:
+            count = {"angle": 1, "hither": 1, "resolution": 2}.get(entity, 3)
+            view[entity] = _numbers(rest, count, source, number)
+        elif entity == "b":
+            background = [min(max(c, 0.0), 1.0) for c in _numbers(rest, 3, source, number)]
+        elif entity == "f":
+            color = [min(max(c, 0.0), 1.0) for c in _numbers(rest, 3, source, number)]
+        elif entity == "l":
+            continue  # flat shading: lights change nothing
+        elif entity == "s":
+            x, y, z, r = _numbers(rest, 4, source, number)
+            spheres.append({"center": [x, y, z], "radius": r, "color": color})
+        elif entity in ("p", "pp"):
+            (count,) = _numbers(rest, 1, source, number)
+            vertices = []
+            for _ in range(int(count)):
+                if k == len(numbered):
+                    raise SceneError(source, f"line {number}", "the polygon's vertices end early")
+                vertex_number, vertex = numbered[k]
+                k += 1
+                vertices.append(_numbers(vertex, 3, source, vertex_number))
+            billboards.append(_parallelogram(vertices, color, source, number))
+        else:
+            what = {"c": "cones and cylinders"}.get(entity, f"the entity {entity!r}")
+            raise SceneError(source, f"line {number}", f"{what}: not supported by raykit")
+    missing = [key for key in ("from", "at", "up", "angle", "resolution") if key not in view]
+    if missing:
+        raise SceneError(source, "view", f"missing {', '.join(missing)}")
+    width, height = (int(v) for v in view["resolution"])
+    half = math.radians(view["angle"][0]) / 2
+    rows = max(height, 2)
+    fov_angle = math.degrees(2 * math.atan(math.tan(half) * rows / (rows - 1)))
+    camera = {
+        "eye": view["from"],
+        "lookat": view["at"],
+        "up": view["up"],
+        "fov_angle": fov_angle,
+        "width": width,
+        "height": height,
+    }
+    data = {
+        "camera": camera,
+        "background": background,
+        "spheres": spheres,
+        "billboards": billboards,
+    }
+    return scene_from_dict(data, source=source)
+
+
+def _parallelogram(vertices: list[list[float]], color, source: str, number: int) -> dict:
+    v = np.array(vertices)
+    if len(v) != 4 or not np.allclose(v[0] + v[2], v[1] + v[3], atol=1e-9 * (1 + np.abs(v).max())):
+        raise SceneError(
+            source,
+            f"line {number}",
+            f"a polygon of {len(v)} vertices that is not a parallelogram: raykit "
+            "renders billboards, which are parallelograms",
+        )
+    return {
+        "upper_left": v[0].tolist(),
+        "upper_right": v[1].tolist(),
+        "lower_left": v[3].tolist(),
+        "color": color,
+    }
