@@ -45,7 +45,7 @@ def load_nff(path: str | Path) -> Scene:
     return scene_from_nff(lines, source)
 
 
-def _numbers(words: list[str], count: int, source: str, number: int) -> list[float]:
+def _numbers(words: list[str], count: int, source: str, number: int, entity: str) -> list[float]:
     try:
         values = [float(w) for w in words[:count]]
     except ValueError:
@@ -74,25 +74,25 @@ def scene_from_nff(lines: list[str], source: str = "<nff>") -> Scene:
             continue
         if entity in VIEW_KEYS:
             count = {"angle": 1, "hither": 1, "resolution": 2}.get(entity, 3)
-            view[entity] = _numbers(rest, count, source, number)
+            view[entity] = _numbers(rest, count, source, number, entity)
         elif entity == "b":
-            background = [min(max(c, 0.0), 1.0) for c in _numbers(rest, 3, source, number)]
+            background = [min(max(c, 0.0), 1.0) for c in _numbers(rest, 3, source, number, entity)]
         elif entity == "f":
-            color = [min(max(c, 0.0), 1.0) for c in _numbers(rest, 3, source, number)]
+            color = [min(max(c, 0.0), 1.0) for c in _numbers(rest, 3, source, number, entity)]
         elif entity == "l":
             continue  # flat shading: lights change nothing
         elif entity == "s":
-            x, y, z, r = _numbers(rest, 4, source, number)
+            x, y, z, r = _numbers(rest, 4, source, number, entity)
             spheres.append({"center": [x, y, z], "radius": r, "color": color})
         elif entity in ("p", "pp"):
-            (count,) = _numbers(rest, 1, source, number)
+            (count,) = _numbers(rest, 1, source, number, entity)
             vertices = []
             for _ in range(int(count)):
                 if k == len(numbered):
                     raise SceneError(source, f"line {number}", "the polygon's vertices end early")
                 vertex_number, vertex = numbered[k]
                 k += 1
-                vertices.append(_numbers(vertex, 3, source, vertex_number))
+                vertices.append(_numbers(vertex, 3, source, vertex_number, "a vertex"))
             billboards.append(_parallelogram(vertices, color, source, number))
         else:
             what = {"c": "cones and cylinders"}.get(entity, f"the entity {entity!r}")
