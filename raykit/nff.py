@@ -51,9 +51,7 @@ def _numbers(words: list[str], count: int, source: str, number: int, entity: str
     except ValueError:
         values = []
     if len(values) != count or not all(math.isfinite(v) for v in values):
-        raise SceneError(
-            source, f"line {number}", f"expected {count} numbers after {words and words[0]!r}"
-        )
+        raise SceneError(source, f"line {number}", f"expected {count} numbers after {entity!r}")
     return values
 
 
