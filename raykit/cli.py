@@ -63,6 +63,11 @@ def build_parser() -> argparse.ArgumentParser:
         output="OUT.png",
         samples="N x N rays",
     )
+    render.add_argument(
+        "--adaptive",
+        action="store_true",
+        help="take the N x N samples only at edges, where neighbouring pixels differ",
+    )
     render.set_defaults(run=_run_render)
 
     scan = _command(
@@ -164,7 +169,7 @@ def _run_render(args: argparse.Namespace) -> None:
 
     start = time.perf_counter()
     scene = _load_3d(args.scene)
-    image = render(scene, samples=args.samples)
+    image = render(scene, samples=args.samples, adaptive=args.adaptive)
     save_image(image.rgb, args.output)
     seconds = time.perf_counter() - start
     camera = scene.camera

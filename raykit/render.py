@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from raykit.adaptive import edge_pixels, refine
 from raykit.billboards import billboard_color_at, hit_billboard
 from raykit.camera import rays_through, region_points, sample_offsets
 from raykit.hits import Hits, solid
@@ -66,14 +67,22 @@ def cast_pixels(
     return origins, directions, cast(scene, origins, directions)
 
 
-def render(scene: Scene, samples: int = 1, *, skip_hidden: bool = True) -> Render:
+def render(
+    scene: Scene, samples: int = 1, *, skip_hidden: bool = True, adaptive: bool = False
+) -> Render:
     """Render ``scene`` with ``samples`` x ``samples`` rays per pixel.
 
     ``skip_hidden``: test each tile of pixels only against the objects that can be seen in it
     (:mod:`raykit.tiles`); the image is the same either way, only the time differs.
+    ``adaptive``: take the n x n samples only in pixels at an edge (:mod:`raykit.adaptive`).
     """
     if samples < 1:
         raise ValueError(f"samples must be >= 1, got {samples}")
+    if adaptive and samples > 1:
+        first = render(scene, 1, skip_hidden=skip_hidden)
+        edge = edge_pixels(first.rgb, first.object_index)
+        refine(scene, regions(scene, skip_hidden), cast, first.rgb, edge, samples)
+        return first
     camera = scene.camera
     height, width = camera.height, camera.width
     rgb = np.zeros((height, width, 3))

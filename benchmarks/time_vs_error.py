@@ -1,0 +1,88 @@
+"""Run time against error: supersampling n x n everywhere, or only at edges (adaptive).
+
+    python benchmarks/time_vs_error.py [--quick] [--repeats N] [--plot pareto.png]
+
+For n = 1, 2, 4, 8 (1, 4, 16, 64 rays per pixel) and the adaptive mode, the RMS error of the
+image against a 16 x 16 (256 rays per pixel) reference and the median render time, side by side
+in one run. The last column compares each time with full 4 x 4 (16 rays per pixel).
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+
+from raykit.render import render
+from raykit.scene import load_scene
+
+HERE = Path(__file__).resolve().parent
+
+
+def median_time(function, repeats):
+    times, result = [], None
+    for _ in range(repeats):
+        start = time.perf_counter()
+        result = function()
+        times.append(time.perf_counter() - start)
+    return result, statistics.median(times)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--quick", action="store_true", help="a small image, for CI")
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--plot", type=Path, help="write time against error here")
+    args = parser.parse_args()
+    scene = load_scene(HERE.parent / "scenes" / "cutouts.json")
+    if args.quick:
+        scene = replace(scene, camera=replace(scene.camera, width=96, height=64))
+    reference = render(scene, 16).rgb
+    rows = []
+    for adaptive in (False, True):
+        for n in (1, 2, 4, 8):
+            if adaptive and n == 1:
+                continue
+            image, seconds = median_time(
+                lambda n=n, a=adaptive: render(scene, n, adaptive=a), args.repeats
+            )
+            error = float(np.sqrt(np.mean((image.rgb - reference) ** 2)))
+            rows.append(("adaptive" if adaptive else "everywhere", n, error, seconds))
+    base = next(r[3] for r in rows if r[0] == "everywhere" and r[1] == 4)
+    camera = scene.camera
+    print(
+        f"scenes/cutouts.json at {camera.width}x{camera.height}; error against 16 x 16; "
+        f"medians of {args.repeats} runs\n"
+    )
+    print("| samples | where | rays per pixel | RMS error | time | time / full 4x4 |")
+    print("|---|---|---|---|---|---|")
+    for mode, n, error, seconds in rows:
+        print(
+            f"| {n} x {n} | {mode} | {n * n} | {error:.5f} | {seconds * 1000:.0f} ms "
+            f"| {seconds / base:.2f} |"
+        )
+    if args.plot:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        from raykit.images import save_figure
+
+        figure, ax = plt.subplots(figsize=(5, 3.5), layout="constrained")
+        for mode, style in (("everywhere", "s--"), ("adaptive", "o-")):
+            points = [(r[3], r[2]) for r in rows if r[0] == mode]
+            ax.loglog(*zip(*points, strict=True), style, label=mode)
+        ax.set_xlabel("render time (s)")
+        ax.set_ylabel("RMS error against 16 x 16")
+        ax.legend()
+        save_figure(figure, args.plot)
+        print(f"\nwrote {args.plot}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,29 @@
+import numpy as np
+import pytest
+
+from conftest import SCENES
+from raykit.adaptive import edge_pixels
+from raykit.render import render
+from raykit.scene import load_scene
+
+
+@pytest.mark.parametrize("name", ["classic", "cutouts", "wide_fov"])
+def test_adaptive_supersampling_matches_full_supersampling(name):
+    scene = load_scene(SCENES / f"{name}.json")
+    full, adaptive = render(scene, 3), render(scene, 3, adaptive=True)
+    same = np.all(np.abs(full.rgb - adaptive.rgb) <= 1e-12, axis=-1)  # n*n*c/(n*n) vs c
+    assert same.mean() >= 0.999
+    reference = render(scene, 6).rgb
+    error = lambda image: np.sqrt(np.mean((image - reference) ** 2))  # noqa: E731
+    assert error(adaptive.rgb) <= 1.01 * error(full.rgb)
+    assert np.array_equal(full.object_index, adaptive.object_index)
+
+
+def test_only_pixels_next_to_another_colour_or_object_are_edges():
+    rgb = np.zeros((5, 6, 3))
+    rgb[:, 3:] = 1.0
+    index = np.zeros((5, 6), dtype=int)
+    index[0, 0] = 1  # another object of the same colour
+    edge = edge_pixels(rgb, index)
+    assert edge[:, 2:4].all() and not edge[:, 5].any()
+    assert edge[0, 0] and edge[1, 1] and not edge[3, 0]
