@@ -17,9 +17,7 @@ compare the variants measured in this run. ``--quick`` uses small images and few
 from __future__ import annotations
 
 import argparse
-import statistics
 import sys
-import time
 from dataclasses import replace
 from pathlib import Path
 
@@ -28,6 +26,8 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
+from common import loglog_plot, median_time  # noqa: E402
+
 from raykit.camera import rays_through  # noqa: E402
 from raykit.render import cast, render  # noqa: E402
 from raykit.scene import Scene, load_scene  # noqa: E402
@@ -35,15 +35,6 @@ from scenes import many_spheres, sphereflake  # noqa: E402
 
 CROP = (32, 24)  # pixels the per-pixel loop renders (--quick: 8 x 6), scaled up to the image
 EVERY_OBJECT_LIMIT = 3e8  # rays x objects beyond which "every object" is not run (minutes)
-
-
-def median_time(function, repeats: int) -> float:
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        function()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times)
 
 
 def per_pixel_loop(scene: Scene, crop: tuple[int, int]) -> None:
@@ -61,12 +52,12 @@ def measure(name: str, scene: Scene, repeats: int, crop: tuple[int, int]) -> dic
     pixels = camera.width * camera.height
     cropped = min(crop[0], camera.width) * min(crop[1], camera.height)
     row = {"scene": name, "size": f"{camera.width}x{camera.height}", "objects": len(scene.objects)}
-    row["loop"] = median_time(lambda: per_pixel_loop(scene, crop), 1) * pixels / cropped
+    row["loop"] = median_time(lambda: per_pixel_loop(scene, crop), 1)[1] * pixels / cropped
     if pixels * len(scene.objects) <= EVERY_OBJECT_LIMIT:
-        row["every"] = median_time(lambda: render(scene, skip_hidden=False), repeats)
+        row["every"] = median_time(lambda: render(scene, skip_hidden=False), repeats)[1]
     else:
         row["every"] = None
-    row["tiles"] = median_time(lambda: render(scene), repeats)
+    row["tiles"] = median_time(lambda: render(scene), repeats)[1]
     return row
 
 
@@ -123,23 +114,12 @@ def main() -> None:
     )
 
     if args.plot:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
-        from raykit.images import save_figure
-
         flakes = [r for r in rows if r["scene"].startswith("sphereflake")]
-        figure, ax = plt.subplots(figsize=(5, 3.5), layout="constrained")
+        series = {}
         for key, label, style in (("every", "every object", "s--"), ("tiles", "tiles", "o-")):
             points = [(r["objects"], r[key]) for r in flakes if r[key]]
-            ax.loglog(*zip(*points, strict=True), style, label=label)
-        ax.set_xlabel("objects (sphereflake levels)")
-        ax.set_ylabel("render time (s)")
-        ax.legend()
-        save_figure(figure, args.plot)
-        print(f"wrote {args.plot}")
+            series[label] = ([p[0] for p in points], [p[1] for p in points], style)
+        loglog_plot(args.plot, series, "objects (sphereflake levels)", "render time (s)")
 
 
 if __name__ == "__main__":

@@ -10,8 +10,7 @@ in one run. The last column compares each time with full 4 x 4 (16 rays per pixe
 from __future__ import annotations
 
 import argparse
-import statistics
-import time
+import sys
 from dataclasses import replace
 from pathlib import Path
 
@@ -21,15 +20,9 @@ from raykit.render import render
 from raykit.scene import load_scene
 
 HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
 
-
-def median_time(function, repeats):
-    times, result = [], None
-    for _ in range(repeats):
-        start = time.perf_counter()
-        result = function()
-        times.append(time.perf_counter() - start)
-    return result, statistics.median(times)
+from common import loglog_plot, median_time  # noqa: E402
 
 
 def main() -> None:
@@ -66,22 +59,15 @@ def main() -> None:
             f"| {seconds / base:.2f} |"
         )
     if args.plot:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
-        from raykit.images import save_figure
-
-        figure, ax = plt.subplots(figsize=(5, 3.5), layout="constrained")
-        for mode, style in (("everywhere", "s--"), ("adaptive", "o-")):
-            points = [(r[3], r[2]) for r in rows if r[0] == mode]
-            ax.loglog(*zip(*points, strict=True), style, label=mode)
-        ax.set_xlabel("render time (s)")
-        ax.set_ylabel("RMS error against 16 x 16")
-        ax.legend()
-        save_figure(figure, args.plot)
-        print(f"\nwrote {args.plot}")
+        series = {
+            mode: (
+                [r[3] for r in rows if r[0] == mode],
+                [r[2] for r in rows if r[0] == mode],
+                style,
+            )
+            for mode, style in (("everywhere", "s--"), ("adaptive", "o-"))
+        }
+        loglog_plot(args.plot, series, "render time (s)", "RMS error against 16 x 16")
 
 
 if __name__ == "__main__":

@@ -1,4 +1,4 @@
-"""The benchmark runs and prints its table (its figures are for people, not assertions)."""
+"""The benchmarks run and print their tables (their figures are for people, not assertions)."""
 
 import subprocess
 import sys
@@ -6,15 +6,19 @@ import sys
 from conftest import REPO
 
 
-def test_render_speed_quick_prints_a_row_per_scene_with_every_variant():
+def _table_rows(script: str) -> list[str]:
     run = subprocess.run(
-        [sys.executable, str(REPO / "benchmarks/render_speed.py"), "--quick", "--repeats", "1"],
+        [sys.executable, str(REPO / "benchmarks" / script), "--quick", "--repeats", "1"],
         capture_output=True,
         text=True,
         timeout=300,
     )
     assert run.returncode == 0, run.stderr
-    rows = [line for line in run.stdout.splitlines() if line.startswith("| ")][1:]
+    return [line for line in run.stdout.splitlines() if line.startswith("| ")][1:]
+
+
+def test_render_speed_quick_prints_a_row_per_scene_with_every_variant():
+    rows = _table_rows("render_speed.py")
     assert [row.split(" | ")[0] for row in rows] == [
         "| classic",
         "| sphereflake 2",
@@ -24,13 +28,6 @@ def test_render_speed_quick_prints_a_row_per_scene_with_every_variant():
 
 
 def test_time_vs_error_quick_prints_every_mode():
-    run = subprocess.run(
-        [sys.executable, str(REPO / "benchmarks/time_vs_error.py"), "--quick", "--repeats", "1"],
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
-    assert run.returncode == 0, run.stderr
-    rows = [line for line in run.stdout.splitlines() if line.startswith("| ")][1:]
+    rows = _table_rows("time_vs_error.py")
     assert len(rows) == 7
     assert sum("adaptive" in row for row in rows) == 3

@@ -1,0 +1,39 @@
+"""What the benchmarks share: timing by the median, and log-log plots."""
+
+from __future__ import annotations
+
+import statistics
+import time
+from pathlib import Path
+
+
+def median_time(function, repeats: int):
+    """(the last result, the median wall time in seconds) of ``repeats`` calls."""
+    times, result = [], None
+    for _ in range(repeats):
+        start = time.perf_counter()
+        result = function()
+        times.append(time.perf_counter() - start)
+    return result, statistics.median(times)
+
+
+def loglog_plot(
+    path: Path, series: dict[str, tuple[list, list, str]], xlabel: str, ylabel: str
+) -> None:
+    """One log-log line per ``label: (xs, ys, style)``, written to ``path``."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from raykit.images import save_figure
+
+    figure, ax = plt.subplots(figsize=(5, 3.5), layout="constrained")
+    for label, (xs, ys, style) in series.items():
+        ax.loglog(xs, ys, style, label=label)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.legend()
+    save_figure(figure, path)
+    plt.close(figure)
+    print(f"\nwrote {path}")
