@@ -139,6 +139,17 @@ def build_parser() -> argparse.ArgumentParser:
         help="draw the ray of every K-th pixel across and down (default: at most 8 a side)",
     )
     diagram.set_defaults(run=_run_diagram)
+
+    bench = commands.add_parser(
+        "bench",
+        help="run the benchmarks (from a clone of the repository)",
+        description="Run benchmarks/render_speed.py and benchmarks/time_vs_error.py: tables of "
+        "medians side by side, and with --plots, the plots.",
+    )
+    bench.add_argument("--quick", action="store_true", help="small images, a short run")
+    bench.add_argument("--repeats", type=_positive, default=3, help="runs per variant (median)")
+    bench.add_argument("--plots", metavar="FOLDER", help="write the plots into this folder")
+    bench.set_defaults(run=_run_bench)
     return parser
 
 
@@ -228,6 +239,31 @@ def _run_diagram(args: argparse.Namespace) -> None:
             every=args.rays,
         )
     print(f"wrote {args.output} in {time.perf_counter() - start:.2f} s")
+
+
+def _run_bench(args: argparse.Namespace) -> None:
+    import subprocess
+    from pathlib import Path
+
+    folder = Path(__file__).resolve().parent.parent / "benchmarks"
+    if not (folder / "render_speed.py").is_file():
+        raise ValueError(
+            "raykit bench runs from a clone of the repository: benchmarks/ is "
+            f"not beside the installed package ({folder})"
+        )
+    for script, plot in (
+        ("render_speed.py", "time_vs_objects.png"),
+        ("time_vs_error.py", "time_vs_error.png"),
+    ):
+        command = [sys.executable, str(folder / script), "--repeats", str(args.repeats)]
+        command += ["--quick"] if args.quick else []
+        if args.plots:
+            Path(args.plots).mkdir(parents=True, exist_ok=True)
+            command += ["--plot", str(Path(args.plots) / plot)]
+        print(f"$ python benchmarks/{script} {' '.join(command[2:])}", flush=True)
+        if subprocess.run(command).returncode != 0:
+            raise ValueError(f"benchmarks/{script} failed")
+        print(flush=True)
 
 
 def _save_figure(module: str, function: str, subject, path: str, **options) -> None:

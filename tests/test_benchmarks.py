@@ -31,3 +31,28 @@ def test_time_vs_error_quick_prints_every_mode():
     rows = _table_rows("time_vs_error.py")
     assert len(rows) == 7
     assert sum("adaptive" in row for row in rows) == 3
+
+
+def test_raykit_bench_runs_both_benchmarks_and_writes_the_plots(tmp_path):
+    run = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "raykit",
+            "bench",
+            "--quick",
+            "--repeats",
+            "1",
+            "--plots",
+            str(tmp_path),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.count("$ python benchmarks/") == 2
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        "time_vs_error.png",
+        "time_vs_objects.png",
+    ]
