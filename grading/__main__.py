@@ -53,12 +53,14 @@ def main(argv: list[str] | None = None) -> int:
             help="time one test's code may take before it is stopped (default 20)",
         )
     args = parser.parse_args(argv)
-
-    if args.command == "grade":
-        from grading.grade import grade_to_file
+    if args.command in ("grade", "batch"):
         from grading.sandbox import Limits
 
         limits = Limits(wall_seconds=args.wall_seconds, cpu_seconds=int(args.wall_seconds) + 1)
+
+    if args.command == "grade":
+        from grading.grade import grade_to_file
+
         results = grade_to_file(
             args.submission,
             args.output,
@@ -71,9 +73,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"wrote {args.output}: {results['score']:g} of {total:g} points")
     elif args.command == "batch":
         from grading.batch import grade_folder
-        from grading.sandbox import Limits
 
-        limits = Limits(wall_seconds=args.wall_seconds, cpu_seconds=int(args.wall_seconds) + 1)
         grade_folder(
             args.submissions,
             args.output,

@@ -1,8 +1,7 @@
-from fractions import Fraction
-
 import numpy as np
 import pytest
 
+from exact import exact_sphere_hit
 from raykit.rays import MISS, normalize
 from raykit.spheres import hit_sphere, hit_sphere_textbook
 
@@ -48,16 +47,6 @@ def test_works_in_two_dimensions_as_ray_circle():
     assert hit_sphere(o, d, np.zeros(2), 3.0)[0] == pytest.approx(7.0)
 
 
-def _exact_hit(origin, direction, center, radius) -> bool:
-    """Whether the ray hits, in exact rational arithmetic (every float is a rational)."""
-    f = [Fraction(float(o)) - Fraction(float(c)) for o, c in zip(origin, center, strict=True)]
-    d = [Fraction(float(x)) for x in direction]
-    a = sum(x * x for x in d)
-    b = sum(x * y for x, y in zip(f, d, strict=True))
-    c = sum(x * x for x in f) - Fraction(float(radius)) ** 2
-    return b * b - a * c >= 0 and b < 0  # in front of the origin, origin outside
-
-
 @pytest.mark.parametrize("dtype", [np.float64, np.float32])
 def test_tiny_far_sphere_stable_form_classifies_every_ray_textbook_does_not(dtype):
     """A 1e-3 sphere at 1e5: b'^2 and a*c' are ~1e10 and agree to 16 digits, so the textbook
@@ -70,7 +59,9 @@ def test_tiny_far_sphere_stable_form_classifies_every_ray_textbook_does_not(dtyp
         [rng.uniform(-1.5e-3, 1.5e-3, n), rng.uniform(-1.5e-3, 1.5e-3, n), np.zeros(n)]
     )
     origins, directions = np.zeros((n, 3), dtype), normalize(aim).astype(dtype)
-    exact = np.array([_exact_hit(origins[i], directions[i], center, radius) for i in range(n)])
+    exact = np.array(
+        [exact_sphere_hit(origins[i], directions[i], center, radius) for i in range(n)]
+    )
     stable = np.isfinite(hit_sphere(origins, directions, center, radius))
     textbook = np.isfinite(hit_sphere_textbook(origins, directions, center, radius))
     assert 0.2 * n < exact.sum() < 0.8 * n  # the sample straddles the silhouette

@@ -7,20 +7,12 @@ import numpy as np
 import pytest
 
 from conftest import SCENES
+from exact import exact_sphere_hit
 from independent_tracer import trace_object_index
 from raykit.camera import pixel_points, rays_through
 from raykit.render import render
 from raykit.scene import scene_from_dict
 from raykit.spheres import hit_sphere_textbook
-
-
-def _exact_sphere_hit(origin, direction, center, radius) -> bool:
-    f = [Fraction(float(o)) - Fraction(float(c)) for o, c in zip(origin, center, strict=True)]
-    d = [Fraction(float(x)) for x in direction]
-    a = sum(x * x for x in d)
-    b = sum(x * y for x, y in zip(f, d, strict=True))
-    c = sum(x * x for x in f) - Fraction(float(radius)) ** 2
-    return b * b - a * c >= 0 and (b < 0 or c < 0)
 
 
 def _json(path):
@@ -51,7 +43,7 @@ def test_tiny_far_sphere_is_drawn_exactly_where_exact_arithmetic_says(skip_hidde
     origins, directions = rays_through(scene.camera, *pixel_points(23, range(23)))
     exact = np.array(
         [
-            _exact_sphere_hit(o, d, np.zeros(3), 1e-3)
+            exact_sphere_hit(o, d, np.zeros(3), 1e-3)
             for o, d in zip(origins, directions, strict=True)
         ]
     ).reshape(23, 23)
