@@ -113,6 +113,17 @@ def main() -> None:
         f"{EVERY_OBJECT_LIMIT:.0e} ray-object tests."
     )
 
+    print("\n| scene | float64 | float32 | float32 / float64 | pixels whose object changes |")
+    print("|---|---|---|---|---|")
+    for name, scene in scenes(args.quick):
+        double, t64 = median_time(lambda s=scene: render(s), args.repeats)
+        single, t32 = median_time(lambda s=scene: render(s, dtype=np.float32), args.repeats)
+        changed = int((double.object_index != single.object_index).sum())
+        print(
+            f"| {name} | {seconds(t64)} | {seconds(t32)} | {t32 / t64:.2f} "
+            f"| {changed} of {double.object_index.size:,} |"
+        )
+
     if args.plot:
         flakes = [r for r in rows if r["scene"].startswith("sphereflake")]
         series = {}

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from raykit.camera import rays_through, sample_offsets
+from raykit.camera import sample_offsets
 
 
 def edge_pixels(rgb: np.ndarray, object_index: np.ndarray) -> np.ndarray:
@@ -29,11 +29,12 @@ def edge_pixels(rgb: np.ndarray, object_index: np.ndarray) -> np.ndarray:
     return edge
 
 
-def refine(scene, regions, cast, rgb: np.ndarray, edge: np.ndarray, samples: int) -> int:
+def refine(regions, cast, make_rays, rgb: np.ndarray, edge: np.ndarray, samples: int) -> int:
     """Replace the colour of every edge pixel by the mean of its n x n samples, in place.
 
     ``regions`` are the renderer's (:mod:`raykit.tiles`), so each tile's edge pixels are tested
-    only against the objects seen there. Returns how many pixels were supersampled.
+    only against the objects seen there; ``make_rays(x, y)`` gives the rays through image points
+    (the renderer's, in its float type). Returns how many pixels were supersampled.
     """
     offsets = sample_offsets(samples)
     for region in regions:
@@ -43,7 +44,7 @@ def refine(scene, regions, cast, rgb: np.ndarray, edge: np.ndarray, samples: int
         rows, cols = rows + region.rows.start, cols + region.cols.start
         total = np.zeros((len(rows), 3))
         for a, b in offsets:
-            hits = cast(region.scene, *rays_through(scene.camera, cols + a, rows + b))
+            hits = cast(region.scene, *make_rays(cols + a, rows + b))
             total += hits.color
         rgb[rows, cols] = total / len(offsets)
     return int(edge.sum())

@@ -52,12 +52,12 @@ class Billboard:
     @cached_property
     def a(self) -> np.ndarray:
         """Edge upper_left -> upper_right, ``(3,)``: the direction of alpha (image columns)."""
-        return np.asarray(self.upper_right, float) - np.asarray(self.upper_left, float)
+        return _floats(self.upper_right) - _floats(self.upper_left)
 
     @cached_property
     def b(self) -> np.ndarray:
         """Edge upper_left -> lower_left, ``(3,)``: the direction of beta (image rows)."""
-        return np.asarray(self.lower_left, float) - np.asarray(self.upper_left, float)
+        return _floats(self.lower_left) - _floats(self.upper_left)
 
     @cached_property
     def n(self) -> np.ndarray:
@@ -69,6 +69,12 @@ class Billboard:
         """The dual vectors ((b × n)/|n|², (n × a)/|n|²) that turn a point into (alpha, beta)."""
         n_squared = self.n @ self.n
         return np.cross(self.b, self.n) / n_squared, np.cross(self.n, self.a) / n_squared
+
+
+def _floats(point) -> np.ndarray:
+    """The point as a float array, keeping float32 as float32 (see raykit.precision)."""
+    point = np.asarray(point)
+    return point if point.dtype.kind == "f" else point.astype(float)
 
 
 def is_degenerate(a: np.ndarray, b: np.ndarray) -> bool:
@@ -87,7 +93,7 @@ def hit_billboard(
     # BEGIN SOLUTION
     # hint: t from hit_plane with n = a × b through upper_left; alpha = q·(b × n)/|n|², beta = q·(n
     #       × a)/|n|²; inside when both are in [0, 1]
-    corner = np.asarray(billboard.upper_left, float)
+    corner = _floats(billboard.upper_left)
     t = hit_plane(origins, directions, corner, billboard.n)
     q = hit_points_on_plane(origins, directions, t, corner)
     alpha_axis, beta_axis = billboard.dual_axes

@@ -23,6 +23,7 @@ from raykit.adaptive import edge_pixels, refine
 from raykit.billboards import billboard_color_at, hit_billboard
 from raykit.camera import rays_through, region_points, sample_offsets
 from raykit.hits import Hits, solid
+from raykit.precision import eye_relative
 from raykit.scene import Scene
 from raykit.spheres import hit_sphere
 from raykit.tiles import regions
@@ -68,20 +69,36 @@ def cast_pixels(
 
 
 def render(
-    scene: Scene, samples: int = 1, *, skip_hidden: bool = True, adaptive: bool = False
+    scene: Scene,
+    samples: int = 1,
+    *,
+    skip_hidden: bool = True,
+    adaptive: bool = False,
+    dtype: type = np.float64,
 ) -> Render:
     """Render ``scene`` with ``samples`` x ``samples`` rays per pixel.
 
     ``skip_hidden``: test each tile of pixels only against the objects that can be seen in it
     (:mod:`raykit.tiles`); the image is the same either way, only the time differs.
     ``adaptive``: take the n x n samples only in pixels at an edge (:mod:`raykit.adaptive`).
+    ``dtype``: ``np.float32`` intersects in single precision, the scene moved to the eye first
+    (:mod:`raykit.precision`); the default float64 uses the scene as it is.
     """
     if samples < 1:
         raise ValueError(f"samples must be >= 1, got {samples}")
+    if dtype != np.float64:
+        scene = eye_relative(scene, dtype)
     if adaptive and samples > 1:
-        first = render(scene, 1, skip_hidden=skip_hidden)
+        first = render(scene, 1, skip_hidden=skip_hidden, dtype=dtype)
         edge = edge_pixels(first.rgb, first.object_index)
-        refine(scene, regions(scene, skip_hidden), cast, first.rgb, edge, samples)
+        refine(
+            regions(scene, skip_hidden),
+            cast,
+            lambda x, y: _rays(scene.camera, x, y, dtype),
+            first.rgb,
+            edge,
+            samples,
+        )
         return first
     camera = scene.camera
     height, width = camera.height, camera.width
@@ -96,17 +113,23 @@ def render(
         pixels = region.pixels
         for k, (a, b) in enumerate(offsets):
             x, y = region_points(region.rows, region.cols, a, b)
-            hits = cast(region.scene, *rays_through(camera, x, y))
+            hits = cast(region.scene, *_rays(camera, x, y, dtype))
             rgb[pixels] += hits.color.reshape(*shape, 3)
             if k == centre_sample:
                 object_index[pixels] = region.index_of[hits.index].reshape(shape)
                 t_image[pixels] = hits.t.reshape(shape)
         if centre_sample is None:  # even n: no sample sits at the centre, so cast one there
             hits = cast(
-                region.scene, *rays_through(camera, *region_points(region.rows, region.cols))
+                region.scene, *_rays(camera, *region_points(region.rows, region.cols), dtype)
             )
             object_index[pixels] = region.index_of[hits.index].reshape(shape)
             t_image[pixels] = hits.t.reshape(shape)
 
     rgb /= len(offsets)
     return Render(rgb, object_index, t_image)
+
+
+def _rays(camera, x: np.ndarray, y: np.ndarray, dtype: type) -> tuple[np.ndarray, np.ndarray]:
+    """The camera's rays through (x, y), made in float64 and then given to ``dtype``."""
+    origins, directions = rays_through(camera, x, y)
+    return origins.astype(dtype, copy=False), directions.astype(dtype, copy=False)

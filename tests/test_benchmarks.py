@@ -14,7 +14,9 @@ def _table_rows(script: str) -> list[str]:
         timeout=300,
     )
     assert run.returncode == 0, run.stderr
-    return [line for line in run.stdout.splitlines() if line.startswith("| ")][1:]
+    tables = [t.splitlines() for t in run.stdout.split("\n\n")]
+    first = next(t for t in tables if t and t[0].startswith("| "))
+    return [line for line in first if line.startswith("| ")][1:]  # the first table's rows
 
 
 def test_render_speed_quick_prints_a_row_per_scene_with_every_variant():
@@ -25,6 +27,17 @@ def test_render_speed_quick_prints_a_row_per_scene_with_every_variant():
         "| 100 spheres",
     ]
     assert all(row.count(" ms") + row.count(" s ") >= 3 for row in rows)
+
+
+def test_render_speed_compares_float32_with_float64():
+    run = subprocess.run(
+        [sys.executable, str(REPO / "benchmarks/render_speed.py"), "--quick", "--repeats", "1"],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    table = run.stdout.split("| scene | float64 | float32")[1]
+    assert table.count(" of ") == 3
 
 
 def test_time_vs_error_quick_prints_every_mode():
