@@ -57,6 +57,7 @@ def main(argv: list[str] | None = None) -> int:
         from grading.sandbox import Limits
 
         limits = Limits(wall_seconds=args.wall_seconds, cpu_seconds=int(args.wall_seconds) + 1)
+        shared = {"child_python": args.child_python, "names": args.only, "limits": limits}
 
     if args.command == "grade":
         from grading.grade import grade_to_file
@@ -64,10 +65,8 @@ def main(argv: list[str] | None = None) -> int:
         results = grade_to_file(
             args.submission,
             args.output,
-            child_python=args.child_python,
-            names=args.only,
             feedback=args.feedback,
-            limits=limits,
+            **shared,
         )
         total = sum(t["max_score"] for t in results["tests"])
         print(f"wrote {args.output}: {results['score']:g} of {total:g} points")
@@ -78,9 +77,7 @@ def main(argv: list[str] | None = None) -> int:
             args.submissions,
             args.output,
             jobs=args.jobs,
-            child_python=args.child_python,
-            names=args.only,
-            limits=limits,
+            **shared,
         )
     elif args.command == "release":
         from grading.release import build_release

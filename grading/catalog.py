@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import json
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -37,7 +37,7 @@ class GradingTest:
     inputs: Callable[[], tuple[dict, dict[str, np.ndarray], dict[str, Path]]]
     kind: str = "arrays"  # or "image"
     tolerance: str = f"each number within rtol {RTOL:g}, atol {ATOL:g}"
-    mistakes: bool = field(default=False)  # diagnose the classic 3D mistakes on this image
+    mistakes: bool = False  # diagnose the classic 3D mistakes on this image
 
 
 def _rays(seed: int, count: int, dims: int, aim: np.ndarray, spread: float):

@@ -42,12 +42,13 @@ class Mistake:
 
 
 def _frame(change: Callable[[np.ndarray, np.ndarray, np.ndarray], tuple]) -> list:
-    original = raykit.camera.camera_frame
+    """Patch every camera's u, v, w. A property on the class is a data descriptor, so it wins
+    even over a frame a camera has already computed and cached."""
 
-    def wrong(eye, lookat, up):
-        return change(*original(eye, lookat, up))
+    def wrong(camera: Camera) -> tuple:
+        return change(*raykit.camera.camera_frame(camera.eye, camera.lookat, camera.up))
 
-    return [mock.patch.object(raykit.camera, "camera_frame", wrong)]
+    return [mock.patch.object(Camera, "frame", property(wrong))]
 
 
 def _plane_size(size: Callable[[Camera], tuple[float, float]]) -> list:

@@ -32,7 +32,7 @@ import subprocess
 import sys
 import tempfile
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -68,8 +68,6 @@ class ChildResult:
     problem: str = ""
     output: str = ""
     seconds: float = 0.0
-    exit_status: int | None = None
-    extra: dict = field(default_factory=dict)
 
 
 def _library_paths(python: str) -> list[str]:
@@ -259,7 +257,7 @@ class Sandbox:
                     seconds,
                 )
             if status != 0:
-                return ChildResult(None, _describe_exit(status, output), output, seconds, status)
+                return ChildResult(None, _describe_exit(status, output), output, seconds)
             try:
                 with np.load(work / "outputs.npz", allow_pickle=False) as data:
                     outputs = {k: data[k] for k in data.files}
@@ -271,7 +269,7 @@ class Sandbox:
                     seconds,
                     status,
                 )
-            return ChildResult(outputs, "", output, seconds, status)
+            return ChildResult(outputs, "", output, seconds)
         finally:
             shutil.rmtree(work, ignore_errors=True)
 

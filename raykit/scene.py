@@ -25,7 +25,6 @@ from raykit.spheres import Sphere
 from raykit.textures import Texture
 
 MAX_IMAGE_SIDE = 16384
-SCHEMA_NAME = "scene-v1.schema.json"
 
 
 @dataclass(frozen=True)

@@ -65,6 +65,31 @@ def release(tmp_path_factory):
     return out
 
 
+def _student_pytest(folder):
+    """The release's own test command, run in ``folder`` with its raykit first on the path."""
+    return subprocess.run(
+        [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "tests"],
+        cwd=folder,
+        capture_output=True,
+        text=True,
+        env={"PYTHONPATH": str(folder), "PATH": "/usr/bin:/bin"},
+    )
+
+
+def test_mistakes_apply_to_a_camera_that_has_already_computed_its_frame():
+    from dataclasses import replace
+
+    from raykit.render import render
+    from raykit.scene import load_scene
+
+    scene = load_scene(REPO / "scenes/classic.json")
+    scene = replace(scene, camera=replace(scene.camera, width=80, height=60))
+    right = render(scene).rgb  # the camera caches its u, v, w here
+    for key in ("u_v_swapped", "u_negated"):
+        with next(m for m in MISTAKES if m.key == key).active():
+            assert not np.array_equal(render(scene).rgb, right), key
+
+
 def test_catalog_has_points_visibility_and_every_stage():
     assert {t.visibility for t in TESTS} == {VISIBLE, HIDDEN}
     assert {t.stage.split()[0] for t in TESTS} == {"1", "2", "3"}
@@ -110,13 +135,7 @@ def test_release_imports_cleanly_and_its_stubs_raise(release):
 
 
 def test_release_visible_tests_fail_with_not_implemented_only(release):
-    run = subprocess.run(
-        [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "tests"],
-        cwd=release,
-        capture_output=True,
-        text=True,
-        env={"PYTHONPATH": str(release), "PATH": "/usr/bin:/bin"},
-    )
+    run = _student_pytest(release)
     visible = sum(t.visibility == VISIBLE for t in TESTS)
     assert f"{visible} failed" in run.stdout
     failures = [line for line in run.stdout.splitlines() if line.startswith("FAILED")]
@@ -131,13 +150,7 @@ def test_solution_dropped_into_the_release_passes_its_visible_tests(release, tmp
     shutil.copytree(release, copy)
     shutil.rmtree(copy / "raykit")
     shutil.copytree(REPO / "raykit", copy / "raykit")
-    run = subprocess.run(
-        [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "tests"],
-        cwd=copy,
-        capture_output=True,
-        text=True,
-        env={"PYTHONPATH": str(copy), "PATH": "/usr/bin:/bin"},
-    )
+    run = _student_pytest(copy)
     assert run.returncode == 0, run.stdout[-2000:]
 
 

@@ -157,10 +157,14 @@ def test_transparent_texels_let_the_ray_go_on_to_what_is_behind(tmp_path):
     assert index[0, -1] == 1 and index[-1, 0] == 1  # the opaque texels are the billboard
 
 
-def test_alpha_threshold_is_128():
-    from raykit.textures import OPAQUE_FROM
-
-    assert OPAQUE_FROM == 128
+def test_texels_with_alpha_below_128_are_holes_and_from_128_opaque(tmp_path):
+    name = _texture(tmp_path, "edge.png", [[[200, 0, 0, 127], [200, 0, 0, 128]]])
+    scene = scene_dict(billboards=[_facing_board(name, z=3.0)])
+    scene["camera"].update(width=24, height=24)
+    scene["spheres"][0]["radius"] = 2.5
+    index = rendered(scene, tmp_path).object_index
+    assert (index[:, :12] == 0).all()  # alpha 127: through the hole to the sphere
+    assert (index[:, 12:] == 1).all()  # alpha 128: the billboard
 
 
 def test_supersampling_averages_before_quantising():

@@ -17,6 +17,7 @@ from matplotlib.figure import Figure
 
 from raykit.camera import Camera, image_plane_corners, image_plane_points, pixel_points
 from raykit.diagrams.views import draw_lines, draw_outline, view_for
+from raykit.rays import normalize
 
 COARSE_COLUMNS = 8
 
@@ -61,7 +62,7 @@ def camera_diagram(camera: Camera, *, ax: Axes | None = None) -> Figure:
         (u, "u", "tab:red"),
         (v, "v", "tab:green"),
         (w, "w", "tab:blue"),
-        (normalize_up(camera), "up", "0.4"),
+        (normalize(np.asarray(camera.up, float)), "up", "0.4"),
     ):
         tip = eye + size * vector
         draw_lines(ax, view, np.stack([eye, tip])[None], colors=color, linewidths=2)
@@ -108,11 +109,6 @@ def camera_diagram(camera: Camera, *, ax: Axes | None = None) -> Figure:
     for label, axis in zip((ax.set_xlabel, ax.set_ylabel, ax.set_zlabel), view.axes, strict=True):
         label("xyz"[axis])
     return ax.figure
-
-
-def normalize_up(camera: Camera) -> np.ndarray:
-    up = np.asarray(camera.up, float)
-    return up / np.linalg.norm(up)
 
 
 def camera_diagrams(camera: Camera) -> Figure:

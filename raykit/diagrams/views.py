@@ -23,6 +23,7 @@ from mpl_toolkits.mplot3d.art3d import Line3DCollection
 
 from raykit.camera import Camera
 from raykit.scene import Scene
+from raykit.textures import OPAQUE_FROM
 
 VIEWS = ("3d", "top", "side")
 AXIS_NAMES = "xyz"
@@ -154,7 +155,7 @@ def _billboard_texels(billboard, most: int = 48) -> np.ndarray:
     rgba = billboard.texture.rgba
     step = max(1, int(np.ceil(max(rgba.shape[:2]) / most)))
     texels = rgba[::step, ::step] / 255.0
-    texels[..., 3] = np.where(texels[..., 3] >= 128 / 255, 0.95, 0.0)  # holes stay holes
+    texels[..., 3] = np.where(rgba[::step, ::step, 3] >= OPAQUE_FROM, 0.95, 0.0)  # holes stay holes
     return texels
 
 

@@ -26,6 +26,7 @@ from matplotlib.patches import Arc, Circle
 from raykit.linescan.camera import pixel_positions
 from raykit.linescan.scan import Scan, scan, sweep
 from raykit.linescan.scene import LineScene
+from raykit.textures import OPAQUE_FROM
 
 MAX_RAYS_DRAWN = 24
 
@@ -78,7 +79,8 @@ def _draw_objects(ax: Axes, scene: LineScene) -> None:
             colors = np.asarray(billboard.color, float)[None]
         else:
             rgba = billboard.texture.rgba[billboard.row]
-            colors = np.where(rgba[:, 3:] >= 128, rgba[:, :3] / 255.0, 1.0)  # holes drawn white
+            opaque = rgba[:, 3:] >= OPAQUE_FROM
+            colors = np.where(opaque, rgba[:, :3] / 255.0, 1.0)  # holes drawn white
         ends = np.linspace(0.0, 1.0, len(colors) + 1)[:, None]
         points = billboard.start + ends * (billboard.end - billboard.start)
         segments = np.stack([points[:-1], points[1:]], axis=1)
