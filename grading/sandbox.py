@@ -267,7 +267,6 @@ class Sandbox:
                     f"returned something that is not plain arrays ({exc})",
                     output,
                     seconds,
-                    status,
                 )
             return ChildResult(outputs, "", output, seconds)
         finally:
