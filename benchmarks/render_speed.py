@@ -79,6 +79,17 @@ def scenes(quick: bool) -> list[tuple[str, Scene]]:
     ]
 
 
+def example_scenes(quick: bool) -> list[tuple[str, Scene]]:
+    """Every example scene of the repository (small in --quick), for the float32 comparison."""
+    found = []
+    for path in sorted((HERE.parent / "scenes").glob("*.json")):
+        scene = load_scene(path)
+        if quick:
+            scene = replace(scene, camera=replace(scene.camera, width=64, height=48))
+        found.append((f"scenes/{path.name}", scene))
+    return found
+
+
 def seconds(value: float | None) -> str:
     if value is None:
         return "not run"
@@ -91,6 +102,7 @@ def main() -> None:
     parser.add_argument("--repeats", type=int, default=5, help="runs per variant (median)")
     parser.add_argument("--plot", type=Path, help="write time against number of objects here")
     args = parser.parse_args()
+    print("$ python benchmarks/render_speed.py " + " ".join(sys.argv[1:]) + "\n")
     crop = (8, 6) if args.quick else CROP
     rows = [measure(name, scene, args.repeats, crop) for name, scene in scenes(args.quick)]
 
@@ -115,7 +127,7 @@ def main() -> None:
 
     print("\n| scene | float64 | float32 | float32 / float64 | pixels whose object changes |")
     print("|---|---|---|---|---|")
-    for name, scene in scenes(args.quick):
+    for name, scene in scenes(args.quick) + example_scenes(args.quick):
         double, t64 = median_time(lambda s=scene: render(s), args.repeats)
         single, t32 = median_time(lambda s=scene: render(s, dtype=np.float32), args.repeats)
         changed = int((double.object_index != single.object_index).sum())

@@ -31,6 +31,7 @@ def main() -> None:
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--plot", type=Path, help="write time against error here")
     args = parser.parse_args()
+    print("$ python benchmarks/time_vs_error.py " + " ".join(sys.argv[1:]) + "\n")
     scene = load_scene(HERE.parent / "scenes" / "cutouts.json")
     if args.quick:
         scene = replace(scene, camera=replace(scene.camera, width=96, height=64))

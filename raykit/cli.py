@@ -260,7 +260,6 @@ def _run_bench(args: argparse.Namespace) -> None:
         if args.plots:
             Path(args.plots).mkdir(parents=True, exist_ok=True)
             command += ["--plot", str(Path(args.plots) / plot)]
-        print(f"$ python benchmarks/{script} {' '.join(command[2:])}", flush=True)
         if subprocess.run(command).returncode != 0:
             raise ValueError(f"benchmarks/{script} failed")
         print(flush=True)
