@@ -29,12 +29,13 @@ def edge_pixels(rgb: np.ndarray, object_index: np.ndarray) -> np.ndarray:
     return edge
 
 
-def refine(regions, cast, make_rays, rgb: np.ndarray, edge: np.ndarray, samples: int) -> int:
+def refine(regions, colors, rgb: np.ndarray, edge: np.ndarray, samples: int) -> int:
     """Replace the colour of every edge pixel by the mean of its n x n samples, in place.
 
     ``regions`` are the renderer's (:mod:`raykit.tiles`), so each tile's edge pixels are tested
-    only against the objects seen there; ``make_rays(x, y)`` gives the rays through image points
-    (the renderer's, in its float type). Returns how many pixels were supersampled.
+    only against the objects seen there; ``colors(region, x, y)`` gives the renderer's colours
+    ``(N, 3)`` of the rays through image points (x, y) ``(N,)``. Returns how many pixels were
+    supersampled.
     """
     offsets = sample_offsets(samples)
     for region in regions:
@@ -44,7 +45,6 @@ def refine(regions, cast, make_rays, rgb: np.ndarray, edge: np.ndarray, samples:
         rows, cols = rows + region.rows.start, cols + region.cols.start
         total = np.zeros((len(rows), 3))
         for a, b in offsets:
-            hits = cast(region.scene, *make_rays(cols + a, rows + b))
-            total += hits.color
+            total += colors(region, cols + a, rows + b)
         rgb[rows, cols] = total / len(offsets)
     return int(edge.sum())

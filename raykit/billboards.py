@@ -33,8 +33,9 @@ from functools import cached_property
 import numpy as np
 
 from raykit.hits import ColorAt, solid
+from raykit.materials import PLAIN, Material
 from raykit.planes import hit_plane, hit_points_on_plane
-from raykit.rays import MISS
+from raykit.rays import MISS, normalize
 from raykit.textures import Texture, colors_and_opacity
 
 
@@ -48,6 +49,7 @@ class Billboard:
     color: np.ndarray | None = None
     texture: Texture | None = None
     name: str | None = None
+    material: Material = PLAIN
 
     @cached_property
     def a(self) -> np.ndarray:
@@ -103,6 +105,15 @@ def hit_billboard(
         inside = (alpha >= 0) & (alpha <= 1) & (beta >= 0) & (beta <= 1)
     return np.where(inside, t, MISS), alpha, beta
     # END SOLUTION
+
+
+def billboard_normals(billboard: Billboard, directions: np.ndarray) -> np.ndarray:
+    """Unit normals ``(N, 3)`` of the billboard's side that rays ``(N, 3)`` arrive at: n = a × b
+    normalised, turned round where it points away from the ray's origin (n·d > 0). A billboard
+    has two sides and each is lit from its own side."""
+    n = normalize(billboard.n)
+    facing = np.where(directions @ n > 0, -1.0, 1.0)
+    return facing[:, None] * n
 
 
 def texel_indices(

@@ -176,6 +176,12 @@ class Field:
             raise self.error(f"must be {options}, got {_shown(self.value)}")
         return self.value
 
+    def boolean(self) -> bool:
+        """true or false."""
+        if not isinstance(self.value, bool):
+            raise self.error(f"must be true or false, got {_shown(self.value)}")
+        return self.value
+
     def vector(self, length: int, **bounds: float) -> np.ndarray:
         """A list of ``length`` finite numbers, ``(length,)`` float64; bounds apply to each."""
         if not isinstance(self.value, list):
@@ -187,3 +193,7 @@ class Field:
     def color(self) -> np.ndarray:
         """An [r, g, b] colour, each in [0, 1], ``(3,)``."""
         return self.vector(3, ge=0.0, le=1.0)
+
+    def intensity(self) -> np.ndarray:
+        """An [r, g, b] light intensity, each >= 0 (may exceed 1), ``(3,)``."""
+        return self.vector(3, ge=0.0)

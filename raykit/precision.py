@@ -14,6 +14,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from raykit.lights import PointLight
 from raykit.scene import Scene
 
 
@@ -40,4 +41,8 @@ def eye_relative(scene: Scene, dtype: type = np.float32) -> Scene:
         )
         for b in scene.billboards
     )
-    return replace(scene, camera=camera, spheres=spheres, billboards=billboards)
+    lights = tuple(
+        replace(light, position=moved(light.position)) if isinstance(light, PointLight) else light
+        for light in scene.lights
+    )
+    return replace(scene, camera=camera, spheres=spheres, billboards=billboards, lights=lights)

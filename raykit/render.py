@@ -5,8 +5,13 @@ colour of the object at that point", run for all pixels of a region at once (num
 instead of a per-pixel Python loop). A region is a tile of pixels with only the objects that can
 be seen in it, so hidden objects cost nothing (:mod:`raykit.tiles`, which names what it skips).
 Conventions: pixels and rays per :mod:`raykit.camera`,
-object indices per :mod:`raykit.scene`, colours are linear floats in [0, 1] with no lighting
-and no gamma.
+object indices per :mod:`raykit.scene`, colours are linear floats in [0, 1] with no gamma.
+
+Colour. A scene without lights, ambient light or mirrors (every scene of format v1) shows each
+object's flat colour, and nothing else runs. Otherwise each sample's hit is shaded
+(:mod:`raykit.shading`): its shadow and mirror rays go through the whole scene, by brute force
+over every object (``cast`` itself) in small scenes, or through a bounding volume hierarchy
+(:mod:`raykit.bvh`) from ``BVH_FROM`` objects on, which skips the objects a ray's path misses.
 
 With n x n samples per pixel (:func:`raykit.camera.sample_offsets`), the pixel's colour is the
 mean of its samples' colours, taken before quantising to 8 bits (:mod:`raykit.images`). The
@@ -15,18 +20,24 @@ mean of its samples' colours, taken before quantising to 8 bits (:mod:`raykit.im
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from functools import partial
 
 import numpy as np
 
 from raykit.adaptive import edge_pixels, refine
 from raykit.billboards import billboard_color_at, hit_billboard
+from raykit.bvh import BVH
 from raykit.camera import rays_through, region_points, sample_offsets
 from raykit.hits import Hits, solid
 from raykit.precision import eye_relative
 from raykit.scene import Scene
+from raykit.shading import needs_shading, shade
+from raykit.shadows import Caster
 from raykit.spheres import hit_sphere
-from raykit.tiles import regions
+from raykit.tiles import Region, regions
+
+BVH_FROM = 24  # objects: below this, brute force was faster for secondary rays (measured)
 
 
 @dataclass(frozen=True)
@@ -68,6 +79,14 @@ def cast_pixels(
     return origins, directions, cast(scene, origins, directions)
 
 
+def secondary_caster(scene: Scene) -> Caster:
+    """The nearest-hit function for shadow and mirror rays over the whole scene: ``cast`` over
+    every object, or a BVH's for scenes of ``BVH_FROM`` objects or more (the same answers)."""
+    if len(scene.objects) < BVH_FROM:
+        return partial(cast, scene)
+    return BVH.build(scene).cast
+
+
 def render(
     scene: Scene,
     samples: int = 1,
@@ -91,15 +110,18 @@ def render(
     if adaptive and samples > 1:
         first = render(scene, 1, skip_hidden=skip_hidden, dtype=dtype)
         edge = edge_pixels(first.rgb, first.object_index)
+        secondary = secondary_caster(scene) if needs_shading(scene) else None
         refine(
             regions(scene, skip_hidden),
-            cast,
-            lambda x, y: _rays(scene.camera, x, y, dtype),
+            lambda region, x, y: _colors(
+                scene, region, *_rays(scene.camera, x, y, dtype), secondary
+            )[1],
             first.rgb,
             edge,
             samples,
         )
         return first
+    secondary = secondary_caster(scene) if needs_shading(scene) else None
     camera = scene.camera
     height, width = camera.height, camera.width
     rgb = np.zeros((height, width, 3))
@@ -113,8 +135,8 @@ def render(
         pixels = region.pixels
         for k, (a, b) in enumerate(offsets):
             x, y = region_points(region.rows, region.cols, a, b)
-            hits = cast(region.scene, *_rays(camera, x, y, dtype))
-            rgb[pixels] += hits.color.reshape(*shape, 3)
+            hits, colors = _colors(scene, region, *_rays(camera, x, y, dtype), secondary)
+            rgb[pixels] += colors.reshape(*shape, 3)
             if k == centre_sample:
                 object_index[pixels] = region.index_of[hits.index].reshape(shape)
                 t_image[pixels] = hits.t.reshape(shape)
@@ -127,6 +149,22 @@ def render(
 
     rgb /= len(offsets)
     return Render(rgb, object_index, t_image)
+
+
+def _colors(
+    scene: Scene,
+    region: Region,
+    origins: np.ndarray,
+    directions: np.ndarray,
+    secondary: Caster | None,
+) -> tuple[Hits, np.ndarray]:
+    """The nearest hits of the rays ``(N, 3)`` among the region's objects, and their colours
+    ``(N, 3)``: flat, or shaded when ``secondary`` (the whole scene's caster) is given."""
+    hits = cast(region.scene, origins, directions)
+    if secondary is None:
+        return hits, hits.color
+    in_scene = replace(hits, index=region.index_of[hits.index])
+    return hits, shade(scene, secondary, origins, directions, in_scene)
 
 
 def _rays(camera, x: np.ndarray, y: np.ndarray, dtype: type) -> tuple[np.ndarray, np.ndarray]:

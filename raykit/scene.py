@@ -1,5 +1,9 @@
 """A scene: a camera, a background colour, spheres and billboards; read from JSON (format v1).
 
+Stage 4 adds, all optional: ``lights`` (:mod:`raykit.lights`), ``ambient``, per-object materials
+(:mod:`raykit.materials`), a ``shadows`` switch and ``max_depth`` for mirror bounces. A file
+without them renders exactly as format v1 always did.
+
 The format is documented in ``docs/scene-format.md`` and published as a JSON Schema in
 ``raykit/schemas/scene-v1.schema.json``. Geometry conventions live with the objects:
 :mod:`raykit.camera`, :mod:`raykit.spheres`, :mod:`raykit.billboards`.
@@ -13,6 +17,7 @@ order breaks ties: of two objects hit at exactly the same t, the lower index win
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 from pathlib import Path
 from typing import Any
 
@@ -21,10 +26,15 @@ import numpy as np
 from raykit.billboards import Billboard, is_degenerate
 from raykit.camera import PROJECTIONS, Camera, DegenerateFrameError, camera_frame
 from raykit.fields import Field, read_json_file
+from raykit.lights import LIGHT_TYPES, DirectionalLight, Light, PointLight
+from raykit.materials import DEFAULT_SHININESS, PLAIN, Material, MaterialTable
 from raykit.spheres import Sphere
 from raykit.textures import Texture
 
 MAX_IMAGE_SIDE = 16384
+MAX_DEPTH_LIMIT = 16
+DEFAULT_MAX_DEPTH = 3
+MATERIAL_FIELDS = ("diffuse", "specular", "shininess", "mirror")
 
 
 @dataclass(frozen=True)
@@ -36,11 +46,35 @@ class Scene:
     billboards: tuple[Billboard, ...] = ()
     background: np.ndarray = field(default_factory=lambda: np.zeros(3))
     source: str = "<scene>"
+    lights: tuple[Light, ...] = ()
+    ambient: np.ndarray | None = None
+    shadows: bool = True
+    max_depth: int = DEFAULT_MAX_DEPTH
 
     @property
     def objects(self) -> tuple[Sphere | Billboard, ...]:
         """All objects in index order (spheres, then billboards); see the module docstring."""
         return self.spheres + self.billboards
+
+    @property
+    def lit(self) -> bool:
+        """Whether light is computed: the scene has lights or ambient light (else flat colours)."""
+        return bool(self.lights) or self.ambient is not None
+
+    @cached_property
+    def materials(self) -> MaterialTable:
+        """Every object's material as arrays, in object index order."""
+        return MaterialTable.of(self.objects)
+
+    @cached_property
+    def sphere_arrays(self) -> tuple[np.ndarray, np.ndarray]:
+        """The spheres' ``centers (S, 3)`` and ``radii (S,)``, in index order."""
+        if not self.spheres:
+            return np.zeros((0, 3)), np.zeros(0)
+        return (
+            np.stack([np.asarray(s.center) for s in self.spheres]),
+            np.array([s.radius for s in self.spheres]),
+        )
 
 
 def load_scene(path: str | Path) -> Scene:
@@ -52,7 +86,17 @@ def load_scene(path: str | Path) -> Scene:
 def scene_from_dict(data: Any, source: str = "<scene>", folder: str | Path = ".") -> Scene:
     """Validate parsed JSON ``data`` as a v1 scene; texture paths are relative to ``folder``."""
     top = Field(data, source).object(
-        required=("camera",), optional=("$schema", "background", "spheres", "billboards")
+        required=("camera",),
+        optional=(
+            "$schema",
+            "background",
+            "spheres",
+            "billboards",
+            "lights",
+            "ambient",
+            "shadows",
+            "max_depth",
+        ),
     )
     camera = _read_camera(top["camera"])
     background = top["background"].color() if "background" in top else np.zeros(3)
@@ -62,7 +106,50 @@ def scene_from_dict(data: Any, source: str = "<scene>", folder: str | Path = "."
         if "billboards" in top
         else ()
     )
-    return Scene(camera, spheres, billboards, background, source)
+    return Scene(
+        camera,
+        spheres,
+        billboards,
+        background,
+        source,
+        lights=tuple(_read_light(f) for f in top["lights"].items()) if "lights" in top else (),
+        ambient=top["ambient"].intensity() if "ambient" in top else None,
+        shadows=top["shadows"].boolean() if "shadows" in top else True,
+        max_depth=(
+            top["max_depth"].integer(ge=0, le=MAX_DEPTH_LIMIT)
+            if "max_depth" in top
+            else DEFAULT_MAX_DEPTH
+        ),
+    )
+
+
+def _read_light(node: Field) -> Light:
+    kind = node.object(required=("type",), optional=("direction", "position", "color", "name"))
+    light_type = kind["type"].string(LIGHT_TYPES)
+    place, other = ("direction", "position")
+    if light_type == "point":
+        place, other = other, place
+    if other in kind:
+        raise kind[other].error(f'a {light_type} light takes "{place}", not "{other}"')
+    f = node.object(required=("type", place), optional=("color", "name"))
+    color = f["color"].intensity() if "color" in f else np.ones(3)
+    if light_type == "point":
+        return PointLight(f["position"].vector(3), color)
+    direction = f["direction"].vector(3)
+    if not np.any(direction):
+        raise f["direction"].error("is the zero vector, so the light shines nowhere")
+    return DirectionalLight(direction, color)
+
+
+def _read_material(f: dict[str, Field]) -> Material:
+    if not any(key in f for key in MATERIAL_FIELDS):
+        return PLAIN
+    return Material(
+        diffuse=f["diffuse"].color() if "diffuse" in f else None,
+        specular=f["specular"].color() if "specular" in f else np.zeros(3),
+        shininess=f["shininess"].number(gt=0) if "shininess" in f else DEFAULT_SHININESS,
+        mirror=f["mirror"].color() if "mirror" in f else np.zeros(3),
+    )
 
 
 def _read_camera(node: Field) -> Camera:
@@ -83,18 +170,20 @@ def _read_camera(node: Field) -> Camera:
 
 
 def _read_sphere(node: Field) -> Sphere:
-    f = node.object(required=("center", "radius", "color"), optional=("name",))
+    f = node.object(required=("center", "radius", "color"), optional=("name", *MATERIAL_FIELDS))
     return Sphere(
         center=f["center"].vector(3),
         radius=f["radius"].number(gt=0),
         color=f["color"].color(),
         name=f["name"].string() if "name" in f else None,
+        material=_read_material(f),
     )
 
 
 def _read_billboard(node: Field, folder: Path) -> Billboard:
     f = node.object(
-        required=("upper_left", "lower_left", "upper_right"), optional=("image", "color", "name")
+        required=("upper_left", "lower_left", "upper_right"),
+        optional=("image", "color", "name", *MATERIAL_FIELDS),
     )
     upper_left, lower_left, upper_right = (
         f[key].vector(3) for key in ("upper_left", "lower_left", "upper_right")
@@ -108,6 +197,12 @@ def _read_billboard(node: Field, folder: Path) -> Billboard:
     color = f["color"].color() if "color" in f else None
     texture = None
     if "image" in f:
+        if "diffuse" in f:
+            raise f["diffuse"].error(
+                'a billboard with an "image" takes its diffuse colour from the image'
+            )
         texture = Texture(folder / f["image"].string(), f["image"].source, f["image"].path)
     name = f["name"].string() if "name" in f else None
-    return Billboard(upper_left, lower_left, upper_right, color, texture, name)
+    return Billboard(
+        upper_left, lower_left, upper_right, color, texture, name, material=_read_material(f)
+    )

@@ -34,17 +34,20 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from raykit.materials import PLAIN, Material
 from raykit.rays import MISS, dot, nearest_positive
 
 
 @dataclass(frozen=True)
 class Sphere:
-    """A flat-coloured sphere: ``center (3,)``, ``radius > 0``, ``color (3,)`` in [0, 1]."""
+    """A sphere: ``center (3,)``, ``radius > 0``, ``color (3,)`` in [0, 1], and how it answers
+    light (:mod:`raykit.materials`; only lit scenes and mirrors use it)."""
 
     center: np.ndarray
     radius: float
     color: np.ndarray
     name: str | None = None
+    material: Material = PLAIN
 
 
 def sphere_roots(
@@ -83,6 +86,20 @@ def hit_sphere(
     #       raykit.rays.nearest_positive)
     t0, t1, discriminant = sphere_roots(origins, directions, center, radius)
     return np.where(discriminant >= 0, nearest_positive(t0, t1), MISS)
+    # END SOLUTION
+
+
+def sphere_normals(points: np.ndarray, center: np.ndarray, radius) -> np.ndarray:
+    """Unit outward normals n = (p - c)/r ``(N, 3)`` at points ``(N, 3)`` on the sphere.
+
+    ``center`` and ``radius``: one sphere's, ``(3,)`` and a number, or each point's own,
+    ``(N, 3)`` and ``(N, 1)``. Dividing by r (not by the computed |p - c|) is the book's form:
+    p is on the sphere, so |p - c| = r up to rounding.
+    """
+    # BEGIN SOLUTION
+    # hint: n = (p - c) / r: the vector from the centre to the point, made unit length by the
+    #       radius
+    return (points - center) / radius
     # END SOLUTION
 
 

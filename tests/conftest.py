@@ -5,6 +5,7 @@ from __future__ import annotations
 import copy
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 REPO = Path(__file__).resolve().parent.parent
@@ -52,6 +53,60 @@ def delete_field(path: str):
         del node[last]
 
     return mutate
+
+
+def write_texture(folder: Path, name: str, rgba) -> str:
+    """Save texels ``(H, W, 4)`` as an RGBA PNG in ``folder``; returns its name."""
+    from PIL import Image
+
+    Image.fromarray(np.asarray(rgba, np.uint8), "RGBA").save(folder / name)
+    return name
+
+
+def random_scene(rng: np.random.Generator, texture: str) -> dict:
+    """A random small v1 scene: odd sizes, any fov, off-axis up, either projection, sometimes
+    the camera inside a sphere, billboards flat or with ``texture`` (holes and all)."""
+    width, height = (int(x) for x in rng.integers(7, 41, size=2))
+    eye = rng.uniform(-6, 6, 3)
+    lookat = rng.uniform(-2, 2, 3)
+    scene = {
+        "camera": {
+            "eye": eye.tolist(),
+            "lookat": lookat.tolist(),
+            "up": rng.normal(size=3).tolist(),
+            "fov_angle": float(rng.uniform(5, 170)),
+            "width": width,
+            "height": height,
+            "projection": str(rng.choice(["perspective", "orthographic"])),
+        },
+        "spheres": [
+            {
+                "center": rng.uniform(-4, 4, 3).tolist(),
+                "radius": float(rng.uniform(0.2, 2)),
+                "color": [1, 0, 0],
+            }
+            for _ in range(int(rng.integers(0, 6)))
+        ],
+        "billboards": [],
+    }
+    if rng.random() < 0.3:  # sometimes the camera is inside a sphere
+        scene["spheres"].append(
+            {
+                "center": (eye + rng.uniform(-0.5, 0.5, 3)).tolist(),
+                "radius": 1.5,
+                "color": [0, 1, 0],
+            }
+        )
+    for _ in range(int(rng.integers(0, 5))):
+        ul = rng.uniform(-4, 4, 3)
+        board = {
+            "upper_left": ul.tolist(),
+            "lower_left": (ul + rng.uniform(-3, 3, 3)).tolist(),
+            "upper_right": (ul + rng.uniform(-3, 3, 3)).tolist(),
+        }
+        board.update({"image": texture} if rng.random() < 0.5 else {"color": [0, 0, 1]})
+        scene["billboards"].append(board)
+    return scene
 
 
 @pytest.fixture

@@ -2,9 +2,8 @@ import math
 
 import numpy as np
 import pytest
-from PIL import Image
 
-from conftest import SCENES, scene_dict
+from conftest import SCENES, random_scene, scene_dict, write_texture
 from independent_tracer import trace_object_index
 from raykit.images import quantize
 from raykit.render import render
@@ -107,11 +106,6 @@ def test_background_colour_on_a_miss_and_black_by_default():
     assert np.allclose(result.rgb, [0.2, 0.4, 0.6])
 
 
-def _texture(tmp_path, name, rgba):
-    Image.fromarray(np.asarray(rgba, np.uint8), "RGBA").save(tmp_path / name)
-    return name
-
-
 def _facing_board(image, z=0.0, flip=False):
     """A 2 x 2 billboard at z, upper-left at (-1, 1); with flip, its corners mirrored in x."""
     x0, x1 = (1, -1) if flip else (-1, 1)
@@ -125,7 +119,7 @@ def _facing_board(image, z=0.0, flip=False):
 
 def test_upper_left_texel_is_at_the_upper_left_corner_and_mirrored_from_behind(tmp_path):
     red, green, blue, white = [255, 0, 0, 255], [0, 255, 0, 255], [0, 0, 255, 255], [255] * 4
-    name = _texture(tmp_path, "quad.png", [[red, green], [blue, white]])
+    name = write_texture(tmp_path, "quad.png", [[red, green], [blue, white]])
     cam = {
         "eye": [0, 0, 2],
         "lookat": [0, 0, 0],
@@ -148,7 +142,7 @@ def test_upper_left_texel_is_at_the_upper_left_corner_and_mirrored_from_behind(t
 
 def test_transparent_texels_let_the_ray_go_on_to_what_is_behind(tmp_path):
     hole, wall = [0, 0, 0, 0], [200, 200, 200, 255]
-    name = _texture(tmp_path, "holes.png", [[hole, wall], [wall, hole]])
+    name = write_texture(tmp_path, "holes.png", [[hole, wall], [wall, hole]])
     scene = scene_dict(billboards=[_facing_board(name, z=3.0)])  # it fills the view
     scene["camera"].update(width=24, height=24)
     scene["spheres"][0]["radius"] = 2.5
@@ -158,7 +152,7 @@ def test_transparent_texels_let_the_ray_go_on_to_what_is_behind(tmp_path):
 
 
 def test_texels_with_alpha_below_128_are_holes_and_from_128_opaque(tmp_path):
-    name = _texture(tmp_path, "edge.png", [[[200, 0, 0, 127], [200, 0, 0, 128]]])
+    name = write_texture(tmp_path, "edge.png", [[[200, 0, 0, 127], [200, 0, 0, 128]]])
     scene = scene_dict(billboards=[_facing_board(name, z=3.0)])
     scene["camera"].update(width=24, height=24)
     scene["spheres"][0]["radius"] = 2.5
@@ -244,57 +238,13 @@ def test_rotating_and_moving_scene_and_camera_together_leaves_the_object_image_u
     assert np.mean(before == after) >= 0.999
 
 
-def _random_scene(rng: np.random.Generator, texture: str) -> dict:
-    width, height = (int(x) for x in rng.integers(7, 41, size=2))
-    eye = rng.uniform(-6, 6, 3)
-    lookat = rng.uniform(-2, 2, 3)
-    scene = {
-        "camera": {
-            "eye": eye.tolist(),
-            "lookat": lookat.tolist(),
-            "up": rng.normal(size=3).tolist(),
-            "fov_angle": float(rng.uniform(5, 170)),
-            "width": width,
-            "height": height,
-            "projection": str(rng.choice(["perspective", "orthographic"])),
-        },
-        "spheres": [
-            {
-                "center": rng.uniform(-4, 4, 3).tolist(),
-                "radius": float(rng.uniform(0.2, 2)),
-                "color": [1, 0, 0],
-            }
-            for _ in range(int(rng.integers(0, 6)))
-        ],
-        "billboards": [],
-    }
-    if rng.random() < 0.3:  # sometimes the camera is inside a sphere
-        scene["spheres"].append(
-            {
-                "center": (eye + rng.uniform(-0.5, 0.5, 3)).tolist(),
-                "radius": 1.5,
-                "color": [0, 1, 0],
-            }
-        )
-    for _ in range(int(rng.integers(0, 5))):
-        ul = rng.uniform(-4, 4, 3)
-        board = {
-            "upper_left": ul.tolist(),
-            "lower_left": (ul + rng.uniform(-3, 3, 3)).tolist(),
-            "upper_right": (ul + rng.uniform(-3, 3, 3)).tolist(),
-        }
-        board.update({"image": texture} if rng.random() < 0.5 else {"color": [0, 0, 1]})
-        scene["billboards"].append(board)
-    return scene
-
-
 def test_object_image_agrees_with_an_independent_tracer_on_random_scenes(tmp_path):
     rng = np.random.default_rng(2024)
     texels = rng.integers(0, 256, size=(5, 7, 4))  # random colours and random holes
-    _texture(tmp_path, "noise.png", texels)
+    write_texture(tmp_path, "noise.png", texels)
     agree = total = 0
     for _ in range(40):
-        scene = _random_scene(rng, "noise.png")
+        scene = random_scene(rng, "noise.png")
         ours = rendered(scene, tmp_path).object_index
         theirs = np.array(trace_object_index(scene, tmp_path))
         agree += int((ours == theirs).sum())
@@ -304,7 +254,7 @@ def test_object_image_agrees_with_an_independent_tracer_on_random_scenes(tmp_pat
 
 
 def test_texture_of_a_billboard_no_ray_reaches_is_never_decoded(tmp_path):
-    name = _texture(tmp_path, "unseen.png", [[[1, 2, 3, 255]]])
+    name = write_texture(tmp_path, "unseen.png", [[[1, 2, 3, 255]]])
     scene = scene_from_dict(scene_dict(billboards=[_facing_board(name, z=9.0)]), folder=tmp_path)
     render(scene)  # the board is behind the eye
     assert "rgba" not in vars(scene.billboards[0].texture)

@@ -2,9 +2,8 @@
 
 import numpy as np
 import pytest
-from test_render import _random_scene, _texture
 
-from conftest import SCENES
+from conftest import SCENES, random_scene, write_texture
 from raykit.render import render
 from raykit.scene import load_scene, scene_from_dict
 from raykit.screen_bounds import billboard_bounds, object_bounds, sphere_bounds
@@ -30,17 +29,17 @@ def test_skipping_changes_no_pixel_on_the_example_scenes(path, samples):
 
 def test_skipping_changes_no_pixel_on_random_scenes(tmp_path):
     rng = np.random.default_rng(99)
-    _texture(tmp_path, "noise.png", rng.integers(0, 256, size=(5, 7, 4)))
+    write_texture(tmp_path, "noise.png", rng.integers(0, 256, size=(5, 7, 4)))
     for _ in range(60):
-        scene = scene_from_dict(_random_scene(rng, "noise.png"), folder=tmp_path)
+        scene = scene_from_dict(random_scene(rng, "noise.png"), folder=tmp_path)
         assert _same(render(scene, skip_hidden=False), render(scene))
 
 
 def test_bounds_hold_every_pixel_where_the_object_is_seen(tmp_path):
     rng = np.random.default_rng(5)
-    _texture(tmp_path, "noise.png", rng.integers(0, 256, size=(5, 7, 4)))
+    write_texture(tmp_path, "noise.png", rng.integers(0, 256, size=(5, 7, 4)))
     for _ in range(40):
-        scene = scene_from_dict(_random_scene(rng, "noise.png"), folder=tmp_path)
+        scene = scene_from_dict(random_scene(rng, "noise.png"), folder=tmp_path)
         index = render(scene, skip_hidden=False).object_index
         bounds = object_bounds(scene.camera, scene.objects)
         for k in range(len(scene.objects)):

@@ -1,0 +1,187 @@
+"""Shading (FOCG 4.5–4.8): the colour of a hit point from its lights, shadows and mirrors.
+
+The book's model, per colour channel, with every vector unit length and pointing away from the
+surface point (the conventions of :mod:`raykit.lights`):
+
+    L = ka·Ia + Σ_lights visible [ kd·I·max(0, n·l) + ks·I·max(0, n·h)^p ] + km·L(r)
+
+* ka·Ia: ambient light, the same everywhere (ka = kd, :mod:`raykit.materials`);
+* kd·I·max(0, n·l): Lambert's diffuse term, :func:`lambert`;
+* ks·I·max(0, n·h)^p with h = (l + v)/|l + v| and v = -d: Blinn-Phong's highlight,
+  :func:`blinn_phong`;
+* "visible": the light is not blocked (:mod:`raykit.shadows`). A light behind the surface
+  (n·l <= 0) adds nothing, highlight included: it cannot light the side it does not reach;
+* km·L(r): what the mirror reflects (:mod:`raykit.mirrors`).
+
+A scene with no lights and no ambient (every format v1 scene) is unlit: L is the object's flat
+colour (plus km·L(r) on mirrors). Colours add up unclamped; the image clamps to [0, 1] when it
+is quantised (:mod:`raykit.images`).
+
+What is skipped. The renderer calls :func:`shade` only when a scene has lights, ambient light or
+a mirror; shadow rays are cast only for points facing a light, and only when the scene's
+``shadows`` is on and it has two objects or more (a sphere or billboard cannot shadow itself
+where it faces the light); the highlight is computed only on objects with a specular colour;
+mirror rays start only on mirrors.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from raykit.hits import Hits
+from raykit.lights import toward_light
+from raykit.mirrors import reflect
+from raykit.rays import dot, normalize
+from raykit.scene import Scene
+from raykit.shadows import Caster, in_shadow
+from raykit.surfaces import SurfacePoints, surface_points
+
+
+def lambert(kd: np.ndarray, intensity: np.ndarray, n: np.ndarray, l: np.ndarray) -> np.ndarray:
+    """Lambert's diffuse term kd·I·max(0, n·l) ``(N, 3)``: ``kd (N, 3)``, light intensity I
+    ``(3,)``, unit normals ``n`` and unit vectors toward the light ``l``, both ``(N, 3)``."""
+    # BEGIN SOLUTION
+    # hint: kd · I · max(0, n·l), with n·l per row (raykit.rays.dot) made a column to scale the
+    #       colours
+    return kd * intensity * np.maximum(0.0, dot(n, l))[:, None]
+    # END SOLUTION
+
+
+def blinn_phong(
+    ks: np.ndarray,
+    intensity: np.ndarray,
+    n: np.ndarray,
+    l: np.ndarray,
+    v: np.ndarray,
+    p: np.ndarray | float,
+) -> np.ndarray:
+    """Blinn-Phong's highlight ks·I·max(0, n·h)^p ``(N, 3)`` with the half vector
+    h = (l + v)/|l + v|: ``ks (N, 3)``, I ``(3,)``, unit ``n``, ``l`` and ``v`` (toward the
+    viewer) ``(N, 3)``, shininess ``p`` a number or ``(N,)``."""
+    # BEGIN SOLUTION
+    # hint: h = normalize(l + v) (raykit.rays.normalize); then ks · I · max(0, n·h)^p, the power
+    #       taken per row
+    h = normalize(l + v)
+    return ks * intensity * (np.maximum(0.0, dot(n, h)) ** p)[:, None]
+    # END SOLUTION
+
+
+@dataclass(frozen=True)
+class RaySegments:
+    """Secondary rays that shading cast, for diagrams: ``kind`` ("shadow" or "mirror"),
+    ``origins``, ``directions`` ``(M, 3)``, where each ends ``t (M,)`` (inf: nothing met),
+    ``blocked (M,)`` (shadow rays stopped before their light), and ``ray (M,)``, the primary
+    ray each belongs to."""
+
+    kind: str
+    origins: np.ndarray
+    directions: np.ndarray
+    t: np.ndarray
+    blocked: np.ndarray
+    ray: np.ndarray
+
+
+def casts_shadows(scene: Scene) -> bool:
+    """Whether shadow rays are needed: shadows on, lights, and two objects or more."""
+    return scene.shadows and bool(scene.lights) and len(scene.objects) > 1
+
+
+def needs_shading(scene: Scene) -> bool:
+    """Whether anything beyond v1's flat colours is asked for: light or a mirror."""
+    return scene.lit or scene.materials.any_mirror
+
+
+def shade(
+    scene: Scene,
+    cast: Caster,
+    origins: np.ndarray,
+    directions: np.ndarray,
+    hits: Hits,
+    paths: list[RaySegments] | None = None,
+) -> np.ndarray:
+    """Colours ``(N, 3)`` of rays ``(N, 3)`` (unit directions) with their nearest ``hits``
+    (object indices of ``scene``). ``cast`` finds the nearest hits of secondary rays over the
+    whole scene. ``paths``: if a list, the secondary rays are appended to it (for diagrams)."""
+    count = len(origins)
+    colors = np.zeros((count, 3))
+    weight = np.ones((count, 3))  # what one unit of light along the ray adds to its pixel
+    ray = np.arange(count)  # the primary ray each current ray belongs to
+    mirror = scene.materials.mirror
+    for depth in range(scene.max_depth + 1):
+        hit = hits.index >= 0
+        colors[ray[~hit]] += weight[~hit] * hits.color[~hit]  # the background
+        origins, directions, ray, weight = origins[hit], directions[hit], ray[hit], weight[hit]
+        index, color = hits.index[hit], hits.color[hit]
+        if not len(index):
+            break
+        surface = surface_points(scene, origins, directions, hits.t[hit], index)
+        colors[ray] += weight * surface_color(
+            scene, cast, surface, directions, index, color, ray, paths
+        )
+        km = mirror[index]
+        bounce = np.flatnonzero(km.any(axis=1))
+        if depth == scene.max_depth or not len(bounce):
+            break
+        directions = reflect(directions[bounce], surface.normals[bounce])
+        origins = surface.take(bounce).start(directions)
+        ray, weight = ray[bounce], weight[bounce] * km[bounce]
+        hits = cast(origins, directions)
+        if paths is not None:
+            no_block = np.zeros(len(ray), dtype=bool)
+            paths.append(RaySegments("mirror", origins, directions, hits.t, no_block, ray))
+    return colors
+
+
+def surface_color(
+    scene: Scene,
+    cast: Caster,
+    surface: SurfacePoints,
+    directions: np.ndarray,
+    index: np.ndarray,
+    color: np.ndarray,
+    ray: np.ndarray,
+    paths: list[RaySegments] | None = None,
+) -> np.ndarray:
+    """A surface's own colour ``(N, 3)`` at hit points (all but the mirror term): the flat
+    ``color (N, 3)`` in an unlit scene, else ambient + each visible light's Lambert and
+    Blinn-Phong terms. ``index (N,)``: the objects hit; ``ray (N,)``: for ``paths``."""
+    if not scene.lit:
+        return color
+    table = scene.materials
+    kd = np.where(table.has_diffuse[index][:, None], table.diffuse[index], color)
+    ambient = scene.ambient if scene.ambient is not None else np.zeros(3)
+    total = kd * ambient
+    v = -directions
+    shiny = table.specular[index].any(axis=1)
+    shadows = casts_shadows(scene)
+    for light in scene.lights:
+        l, distance = toward_light(light, surface.points)
+        lit = np.flatnonzero(dot(surface.normals, l) > 0)
+        if shadows and len(lit):
+            facing = surface.take(lit)
+            blocked = in_shadow(cast, facing, l[lit], distance[lit])
+            if paths is not None:
+                _record_shadow_rays(paths, cast, facing, l[lit], distance[lit], blocked, ray[lit])
+            lit = lit[~blocked]
+        n = surface.normals
+        total[lit] += lambert(kd[lit], light.color, n[lit], l[lit])
+        highlight = lit[shiny[lit]]
+        if len(highlight):
+            which = index[highlight]
+            total[highlight] += blinn_phong(
+                table.specular[which],
+                light.color,
+                n[highlight],
+                l[highlight],
+                v[highlight],
+                table.shininess[which],
+            )
+    return total
+
+
+def _record_shadow_rays(paths, cast, facing, l, distance, blocked, ray) -> None:
+    origins = facing.start(l)
+    t = np.minimum(cast(origins, l).t, distance)
+    paths.append(RaySegments("shadow", origins, np.asarray(l), t, blocked, ray))

@@ -1,0 +1,41 @@
+"""Shadows (FOCG 4.7): a point is in shadow from a light when something lies between them.
+
+From a surface point p, a *shadow ray* goes toward the light, along l
+(:func:`raykit.lights.toward_light`). The light is blocked if the ray's nearest hit is nearer
+than the light: t < |light - p| for a point light, any hit at all for a directional light.
+A billboard's transparent texels (holes) let light through, as they let the eye see through.
+
+The ray starts a little off the surface (:meth:`raykit.surfaces.SurfacePoints.start`), or it may
+hit the very surface it starts on and shade the point wrongly ("shadow acne").
+
+Only points that face the light (n·l > 0) need a shadow ray: the others receive no direct light
+anyway, whatever lies in between (:func:`raykit.shading.shade` asks only about those).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from raykit.hits import Hits
+from raykit.surfaces import SurfacePoints
+
+# (origins (N, 3), unit directions (N, 3)) -> the nearest hits over the whole scene
+Caster = Callable[[np.ndarray, np.ndarray], Hits]
+
+
+def in_shadow(
+    cast: Caster, surface: SurfacePoints, l: np.ndarray, distance: np.ndarray
+) -> np.ndarray:
+    """``(N,)`` bool: is something between each surface point and its light?
+
+    ``cast``: the scene's nearest-hit function; ``l (N, 3)``: unit vectors toward the light;
+    ``distance (N,)``: how far the light is (inf for a directional light).
+    """
+    # BEGIN SOLUTION
+    # hint: cast shadow rays from surface.start(l) (the points lifted off their surface) along
+    #       l; a point is in shadow where the nearest hit is nearer than the light
+    hits = cast(surface.start(l), l)
+    return hits.t < distance
+    # END SOLUTION
