@@ -28,6 +28,11 @@ COMMANDS = [
     "diagram scenes/classic.json -o {out}/classic_rays_top.png --view top",
     "diagram scenes/cutouts.json -o {out}/cutouts_rays_side.png --view side --rays 60",
     "diagram scenes/classic.json -o {out}/classic_camera.png --view camera",
+    "render scenes/classic_lit.json -o {out}/classic_lit.png",
+    "render scenes/mirror_balls.json -o {out}/mirror_balls.png",
+    "render scenes/shadow_on_billboard.json -o {out}/shadow_on_billboard.png",
+    "diagram scenes/shadow_on_billboard.json -o {out}/shadow_rays_side.png --view side --rays 40",
+    "diagram scenes/mirror_balls.json -o {out}/mirror_rays_top.png --view top --rays 60",
 ]
 
 # figures that no command draws: (file name, function in raykit.diagrams.math_figures)

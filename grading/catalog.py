@@ -6,7 +6,7 @@ result is the same task run in the child. Array tests compare every number withi
 tolerance (a miss may be NaN or inf); image tests compare renders with :mod:`grading.compare`.
 
 ``visible`` tests show their result at once (and ship with the student release);
-``after_due_date`` tests are hidden until then. A later stage (shading) adds its tests here.
+``after_due_date`` tests are hidden until then.
 """
 
 from __future__ import annotations
@@ -122,7 +122,98 @@ def _camera(**kw):
     }
 
 
+def _unit_rows(rng, count):
+    rows = rng.normal(size=(count, 3))
+    return rows / np.linalg.norm(rows, axis=1, keepdims=True)
+
+
+def _shading_arrays(seed: int, *names: str):
+    """Random inputs of the shading terms: colours, intensity, unit vectors, exponents."""
+
+    def build():
+        rng = np.random.default_rng(seed)
+        count = 300
+        n = _unit_rows(rng, count)
+        made = {
+            "kd": rng.uniform(0, 1, (count, 3)),
+            "ks": rng.uniform(0, 1, (count, 3)),
+            "intensity": rng.uniform(0, 1.5, 3),
+            "n": n,
+            "l": _unit_rows(rng, count),
+            "v": _unit_rows(rng, count),
+            "p": rng.uniform(1, 200, count),
+            "d": _unit_rows(rng, count),
+        }
+        return {}, {k: made[k] for k in names}, {}
+
+    return build
+
+
+def _sphere_points(seed: int):
+    rng = np.random.default_rng(seed)
+    center, radius = np.array([1.0, 2.0, -3.0]), 2.5
+    return (
+        {"radius": radius},
+        {"points": center + radius * _unit_rows(rng, 200), "center": center},
+        {},
+    )
+
+
+def _shadow_test(seed: int):
+    """Points on a tilted floor near 1e6 (as a renderer finds them, with their rounding) under a
+    point light, some behind a ball: the shadow test must find the ball and nothing else."""
+    from raykit.planes import hit_plane
+    from raykit.rays import point_at
+
+    rng = np.random.default_rng(seed)
+    far = np.array([1e6, 1e6, 1e6])
+    eye = far + [0.0, 4.0, 6.0]
+    aim = far + np.column_stack([rng.uniform(-3, 3, 400), np.zeros(400), rng.uniform(-3, 3, 400)])
+    directions = (aim - eye) / np.linalg.norm(aim - eye, axis=1, keepdims=True)
+    origins = np.broadcast_to(eye, directions.shape).copy()
+    across, along = np.array([1.0, 0.1, 0.0]), np.array([0.0, 0.2, 1.0])  # the floor's edges
+    normal = np.cross(along, across)
+    normal /= np.linalg.norm(normal)
+    t = hit_plane(origins, directions, far, normal)
+    points = point_at(origins, directions, t)
+    light = far + [0.5, 5.0, 0.2]
+    to_light = light - points
+    distance = np.linalg.norm(to_light, axis=1)
+    floor = {
+        "upper_left": (far - 10 * across - 10 * along).tolist(),
+        "lower_left": (far - 10 * across + 10 * along).tolist(),
+        "upper_right": (far + 10 * across - 10 * along).tolist(),
+        "color": [0.5, 0.5, 0.5],
+    }
+    scene = {
+        "camera": {
+            "eye": eye.tolist(),
+            "lookat": far.tolist(),
+            "up": [0, 1, 0],
+            "fov_angle": 60,
+            "width": 4,
+            "height": 4,
+        },
+        "spheres": [
+            {"center": (far + [0.3, 2.0, 0.1]).tolist(), "radius": 0.8, "color": [1, 0, 0]}
+        ],
+        "billboards": [floor],
+    }
+    return (
+        {"scene": scene},
+        {
+            "points": points,
+            "normals": np.tile(normal, (len(points), 1)),
+            "error": np.finfo(float).eps * (np.abs(origins).max(axis=1) + t),
+            "l": to_light / distance[:, None],
+            "distance": distance,
+        },
+        {},
+    )
+
+
 STAGE1, STAGE2, STAGE3 = "1 line-scan camera", "2 rays, planes and spheres", "3 renderer"
+STAGE4 = "4 shading, shadows and mirrors"
 
 TESTS = [
     GradingTest("1.1 pixel positions x_i, N = 7", STAGE1, 1, VISIBLE, "pixel_x", _arrays(pixels=7)),
@@ -343,6 +434,96 @@ TESTS = [
         HIDDEN,
         "render",
         _scene_test(HIDDEN_SCENES / "overlaps.json"),
+        kind="image",
+        mistakes=True,
+    ),
+    GradingTest(
+        "4.1 sphere normals", STAGE4, 1, VISIBLE, "sphere_normals", lambda: _sphere_points(41)
+    ),
+    GradingTest(
+        "4.2 toward a point light: l and distance",
+        STAGE4,
+        1,
+        VISIBLE,
+        "toward_light",
+        _arrays(
+            position=[0.5, 4.0, -1.0], points=np.random.default_rng(42).uniform(-3, 3, (50, 3))
+        ),
+    ),
+    GradingTest(
+        "4.3 toward a directional light",
+        STAGE4,
+        1,
+        HIDDEN,
+        "toward_light",
+        _arrays(
+            direction=[1.0, -2.0, 0.5], points=np.random.default_rng(43).uniform(-3, 3, (50, 3))
+        ),
+    ),
+    GradingTest(
+        "4.4 Lambert's diffuse term",
+        STAGE4,
+        2,
+        VISIBLE,
+        "lambert",
+        _shading_arrays(44, "kd", "intensity", "n", "l"),
+    ),
+    GradingTest(
+        "4.5 Blinn-Phong's highlight",
+        STAGE4,
+        2,
+        VISIBLE,
+        "blinn_phong",
+        _shading_arrays(45, "ks", "intensity", "n", "l", "v", "p"),
+    ),
+    GradingTest(
+        "4.6 mirror directions", STAGE4, 1, VISIBLE, "reflect", _shading_arrays(46, "d", "n")
+    ),
+    GradingTest(
+        "4.7 the shadow test on a floor at 1e6 (shadow acne)",
+        STAGE4,
+        2,
+        HIDDEN,
+        "in_shadow",
+        lambda: _shadow_test(47),
+    ),
+    GradingTest(
+        "4.8 render scenes/classic_lit.json (320 x 240)",
+        STAGE4,
+        4,
+        VISIBLE,
+        "render",
+        _scene_test(SCENES / "classic_lit.json", width=320, height=240),
+        kind="image",
+        mistakes=True,
+    ),
+    GradingTest(
+        "4.9 render scenes/shadow_on_billboard.json",
+        STAGE4,
+        3,
+        VISIBLE,
+        "render",
+        _scene_test(SCENES / "shadow_on_billboard.json", width=240, height=180),
+        kind="image",
+        mistakes=True,
+    ),
+    GradingTest(
+        "4.10 render scenes/mirror_balls.json",
+        STAGE4,
+        3,
+        HIDDEN,
+        "render",
+        _scene_test(SCENES / "mirror_balls.json", width=240, height=150),
+        kind="image",
+        mistakes=True,
+    ),
+    GradingTest(
+        "4.11 render a hidden lit scene at 1e6, a ball touching the floor",
+        STAGE4,
+        3,
+        HIDDEN,
+        "render",
+        _scene_test(HIDDEN_SCENES / "lit_far.json"),
         kind="image",
         mistakes=True,
     ),

@@ -128,6 +128,59 @@ def task_texel_indices(spec, arrays):
     return {"row": row, "column": column}
 
 
+def task_sphere_normals(spec, arrays):
+    from raykit.spheres import sphere_normals
+
+    return {"n": sphere_normals(arrays["points"], arrays["center"], float(spec["radius"]))}
+
+
+def task_toward_light(spec, arrays):
+    import numpy as np
+
+    from raykit.lights import DirectionalLight, PointLight, toward_light
+
+    place = np.array(spec.get("direction", spec.get("position")), float)
+    light = (DirectionalLight if "direction" in spec else PointLight)(place, np.ones(3))
+    l, distance = toward_light(light, arrays["points"])
+    return {"l": l, "distance": distance}
+
+
+def task_lambert(spec, arrays):
+    from raykit.shading import lambert
+
+    return {"L": lambert(arrays["kd"], arrays["intensity"], arrays["n"], arrays["l"])}
+
+
+def task_blinn_phong(spec, arrays):
+    from raykit.shading import blinn_phong
+
+    return {
+        "L": blinn_phong(
+            arrays["ks"], arrays["intensity"], arrays["n"], arrays["l"], arrays["v"], arrays["p"]
+        )
+    }
+
+
+def task_reflect(spec, arrays):
+    from raykit.mirrors import reflect
+
+    return {"r": reflect(arrays["d"], arrays["n"])}
+
+
+def task_in_shadow(spec, arrays):
+    from functools import partial
+
+    from raykit.render import cast
+    from raykit.scene import scene_from_dict
+    from raykit.shadows import in_shadow
+    from raykit.surfaces import SurfacePoints
+
+    scene = scene_from_dict(spec["scene"])
+    surface = SurfacePoints(arrays["points"], arrays["normals"], arrays["error"])
+    blocked = in_shadow(partial(cast, scene), surface, arrays["l"], arrays["distance"])
+    return {"blocked": blocked.astype(float)}
+
+
 def task_render(spec, arrays):
     from raykit.render import render
     from raykit.scene import scene_from_dict

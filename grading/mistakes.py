@@ -1,9 +1,13 @@
-"""The classic mistakes of the 3D renderer, rendered by the reference code made to make them.
+"""The classic mistakes of the 3D renderer and of shading, rendered by the reference code made
+to make them.
 
 Each :class:`Mistake` swaps one piece of the reference renderer for the wrong version a student
 typically writes (rows counted from the bottom, u and v swapped, fov_angle taken as horizontal,
-…) while the task runs in the grader. When a submission's image fails, the grader compares it
-with these too; if one matches it better than the reference does, the feedback says which.
+a normal not made unit length, no offset for shadow rays, …) while the task runs in the grader.
+When a submission's image fails, the grader compares it with these too; if one matches it
+better than the reference does, the feedback says which. ``stage`` says which stage's code the
+mistake is in; every mistake is tried on every graded render, since a camera mistake spoils a
+lit picture too.
 """
 
 from __future__ import annotations
@@ -19,8 +23,11 @@ import numpy as np
 import raykit.billboards
 import raykit.camera
 import raykit.render
+import raykit.shading
+import raykit.surfaces
 from raykit.camera import Camera
-from raykit.rays import MISS
+from raykit.lights import toward_light
+from raykit.rays import MISS, dot
 from raykit.spheres import sphere_roots
 
 
@@ -32,6 +39,7 @@ class Mistake:
     says: str
     patches: Callable[[], list] = field(default=lambda: [])
     after: Callable[[np.ndarray], np.ndarray] = field(default=lambda rgb: rgb)
+    stage: str = "3"
 
     @contextmanager
     def active(self) -> Iterator[None]:
@@ -95,6 +103,32 @@ def _rows_flipped_texels(alpha, beta, width, height):
 
 ORIGINAL_TEXEL_INDICES = raykit.billboards.texel_indices
 
+
+def _normal_not_unit(points, center, radius):
+    return points - center
+
+
+def _light_reversed(light, points):
+    l, distance = toward_light(light, points)
+    return -l, distance
+
+
+def _no_offset(cast, surface, l, distance):
+    return cast(surface.points, l).t < distance
+
+
+def _reflect_sign(d, n):
+    return d + 2.0 * dot(d, n)[:, None] * n
+
+
+def _half_vector_not_unit(ks, intensity, n, l, v, p):
+    return ks * intensity * (np.maximum(0.0, dot(n, l + v)) ** p)[:, None]
+
+
+def _shading(name: str, wrong: Callable, module=raykit.shading) -> Callable[[], list]:
+    return lambda: [mock.patch.object(module, name, wrong)]
+
+
 MISTAKES = [
     Mistake(
         "rows_flipped",
@@ -150,5 +184,35 @@ MISTAKES = [
             mock.patch.object(raykit.render, "hit_sphere", _any_root),
             mock.patch.object(raykit.billboards, "hit_plane", _plane_any_side),
         ],
+    ),
+    Mistake(
+        "normal_not_unit",
+        "the sphere normal p - c is not divided by r (not unit length)",
+        patches=_shading("sphere_normals", _normal_not_unit, raykit.surfaces),
+        stage="4",
+    ),
+    Mistake(
+        "light_reversed",
+        "l points from the light to the surface instead of toward the light",
+        patches=_shading("toward_light", _light_reversed),
+        stage="4",
+    ),
+    Mistake(
+        "no_offset",
+        "shadow rays start exactly on the surface (shadow acne: no offset)",
+        patches=_shading("in_shadow", _no_offset),
+        stage="4",
+    ),
+    Mistake(
+        "reflect_sign",
+        "the mirror direction is d + 2(d·n)n instead of d - 2(d·n)n",
+        patches=_shading("reflect", _reflect_sign),
+        stage="4",
+    ),
+    Mistake(
+        "half_vector_not_unit",
+        "the half vector h = l + v is not normalised",
+        patches=_shading("blinn_phong", _half_vector_not_unit),
+        stage="4",
     ),
 ]

@@ -69,6 +69,34 @@ EDITS = {
             "np.where(d_dot_n != 0, t, MISS)",
         ),
     ],
+    "normal_not_unit": [
+        ("spheres.py", "return (points - center) / radius", "return points - center")
+    ],
+    "light_reversed": [
+        (
+            "lights.py",
+            "normalize(-np.asarray(light.direction, float))",
+            "normalize(np.asarray(light.direction, float))",
+        ),
+        (
+            "lights.py",
+            "to_light = np.asarray(light.position) - points",
+            "to_light = points - np.asarray(light.position)",
+        ),
+    ],
+    "no_offset": [
+        ("shadows.py", "hits = cast(surface.start(l), l)", "hits = cast(surface.points, l)")
+    ],
+    "reflect_sign": [
+        (
+            "mirrors.py",
+            "return d - 2.0 * dot(d, n)[:, None] * n",
+            "return d + 2.0 * dot(d, n)[:, None] * n",
+        )
+    ],
+    "half_vector_not_unit": [
+        ("shading.py", "h = normalize(l + v)\n    return", "h = l + v\n    return")
+    ],
 }
 
 

@@ -47,7 +47,7 @@ def test_time_vs_error_quick_prints_every_mode():
     assert sum("adaptive" in row for row in rows) == 3
 
 
-def test_raykit_bench_runs_both_benchmarks_and_writes_the_plots(tmp_path):
+def test_raykit_bench_runs_every_benchmark_and_writes_the_plots(tmp_path):
     run = subprocess.run(
         [
             sys.executable,
@@ -65,7 +65,8 @@ def test_raykit_bench_runs_both_benchmarks_and_writes_the_plots(tmp_path):
         timeout=300,
     )
     assert run.returncode == 0, run.stderr
-    assert run.stdout.count("$ python benchmarks/") == 2
+    assert run.stdout.count("$ python benchmarks/") == 3
+    assert "| mirror_balls |" in run.stdout and "| level 2 |" in run.stdout
     assert sorted(p.name for p in tmp_path.iterdir()) == [
         "time_vs_error.png",
         "time_vs_objects.png",

@@ -154,3 +154,38 @@ def test_diagram_command_on_a_bad_scene_is_one_line_exit_2(tmp_path, capsys):
     assert main(["diagram", str(bad), "-o", str(tmp_path / "d.png")]) == 2
     assert capsys.readouterr().err.count("\n") == 1
     assert not (tmp_path / "d.png").exists()
+
+
+def test_lit_scene_diagram_draws_the_shadow_and_mirror_rays_shading_cast():
+    from raykit.render import secondary_caster
+    from raykit.shading import shade
+
+    scene = load_scene(SCENES / "mirror_balls.json")
+    figure = ray_diagram(scene, view="top", every=40)
+    rows, cols = chosen_pixels(scene.camera.width, scene.camera.height, every=40)
+    origins, directions, hits = cast_pixels(scene, rows, cols)
+    paths = []
+    shade(scene, secondary_caster(scene), origins, directions, hits, paths)
+    shown = view_for(scene.camera, "top")
+    mirror = [p for p in paths if p.kind == "mirror"]
+    assert mirror
+    assert scene.materials.mirror[hits.index[mirror[0].ray]].any(axis=1).all()  # mirrors only
+    drawn = _segments(figure, "rays-mirror")
+    starts = np.vstack([p.origins for p in mirror])
+    assert np.array_equal(drawn[:, 0], shown.project(starts))
+    # each mirror ray starts on the mirror its pixel shows, ε off the surface
+    first = mirror[0]
+    sphere = scene.spheres[0]
+    on_big = hits.index[first.ray] == 0
+    distance = np.linalg.norm(first.origins[on_big] - sphere.center, axis=1) - sphere.radius
+    assert np.all(np.abs(distance) < 1e-9)
+    shadow = [p for p in paths if p.kind == "shadow"]
+    lit_drawn = _segments(figure, "rays-shadow")
+    blocked = sum(int(p.blocked.sum()) for p in shadow)
+    assert len(lit_drawn) + blocked == sum(len(p.ray) for p in shadow) > 0
+
+
+def test_unlit_scene_diagram_draws_no_secondary_rays():
+    figure = ray_diagram(load_scene(SCENES / "classic.json"), view="top")
+    gids = {c.get_gid() for ax in figure.axes for c in ax.collections}
+    assert not gids & {"rays-shadow", "rays-blocked", "rays-mirror"}

@@ -92,7 +92,7 @@ def test_mistakes_apply_to_a_camera_that_has_already_computed_its_frame():
 
 def test_catalog_has_points_visibility_and_every_stage():
     assert {t.visibility for t in TESTS} == {VISIBLE, HIDDEN}
-    assert {t.stage.split()[0] for t in TESTS} == {"1", "2", "3"}
+    assert {t.stage.split()[0] for t in TESTS} == {"1", "2", "3", "4"}
     assert len({t.name.split()[0] for t in TESTS}) == len(TESTS)
     assert all(t.points > 0 for t in TESTS)
 
@@ -177,8 +177,12 @@ def test_submission_without_a_package_scores_zero(tmp_path, child_python):
 @pytest.mark.parametrize("key", sorted(EDITS))
 def test_each_classic_mistake_is_named_in_the_feedback(key, tmp_path, child_python):
     submission = make_submission(tmp_path, key)
-    says = next(m.says for m in MISTAKES if m.key == key)
-    names = ["3.6", "3.9", "3.11"]  # classic, inside a ring (behind the eye), overlaps
+    mistake = next(m for m in MISTAKES if m.key == key)
+    says = mistake.says
+    names = {
+        "3": ["3.6", "3.9", "3.11"],  # classic, inside a ring (behind the eye), overlaps
+        "4": ["4.8", "4.10", "4.11"],  # lit classic, mirrors, at 1e6 with a touching ball
+    }[mistake.stage]
     results = grade(submission, child_python=child_python, names=names)
     outputs = [t["output"] for t in results["tests"]]
     assert any(f"when {says}" in out for out in outputs), outputs
@@ -187,7 +191,8 @@ def test_each_classic_mistake_is_named_in_the_feedback(key, tmp_path, child_pyth
 
 
 def test_no_mistake_is_named_for_the_solution(solution, child_python):
-    results = grade(solution, child_python=child_python, names=["3.6", "3.9", "3.11"])
+    names = ["3.6", "3.9", "3.11", "4.8", "4.10", "4.11"]
+    results = grade(solution, child_python=child_python, names=names)
     assert not any("matches what the renderer gives" in t["output"] for t in results["tests"])
 
 

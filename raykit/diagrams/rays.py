@@ -1,8 +1,12 @@
-"""A scene's primary rays: from the eye (or the orthographic eye plane) to what they hit.
+"""A scene's rays: from the eye (or the orthographic eye plane) to what they hit, and on.
 
 The rays and hit points are the renderer's own (:func:`raykit.render.cast_pixels`), so the ray
 drawn through pixel (r, c) ends on the object that pixel of the render shows. Hits are drawn
 solid in the colour of what they hit; misses dashed and faded, to the edge of the picture.
+
+In a lit scene or one with mirrors, the secondary rays that shading casts for those pixels are
+drawn too, as :func:`raykit.shading.shade` recorded them: shadow rays thin and gold up to their
+light, or dark red up to what blocks them (marked x); mirror rays silver, to what they meet.
 """
 
 from __future__ import annotations
@@ -22,9 +26,11 @@ from raykit.diagrams.views import (
     new_axes,
     view_for,
 )
+from raykit.lights import PointLight
 from raykit.rays import point_at
-from raykit.render import cast_pixels
+from raykit.render import cast_pixels, secondary_caster
 from raykit.scene import Scene
+from raykit.shading import RaySegments, needs_shading, shade
 
 MOST_RAYS_A_SIDE = 8
 
@@ -72,11 +78,15 @@ def ray_diagram(
     origins, directions, hits = cast_pixels(scene, rows, cols)
     ends = point_at(origins, directions, hits.t)
     hit = hits.index >= 0
+    paths: list[RaySegments] = []
+    if needs_shading(scene):
+        shade(scene, secondary_caster(scene), origins, directions, hits, paths)
 
     corners = image_plane_corners(camera)
     extent = _scene_points(scene, corners)
     reach = np.linalg.norm(np.ptp(np.vstack([extent, ends[hit]]), axis=0))
     draw_scene_objects(ax, shown, scene)
+    _draw_secondary(ax, shown, paths, reach)
     draw_lines(
         ax,
         shown,
@@ -100,6 +110,9 @@ def ray_diagram(
     )
     draw_outline(ax, shown, corners, colors="black", linewidths=1.0, zorder=5)
     _mark(ax, shown, camera.eye, "eye")
+    for light in scene.lights:
+        if isinstance(light, PointLight):
+            _mark(ax, shown, light.position, "light", marker="*")
     _mark(ax, shown, corners[1], "image plane", marker=None)
     if shown.is_3d:
         ax.scatter(*shown.project(ends[hit]).T, color="black", s=4, depthshade=False)
@@ -107,13 +120,50 @@ def ray_diagram(
         ax.plot(*shown.project(ends[hit]).T, "o", color="black", ms=2, zorder=6)
     finish_axes(ax, shown, np.vstack([extent, ends[hit]]), camera)
     title = f"{len(rows)} rays through pixel centres ({int(hit.sum())} hit): solid = hit, "
-    ax.set_title(title + "dashed = miss", fontsize=10)
+    title += "dashed = miss"
+    if paths:
+        shadow = sum(len(p.ray) for p in paths if p.kind == "shadow")
+        blocked = sum(int(p.blocked.sum()) for p in paths if p.kind == "shadow")
+        mirror = sum(len(p.ray) for p in paths if p.kind == "mirror")
+        title += f"\n{shadow} shadow rays ({blocked} blocked, x), {mirror} mirror rays"
+    ax.set_title(title, fontsize=10)
     return ax.figure
+
+
+SECONDARY_STYLE = {
+    "shadow": {"colors": "goldenrod", "linewidths": 0.7, "linestyles": (0, (1, 2))},
+    "blocked": {"colors": "darkred", "linewidths": 0.9},
+    "mirror": {"colors": "silver", "linewidths": 1.2},
+}
+
+
+def _draw_secondary(ax: Axes, view, paths: list[RaySegments], reach: float) -> None:
+    """The recorded shadow and mirror rays; a ray that meets nothing is drawn ``reach`` long."""
+    for kind in ("shadow", "mirror"):
+        segments = [p for p in paths if p.kind == kind]
+        if not segments:
+            continue
+        origins = np.vstack([p.origins for p in segments])
+        directions = np.vstack([p.directions for p in segments])
+        t = np.concatenate([p.t for p in segments])
+        blocked = np.concatenate([p.blocked for p in segments])
+        ends = origins + np.minimum(t, reach)[:, None] * directions
+        for style, rows in ((kind, ~blocked), ("blocked", blocked)):
+            if rows.any():
+                lines = np.stack([origins[rows], ends[rows]], axis=1)
+                draw_lines(ax, view, lines, gid=f"rays-{style}", zorder=3, **SECONDARY_STYLE[style])
+        if blocked.any():
+            marks = view.project(ends[blocked])
+            if view.is_3d:
+                ax.scatter(*marks.T, marker="x", color="darkred", s=14, depthshade=False)
+            else:
+                ax.plot(*marks.T, "x", color="darkred", ms=4, zorder=6)
 
 
 def _scene_points(scene: Scene, corners: np.ndarray) -> np.ndarray:
     """Points ``(N, 3)`` that the picture must hold: eye, image plane, objects."""
     points = [np.asarray(scene.camera.eye, float)[None], corners]
+    points += [light.position[None] for light in scene.lights if isinstance(light, PointLight)]
     for sphere in scene.spheres:
         points.append(sphere.center + np.array([[-1, -1, -1], [1, 1, 1]]) * sphere.radius)
     for billboard in scene.billboards:

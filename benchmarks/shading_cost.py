@@ -1,0 +1,134 @@
+"""What shading costs, and what skipping saves, side by side in one run.
+
+    python benchmarks/shading_cost.py [--quick] [--repeats N]
+
+Table 1, per scene: the render with its lights, shadows and mirrors, against the same scene
+with them taken away (flat colours, as in scene format v1), and the secondary rays cast
+(counted from what :func:`raykit.shading.shade` records).
+
+Table 2, secondary rays through the BVH against brute force (``cast`` over every object), on
+lit sphereflakes with every ball a weak mirror: the renderer picks the BVH from
+``raykit.render.BVH_FROM`` objects on.
+
+Times are medians of ``--repeats`` renders (not loading). ``--quick`` uses small images.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from dataclasses import replace
+from functools import partial
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+
+from common import median_time  # noqa: E402
+
+import raykit.render  # noqa: E402
+from raykit.bvh import BVH  # noqa: E402
+from raykit.lights import DirectionalLight, PointLight  # noqa: E402
+from raykit.materials import PLAIN, Material  # noqa: E402
+from raykit.render import cast, cast_pixels, render, secondary_caster  # noqa: E402
+from raykit.scene import Scene, load_scene  # noqa: E402
+from raykit.shading import shade  # noqa: E402
+from scenes import sphereflake  # noqa: E402
+
+EXAMPLES = ["classic_lit", "shadow_on_billboard", "mirror_balls"]
+
+
+def unlit(scene: Scene) -> Scene:
+    """The scene without lights, ambient light or materials: v1's flat colours."""
+    plain = {"material": PLAIN}
+    return replace(
+        scene,
+        lights=(),
+        ambient=None,
+        spheres=tuple(replace(s, **plain) for s in scene.spheres),
+        billboards=tuple(replace(b, **plain) for b in scene.billboards),
+    )
+
+
+def sized(scene: Scene, width: int, height: int) -> Scene:
+    return replace(scene, camera=replace(scene.camera, width=width, height=height))
+
+
+def secondary_rays(scene: Scene) -> dict[str, int]:
+    camera = scene.camera
+    rows, cols = np.divmod(np.arange(camera.width * camera.height), camera.width)
+    origins, directions, hits = cast_pixels(scene, rows, cols)
+    paths: list = []
+    shade(scene, secondary_caster(scene), origins, directions, hits, paths)
+    count = {"shadow": 0, "mirror": 0}
+    for p in paths:
+        count[p.kind] += len(p.ray)
+    return count
+
+
+def lit_flake(level: int, size: int) -> Scene:
+    """A sphereflake under a sun and a lamp, every ball a weak mirror."""
+    flake = sphereflake(level, size, size)
+    mirror = Material(specular=np.full(3, 0.5), shininess=40, mirror=np.full(3, 0.3))
+    return replace(
+        flake,
+        spheres=tuple(replace(s, material=mirror) for s in flake.spheres),
+        lights=(
+            DirectionalLight(np.array([-0.5, -1.0, -0.4]), np.full(3, 0.7)),
+            PointLight(np.array([3.0, 5.0, 4.0]), np.full(3, 0.4)),
+        ),
+        ambient=np.full(3, 0.15),
+        max_depth=2,
+    )
+
+
+def seconds(value: float) -> str:
+    return f"{value * 1000:.0f} ms" if value < 10 else f"{value:.0f} s"
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--quick", action="store_true", help="small images, for CI")
+    parser.add_argument("--repeats", type=int, default=5, help="renders per variant (median)")
+    args = parser.parse_args()
+    print("$ python benchmarks/shading_cost.py " + " ".join(sys.argv[1:]) + "\n")
+    width, height = (160, 120) if args.quick else (640, 480)
+    scenes_folder = HERE.parent / "scenes"
+
+    print("| scene | image | flat (v1) | shaded | shaded / flat | shadow rays | mirror rays |")
+    print("|---|---|---|---|---|---|---|")
+    for name in ["classic", *EXAMPLES]:
+        scene = sized(load_scene(scenes_folder / f"{name}.json"), width, height)
+        flat_scene = unlit(scene)
+        _, flat = median_time(lambda s=flat_scene: render(s), args.repeats)
+        _, shaded = median_time(lambda s=scene: render(s), args.repeats)
+        rays = secondary_rays(scene)
+        print(
+            f"| {name} | {width}x{height} | {seconds(flat)} | {seconds(shaded)} "
+            f"| {shaded / flat:.2f} | {rays['shadow']:,} | {rays['mirror']:,} |"
+        )
+
+    size = 128 if args.quick else 256
+    levels = [2] if args.quick else [2, 3]
+    print("\n| lit sphereflake | image | objects | brute force | BVH | brute / BVH |")
+    print("|---|---|---|---|---|---|")
+    original = raykit.render.secondary_caster
+    for level in levels:
+        scene = lit_flake(level, size)
+        raykit.render.secondary_caster = lambda s: partial(cast, s)
+        brute_image, brute = median_time(lambda s=scene: render(s), args.repeats)
+        raykit.render.secondary_caster = lambda s: BVH.build(s).cast
+        bvh_image, through_bvh = median_time(lambda s=scene: render(s), args.repeats)
+        raykit.render.secondary_caster = original
+        assert np.array_equal(brute_image.rgb, bvh_image.rgb)
+        print(
+            f"| level {level} | {size}x{size} | {len(scene.objects):,} | {seconds(brute)} "
+            f"| {seconds(through_bvh)} | {brute / through_bvh:.1f}x |"
+        )
+    print(f"\nMedians of {args.repeats} renders; the two variants give the same image (checked).")
+
+
+if __name__ == "__main__":
+    main()
