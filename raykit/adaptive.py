@@ -8,6 +8,10 @@ extra rays of the flat areas, which are most of an image.
 
 What it can miss: a detail smaller than a pixel that no pixel centre reaches (a far thin
 sphere between centres) stays invisible, as it is at one ray per pixel.
+
+In a lit scene (:mod:`raykit.shading`) colours change smoothly across a surface, so most lit
+pixels differ a little from a neighbour and count as edges: adaptive sampling stays correct
+there but saves little.
 """
 
 from __future__ import annotations
