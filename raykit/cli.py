@@ -143,8 +143,9 @@ def build_parser() -> argparse.ArgumentParser:
     bench = commands.add_parser(
         "bench",
         help="run the benchmarks (from a clone of the repository)",
-        description="Run benchmarks/render_speed.py, time_vs_error.py and shading_cost.py: "
-        "tables of medians side by side, and with --plots, the plots.",
+        description="Run benchmarks/render_speed.py, time_vs_error.py, shading_cost.py and "
+        "mitsuba_compare.py (Mitsuba 3 when installed): tables of medians side by side, and "
+        "with --plots, the plots.",
     )
     bench.add_argument("--quick", action="store_true", help="small images, a short run")
     bench.add_argument("--repeats", type=_positive, default=3, help="runs per variant (median)")
@@ -255,6 +256,7 @@ def _run_bench(args: argparse.Namespace) -> None:
         ("render_speed.py", "time_vs_objects.png"),
         ("time_vs_error.py", "time_vs_error.png"),
         ("shading_cost.py", None),
+        ("mitsuba_compare.py", None),
     ):
         command = [sys.executable, str(folder / script), "--repeats", str(args.repeats)]
         command += ["--quick"] if args.quick else []

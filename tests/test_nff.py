@@ -64,9 +64,23 @@ def test_nff_renders_as_the_same_scene_written_in_json():
             "height": 41,
         },
         "background": [0.078, 0.361, 0.753],
+        "lights": [
+            {"type": "point", "position": [4, 3, 2]},
+            {"type": "point", "position": [1, -4, 4], "color": [1, 1, 1]},
+        ],
         "spheres": [
-            {"center": [0, 0, 0], "radius": 0.5, "color": [1, 0.75, 0.33]},
-            {"center": [0.6, 0.3, 0.2], "radius": 0.2, "color": [0.2, 0.6, 0.3]},
+            {
+                "center": [0, 0, 0],
+                "radius": 0.5,
+                "color": [1, 0.75, 0.33],
+                "diffuse": [0.8 * 1, 0.8 * 0.75, 0.8 * 0.33],
+            },
+            {
+                "center": [0.6, 0.3, 0.2],
+                "radius": 0.2,
+                "color": [0.2, 0.6, 0.3],
+                "diffuse": [0.2, 0.6, 0.3],
+            },
         ],
         "billboards": [
             {
@@ -74,6 +88,7 @@ def test_nff_renders_as_the_same_scene_written_in_json():
                 "upper_right": [-12, 12, -0.5],
                 "lower_left": [12, -12, -0.5],
                 "color": [0.2, 0.6, 0.3],
+                "diffuse": [0.2, 0.6, 0.3],
             }
         ],
     }
@@ -106,3 +121,18 @@ def test_render_command_reads_nff_files(tmp_path, capsys):
     path.write_text(BALLS.replace("resolution 41 41\n", ""))
     assert main(["render", str(path), "-o", str(tmp_path / "x.png")]) == 2
     assert "view: missing resolution" in capsys.readouterr().err
+
+
+def test_nff_surface_ks_is_the_highlight_and_the_mirror_and_lights_make_it_lit():
+    lines = BALLS.replace("f 0.2 0.6 0.3 1 0 0 0 0", "f 0.2 0.6 0.3 0.5 0.4 20 0 0").splitlines()
+    scene = scene_from_nff(lines)
+    sphere = scene.spheres[1]
+    assert np.allclose(sphere.material.diffuse, [0.1, 0.3, 0.15])
+    assert np.allclose(sphere.material.specular, 0.4) and np.allclose(sphere.material.mirror, 0.4)
+    assert sphere.material.shininess == 20
+    assert scene.lit and len(scene.lights) == 2
+    assert np.allclose(scene.lights[0].color, 1) and np.allclose(
+        scene.lights[0].position, [4, 3, 2]
+    )
+    flat = scene_from_nff([line for line in lines if not line.startswith("l ")])
+    assert not flat.lit

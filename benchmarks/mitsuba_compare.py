@@ -1,0 +1,236 @@
+"""raykit against Mitsuba 3 on the same scenes, in one run: load and render times, 1 sample
+per pixel, pure ray casting.
+
+    python benchmarks/mitsuba_compare.py [--quick] [--repeats N]
+
+Mitsuba is an optional benchmark dependency, never a runtime one (``pip install mitsuba``).
+Its ``llvm_ad_rgb`` variant needs an LLVM it can load: on Debian 12, ``apt install libllvm19``
+and ``DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1`` (Debian's default LLVM
+15 makes it abort). Each Mitsuba variant runs in a child process of its own, so a variant that
+aborts is reported as such and the run goes on.
+
+The scenes are raykit's, converted: spheres to Mitsuba spheres; billboards to rectangles whose
+``to_world`` maps [-1, 1]² onto the parallelogram; the camera to a ``perspective`` sensor with
+the same eye, lookat, up and vertical fov. Mitsuba renders with its ``depth`` integrator (the
+distance to the nearest hit: the same ray casting as raykit's object image, without texture
+lookups); raykit renders its flat colours, textures included. Mitsuba's sampler jitters each
+pixel's one sample, raykit takes the pixel centre, so their hit masks differ at silhouettes:
+the table gives the share of pixels on which both agree whether anything is hit.
+
+Load: raykit from its JSON data (validation included), Mitsuba ``load_dict``. Render: the
+median of ``--repeats`` renders after one warm-up render (for ``llvm_ad_rgb`` the warm-up
+compiles its kernels; that first render is shown too).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+
+from common import median_time  # noqa: E402
+
+from raykit.render import render  # noqa: E402
+from raykit.scene import Scene, load_scene, scene_from_dict  # noqa: E402
+from scenes import many_spheres, sphereflake  # noqa: E402
+
+VARIANTS = ("scalar_rgb", "llvm_ad_rgb")
+LLVM_19 = "/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1"
+
+
+def benchmark_scenes(quick: bool) -> dict[str, Scene]:
+    if quick:
+        return {
+            "classic 160x120": _sized(load_scene(HERE.parent / "scenes/classic.json"), 160, 120),
+            "sphereflake 2 128x128": sphereflake(2, 128, 128),
+        }
+    return {
+        "classic 640x480": load_scene(HERE.parent / "scenes/classic.json"),
+        "sphereflake 4 512x512": sphereflake(4),
+        "1,000 spheres 1920x1080": many_spheres(1000),
+    }
+
+
+def _sized(scene: Scene, width: int, height: int) -> Scene:
+    from dataclasses import replace
+
+    return replace(scene, camera=replace(scene.camera, width=width, height=height))
+
+
+def scene_data(scene: Scene) -> dict:
+    """The scene as plain data: raykit's JSON fields (flat colours; textures as their
+    paths), enough to rebuild it with ``scene_from_dict`` and to convert it for Mitsuba."""
+    camera = scene.camera
+    return {
+        "camera": {
+            "eye": list(map(float, camera.eye)),
+            "lookat": list(map(float, camera.lookat)),
+            "up": list(map(float, camera.up)),
+            "fov_angle": camera.fov_angle,
+            "width": camera.width,
+            "height": camera.height,
+        },
+        "background": list(map(float, scene.background)),
+        "spheres": [
+            {
+                "center": list(map(float, s.center)),
+                "radius": float(s.radius),
+                "color": list(map(float, s.color)),
+            }
+            for s in scene.spheres
+        ],
+        "billboards": [
+            {
+                "upper_left": list(map(float, b.upper_left)),
+                "lower_left": list(map(float, b.lower_left)),
+                "upper_right": list(map(float, b.upper_right)),
+                **(
+                    {"image": str(b.texture.path)}
+                    if b.texture
+                    else {"color": list(map(float, b.color))}
+                ),
+            }
+            for b in scene.billboards
+        ],
+    }
+
+
+def mitsuba_dict(data: dict, mi) -> dict:
+    """Mitsuba's scene description of raykit scene data (see the module page)."""
+    camera = data["camera"]
+    scene = {
+        "type": "scene",
+        "integrator": {"type": "depth"},
+        "sensor": {
+            "type": "perspective",
+            "fov": camera["fov_angle"],
+            "fov_axis": "y",
+            "to_world": mi.ScalarTransform4f().look_at(
+                origin=camera["eye"], target=camera["lookat"], up=camera["up"]
+            ),
+            "film": {
+                "type": "hdrfilm",
+                "width": camera["width"],
+                "height": camera["height"],
+                "rfilter": {"type": "box"},
+            },
+            "sampler": {"type": "independent", "sample_count": 1},
+        },
+    }
+    for i, s in enumerate(data["spheres"]):
+        scene[f"sphere{i}"] = {"type": "sphere", "center": s["center"], "radius": s["radius"]}
+    for i, b in enumerate(data["billboards"]):
+        ul, ll, ur = (np.array(b[k]) for k in ("upper_left", "lower_left", "upper_right"))
+        a, bb = ur - ul, ll - ul
+        n = np.cross(a, bb)
+        matrix = np.eye(4)
+        matrix[:3, 0], matrix[:3, 1] = a / 2, bb / 2
+        matrix[:3, 2] = n / np.linalg.norm(n)
+        matrix[:3, 3] = ul + (a + bb) / 2
+        scene[f"billboard{i}"] = {
+            "type": "rectangle",
+            "to_world": mi.ScalarTransform4f(matrix.tolist()),
+        }
+    return scene
+
+
+def run_mitsuba(variant: str, data: dict, repeats: int) -> dict:
+    """In this (child) process: load and render with one Mitsuba variant."""
+    import mitsuba as mi
+
+    mi.set_variant(variant)
+    start = time.perf_counter()
+    scene = mi.load_dict(mitsuba_dict(data, mi))
+    load = time.perf_counter() - start
+    start = time.perf_counter()
+    image = np.array(mi.render(scene, spp=1))
+    first = time.perf_counter() - start
+    _, render_time = median_time(lambda: np.array(mi.render(scene, spp=1)), repeats)
+    return {
+        "load": load,
+        "first": first,
+        "render": render_time,
+        "hit": (image[..., 0] > 0).tolist(),
+    }
+
+
+def mitsuba_in_child(variant: str, data: dict, repeats: int) -> dict | str:
+    env = dict(os.environ)
+    if variant.startswith("llvm") and Path(LLVM_19).exists():
+        env.setdefault("DRJIT_LIBLLVM_PATH", LLVM_19)
+    run = subprocess.run(
+        [sys.executable, __file__, "--child", variant, "--repeats", str(repeats)],
+        input=json.dumps(data),
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=1800,
+    )
+    if run.returncode != 0:
+        last = (run.stderr.strip().splitlines() or [f"exit status {run.returncode}"])[-1]
+        return f"failed: {last[:80]}"
+    return json.loads(run.stdout)
+
+
+def ms(value: float) -> str:
+    return f"{value * 1000:.1f} ms" if value < 1 else f"{value:.2f} s"
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--quick", action="store_true", help="small scenes")
+    parser.add_argument("--repeats", type=int, default=5, help="renders per variant (median)")
+    parser.add_argument("--child", help=argparse.SUPPRESS)
+    args = parser.parse_args()
+    if args.child:
+        print(json.dumps(run_mitsuba(args.child, json.loads(sys.stdin.read()), args.repeats)))
+        return
+    print("$ python benchmarks/mitsuba_compare.py " + " ".join(sys.argv[1:]) + "\n")
+    try:
+        import mitsuba
+
+        version = mitsuba.__version__
+    except ImportError:
+        print("Mitsuba 3 is not installed (pip install mitsuba): raykit alone is timed.\n")
+        version = None
+    print("| scene | renderer | load | first render | render (median) | hit masks agree |")
+    print("|---|---|---|---|---|---|")
+    for name, scene in benchmark_scenes(args.quick).items():
+        data = scene_data(scene)
+        start = time.perf_counter()
+        loaded = scene_from_dict(data)
+        load = time.perf_counter() - start
+        start = time.perf_counter()
+        first_image = render(loaded)
+        first = time.perf_counter() - start
+        _, render_time = median_time(lambda s=loaded: render(s), args.repeats)
+        ours = first_image.object_index >= 0
+        print(f"| {name} | raykit | {ms(load)} | {ms(first)} | {ms(render_time)} | - |")
+        if version is None:
+            continue
+        for variant in VARIANTS:
+            result = mitsuba_in_child(variant, data, args.repeats)
+            if isinstance(result, str):
+                print(f"| {name} | Mitsuba {version} {variant} | {result} | | | |")
+                continue
+            agree = np.mean(np.array(result["hit"]) == ours)
+            print(
+                f"| {name} | Mitsuba {version} {variant} | {ms(result['load'])} "
+                f"| {ms(result['first'])} | {ms(result['render'])} | {agree:.1%} |"
+            )
+    print(
+        f"\nMedians of {args.repeats} renders after a warm-up; load and render in one process each."
+    )
+
+
+if __name__ == "__main__":
+    main()
