@@ -97,6 +97,22 @@ Upload your `raykit/` folder (or a zip of it). Only that folder is graded.
 """
 
 
+# the student README lists the functions to write in the lecture's order, stage by stage
+LECTURE_ORDER = [
+    "linescan/camera.py", "linescan/objects.py", "planes.py", "spheres.py: sphere_roots",
+    "spheres.py: hit_sphere", "hits.py", "camera.py", "billboards.py", "render.py",
+    "spheres.py: sphere_normals", "lights.py", "shading.py", "shadows.py", "mirrors.py",
+]  # fmt: skip
+
+
+def _lecture_order(function: str) -> int:
+    """Where ``raykit/<module>: <function>`` comes in the lecture (unknown ones last)."""
+    return next(
+        (i for i, key in enumerate(LECTURE_ORDER) if function.startswith(f"raykit/{key}")),
+        len(LECTURE_ORDER),
+    )
+
+
 def build_release(out: Path) -> list[str]:
     """Build the release in ``out`` (which must not exist); returns the stubbed functions."""
     out = Path(out)
@@ -121,7 +137,7 @@ def build_release(out: Path) -> list[str]:
     )
     (out / "pyproject.toml").write_text(_student_pyproject())
     _visible_tests(out / "tests")
-    functions = "\n".join(f"- `{name}`" for name in stubbed)
+    functions = "\n".join(f"- `{name}`" for name in sorted(stubbed, key=_lecture_order))
     (out / "README.md").write_text(STUDENT_README.format(functions=functions))
     print(
         f"wrote {out}: {len(stubbed)} functions to write, "

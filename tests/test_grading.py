@@ -299,3 +299,15 @@ def test_grading_command_line_writes_results(tmp_path, child_python, solution):
     )
     assert run.returncode == 0, run.stderr
     assert run.stdout.strip() == f"wrote {tmp_path / 'r.json'}: 3 of 3 points"
+
+
+def test_release_readme_lists_the_functions_in_the_lectures_order(release):
+    listed = [
+        line
+        for line in (release / "README.md").read_text().splitlines()
+        if line.startswith("- `raykit/")
+    ]
+    names = [line.split(": ")[1].rstrip("`") for line in listed]
+    assert names[0] == "pixel_x" and names[-1] == "reflect"
+    assert names.index("hit_plane") < names.index("camera_frame") < names.index("cast")
+    assert names.index("cast") < names.index("lambert")
