@@ -170,9 +170,12 @@ def test_lit_scene_diagram_draws_the_shadow_and_mirror_rays_shading_cast():
     mirror = [p for p in paths if p.kind == "mirror"]
     assert mirror
     assert scene.materials.mirror[hits.index[mirror[0].ray]].any(axis=1).all()  # mirrors only
-    drawn = _segments(figure, "rays-mirror")
     starts = np.vstack([p.origins for p in mirror])
-    assert np.array_equal(drawn[:, 0], shown.project(starts))
+    met = np.isfinite(np.concatenate([p.t for p in mirror]))
+    assert met.any() and not met.all()
+    assert np.array_equal(_segments(figure, "rays-mirror")[:, 0], shown.project(starts[met]))
+    missed = _segments(figure, "rays-mirror-missed")  # dashed: they meet nothing
+    assert np.array_equal(missed[:, 0], shown.project(starts[~met]))
     # each mirror ray starts on the mirror its pixel shows, ε off the surface
     first = mirror[0]
     sphere = scene.spheres[0]

@@ -6,7 +6,8 @@ solid in the colour of what they hit; misses dashed and faded, to the edge of th
 
 In a lit scene or one with mirrors, the secondary rays that shading casts for those pixels are
 drawn too, as :func:`raykit.shading.shade` recorded them: shadow rays thin and gold up to their
-light, or dark red up to what blocks them (marked x); mirror rays silver, to what they meet.
+light, or dark red up to what blocks them (marked x); mirror rays silver, to what they meet
+(dashed when they meet nothing).
 """
 
 from __future__ import annotations
@@ -134,6 +135,7 @@ SECONDARY_STYLE = {
     "shadow": {"colors": "goldenrod", "linewidths": 0.7, "linestyles": (0, (1, 2))},
     "blocked": {"colors": "darkred", "linewidths": 0.9},
     "mirror": {"colors": "silver", "linewidths": 1.2},
+    "mirror-missed": {"colors": "silver", "linewidths": 0.8, "linestyles": (0, (4, 3))},
 }
 
 
@@ -148,7 +150,9 @@ def _draw_secondary(ax: Axes, view, paths: list[RaySegments], reach: float) -> N
         t = np.concatenate([p.t for p in segments])
         blocked = np.concatenate([p.blocked for p in segments])
         ends = origins + np.minimum(t, reach)[:, None] * directions
-        for style, rows in ((kind, ~blocked), ("blocked", blocked)):
+        missed = np.isinf(t) & (kind == "mirror")
+        styles = ((kind, ~blocked & ~missed), ("blocked", blocked), ("mirror-missed", missed))
+        for style, rows in styles:
             if rows.any():
                 lines = np.stack([origins[rows], ends[rows]], axis=1)
                 draw_lines(ax, view, lines, gid=f"rays-{style}", zorder=3, **SECONDARY_STYLE[style])
