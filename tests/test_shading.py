@@ -272,7 +272,7 @@ def test_no_shadow_acne_at_large_coordinates(dtype, offset):
 
 def test_without_the_offset_there_is_acne(monkeypatch):
     """The acne test can fail: with secondary rays started on the surface it does."""
-    monkeypatch.setattr(raykit.surfaces, "OFFSET_ULPS", 0)
+    monkeypatch.setattr(raykit.surfaces, "OFFSET_FACTOR", 0)
     assert _acne(_shift(_no_shadow_scene(), [1e6, 1e6, 1e6]), np.float64) > 50
 
 
