@@ -3,8 +3,9 @@
     python benchmarks/shading_cost.py [--quick] [--repeats N]
 
 Table 1, per scene: the render with its lights, shadows and mirrors, against the same scene
-with them taken away (flat colours, as in scene format v1), and the secondary rays cast
-(counted from what :func:`raykit.shading.shade` records).
+with them taken away (flat colours, as in scene format v1) and against the same render with
+every shadow ray tested against every object (no culling by :func:`raykit.render.cast_nearby`);
+and the secondary rays cast (counted from what :func:`raykit.shading.shade` records).
 
 Table 2, secondary rays through the BVH against brute force (``cast`` over every object), on
 lit sphereflakes with every ball a weak mirror: the renderer picks the BVH from
@@ -18,7 +19,6 @@ from __future__ import annotations
 import argparse
 import sys
 from dataclasses import replace
-from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -84,6 +84,11 @@ def lit_flake(level: int, size: int) -> Scene:
     )
 
 
+def every_object(scene: Scene):
+    """The brute-force caster: every object tested against every secondary ray."""
+    return lambda origins, directions, t_max=None: cast(scene, origins, directions)
+
+
 def seconds(value: float) -> str:
     return f"{value * 1000:.0f} ms" if value < 10 else f"{value:.0f} s"
 
@@ -97,27 +102,34 @@ def main() -> None:
     width, height = (160, 120) if args.quick else (640, 480)
     scenes_folder = HERE.parent / "scenes"
 
-    print("| scene | image | flat (v1) | shaded | shaded / flat | shadow rays | mirror rays |")
-    print("|---|---|---|---|---|---|---|")
+    print(
+        "| scene | image | flat (v1) | shaded | shaded / flat | shaded, no culling "
+        "| no culling / shaded | shadow rays | mirror rays |"
+    )
+    print("|---|---|---|---|---|---|---|---|---|")
+    original = raykit.render.secondary_caster
     for name in ["classic", *EXAMPLES]:
         scene = sized(load_scene(scenes_folder / f"{name}.json"), width, height)
         flat_scene = unlit(scene)
         _, flat = median_time(lambda s=flat_scene: render(s), args.repeats)
         _, shaded = median_time(lambda s=scene: render(s), args.repeats)
+        raykit.render.secondary_caster = every_object
+        _, unculled = median_time(lambda s=scene: render(s), args.repeats)
+        raykit.render.secondary_caster = original
         rays = secondary_rays(scene)
         print(
             f"| {name} | {width}x{height} | {seconds(flat)} | {seconds(shaded)} "
-            f"| {shaded / flat:.2f} | {rays['shadow']:,} | {rays['mirror']:,} |"
+            f"| {shaded / flat:.2f} | {seconds(unculled)} | {unculled / shaded:.2f} "
+            f"| {rays['shadow']:,} | {rays['mirror']:,} |"
         )
 
     size = 128 if args.quick else 256
     levels = [2] if args.quick else [2, 3]
     print("\n| lit sphereflake | image | objects | brute force | BVH | brute / BVH |")
     print("|---|---|---|---|---|---|")
-    original = raykit.render.secondary_caster
     for level in levels:
         scene = lit_flake(level, size)
-        raykit.render.secondary_caster = lambda s: partial(cast, s)
+        raykit.render.secondary_caster = every_object
         brute_image, brute = median_time(lambda s=scene: render(s), args.repeats)
         raykit.render.secondary_caster = lambda s: BVH.build(s).cast
         bvh_image, through_bvh = median_time(lambda s=scene: render(s), args.repeats)

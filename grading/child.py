@@ -168,16 +168,14 @@ def task_reflect(spec, arrays):
 
 
 def task_in_shadow(spec, arrays):
-    from functools import partial
-
-    from raykit.render import cast
+    from raykit.render import secondary_caster
     from raykit.scene import scene_from_dict
     from raykit.shadows import in_shadow
     from raykit.surfaces import SurfacePoints
 
     scene = scene_from_dict(spec["scene"])
     surface = SurfacePoints(arrays["points"], arrays["normals"], arrays["error"])
-    blocked = in_shadow(partial(cast, scene), surface, arrays["l"], arrays["distance"])
+    blocked = in_shadow(secondary_caster(scene), surface, arrays["l"], arrays["distance"])
     return {"blocked": blocked.astype(float)}
 
 

@@ -114,7 +114,7 @@ def _light_reversed(light, points):
 
 
 def _no_offset(cast, surface, l, distance):
-    return cast(surface.points, l).t < distance
+    return cast(surface.points, l, distance).t < distance
 
 
 def _reflect_sign(d, n):

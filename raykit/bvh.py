@@ -37,7 +37,6 @@ from raykit.spheres import hit_sphere
 
 LEAF_SIZE = 4
 RAYS_PER_CHUNK = 8192  # bounds the memory of (ray, object) pairs
-BOX_PADDING = 1e-9  # relative to the box's size and distance from the origin
 
 
 @dataclass(frozen=True)
@@ -56,7 +55,7 @@ class BVH:
 
     @classmethod
     def build(cls, scene: Scene) -> BVH:
-        lower, upper = object_boxes(scene)
+        lower, upper = scene.boxes
         centres = (lower + upper) / 2
         nodes: list[list] = []  # [lower, upper, left, right, first, count]
         order: list[int] = []
@@ -89,18 +88,22 @@ class BVH:
         )
 
     def candidates(
-        self, origins: np.ndarray, directions: np.ndarray
+        self, origins: np.ndarray, directions: np.ndarray, t_max: np.ndarray | None = None
     ) -> tuple[np.ndarray, np.ndarray]:
-        """The (ray, object) pairs ``(P,)`` each whose ray enters a leaf box holding the object."""
+        """The (ray, object) pairs ``(P,)`` each whose ray enters a leaf box holding the object
+        (before ``t_max (N,)``, if given)."""
         if not len(self.order):
             return np.zeros(0, np.intp), np.zeros(0, np.intp)
         with np.errstate(divide="ignore"):
             inverse = 1.0 / directions
         ray = np.arange(len(origins))
         node = np.zeros(len(origins), dtype=np.intp)
+        t_max = np.full(len(origins), np.inf) if t_max is None else np.asarray(t_max, float)
         leaf_rays, leaf_nodes = [], []
         while len(ray):
-            enters = _enters(origins[ray], inverse[ray], self.lower[node], self.upper[node])
+            enters = _enters(
+                origins[ray], inverse[ray], self.lower[node], self.upper[node], t_max[ray]
+            )
             ray, node = ray[enters], node[enters]
             leaf = self.children[node, 0] < 0
             leaf_rays.append(ray[leaf])
@@ -113,20 +116,25 @@ class BVH:
         starts = np.repeat(self.first[node] - np.cumsum(counts) + counts, counts)
         return pair_ray, self.order[starts + np.arange(len(pair_ray))]
 
-    def cast(self, origins: np.ndarray, directions: np.ndarray) -> Hits:
-        """The nearest hit of each ray ``(N, 3)``: the same as :func:`raykit.render.cast`."""
+    def cast(
+        self, origins: np.ndarray, directions: np.ndarray, t_max: np.ndarray | None = None
+    ) -> Hits:
+        """The nearest hit of each ray ``(N, 3)``: the same as :func:`raykit.render.cast`.
+        With ``t_max (N,)``, boxes entered only beyond it are skipped, so hits at t > t_max may
+        be reported as misses."""
         hits = Hits.none(len(origins), self.scene.background)
         for start in range(0, len(origins), RAYS_PER_CHUNK):
             part = slice(start, start + RAYS_PER_CHUNK)
-            index, t, color = self._nearest(origins[part], directions[part])
+            limit = None if t_max is None else t_max[part]
+            index, t, color = self._nearest(origins[part], directions[part], limit)
             hits.index[part], hits.t[part] = index, t
             found = index >= 0
             hits.color[part][found] = color[found]
         return hits
 
-    def _nearest(self, origins, directions):
+    def _nearest(self, origins, directions, t_max):
         scene = self.scene
-        ray, obj = self.candidates(origins, directions)
+        ray, obj = self.candidates(origins, directions, t_max)
         t = np.full(len(ray), MISS)
         color = np.empty((len(ray), 3))
         spheres = len(scene.spheres)
@@ -158,32 +166,13 @@ class BVH:
         return index, nearest_t, nearest_color
 
 
-def object_boxes(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
-    """Padded axis-aligned boxes of the scene's objects: ``lower``, ``upper (K, 3)``."""
-    boxes = []
-    for sphere in scene.spheres:
-        center = np.asarray(sphere.center, float)
-        boxes.append((center - sphere.radius, center + sphere.radius))
-    for board in scene.billboards:
-        ul = np.asarray(board.upper_left, float)
-        a, b = np.asarray(board.a, float), np.asarray(board.b, float)
-        corners = np.stack([ul, ul + a, ul + b, ul + a + b])
-        boxes.append((corners.min(axis=0), corners.max(axis=0)))
-    if not boxes:
-        return np.zeros((0, 3)), np.zeros((0, 3))
-    lower, upper = np.array([box[0] for box in boxes]), np.array([box[1] for box in boxes])
-    pad = BOX_PADDING * (
-        (upper - lower).max(axis=1) + np.abs(lower).max(axis=1) + np.abs(upper).max(axis=1)
-    )
-    return lower - pad[:, None], upper + pad[:, None]
-
-
-def _enters(origins, inverse, lower, upper) -> np.ndarray:
-    """``(N,)`` bool: does each ray (origin, 1/direction) enter its box at some t >= 0?"""
+def _enters(origins, inverse, lower, upper, t_max) -> np.ndarray:
+    """``(N,)`` bool: does each ray (origin, 1/direction) enter its box at some t in
+    [0, t_max]?"""
     with np.errstate(invalid="ignore"):
         t1 = (lower - origins) * inverse
         t2 = (upper - origins) * inverse
         # NaN is 0·inf: a ray parallel to a slab starting on its face; count the slab as open
         near = np.where(np.isnan(t1) | np.isnan(t2), -np.inf, np.minimum(t1, t2)).max(axis=1)
         far = np.where(np.isnan(t1) | np.isnan(t2), np.inf, np.maximum(t1, t2)).min(axis=1)
-    return (far >= near) & (far >= 0)
+    return (far >= near) & (far >= 0) & (near <= t_max)

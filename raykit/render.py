@@ -27,6 +27,7 @@ import numpy as np
 
 from raykit.adaptive import edge_pixels, refine
 from raykit.billboards import billboard_color_at, hit_billboard
+from raykit.boxes import objects_near_segments
 from raykit.bvh import BVH
 from raykit.camera import rays_through, region_points, sample_offsets
 from raykit.hits import Hits, solid
@@ -81,10 +82,27 @@ def cast_pixels(
 
 def secondary_caster(scene: Scene) -> Caster:
     """The nearest-hit function for shadow and mirror rays over the whole scene: ``cast`` over
-    every object, or a BVH's for scenes of ``BVH_FROM`` objects or more (the same answers)."""
+    the objects the rays can reach, or a BVH's for scenes of ``BVH_FROM`` objects or more (the
+    same answers)."""
     if len(scene.objects) < BVH_FROM:
-        return partial(cast, scene)
+        return partial(cast_nearby, scene)
     return BVH.build(scene).cast
+
+
+def cast_nearby(
+    scene: Scene, origins: np.ndarray, directions: np.ndarray, t_max: np.ndarray | None = None
+) -> Hits:
+    """``cast`` over only the objects whose boxes meet the box around the rays' segments up to
+    ``t_max (N,)`` (:func:`raykit.boxes.objects_near_segments`): shadow rays of a tile toward a
+    light skip what lies elsewhere. Hits at t >= t_max may be left out."""
+    if t_max is None:
+        t_max = np.full(len(origins), np.inf)
+    near = objects_near_segments(scene.boxes, origins, directions, t_max)
+    if len(near) == len(scene.objects):
+        return cast(scene, origins, directions)
+    hits = cast(scene.only(near), origins, directions)
+    hits.index = np.append(near, -1)[hits.index]
+    return hits
 
 
 def render(

@@ -16,7 +16,7 @@ order breaks ties: of two objects hit at exactly the same t, the lower index win
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 from pathlib import Path
 from typing import Any
@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 
 from raykit.billboards import Billboard, is_degenerate
+from raykit.boxes import object_boxes
 from raykit.camera import PROJECTIONS, Camera, DegenerateFrameError, camera_frame
 from raykit.fields import Field, read_json_file
 from raykit.lights import LIGHT_TYPES, DirectionalLight, Light, PointLight
@@ -56,6 +57,16 @@ class Scene:
         """All objects in index order (spheres, then billboards); see the module docstring."""
         return self.spheres + self.billboards
 
+    def only(self, ids: np.ndarray) -> Scene:
+        """The scene with only the objects ``ids`` (scene indices, ascending), kept in index
+        order, so that the nearest hit and the tie rule are the same among them."""
+        spheres = len(self.spheres)
+        return replace(
+            self,
+            spheres=tuple(self.spheres[i] for i in ids if i < spheres),
+            billboards=tuple(self.billboards[i - spheres] for i in ids if i >= spheres),
+        )
+
     @property
     def lit(self) -> bool:
         """Whether light is computed: the scene has lights or ambient light (else flat colours)."""
@@ -65,6 +76,12 @@ class Scene:
     def materials(self) -> MaterialTable:
         """Every object's material as arrays, in object index order."""
         return MaterialTable.of(self.objects)
+
+    @cached_property
+    def boxes(self) -> tuple[np.ndarray, np.ndarray]:
+        """Every object's padded bounding box, ``lower`` and ``upper (K, 3)``, in index order
+        (:mod:`raykit.boxes`)."""
+        return object_boxes(self.spheres, self.billboards)
 
     @cached_property
     def sphere_arrays(self) -> tuple[np.ndarray, np.ndarray]:

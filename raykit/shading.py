@@ -20,8 +20,9 @@ is quantised (:mod:`raykit.images`).
 What is skipped. The renderer calls :func:`shade` only when a scene has lights, ambient light or
 a mirror; shadow rays are cast only for points facing a light, and only when the scene's
 ``shadows`` is on and it has two objects or more (a sphere or billboard cannot shadow itself
-where it faces the light); the highlight is computed only on objects with a specular colour;
-mirror rays start only on mirrors.
+where it faces the light), and each is tested only against objects that can lie between its
+point and the light (:func:`raykit.render.cast_nearby`, or the BVH); the highlight is computed
+only on objects with a specular colour; mirror rays start only on mirrors.
 """
 
 from __future__ import annotations
@@ -183,5 +184,5 @@ def surface_color(
 
 def _record_shadow_rays(paths, cast, facing, l, distance, blocked, ray) -> None:
     origins = facing.start(l)
-    t = np.minimum(cast(origins, l).t, distance)
+    t = np.minimum(cast(origins, l, distance).t, distance)
     paths.append(RaySegments("shadow", origins, np.asarray(l), t, blocked, ray))

@@ -21,8 +21,9 @@ import numpy as np
 from raykit.hits import Hits
 from raykit.surfaces import SurfacePoints
 
-# (origins (N, 3), unit directions (N, 3)) -> the nearest hits over the whole scene
-Caster = Callable[[np.ndarray, np.ndarray], Hits]
+# (origins (N, 3), unit directions (N, 3), optionally t_max (N,)) -> the nearest hits over the
+# whole scene; with t_max, hits at t >= t_max may be reported as misses (only nearer ones matter)
+Caster = Callable[..., Hits]
 
 
 def in_shadow(
@@ -30,12 +31,14 @@ def in_shadow(
 ) -> np.ndarray:
     """``(N,)`` bool: is something between each surface point and its light?
 
-    ``cast``: the scene's nearest-hit function; ``l (N, 3)``: unit vectors toward the light;
-    ``distance (N,)``: how far the light is (inf for a directional light).
+    ``cast``: the scene's nearest-hit function, ``cast(origins, directions, t_max)``; hits beyond
+    ``t_max`` do not matter to it, so it may skip objects beyond the light. ``l (N, 3)``: unit
+    vectors toward the light; ``distance (N,)``: how far the light is (inf for a directional
+    light).
     """
     # BEGIN SOLUTION
     # hint: cast shadow rays from surface.start(l) (the points lifted off their surface) along
-    #       l; a point is in shadow where the nearest hit is nearer than the light
-    hits = cast(surface.start(l), l)
+    #       l, up to the light's distance; in shadow where the nearest hit is nearer than the light
+    hits = cast(surface.start(l), l, distance)
     return hits.t < distance
     # END SOLUTION

@@ -11,7 +11,7 @@ nearest hit and the tie rule are the same as with every object: the bounds are c
 from __future__ import annotations
 
 from collections.abc import Iterator
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -48,7 +48,6 @@ def regions(scene: Scene, skip_hidden: bool = True) -> Iterator[Region]:
             yield Region(rows, range(width), scene, everything)
         return
     bounds = object_bounds(camera, scene.objects)  # (K, 4): x0, x1, y0, y1
-    spheres = len(scene.spheres)
     for top in range(0, height, TILE):
         for left in range(0, width, TILE):
             rows = range(top, min(top + TILE, height))
@@ -61,9 +60,4 @@ def regions(scene: Scene, skip_hidden: bool = True) -> Iterator[Region]:
                     & (bounds[:, 3] >= rows.start)
                 )
             ids = np.flatnonzero(overlap)
-            seen = replace(
-                scene,
-                spheres=tuple(scene.spheres[i] for i in ids if i < spheres),
-                billboards=tuple(scene.billboards[i - spheres] for i in ids if i >= spheres),
-            )
-            yield Region(rows, cols, seen, np.append(ids, -1))
+            yield Region(rows, cols, scene.only(ids), np.append(ids, -1))

@@ -85,7 +85,11 @@ EDITS = {
         ),
     ],
     "no_offset": [
-        ("shadows.py", "hits = cast(surface.start(l), l)", "hits = cast(surface.points, l)")
+        (
+            "shadows.py",
+            "hits = cast(surface.start(l), l, distance)",
+            "hits = cast(surface.points, l, distance)",
+        )
     ],
     "reflect_sign": [
         (

@@ -1,15 +1,15 @@
 """The bounding volume hierarchy answers exactly what brute force answers, and skips work."""
 
 import json
-from functools import partial
 
 import numpy as np
 import pytest
 
 import raykit.render
 from conftest import SCENES, random_scene, scene_dict, write_texture
+from raykit.boxes import objects_near_segments
 from raykit.bvh import BVH
-from raykit.render import cast, render
+from raykit.render import cast, cast_nearby, render
 from raykit.scene import load_scene, scene_from_dict
 
 
@@ -82,8 +82,48 @@ def test_shaded_render_is_the_same_through_the_bvh_and_by_brute_force(monkeypatc
     data["camera"].update(width=120, height=90)
     data["spheres"][0]["mirror"] = [0.6, 0.6, 0.6]
     scene = scene_from_dict(data, folder=SCENES)
-    monkeypatch.setattr(raykit.render, "secondary_caster", lambda s: partial(cast, s))
+
+    def every_object(s):
+        return lambda origins, directions, t_max=None: cast(s, origins, directions)
+
+    monkeypatch.setattr(raykit.render, "secondary_caster", every_object)
     brute = render(scene)
     monkeypatch.setattr(raykit.render, "secondary_caster", lambda s: BVH.build(s).cast)
     through_bvh = render(scene)
     assert np.array_equal(brute.rgb, through_bvh.rgb)
+
+
+def _shadow_bundles(rng):
+    """A tile's shadow rays, from points close together: toward a point light (up to it) and
+    toward a directional light (t_max inf)."""
+    origins = rng.uniform(-4, 4, 3) + 0.3 * rng.normal(size=(500, 3))
+    to_light = rng.uniform(-4, 4, 3) - origins
+    distance = np.linalg.norm(to_light, axis=1)
+    yield origins, to_light / distance[:, None], distance
+    sun = rng.normal(size=3)
+    sun /= np.linalg.norm(sun)
+    yield origins, np.tile(sun, (500, 1)), np.full(500, np.inf)
+
+
+def test_segments_reach_every_object_they_hit_and_skip_the_rest(tmp_path):
+    """Culling by segment boxes is conservative: whatever a segment o + [0, t_max]·d hits is
+    kept, so cast_nearby and the BVH with t_max agree with cast on every hit before t_max."""
+    rng = np.random.default_rng(21)
+    write_texture(tmp_path, "noise.png", rng.integers(0, 256, (5, 7, 4)))
+    skipped = 0
+    for _ in range(20):
+        scene = scene_from_dict(random_scene(rng, "noise.png"), folder=tmp_path)
+        for origins, directions, t_max in _shadow_bundles(rng):
+            want = cast(scene, origins, directions)
+            before = want.t < t_max
+            for hits in (
+                cast_nearby(scene, origins, directions, t_max),
+                BVH.build(scene).cast(origins, directions, t_max),
+            ):
+                assert np.array_equal(hits.index[before], want.index[before])
+                assert np.array_equal(hits.t[before], want.t[before])
+                assert np.all((hits.t >= t_max) | (hits.t == want.t))
+            near = objects_near_segments(scene.boxes, origins, directions, t_max)
+            assert set(want.index[before]) - {-1} <= set(near.tolist())
+            skipped += len(scene.objects) - len(near)
+    assert skipped > 0  # the culling does cull
