@@ -133,8 +133,16 @@ class BVH:
         return hits
 
     def _nearest(self, origins, directions, t_max):
-        scene = self.scene
         ray, obj = self.candidates(origins, directions, t_max)
+        return self.nearest_of_pairs(origins, directions, ray, obj)
+
+    def nearest_of_pairs(
+        self, origins: np.ndarray, directions: np.ndarray, ray: np.ndarray, obj: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Per ray ``(N, 3)``, the nearest hit among the objects paired with it (pairs
+        ``ray``, ``obj`` ``(P,)``): ``index (N,)`` (-1 none), ``t (N,)``, ``color (N, 3)``
+        (undefined where nothing is hit). Ties go to the lower object index, as in cast."""
+        scene = self.scene
         t = np.full(len(ray), MISS)
         color = np.empty((len(ray), 3))
         spheres = len(scene.spheres)

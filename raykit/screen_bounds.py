@@ -54,25 +54,63 @@ def _whole_image(camera: Camera) -> Bounds:
     return (0.0, float(camera.width), 0.0, float(camera.height))
 
 
-def _tangent_slopes(across: float, depth: float, radius: float) -> np.ndarray:
-    """Slopes m = across/depth of the two lines through the eye tangent to a circle."""
-    root = radius * np.sqrt(max(across * across + depth * depth - radius * radius, 0.0))
-    return (across * depth + np.array([-root, root])) / (depth * depth - radius * radius)
+def _tangent_slopes(
+    across: np.ndarray, depth: np.ndarray, radius: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Slopes m = across/depth ``(S,)`` of the two lines through the eye tangent to circles."""
+    root = radius * np.sqrt(np.maximum(across * across + depth * depth - radius * radius, 0.0))
+    below = depth * depth - radius * radius
+    return (across * depth - root) / below, (across * depth + root) / below
+
+
+def spheres_bounds(camera: Camera, centers: np.ndarray, radii: np.ndarray) -> np.ndarray:
+    """Screen rectangles of S spheres at once (see the module docstring), ``(S, 4)`` rows
+    (x0, x1, y0, y1); NaN rows for spheres never visible."""
+    x, y, depth = _camera_coordinates(camera, np.asarray(centers, float).reshape(-1, 3)).T
+    r = np.asarray(radii, float)
+    bounds = np.full((len(r), 4), np.nan)
+    seen = depth >= -r  # else wholly behind the eye
+    if camera.projection == "orthographic":
+        extents = (x - r, x + r, y - r, y + r)
+    else:
+        whole = seen & (depth <= r * (1 + 1e-9))  # reaches the eye's plane (or holds the eye)
+        bounds[whole] = _whole_image(camera)
+        seen &= ~whole
+        with np.errstate(divide="ignore", invalid="ignore"):
+            s_low, s_high = _tangent_slopes(x, depth, r)
+            t_low, t_high = _tangent_slopes(y, depth, r)
+        extents = tuple(camera.d * m for m in (s_low, s_high, t_low, t_high))
+    bounds[seen] = _to_image_rows(camera, *(e[seen] for e in extents))
+    return bounds
+
+
+def _to_image_rows(
+    camera: Camera, s0: np.ndarray, s1: np.ndarray, t0: np.ndarray, t1: np.ndarray
+) -> np.ndarray:
+    """Image-plane extents [s0, s1] x [t0, t1] ``(S,)`` as clipped, margined pixel rectangles
+    ``(S, 4)``, NaN rows for those off the image: :func:`_to_image` for many at once."""
+    Wp, Hp = camera.plane_size
+    x0 = (s0 + Wp / 2) * camera.width / Wp - MARGIN
+    x1 = (s1 + Wp / 2) * camera.width / Wp + MARGIN
+    y0 = (Hp / 2 - t1) * camera.height / Hp - MARGIN
+    y1 = (Hp / 2 - t0) * camera.height / Hp + MARGIN
+    rows = np.column_stack(
+        [
+            np.maximum(x0, 0.0),
+            np.minimum(x1, float(camera.width)),
+            np.maximum(y0, 0.0),
+            np.minimum(y1, float(camera.height)),
+        ]
+    )
+    off = (x1 < 0) | (y1 < 0) | (x0 > camera.width) | (y0 > camera.height)
+    rows[off] = np.nan
+    return rows
 
 
 def sphere_bounds(camera: Camera, sphere: Sphere) -> Bounds | None:
-    """The screen rectangle of a sphere (see the module docstring)."""
-    x, y, depth = _camera_coordinates(camera, np.asarray(sphere.center)[None])[0]
-    r = float(sphere.radius)
-    if depth < -r:
-        return None  # wholly behind the eye
-    if camera.projection == "orthographic":
-        return _to_image(camera, np.array([x - r, x + r]), np.array([y - r, y + r]))
-    if depth <= r * (1 + 1e-9):
-        return _whole_image(camera)  # reaches the eye's plane (or holds the eye)
-    return _to_image(
-        camera, camera.d * _tangent_slopes(x, depth, r), camera.d * _tangent_slopes(y, depth, r)
-    )
+    """The screen rectangle of one sphere, or None (see :func:`spheres_bounds`)."""
+    row = spheres_bounds(camera, np.asarray(sphere.center)[None], np.array([sphere.radius]))[0]
+    return None if np.isnan(row).any() else tuple(float(v) for v in row)
 
 
 def billboard_bounds(camera: Camera, billboard: Billboard) -> Bounds | None:
@@ -91,11 +129,17 @@ def billboard_bounds(camera: Camera, billboard: Billboard) -> Bounds | None:
 
 
 def object_bounds(camera: Camera, objects) -> np.ndarray:
-    """Bounds of every object, ``(K, 4)`` rows (x0, x1, y0, y1); NaN rows for never visible."""
-    rows = []
-    for obj in objects:
-        found = (
-            sphere_bounds(camera, obj) if isinstance(obj, Sphere) else billboard_bounds(camera, obj)
-        )
-        rows.append(found if found is not None else (np.nan,) * 4)
-    return np.array(rows, dtype=float).reshape(-1, 4)
+    """Bounds of every object, ``(K, 4)`` rows (x0, x1, y0, y1); NaN rows for never visible.
+    The spheres are bounded all at once (:func:`spheres_bounds`), the billboards one by one."""
+    bounds = np.full((len(objects), 4), np.nan)
+    spheres = [i for i, obj in enumerate(objects) if isinstance(obj, Sphere)]
+    if spheres:
+        centers = np.array([objects[i].center for i in spheres], dtype=float)
+        radii = np.array([objects[i].radius for i in spheres], dtype=float)
+        bounds[spheres] = spheres_bounds(camera, centers, radii)
+    for i, obj in enumerate(objects):
+        if not isinstance(obj, Sphere):
+            found = billboard_bounds(camera, obj)
+            if found is not None:
+                bounds[i] = found
+    return bounds
