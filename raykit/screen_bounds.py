@@ -40,14 +40,9 @@ def _camera_coordinates(camera: Camera, points: np.ndarray) -> np.ndarray:
 
 def _to_image(camera: Camera, s: np.ndarray, t: np.ndarray) -> Bounds | None:
     """Image-plane extents [s] x [t] as a clipped, margined pixel rectangle (None if off)."""
-    Wp, Hp = camera.plane_size
-    x0 = (s.min() + Wp / 2) * camera.width / Wp - MARGIN
-    x1 = (s.max() + Wp / 2) * camera.width / Wp + MARGIN
-    y0 = (Hp / 2 - t.max()) * camera.height / Hp - MARGIN
-    y1 = (Hp / 2 - t.min()) * camera.height / Hp + MARGIN
-    if x1 < 0 or y1 < 0 or x0 > camera.width or y0 > camera.height:
-        return None
-    return (max(x0, 0.0), min(x1, float(camera.width)), max(y0, 0.0), min(y1, float(camera.height)))
+    extents = (np.array([v]) for v in (s.min(), s.max(), t.min(), t.max()))
+    row = _to_image_rows(camera, *extents)[0]
+    return None if np.isnan(row).any() else tuple(float(v) for v in row)
 
 
 def _whole_image(camera: Camera) -> Bounds:
