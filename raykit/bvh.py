@@ -29,11 +29,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from raykit.billboards import billboard_color_at, hit_billboard
 from raykit.hits import Hits
-from raykit.rays import MISS
+from raykit.pairs import nearest_of_pairs
 from raykit.scene import Scene
-from raykit.spheres import hit_sphere
 
 LEAF_SIZE = 4
 RAYS_PER_CHUNK = 8192  # bounds the memory of (ray, object) pairs
@@ -51,7 +49,6 @@ class BVH:
     first: np.ndarray
     count: np.ndarray
     order: np.ndarray
-    sphere_colors: np.ndarray
 
     @classmethod
     def build(cls, scene: Scene) -> BVH:
@@ -84,7 +81,6 @@ class BVH:
             np.array([n[4] for n in nodes], dtype=np.intp),
             np.array([n[5] for n in nodes], dtype=np.intp),
             np.array(order, dtype=np.intp),
-            np.array([s.color for s in scene.spheres], dtype=float).reshape(-1, 3),
         )
 
     def candidates(
@@ -134,44 +130,7 @@ class BVH:
 
     def _nearest(self, origins, directions, t_max):
         ray, obj = self.candidates(origins, directions, t_max)
-        return self.nearest_of_pairs(origins, directions, ray, obj)
-
-    def nearest_of_pairs(
-        self, origins: np.ndarray, directions: np.ndarray, ray: np.ndarray, obj: np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Per ray ``(N, 3)``, the nearest hit among the objects paired with it (pairs
-        ``ray``, ``obj`` ``(P,)``): ``index (N,)`` (-1 none), ``t (N,)``, ``color (N, 3)``
-        (undefined where nothing is hit). Ties go to the lower object index, as in cast."""
-        scene = self.scene
-        t = np.full(len(ray), MISS)
-        color = np.empty((len(ray), 3))
-        spheres = len(scene.spheres)
-        on_sphere = np.flatnonzero(obj < spheres)
-        if len(on_sphere):
-            centers, radii = scene.sphere_arrays
-            which, rays = obj[on_sphere], ray[on_sphere]
-            t[on_sphere] = hit_sphere(origins[rays], directions[rays], centers[which], radii[which])
-            color[on_sphere] = self.sphere_colors[which]
-        for i in np.unique(obj[obj >= spheres]):
-            pairs = np.flatnonzero(obj == i)
-            rays = ray[pairs]
-            board_t, alpha, beta = hit_billboard(
-                origins[rays], directions[rays], scene.billboards[i - spheres]
-            )
-            inside = np.flatnonzero(np.isfinite(board_t))
-            colors, opaque = billboard_color_at(scene.billboards[i - spheres], alpha, beta)(inside)
-            t[pairs[inside[opaque]]] = board_t[inside[opaque]]
-            color[pairs[inside]] = colors
-        index = np.full(len(origins), -1)
-        nearest_t = np.full(len(origins), MISS)
-        nearest_color = np.empty((len(origins), 3))
-        found = np.flatnonzero(np.isfinite(t))
-        ranked = found[np.lexsort((obj[found], t[found], ray[found]))]
-        first = ranked[np.r_[True, ray[ranked][1:] != ray[ranked][:-1]]] if len(ranked) else ranked
-        index[ray[first]] = obj[first]
-        nearest_t[ray[first]] = t[first]
-        nearest_color[ray[first]] = color[first]
-        return index, nearest_t, nearest_color
+        return nearest_of_pairs(self.scene, origins, directions, ray, obj)
 
 
 def _enters(origins, inverse, lower, upper, t_max) -> np.ndarray:

@@ -20,7 +20,7 @@ mean of its samples' colours, taken before quantising to 8 bits (:mod:`raykit.im
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from functools import partial
 
 import numpy as np
@@ -31,12 +31,13 @@ from raykit.boxes import objects_near_segments
 from raykit.bvh import BVH
 from raykit.camera import rays_through, region_points, sample_offsets
 from raykit.hits import Hits, solid
+from raykit.pairs import nearest_of_pairs
 from raykit.precision import eye_relative
 from raykit.scene import Scene
 from raykit.shading import needs_shading, shade
 from raykit.shadows import Caster
 from raykit.spheres import hit_sphere
-from raykit.tiles import Region, regions
+from raykit.tiles import CROWDED, Region, regions
 
 BVH_FROM = 24  # objects: below this, brute force was faster for secondary rays (measured)
 
@@ -131,9 +132,7 @@ def render(
         secondary = secondary_caster(scene) if needs_shading(scene) else None
         refine(
             regions(scene, skip_hidden),
-            lambda region, x, y: _colors(
-                scene, region, *_rays(scene.camera, x, y, dtype), secondary
-            )[1],
+            lambda region, x, y: _colors(scene, region, x, y, dtype, secondary)[1],
             first.rgb,
             edge,
             samples,
@@ -153,36 +152,65 @@ def render(
         pixels = region.pixels
         for k, (a, b) in enumerate(offsets):
             x, y = region_points(region.rows, region.cols, a, b)
-            hits, colors = _colors(scene, region, *_rays(camera, x, y, dtype), secondary)
+            hits, colors = _colors(scene, region, x, y, dtype, secondary)
             rgb[pixels] += colors.reshape(*shape, 3)
             if k == centre_sample:
-                object_index[pixels] = region.index_of[hits.index].reshape(shape)
+                object_index[pixels] = hits.index.reshape(shape)
                 t_image[pixels] = hits.t.reshape(shape)
         if centre_sample is None:  # even n: no sample sits at the centre, so cast one there
-            hits = cast(
-                region.scene, *_rays(camera, *region_points(region.rows, region.cols), dtype)
-            )
-            object_index[pixels] = region.index_of[hits.index].reshape(shape)
+            x, y = region_points(region.rows, region.cols)
+            hits = cast_region(region, *_rays(camera, x, y, dtype), x, y)
+            object_index[pixels] = hits.index.reshape(shape)
             t_image[pixels] = hits.t.reshape(shape)
 
     rgb /= len(offsets)
     return Render(rgb, object_index, t_image)
 
 
+def cast_region(
+    region: Region, origins: np.ndarray, directions: np.ndarray, x: np.ndarray, y: np.ndarray
+) -> Hits:
+    """The nearest hits of a region's rays ``(N, 3)`` through image points (x, y) ``(N,)``,
+    with the scene's object indices: ``cast`` over the region's objects, or in a crowded tile
+    (:data:`raykit.tiles.CROWDED` objects or more), only the (ray, object) pairs whose object's
+    screen rectangle holds the ray's image point (:mod:`raykit.pairs`): the same hits."""
+    if region.bounds is None or len(region.bounds) < CROWDED:
+        hits = cast(region.scene, origins, directions)
+        hits.index = region.index_of[hits.index]
+        return hits
+    bounds = region.bounds
+    with np.errstate(invalid="ignore"):
+        inside = (
+            (bounds[:, 0:1] <= x)
+            & (x <= bounds[:, 1:2])
+            & (bounds[:, 2:3] <= y)
+            & (y <= bounds[:, 3:4])
+        )
+    which, ray = np.nonzero(inside)
+    scene_index = region.index_of[which]
+    index, t, color = nearest_of_pairs(region.whole, origins, directions, ray, scene_index)
+    hits = Hits.none(len(origins), region.whole.background)
+    found = index >= 0
+    hits.index[found], hits.t[found], hits.color[found] = index[found], t[found], color[found]
+    return hits
+
+
 def _colors(
     scene: Scene,
     region: Region,
-    origins: np.ndarray,
-    directions: np.ndarray,
+    x: np.ndarray,
+    y: np.ndarray,
+    dtype: type,
     secondary: Caster | None,
 ) -> tuple[Hits, np.ndarray]:
-    """The nearest hits of the rays ``(N, 3)`` among the region's objects, and their colours
-    ``(N, 3)``: flat, or shaded when ``secondary`` (the whole scene's caster) is given."""
-    hits = cast(region.scene, origins, directions)
+    """The nearest hits of the rays through image points (x, y) ``(N,)`` (scene object
+    indices), and their colours ``(N, 3)``: flat, or shaded when ``secondary`` (the whole
+    scene's caster) is given."""
+    origins, directions = _rays(scene.camera, x, y, dtype)
+    hits = cast_region(region, origins, directions, x, y)
     if secondary is None:
         return hits, hits.color
-    in_scene = replace(hits, index=region.index_of[hits.index])
-    return hits, shade(scene, secondary, origins, directions, in_scene)
+    return hits, shade(scene, secondary, origins, directions, hits)
 
 
 def _rays(camera, x: np.ndarray, y: np.ndarray, dtype: type) -> tuple[np.ndarray, np.ndarray]:

@@ -84,6 +84,11 @@ class Scene:
         return object_boxes(self.spheres, self.billboards)
 
     @cached_property
+    def sphere_colors(self) -> np.ndarray:
+        """The spheres' colours ``(S, 3)``, in index order."""
+        return np.array([s.color for s in self.spheres], dtype=float).reshape(-1, 3)
+
+    @cached_property
     def sphere_arrays(self) -> tuple[np.ndarray, np.ndarray]:
         """The spheres' ``centers (S, 3)`` and ``radii (S,)``, in index order."""
         if not self.spheres:

@@ -8,6 +8,7 @@ from raykit.render import render
 from raykit.scene import load_scene, scene_from_dict
 from raykit.screen_bounds import billboard_bounds, object_bounds, sphere_bounds
 from raykit.spheres import Sphere
+from raykit.tiles import CROWDED, regions
 
 EXAMPLES = sorted(SCENES.glob("*.json")) + sorted((SCENES.parent / "grading/scenes").glob("*.json"))
 
@@ -33,6 +34,39 @@ def test_skipping_changes_no_pixel_on_random_scenes(tmp_path):
     for _ in range(60):
         scene = scene_from_dict(random_scene(rng, "noise.png"), folder=tmp_path)
         assert _same(render(scene, skip_hidden=False), render(scene))
+
+
+def test_crowded_tiles_pair_rays_with_objects_and_change_no_pixel(tmp_path):
+    """Scenes of 20-60 objects, textured billboards with holes among them, so that most tiles
+    hold CROWDED objects or more and go through ray-object pairs (raykit.pairs)."""
+    rng = np.random.default_rng(31)
+    write_texture(tmp_path, "noise.png", rng.integers(0, 256, size=(5, 7, 4)))
+    crowded = 0
+    for _ in range(8):
+        data = random_scene(rng, "noise.png")
+        for _ in range(int(rng.integers(20, 50))):
+            data["spheres"].append(
+                {
+                    "center": rng.uniform(-4, 4, 3).tolist(),
+                    "radius": float(rng.uniform(0.1, 1)),
+                    "color": rng.uniform(0, 1, 3).tolist(),
+                }
+            )
+        for _ in range(int(rng.integers(2, 10))):
+            ul = rng.uniform(-4, 4, 3)
+            data["billboards"].append(
+                {
+                    "upper_left": ul.tolist(),
+                    "lower_left": (ul + rng.uniform(-3, 3, 3)).tolist(),
+                    "upper_right": (ul + rng.uniform(-3, 3, 3)).tolist(),
+                    "image": "noise.png",
+                }
+            )
+        scene = scene_from_dict(data, folder=tmp_path)
+        crowded += sum(len(r.index_of) - 1 >= CROWDED for r in regions(scene))
+        for samples in (1, 2):
+            assert _same(render(scene, samples, skip_hidden=False), render(scene, samples))
+    assert crowded > 0
 
 
 def test_bounds_hold_every_pixel_where_the_object_is_seen(tmp_path):

@@ -1,0 +1,56 @@
+"""Ray–object pairs: each ray's nearest hit among the objects paired with it, all at once.
+
+The skipping structures decide which objects a ray *might* hit and hand over (ray, object)
+pairs: the BVH (:mod:`raykit.bvh`) from the boxes a ray passes through, a crowded tile
+(:mod:`raykit.tiles`) from the objects whose screen rectangle holds the ray's pixel. Here every
+pair is intersected in one go: all sphere pairs in one call of :func:`raykit.spheres.hit_sphere`
+(each pair with its own centre and radius), billboard pairs one billboard at a time, holes in
+textures let through. Then each ray keeps its nearest hit, the lower object index on a tie:
+exactly what :func:`raykit.render.cast` answers when the pairs include every object a ray hits.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from raykit.billboards import billboard_color_at, hit_billboard
+from raykit.rays import MISS
+from raykit.scene import Scene
+from raykit.spheres import hit_sphere
+
+
+def nearest_of_pairs(
+    scene: Scene, origins: np.ndarray, directions: np.ndarray, ray: np.ndarray, obj: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per ray ``(N, 3)``, the nearest hit among the objects paired with it (pairs
+    ``ray``, ``obj`` ``(P,)``): ``index (N,)`` (-1 none), ``t (N,)``, ``color (N, 3)``
+    (undefined where nothing is hit). Ties go to the lower object index, as in cast."""
+    t = np.full(len(ray), MISS)
+    color = np.empty((len(ray), 3))
+    spheres = len(scene.spheres)
+    on_sphere = np.flatnonzero(obj < spheres)
+    if len(on_sphere):
+        centers, radii = scene.sphere_arrays
+        which, rays = obj[on_sphere], ray[on_sphere]
+        t[on_sphere] = hit_sphere(origins[rays], directions[rays], centers[which], radii[which])
+        color[on_sphere] = scene.sphere_colors[which]
+    for i in np.unique(obj[obj >= spheres]):
+        pairs = np.flatnonzero(obj == i)
+        rays = ray[pairs]
+        board_t, alpha, beta = hit_billboard(
+            origins[rays], directions[rays], scene.billboards[i - spheres]
+        )
+        inside = np.flatnonzero(np.isfinite(board_t))
+        colors, opaque = billboard_color_at(scene.billboards[i - spheres], alpha, beta)(inside)
+        t[pairs[inside[opaque]]] = board_t[inside[opaque]]
+        color[pairs[inside]] = colors
+    index = np.full(len(origins), -1)
+    nearest_t = np.full(len(origins), MISS)
+    nearest_color = np.empty((len(origins), 3))
+    found = np.flatnonzero(np.isfinite(t))
+    ranked = found[np.lexsort((obj[found], t[found], ray[found]))]
+    first = ranked[np.r_[True, ray[ranked][1:] != ray[ranked][:-1]]] if len(ranked) else ranked
+    index[ray[first]] = obj[first]
+    nearest_t[ray[first]] = t[first]
+    nearest_color[ray[first]] = color[first]
+    return index, nearest_t, nearest_color
