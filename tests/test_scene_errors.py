@@ -392,3 +392,46 @@ def test_cli_in_a_real_process_prints_no_traceback(folder):
     assert run.stderr == f"raykit: error: {path}: spheres[0].radius: must be > 0, got -1\n"
     assert "Traceback" not in run.stdout + run.stderr
     assert not out.exists()
+
+
+def test_plain_spheres_load_in_bulk_exactly_as_field_by_field():
+    import numpy as np
+
+    from raykit.fields import Field
+    from raykit.scene import _plain_spheres, _read_sphere, scene_from_dict
+
+    rng = np.random.default_rng(12)
+    spheres = [
+        {
+            "center": rng.uniform(-1e6, 1e6, 3).tolist(),
+            "radius": float(rng.uniform(1e-3, 9)),
+            "color": rng.uniform(0, 1, 3).tolist(),
+        }
+        for _ in range(200)
+    ]
+    spheres[3]["radius"] = 2  # a JSON integer
+    bulk = _plain_spheres(spheres)
+    one_by_one = [_read_sphere(f) for f in Field(spheres, "s").items()]
+    assert bulk is not None and len(bulk) == len(one_by_one)
+    for a, b in zip(bulk, one_by_one, strict=True):
+        assert np.array_equal(a.center, b.center) and a.radius == b.radius
+        assert np.array_equal(a.color, b.color) and (a.name, a.material) == (b.name, b.material)
+    # anything less plain goes field by field, where the error names the field
+    for bad, field in (
+        ({"radius": True}, "spheres[1].radius"),
+        ({"radius": 0}, "spheres[1].radius"),
+        ({"color": [0, 0, 1.5]}, "spheres[1].color[2]"),
+        ({"center": [0, 0]}, "spheres[1].center"),
+        ({"center": [0, 0, float("nan")]}, "spheres[1].center[2]"),
+        ({"center": "abc"}, "spheres[1].center"),
+    ):
+        broken = [dict(s) for s in spheres[:3]]
+        broken[1].update(bad)
+        assert _plain_spheres(broken) is None
+        with pytest.raises(SceneError) as info:
+            scene_from_dict(scene_dict(spheres=broken))
+        assert info.value.field == field
+    named = [dict(s) for s in spheres[:3]]
+    named[0]["name"] = "first"
+    assert _plain_spheres(named) is None
+    assert scene_from_dict(scene_dict(spheres=named)).spheres[0].name == "first"
