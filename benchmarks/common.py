@@ -2,9 +2,26 @@
 
 from __future__ import annotations
 
+import argparse
 import statistics
 import time
 from pathlib import Path
+
+
+def arguments(doc: str, quick: str, repeats: int = 5) -> argparse.ArgumentParser:
+    """The options every benchmark takes, ``--quick`` and ``--repeats``; ``doc`` is the
+    script's docstring, whose first paragraph describes it."""
+    parser = argparse.ArgumentParser(description=doc.split("\n\n")[0])
+    parser.add_argument("--quick", action="store_true", help=quick)
+    parser.add_argument("--repeats", type=int, default=repeats, help="runs per variant (median)")
+    return parser
+
+
+def seconds(value: float | None, decimals: int = 0) -> str:
+    """A time for a table: milliseconds below 10 s, else seconds; None is "not run"."""
+    if value is None:
+        return "not run"
+    return f"{value * 1000:.{decimals}f} ms" if value < 10 else f"{value:.{decimals}f} s"
 
 
 def median_time(function, repeats: int):

@@ -37,7 +37,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-from common import median_time  # noqa: E402
+from common import arguments, median_time, seconds  # noqa: E402
 
 from raykit.render import render  # noqa: E402
 from raykit.scene import Scene, load_scene, scene_from_dict  # noqa: E402
@@ -181,14 +181,8 @@ def mitsuba_in_child(variant: str, data: dict, repeats: int) -> dict | str:
     return json.loads(run.stdout)
 
 
-def ms(value: float) -> str:
-    return f"{value * 1000:.1f} ms" if value < 1 else f"{value:.2f} s"
-
-
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--quick", action="store_true", help="small scenes")
-    parser.add_argument("--repeats", type=int, default=5, help="renders per variant (median)")
+    parser = arguments(__doc__, "small scenes")
     parser.add_argument("--child", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.child:
@@ -218,8 +212,8 @@ def main() -> None:
         _, render_time = median_time(lambda s=loaded: render(s), args.repeats)
         ours = first_image.object_index >= 0
         print(
-            f"| {name} | raykit | {ms(load)} | {ms(first)} | {ms(render_time)} "
-            f"| {ms(load + render_time)} | - |"
+            f"| {name} | raykit | {seconds(load, 1)} | {seconds(first, 1)} "
+            f"| {seconds(render_time, 1)} | {seconds(load + render_time, 1)} | - |"
         )
         if version is None:
             continue
@@ -230,9 +224,9 @@ def main() -> None:
                 continue
             agree = np.mean(np.array(result["hit"]) == ours)
             print(
-                f"| {name} | Mitsuba {version} {variant} | {ms(result['load'])} "
-                f"| {ms(result['first'])} | {ms(result['render'])} "
-                f"| {ms(result['load'] + result['render'])} | {agree:.1%} |"
+                f"| {name} | Mitsuba {version} {variant} | {seconds(result['load'], 1)} "
+                f"| {seconds(result['first'], 1)} | {seconds(result['render'], 1)} "
+                f"| {seconds(result['load'] + result['render'], 1)} | {agree:.1%} |"
             )
     print(
         f"\nMedians of {args.repeats} renders after a warm-up; load and render in one process each."

@@ -16,7 +16,6 @@ compare the variants measured in this run. ``--quick`` uses small images and few
 
 from __future__ import annotations
 
-import argparse
 import sys
 from dataclasses import replace
 from pathlib import Path
@@ -26,7 +25,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-from common import loglog_plot, median_time  # noqa: E402
+from common import arguments, loglog_plot, median_time, seconds  # noqa: E402
 
 from raykit.camera import rays_through  # noqa: E402
 from raykit.render import cast, render  # noqa: E402
@@ -90,16 +89,8 @@ def example_scenes(quick: bool) -> list[tuple[str, Scene]]:
     return found
 
 
-def seconds(value: float | None) -> str:
-    if value is None:
-        return "not run"
-    return f"{value * 1000:.0f} ms" if value < 10 else f"{value:.0f} s"
-
-
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--quick", action="store_true", help="small images, for CI")
-    parser.add_argument("--repeats", type=int, default=5, help="runs per variant (median)")
+    parser = arguments(__doc__, "small images, for CI")
     parser.add_argument("--plot", type=Path, help="write time against number of objects here")
     args = parser.parse_args()
     print("$ python benchmarks/render_speed.py " + " ".join(sys.argv[1:]) + "\n")

@@ -16,7 +16,6 @@ Times are medians of ``--repeats`` renders (not loading). ``--quick`` uses small
 
 from __future__ import annotations
 
-import argparse
 import sys
 from dataclasses import replace
 from pathlib import Path
@@ -26,7 +25,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-from common import median_time  # noqa: E402
+from common import arguments, median_time, seconds  # noqa: E402
 
 import raykit.render  # noqa: E402
 from raykit.bvh import BVH  # noqa: E402
@@ -89,14 +88,8 @@ def every_object(scene: Scene):
     return lambda origins, directions, t_max=None: cast(scene, origins, directions)
 
 
-def seconds(value: float) -> str:
-    return f"{value * 1000:.0f} ms" if value < 10 else f"{value:.0f} s"
-
-
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--quick", action="store_true", help="small images, for CI")
-    parser.add_argument("--repeats", type=int, default=5, help="renders per variant (median)")
+    parser = arguments(__doc__, "small images, for CI")
     args = parser.parse_args()
     print("$ python benchmarks/shading_cost.py " + " ".join(sys.argv[1:]) + "\n")
     width, height = (160, 120) if args.quick else (640, 480)

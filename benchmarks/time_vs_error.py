@@ -9,7 +9,6 @@ in one run. The last column compares each time with full 4 x 4 (16 rays per pixe
 
 from __future__ import annotations
 
-import argparse
 import sys
 from dataclasses import replace
 from pathlib import Path
@@ -22,13 +21,11 @@ from raykit.scene import load_scene
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-from common import loglog_plot, median_time  # noqa: E402
+from common import arguments, loglog_plot, median_time  # noqa: E402
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--quick", action="store_true", help="a small image, for CI")
-    parser.add_argument("--repeats", type=int, default=3)
+    parser = arguments(__doc__, "a small image, for CI", repeats=3)
     parser.add_argument("--plot", type=Path, help="write time against error here")
     args = parser.parse_args()
     print("$ python benchmarks/time_vs_error.py " + " ".join(sys.argv[1:]) + "\n")
