@@ -29,12 +29,20 @@ def save_image(pixels: np.ndarray, path: str | Path) -> None:
     whole new image or untouched. Raises ``OSError`` or ``ValueError`` (unknown suffix).
     """
     path = Path(path)
-    image_format = Image.registered_extensions().get(path.suffix.lower())
+    image_format = _image_format(path.suffix.lower())
     if image_format is None:
         raise ValueError(f"{path}: unknown image suffix {path.suffix!r}; use .png")
     if pixels.dtype != np.uint8:
         pixels = quantize(pixels)
     _write_whole(path, lambda stream: Image.fromarray(pixels).save(stream, format=image_format))
+
+
+def _image_format(suffix: str) -> str | None:
+    """Pillow's format name for a file suffix such as ".png", or None."""
+    Image.preinit()  # the common formats, PNG among them, without importing every plugin
+    if suffix not in Image.EXTENSION:
+        Image.init()  # all the others: this import costs about 25 ms
+    return Image.EXTENSION.get(suffix)
 
 
 def save_figure(figure, path: str | Path, dpi: int = 120) -> None:
