@@ -159,7 +159,7 @@ def render(
                 t_image[pixels] = hits.t.reshape(shape)
         if centre_sample is None:  # even n: no sample sits at the centre, so cast one there
             x, y = region_points(region.rows, region.cols)
-            hits = cast_region(region, *_rays(camera, x, y, dtype), x, y)
+            hits, _ = _colors(scene, region, x, y, dtype, None)
             object_index[pixels] = hits.index.reshape(shape)
             t_image[pixels] = hits.t.reshape(shape)
 
@@ -168,27 +168,23 @@ def render(
 
 
 def cast_region(
-    region: Region, origins: np.ndarray, directions: np.ndarray, x: np.ndarray, y: np.ndarray
+    region: Region,
+    origins: np.ndarray,
+    directions: np.ndarray,
+    pairs: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> Hits:
-    """The nearest hits of a region's rays ``(N, 3)`` through image points (x, y) ``(N,)``,
-    with the scene's object indices: ``cast`` over the region's objects, or in a crowded tile
-    (:data:`raykit.tiles.CROWDED` objects or more), only the (ray, object) pairs whose object's
-    screen rectangle holds the ray's image point (:mod:`raykit.pairs`): the same hits."""
-    if region.bounds is None or len(region.bounds) < CROWDED:
+    """The nearest hits of a region's rays ``(N, 3)``, with the scene's object indices:
+    ``cast`` over the region's objects or, given ``pairs`` (region object, ray) ``(P,)`` each,
+    only those pairs, all at once (:mod:`raykit.pairs`): the same hits if the pairs hold every
+    object each ray can hit."""
+    if pairs is None:
         hits = cast(region.scene, origins, directions)
         hits.index = region.index_of[hits.index]
         return hits
-    bounds = region.bounds
-    with np.errstate(invalid="ignore"):
-        inside = (
-            (bounds[:, 0:1] <= x)
-            & (x <= bounds[:, 1:2])
-            & (bounds[:, 2:3] <= y)
-            & (y <= bounds[:, 3:4])
-        )
-    which, ray = np.nonzero(inside)
-    scene_index = region.index_of[which]
-    index, t, color = nearest_of_pairs(region.whole, origins, directions, ray, scene_index)
+    which, ray = pairs
+    index, t, color = nearest_of_pairs(
+        region.whole, origins, directions, ray, region.index_of[which]
+    )
     hits = Hits.none(len(origins), region.whole.background)
     found = index >= 0
     hits.index[found], hits.t[found], hits.color[found] = index[found], t[found], color[found]
@@ -205,12 +201,53 @@ def _colors(
 ) -> tuple[Hits, np.ndarray]:
     """The nearest hits of the rays through image points (x, y) ``(N,)`` (scene object
     indices), and their colours ``(N, 3)``: flat, or shaded when ``secondary`` (the whole
-    scene's caster) is given."""
-    origins, directions = _rays(scene.camera, x, y, dtype)
-    hits = cast_region(region, origins, directions, x, y)
+    scene's caster) is given.
+
+    With skipping, rays are made only for the image points that some object's screen
+    rectangle holds: the others see the background, which is what their rays would find (the
+    rectangles are conservative), so skipping them changes no pixel. A crowded tile
+    (:data:`raykit.tiles.CROWDED` objects or more) pairs each ray only with the objects whose
+    rectangle holds its point."""
+    seen, pairs = _seen_and_pairs(region, x, y)
+    if seen is None:  # every ray can hit something
+        origins, directions = _rays(scene.camera, x, y, dtype)
+        hits = cast_region(region, origins, directions, pairs)
+        if secondary is None:
+            return hits, hits.color
+        return hits, shade(scene, secondary, origins, directions, hits)
+    hits = Hits.none(len(x), scene.background)
+    colors = hits.color.copy()
+    if not seen.any():
+        return hits, colors
+    origins, directions = _rays(scene.camera, x[seen], y[seen], dtype)
+    seen_hits = cast_region(region, origins, directions, pairs)
+    hits.index[seen], hits.t[seen] = seen_hits.index, seen_hits.t
+    hits.color[seen] = seen_hits.color
     if secondary is None:
-        return hits, hits.color
-    return hits, shade(scene, secondary, origins, directions, hits)
+        colors[seen] = seen_hits.color
+    else:
+        colors[seen] = shade(scene, secondary, origins, directions, seen_hits)
+    return hits, colors
+
+
+def _seen_and_pairs(
+    region: Region, x: np.ndarray, y: np.ndarray
+) -> tuple[np.ndarray | None, tuple[np.ndarray, np.ndarray] | None]:
+    """Which image points (x, y) ``(N,)`` some object's screen rectangle holds (``(N,)`` bool,
+    None for all), and in a crowded region the (object, ray) pairs to intersect, rays numbered
+    among the seen ones (None: every ray meets every object of the region)."""
+    if region.bounds is None:
+        return None, None
+    inside = region.holding(x, y)
+    if len(inside) < CROWDED:
+        seen = inside.any(axis=0)
+        return (None if seen.all() else seen), None
+    which, ray = np.nonzero(inside)
+    seen = np.zeros(len(x), dtype=bool)
+    seen[ray] = True
+    if seen.all():
+        return None, (which, ray)
+    return seen, (which, (np.cumsum(seen) - 1)[ray])
 
 
 def _rays(camera, x: np.ndarray, y: np.ndarray, dtype: type) -> tuple[np.ndarray, np.ndarray]:

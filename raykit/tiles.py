@@ -7,10 +7,12 @@ whose screen bounds (:mod:`raykit.screen_bounds`) overlap it, in their scene ord
 nearest hit and the tie rule are the same as with every object: the bounds are conservative.
 ``index_of`` maps a region's object numbers back to the scene's (and -1 to -1).
 
-A crowded tile (``CROWDED`` objects or more, as in a sphereflake) goes one step further in
-:func:`raykit.render.cast_region`: each of its rays is paired only with the objects whose
-screen rectangle holds the ray's own image point, and all pairs are intersected at once
-(:mod:`raykit.pairs`), instead of every ray of the tile meeting every object of the tile.
+Within a tile, :meth:`Region.holding` tells which objects' screen rectangles hold each image
+point. The renderer (``raykit.render._colors``) makes no ray for a point that no rectangle
+holds: it sees the background, as its ray would. A crowded tile (``CROWDED`` objects or more,
+as in a sphereflake) goes one step further: each of its rays is paired only with the objects
+whose rectangle holds its point, and all pairs are intersected at once (:mod:`raykit.pairs`),
+instead of every ray of the tile meeting every object of the tile.
 """
 
 from __future__ import annotations
@@ -40,6 +42,20 @@ class Region:
     index_of: np.ndarray
     whole: Scene
     bounds: np.ndarray | None = None
+
+    def holding(self, x: np.ndarray, y: np.ndarray) -> np.ndarray | None:
+        """Which of the region's objects have a screen rectangle holding each image point
+        (x, y) ``(N,)``: ``(K, N)`` bool, or None without skipping (every object, every ray)."""
+        if self.bounds is None:
+            return None
+        bounds = self.bounds
+        with np.errstate(invalid="ignore"):  # NaN bounds: never visible
+            return (
+                (bounds[:, 0:1] <= x)
+                & (x <= bounds[:, 1:2])
+                & (bounds[:, 2:3] <= y)
+                & (y <= bounds[:, 3:4])
+            )
 
     @property
     def pixels(self) -> tuple[slice, slice]:

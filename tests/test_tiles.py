@@ -69,6 +69,41 @@ def test_crowded_tiles_pair_rays_with_objects_and_change_no_pixel(tmp_path):
     assert crowded > 0
 
 
+def test_rays_are_made_only_where_some_object_may_be_seen(monkeypatch):
+    """A ball that fills a few hundred of 64,000 pixels: only the image points its screen
+    rectangle holds get a ray; every other pixel is background without one, as it would be
+    with its ray. Lit too: shading runs only on the rays made."""
+    import raykit.render
+
+    made = []
+    real = raykit.render.rays_through
+
+    def counting(camera, x, y):
+        made.append(len(x))
+        return real(camera, x, y)
+
+    scene = scene_from_dict(
+        {
+            "camera": {
+                "eye": [0, 0, 0],
+                "lookat": [0, 0, -1],
+                "up": [0, 1, 0],
+                "fov_angle": 60,
+                "width": 320,
+                "height": 200,
+            },
+            "spheres": [{"center": [0.3, 0.1, -5], "radius": 0.2, "color": [1, 0, 0]}],
+            "lights": [{"type": "directional", "direction": [0, 0, -1]}],
+        }
+    )
+    full = render(scene, skip_hidden=False)
+    monkeypatch.setattr(raykit.render, "rays_through", counting)
+    skipping = render(scene)
+    assert _same(full, skipping)
+    ball = int((full.object_index == 0).sum())
+    assert 0 < ball <= sum(made) < 2 * ball + 200, (ball, sum(made))
+
+
 def test_bounds_hold_every_pixel_where_the_object_is_seen(tmp_path):
     rng = np.random.default_rng(5)
     write_texture(tmp_path, "noise.png", rng.integers(0, 256, size=(5, 7, 4)))
