@@ -44,13 +44,16 @@ def nearest_of_pairs(
         colors, opaque = billboard_color_at(scene.billboards[i - spheres], alpha, beta)(inside)
         t[pairs[inside[opaque]]] = board_t[inside[opaque]]
         color[pairs[inside]] = colors
-    index = np.full(len(origins), -1)
+    # Per ray the smallest t, then among the pairs at that t the lowest object index: each
+    # (ray, object) pair is there once, so that pair is the winner.
     nearest_t = np.full(len(origins), MISS)
-    nearest_color = np.empty((len(origins), 3))
-    found = np.flatnonzero(np.isfinite(t))
-    ranked = found[np.lexsort((obj[found], t[found], ray[found]))]
-    first = ranked[np.r_[True, ray[ranked][1:] != ray[ranked][:-1]]] if len(ranked) else ranked
+    np.minimum.at(nearest_t, ray, t)
+    at_nearest = np.flatnonzero(np.isfinite(t) & (t == nearest_t[ray]))
+    lowest = np.full(len(origins), np.iinfo(np.int64).max)
+    np.minimum.at(lowest, ray[at_nearest], obj[at_nearest])
+    first = at_nearest[obj[at_nearest] == lowest[ray[at_nearest]]]
+    index = np.full(len(origins), -1)
     index[ray[first]] = obj[first]
-    nearest_t[ray[first]] = t[first]
+    nearest_color = np.empty((len(origins), 3))
     nearest_color[ray[first]] = color[first]
     return index, nearest_t, nearest_color

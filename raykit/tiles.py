@@ -57,6 +57,30 @@ class Region:
                 & (y <= bounds[:, 3:4])
             )
 
+    def pairs_on_grid(self, a: float = 0.5, b: float = 0.5) -> tuple[np.ndarray, np.ndarray]:
+        """The (object, point) pairs ``(P,)`` each, whose object's screen rectangle holds the
+        point, for the region's own pixels sampled at offset (a, b), numbered row-major as
+        :func:`raykit.camera.region_points` makes them: the pairs ``np.nonzero(holding(x,
+        y))`` gives, in the same order, without the ``(K, N)`` table. Each rectangle covers
+        a block of the grid, found by binary search on the grid's x and y."""
+        xs = np.asarray(self.cols, dtype=float) + a
+        ys = np.asarray(self.rows, dtype=float) + b
+        bounds = self.bounds
+        left, right = (
+            np.searchsorted(xs, bounds[:, 0], "left"),
+            np.searchsorted(xs, bounds[:, 1], "right"),
+        )
+        top, bottom = (
+            np.searchsorted(ys, bounds[:, 2], "left"),
+            np.searchsorted(ys, bounds[:, 3], "right"),
+        )
+        width, height = np.maximum(right - left, 0), np.maximum(bottom - top, 0)
+        count = width * height  # points in each object's block (NaN bounds: none)
+        which = np.repeat(np.arange(len(bounds)), count)
+        k = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)  # within block
+        point = (top[which] + k // width[which]) * len(xs) + left[which] + k % width[which]
+        return which, point
+
     @property
     def pixels(self) -> tuple[slice, slice]:
         return slice(self.rows.start, self.rows.stop), slice(self.cols.start, self.cols.stop)

@@ -104,6 +104,30 @@ def test_rays_are_made_only_where_some_object_may_be_seen(monkeypatch):
     assert 0 < ball <= sum(made) < 2 * ball + 200, (ball, sum(made))
 
 
+def test_pairs_on_the_pixel_grid_are_the_pairs_of_the_rectangle_table():
+    """Region.pairs_on_grid finds by binary search the same (object, point) pairs, in the same
+    order, as the (K, N) table of Region.holding: rectangles inside, across and outside the
+    tile, edges exactly on sample points, NaN bounds (never visible), several offsets."""
+    from raykit.camera import region_points
+    from raykit.tiles import Region
+
+    rng = np.random.default_rng(5)
+    for _ in range(40):
+        rows, cols = range(64, 64 + rng.integers(1, 65)), range(128, 128 + rng.integers(1, 65))
+        corners = rng.uniform(40, 220, size=(30, 2, 2))
+        corners[::3] = np.round(corners[::3]) + 0.5  # edges through pixel centres
+        bounds = np.column_stack(
+            [corners[:, 0].min(1), corners[:, 0].max(1), corners[:, 1].min(1), corners[:, 1].max(1)]
+        )
+        bounds[::7] = np.nan
+        region = Region(rows, cols, None, None, None, bounds)
+        for a, b in [(0.5, 0.5), (1 / 6, 5 / 6), (0.125, 0.875)]:
+            x, y = region_points(rows, cols, a, b)
+            expected = np.nonzero(region.holding(x, y))
+            got = region.pairs_on_grid(a, b)
+            assert np.array_equal(got[0], expected[0]) and np.array_equal(got[1], expected[1])
+
+
 def test_bounds_hold_every_pixel_where_the_object_is_seen(tmp_path):
     rng = np.random.default_rng(5)
     write_texture(tmp_path, "noise.png", rng.integers(0, 256, size=(5, 7, 4)))
