@@ -10,13 +10,21 @@ Variants, on the same scene in the same process:
 * every object: each object tested against every pixel's ray (``skip_hidden=False``).
 * tiles: each 64 x 64 tile tested only against the objects that can be seen in it (default).
 
+Then float32 against float64 on every scene, and the whole process: ``raykit render`` of the
+classic scene from the command line against ``python -c "import numpy, PIL.Image"``, run in
+turn, each the median of ``--repeats`` runs (at least 5).
+
 Times are medians of ``--repeats`` runs of the render alone (not loading); the ratio columns
 compare the variants measured in this run. ``--quick`` uses small images and few objects, for CI.
 """
 
 from __future__ import annotations
 
+import statistics
+import subprocess
 import sys
+import tempfile
+import time
 from dataclasses import replace
 from pathlib import Path
 
@@ -58,6 +66,24 @@ def measure(name: str, scene: Scene, repeats: int, crop: tuple[int, int]) -> dic
         row["every"] = None
     row["tiles"] = median_time(lambda: render(scene), repeats)[1]
     return row
+
+
+def whole_process(repeats: int) -> tuple[float, float]:
+    """Median wall times (s) of a Python that imports numpy and Pillow, and of ``raykit
+    render`` of the classic scene to a PNG, each a fresh process, run in turn."""
+    classic = str(HERE.parent / "scenes" / "classic.json")
+    with tempfile.TemporaryDirectory() as folder:
+        commands = (
+            [sys.executable, "-c", "import numpy, PIL.Image"],
+            [sys.executable, "-m", "raykit", "render", classic, "-o", f"{folder}/classic.png"],
+        )
+        times = ([], [])
+        for _ in range(repeats):
+            for command, kept in zip(commands, times, strict=True):
+                start = time.perf_counter()
+                subprocess.run(command, check=True, capture_output=True)
+                kept.append(time.perf_counter() - start)
+    return statistics.median(times[0]), statistics.median(times[1])
 
 
 def scenes(quick: bool) -> list[tuple[str, Scene]]:
@@ -126,6 +152,12 @@ def main() -> None:
             f"| {name} | {seconds(t64)} | {seconds(t32)} | {t32 / t64:.2f} "
             f"| {changed} of {double.object_index.size:,} |"
         )
+
+    imports, whole = whole_process(max(args.repeats, 5))
+    print("\n| whole process, classic 640x480 | median | ratio |")
+    print("|---|---|---|")
+    print(f'| `python -c "import numpy, PIL.Image"` | {seconds(imports)} | 1.00 |')
+    print(f"| `raykit render scenes/classic.json` | {seconds(whole)} | {whole / imports:.2f} |")
 
     if args.plot:
         flakes = [r for r in rows if r["scene"].startswith("sphereflake")]
