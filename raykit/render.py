@@ -238,7 +238,7 @@ def _seen_and_pairs(
     """Which image points (x, y) ``(N,)`` some object's screen rectangle holds (``(N,)`` bool,
     None for all), and in a crowded region the (object, ray) pairs to intersect, rays numbered
     among the seen ones (None: every ray meets every object of the region)."""
-    if region.bounds is None:
+    if region.bounds is None or (len(region.bounds) < CROWDED and region.covered):
         return None, None
     which, ray = region.pairs_on_grid(*grid) if grid else np.nonzero(region.holding(x, y))
     seen = np.zeros(len(x), dtype=bool)

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -42,6 +43,22 @@ class Region:
     index_of: np.ndarray
     whole: Scene
     bounds: np.ndarray | None = None
+
+    @cached_property
+    def covered(self) -> bool:
+        """True when some object's screen rectangle holds the whole region, so that every
+        image point in it may see an object (False without skipping)."""
+        if self.bounds is None:
+            return False
+        with np.errstate(invalid="ignore"):  # NaN bounds: never visible
+            return bool(
+                (
+                    (self.bounds[:, 0] <= self.cols.start)
+                    & (self.bounds[:, 1] >= self.cols.stop)
+                    & (self.bounds[:, 2] <= self.rows.start)
+                    & (self.bounds[:, 3] >= self.rows.stop)
+                ).any()
+            )
 
     def holding(self, x: np.ndarray, y: np.ndarray) -> np.ndarray | None:
         """Which of the region's objects have a screen rectangle holding each image point
