@@ -47,9 +47,7 @@ class Region:
     @cached_property
     def covered(self) -> bool:
         """True when some object's screen rectangle holds the whole region, so that every
-        image point in it may see an object (False without skipping)."""
-        if self.bounds is None:
-            return False
+        image point in it may see an object. Regions with skipping only (``bounds`` given)."""
         with np.errstate(invalid="ignore"):  # NaN bounds: never visible
             return bool(
                 (
@@ -60,11 +58,9 @@ class Region:
                 ).any()
             )
 
-    def holding(self, x: np.ndarray, y: np.ndarray) -> np.ndarray | None:
+    def holding(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
         """Which of the region's objects have a screen rectangle holding each image point
-        (x, y) ``(N,)``: ``(K, N)`` bool, or None without skipping (every object, every ray)."""
-        if self.bounds is None:
-            return None
+        (x, y) ``(N,)``: ``(K, N)`` bool. Regions with skipping only (``bounds`` given)."""
         bounds = self.bounds
         with np.errstate(invalid="ignore"):  # NaN bounds: never visible
             return (
