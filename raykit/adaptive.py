@@ -38,17 +38,22 @@ def refine(regions, colors, rgb: np.ndarray, edge: np.ndarray, samples: int) -> 
 
     ``regions`` are the renderer's (:mod:`raykit.tiles`), so each tile's edge pixels are tested
     only against the objects seen there; ``colors(region, x, y)`` gives the renderer's colours
-    ``(N, 3)`` of the rays through image points (x, y) ``(N,)``. Returns how many pixels were
-    supersampled.
+    ``(N, 3)`` of the rays through image points (x, y) ``(N,)``, called once per tile with all
+    n x n samples of its edge pixels (per call, the renderer's fixed cost is paid once, not n²
+    times). Returns how many pixels were supersampled.
     """
-    offsets = sample_offsets(samples)
+    a, b = sample_offsets(samples).T
     for region in regions:
         rows, cols = np.nonzero(edge[region.pixels])
         if len(rows) == 0:
             continue
         rows, cols = rows + region.rows.start, cols + region.cols.start
+        # All samples of the region's edge pixels in one call, offset by offset: (n*n, M).
+        x = (cols + a[:, None]).ravel()
+        y = (rows + b[:, None]).ravel()
+        sampled = colors(region, x, y).reshape(len(a), len(rows), 3)
         total = np.zeros((len(rows), 3))
-        for a, b in offsets:
-            total += colors(region, cols + a, rows + b)
-        rgb[rows, cols] = total / len(offsets)
+        for colors_at_offset in sampled:  # summed in offset order, as the full render sums
+            total += colors_at_offset
+        rgb[rows, cols] = total / len(a)
     return int(edge.sum())
