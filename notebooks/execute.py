@@ -24,6 +24,7 @@ def execute(path: Path) -> float:
         notebook,
         timeout=300,
         kernel_name="python3",
+        record_timing=False,  # no per-cell timestamps: a rerun changes only what its outputs change
         resources={"metadata": {"path": str(path.parent)}},
     ).execute()
     nbformat.write(notebook, path)
