@@ -8,7 +8,7 @@ Variants, on the same scene in the same process:
   one ray at a time (what a first renderer looks like). Timed on a crop of 32 x 24 pixels
   (--quick: 8 x 6) and scaled to the whole image, as the table says.
 * every object: each object tested against every pixel's ray (``skip_hidden=False``).
-* tiles: each 64 x 64 tile tested only against the objects that can be seen in it (default).
+* tiles: each 128 x 128 tile tested only against the objects that can be seen in it (default).
 
 Then float32 against float64 on every scene, and the whole process: ``raykit render`` of the
 classic scene from the command line against ``python -c "import numpy, PIL.Image"``, run in
