@@ -26,14 +26,13 @@ def nearest_of_pairs(
     ``ray``, ``obj`` ``(P,)``): ``index (N,)`` (-1 none), ``t (N,)``, ``color (N, 3)``
     (undefined where nothing is hit). Ties go to the lower object index, as in cast."""
     t = np.full(len(ray), MISS)
-    color = np.empty((len(ray), 3))
+    board_color = np.empty((len(ray), 3))  # written only at billboard pairs
     spheres = len(scene.spheres)
     on_sphere = np.flatnonzero(obj < spheres)
     if len(on_sphere):
         centers, radii = scene.sphere_arrays
         which, rays = obj[on_sphere], ray[on_sphere]
         t[on_sphere] = hit_sphere(origins[rays], directions[rays], centers[which], radii[which])
-        color[on_sphere] = scene.sphere_colors[which]
     for i in np.unique(obj[obj >= spheres]):
         pairs = np.flatnonzero(obj == i)
         rays = ray[pairs]
@@ -43,7 +42,7 @@ def nearest_of_pairs(
         inside = np.flatnonzero(np.isfinite(board_t))
         colors, opaque = billboard_color_at(scene.billboards[i - spheres], alpha, beta)(inside)
         t[pairs[inside[opaque]]] = board_t[inside[opaque]]
-        color[pairs[inside]] = colors
+        board_color[pairs[inside]] = colors
     # Per ray the smallest t, then among the pairs at that t the lowest object index: each
     # (ray, object) pair is there once, so that pair is the winner.
     nearest_t = np.full(len(origins), MISS)
@@ -55,5 +54,7 @@ def nearest_of_pairs(
     index = np.full(len(origins), -1)
     index[ray[first]] = obj[first]
     nearest_color = np.empty((len(origins), 3))
-    nearest_color[ray[first]] = color[first]
+    sphere_won = obj[first] < spheres  # a sphere's colour is looked up only where it wins
+    nearest_color[ray[first[sphere_won]]] = scene.sphere_colors[obj[first[sphere_won]]]
+    nearest_color[ray[first[~sphere_won]]] = board_color[first[~sphere_won]]
     return index, nearest_t, nearest_color
