@@ -240,7 +240,7 @@ def _seen_and_pairs(
     among the seen ones (None: every ray meets every object of the region)."""
     if region.bounds is None or (len(region.bounds) < CROWDED and region.covered):
         return None, None
-    which, ray = region.pairs_on_grid(*grid) if grid else np.nonzero(region.holding(x, y))
+    which, ray = region.pairs_on_grid(*grid) if grid else region.pairs_at(x, y)
     seen = np.zeros(len(x), dtype=bool)
     seen[ray] = True
     pairs = (which, ray) if len(region.bounds) >= CROWDED else None

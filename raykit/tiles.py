@@ -13,6 +13,11 @@ holds: it sees the background, as its ray would. A crowded tile (``CROWDED`` obj
 as in a sphereflake) goes one step further: each of its rays is paired only with the objects
 whose rectangle holds its point, and all pairs are intersected at once (:mod:`raykit.pairs`),
 instead of every ray of the tile meeting every object of the tile.
+
+``holding`` defines these (object, point) pairs as a ``(K, N)`` table; the renderer finds the
+same pairs without the table, by binary search on the tile's pixel grid
+(:meth:`Region.pairs_on_grid`) or, for the scattered points of adaptive sampling, by sorting the
+points into their pixels (:meth:`Region.pairs_at`).
 """
 
 from __future__ import annotations
@@ -92,13 +97,53 @@ class Region:
         width, height = np.maximum(right - left, 0), np.maximum(bottom - top, 0)
         count = width * height  # points in each object's block (NaN bounds: none)
         which = np.repeat(np.arange(len(bounds)), count)
-        k = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)  # within block
+        k = _counting_within(count)
         point = (top[which] + k // width[which]) * len(xs) + left[which] + k % width[which]
         return which, point
+
+    def pairs_at(self, x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The (object, point) pairs ``(P,)`` each whose object's screen rectangle holds the
+        point, for any image points (x, y) ``(N,)`` in the region's pixels (as adaptive
+        sampling casts them): the pairs of ``np.nonzero(holding(x, y))``, grouped by object,
+        without the ``(K, N)`` table. The points are sorted by the pixel they fall in; each
+        rectangle takes, for each row of pixels it meets, the run of points in its pixels
+        there, and keeps the points it holds."""
+        width, height = len(self.cols), len(self.rows)
+        column = np.clip(np.floor(x).astype(np.intp) - self.cols.start, 0, width - 1)
+        row = np.clip(np.floor(y).astype(np.intp) - self.rows.start, 0, height - 1)
+        cell = row * width + column
+        order = np.argsort(cell, kind="stable")  # pixel c holds points order[first[c]:first[c+1]]
+        first = np.searchsorted(cell[order], np.arange(width * height + 1))
+        visible = ~np.isnan(self.bounds).any(axis=1)
+        bounds = np.nan_to_num(self.bounds)
+        left, right = (
+            np.clip(np.floor(bounds[:, i]).astype(np.intp) - self.cols.start, 0, width - 1)
+            for i in (0, 1)
+        )
+        top, bottom = (
+            np.clip(np.floor(bounds[:, i]).astype(np.intp) - self.rows.start, 0, height - 1)
+            for i in (2, 3)
+        )
+        runs = np.where(visible, bottom - top + 1, 0)  # per rectangle, the pixel rows it meets
+        which = np.repeat(np.arange(len(bounds)), runs)
+        run_row = top[which] + _counting_within(runs)
+        begin = first[run_row * width + left[which]]
+        length = first[run_row * width + right[which] + 1] - begin
+        which = np.repeat(which, length)
+        point = order[np.repeat(begin, length) + _counting_within(length)]
+        x0, x1, y0, y1 = self.bounds[which].T
+        held = (x0 <= x[point]) & (x[point] <= x1) & (y0 <= y[point]) & (y[point] <= y1)
+        return which[held], point[held]
 
     @property
     def pixels(self) -> tuple[slice, slice]:
         return slice(self.rows.start, self.rows.stop), slice(self.cols.start, self.cols.stop)
+
+
+def _counting_within(counts: np.ndarray) -> np.ndarray:
+    """0, 1, ..., count - 1 for each of the ``counts (M,)``, one after the other:
+    ``(counts.sum(),)``, each element's place within its own block."""
+    return np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
 
 
 def regions(scene: Scene, skip_hidden: bool = True) -> Iterator[Region]:

@@ -104,28 +104,54 @@ def test_rays_are_made_only_where_some_object_may_be_seen(monkeypatch):
     assert 0 < ball <= sum(made) < 2 * ball + 200, (ball, sum(made))
 
 
-def test_pairs_on_the_pixel_grid_are_the_pairs_of_the_rectangle_table():
-    """Region.pairs_on_grid finds by binary search the same (object, point) pairs, in the same
-    order, as the (K, N) table of Region.holding: rectangles inside, across and outside the
-    tile, edges exactly on sample points, NaN bounds (never visible), several offsets."""
-    from raykit.camera import region_points
+def _random_regions(rng, count: int = 40):
+    """Tiles of 1-64 pixels a side with 30 screen rectangles each: inside, across and outside
+    the tile, a third with edges through pixel centres, every seventh NaN (never visible)."""
     from raykit.tiles import Region
 
-    rng = np.random.default_rng(5)
-    for _ in range(40):
+    for _ in range(count):
         rows, cols = range(64, 64 + rng.integers(1, 65)), range(128, 128 + rng.integers(1, 65))
         corners = rng.uniform(40, 220, size=(30, 2, 2))
-        corners[::3] = np.round(corners[::3]) + 0.5  # edges through pixel centres
+        corners[::3] = np.round(corners[::3]) + 0.5
         bounds = np.column_stack(
             [corners[:, 0].min(1), corners[:, 0].max(1), corners[:, 1].min(1), corners[:, 1].max(1)]
         )
         bounds[::7] = np.nan
-        region = Region(rows, cols, None, None, None, bounds)
+        yield Region(rows, cols, None, None, None, bounds)
+
+
+def test_pairs_on_the_pixel_grid_are_the_pairs_of_the_rectangle_table():
+    """Region.pairs_on_grid finds by binary search the same (object, point) pairs, in the same
+    order, as the (K, N) table of Region.holding, at several sample offsets."""
+    from raykit.camera import region_points
+
+    for region in _random_regions(np.random.default_rng(5)):
         for a, b in [(0.5, 0.5), (1 / 6, 5 / 6), (0.125, 0.875)]:
-            x, y = region_points(rows, cols, a, b)
+            x, y = region_points(region.rows, region.cols, a, b)
             expected = np.nonzero(region.holding(x, y))
             got = region.pairs_on_grid(a, b)
             assert np.array_equal(got[0], expected[0]) and np.array_equal(got[1], expected[1])
+
+
+def test_pairs_at_any_points_are_the_pairs_of_the_rectangle_table():
+    """Region.pairs_at finds the same (object, point) pairs as the (K, N) table of
+    Region.holding, grouped by object, for scattered points as adaptive sampling casts them,
+    some on pixel corners and some on rectangle edges."""
+    rng = np.random.default_rng(6)
+    for region in _random_regions(rng):
+        rows, cols, bounds = region.rows, region.cols, region.bounds
+        x = rng.uniform(cols.start, cols.stop, 400)
+        y = rng.uniform(rows.start, rows.stop, 400)
+        x[:50], y[:50] = np.floor(x[:50]), np.floor(y[:50])  # pixel corners
+        visible = bounds[~np.isnan(bounds[:, 0])]  # points on their edges:
+        x[50:100] = np.clip(rng.choice(visible[:, 1], 50), cols.start, cols.stop - 0.01)
+        y[100:150] = np.clip(rng.choice(visible[:, 2], 50), rows.start, rows.stop - 0.01)
+        expected = np.nonzero(region.holding(x, y))
+        which, point = region.pairs_at(x, y)
+        assert np.all(np.diff(which) >= 0)
+        order = np.lexsort((point, which))
+        assert np.array_equal(which[order], expected[0])
+        assert np.array_equal(point[order], expected[1])
 
 
 def test_bounds_hold_every_pixel_where_the_object_is_seen(tmp_path):
