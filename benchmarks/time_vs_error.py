@@ -4,7 +4,9 @@
 
 For n = 1, 2, 4, 8 (1, 4, 16, 64 rays per pixel) and the adaptive mode, the RMS error of the
 image against a 16 x 16 (256 rays per pixel) reference and the median render time, side by side
-in one run. The last column compares each time with full 4 x 4 (16 rays per pixel).
+in one run. The last column compares each time with full 4 x 4 (16 rays per pixel). Two scenes:
+the fence-heavy ``cutouts.json``, whose edges are a few percent of its pixels, and a
+sphereflake, where thousands of small spheres make edges of a fifth of them.
 """
 
 from __future__ import annotations
@@ -16,22 +18,22 @@ from pathlib import Path
 import numpy as np
 
 from raykit.render import render
-from raykit.scene import load_scene
+from raykit.scene import Scene, load_scene
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 from common import arguments, loglog_plot, median_time  # noqa: E402
 
+from scenes import sphereflake  # noqa: E402
 
-def main() -> None:
-    parser = arguments(__doc__, "a small image, for CI", repeats=3)
-    parser.add_argument("--plot", type=Path, help="write time against error here")
-    args = parser.parse_args()
-    print("$ python benchmarks/time_vs_error.py " + " ".join(sys.argv[1:]) + "\n")
-    scene = load_scene(HERE.parent / "scenes" / "cutouts.json")
-    if args.quick:
-        scene = replace(scene, camera=replace(scene.camera, width=96, height=64))
+
+def sized(scene: Scene, width: int, height: int) -> Scene:
+    return replace(scene, camera=replace(scene.camera, width=width, height=height))
+
+
+def measure(scene: Scene, repeats: int) -> list[tuple[str, int, float, float]]:
+    """(mode, n, RMS error, median seconds) for every mode and n."""
     reference = render(scene, 16).rgb
     rows = []
     for adaptive in (False, True):
@@ -39,32 +41,50 @@ def main() -> None:
             if adaptive and n == 1:
                 continue
             image, seconds = median_time(
-                lambda n=n, a=adaptive: render(scene, n, adaptive=a), args.repeats
+                lambda n=n, a=adaptive: render(scene, n, adaptive=a), repeats
             )
             error = float(np.sqrt(np.mean((image.rgb - reference) ** 2)))
             rows.append(("adaptive" if adaptive else "everywhere", n, error, seconds))
-    base = next(r[3] for r in rows if r[0] == "everywhere" and r[1] == 4)
-    camera = scene.camera
-    print(
-        f"scenes/cutouts.json at {camera.width}x{camera.height}; error against 16 x 16; "
-        f"medians of {args.repeats} runs\n"
-    )
-    print("| samples | where | rays per pixel | RMS error | time | time / full 4x4 |")
-    print("|---|---|---|---|---|---|")
-    for mode, n, error, seconds in rows:
+    return rows
+
+
+def main() -> None:
+    parser = arguments(__doc__, "small images, for CI", repeats=3)
+    parser.add_argument("--plot", type=Path, help="write time against error here")
+    args = parser.parse_args()
+    print("$ python benchmarks/time_vs_error.py " + " ".join(sys.argv[1:]) + "\n")
+    cutouts = load_scene(HERE.parent / "scenes" / "cutouts.json")
+    if args.quick:
+        scenes = {
+            "scenes/cutouts.json": sized(cutouts, 96, 64),
+            "sphereflake 2": sphereflake(2, 64, 64),
+        }
+    else:
+        scenes = {"scenes/cutouts.json": cutouts, "sphereflake 4": sphereflake(4, 256, 256)}
+    series = {}
+    for name, scene in scenes.items():
+        rows = measure(scene, args.repeats)
+        base = next(r[3] for r in rows if r[0] == "everywhere" and r[1] == 4)
+        camera = scene.camera
         print(
-            f"| {n} x {n} | {mode} | {n * n} | {error:.5f} | {seconds * 1000:.0f} ms "
-            f"| {seconds / base:.2f} |"
+            f"{name} at {camera.width}x{camera.height}; error against 16 x 16; "
+            f"medians of {args.repeats} runs\n"
         )
-    if args.plot:
-        series = {
-            mode: (
+        print("| samples | where | rays per pixel | RMS error | time | time / full 4x4 |")
+        print("|---|---|---|---|---|---|")
+        for mode, n, error, seconds in rows:
+            print(
+                f"| {n} x {n} | {mode} | {n * n} | {error:.5f} | {seconds * 1000:.0f} ms "
+                f"| {seconds / base:.2f} |"
+            )
+        print()
+        for mode, style in (("everywhere", "s--"), ("adaptive", "o-")):
+            series[f"{name.removeprefix('scenes/')}, {mode}"] = (
                 [r[3] for r in rows if r[0] == mode],
                 [r[2] for r in rows if r[0] == mode],
                 style,
             )
-            for mode, style in (("everywhere", "s--"), ("adaptive", "o-"))
-        }
+    if args.plot:
         loglog_plot(args.plot, series, "render time (s)", "RMS error against 16 x 16")
 
 
