@@ -42,9 +42,9 @@ def refine(regions, colors, rgb: np.ndarray, edge: np.ndarray, samples: int) -> 
 
     ``regions`` are the renderer's (:mod:`raykit.tiles`), so each tile's edge pixels are tested
     only against the objects seen there; ``colors(region, x, y)`` gives the renderer's colours
-    ``(N, 3)`` of the rays through image points (x, y) ``(N,)``, called once per tile with all
-    n x n samples of its edge pixels (per call, the renderer's fixed cost is paid once, not n²
-    times). Returns how many pixels were supersampled.
+    ``(N, 3)`` of the rays through image points (x, y) ``(N,)``. It is called with many
+    samples of a tile's edge pixels at once, up to ``POINTS_PER_CALL``, so the renderer's fixed
+    cost per call is not paid n² times. Returns how many pixels were supersampled.
     """
     a, b = sample_offsets(samples).T
     for region in regions:
