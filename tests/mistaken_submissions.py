@@ -1,5 +1,6 @@
 """Submissions with one classic mistake each: the solution with one line written wrong, the way
-students get it wrong. Each entry: the mistake's key in grading.mistakes, then (file, the right
+students get it wrong. Each entry: the mistake's key in raykit_grading.mistakes, then (file, the
+right
 line, the wrong line) edits applied to a copy of raykit/."""
 
 from __future__ import annotations

@@ -11,12 +11,12 @@ import pytest
 from mistaken_submissions import EDITS, make_submission
 
 from conftest import REPO
-from grading.catalog import HIDDEN, TESTS, VISIBLE
-from grading.compare import check_arrays, compare_images, feedback_picture, strict_fraction
-from grading.grade import grade, grade_to_file
-from grading.markers import MarkerError, strip_solutions
-from grading.mistakes import MISTAKES
-from grading.release import build_release
+from raykit_grading.catalog import HIDDEN, TESTS, VISIBLE
+from raykit_grading.compare import check_arrays, compare_images, feedback_picture, strict_fraction
+from raykit_grading.grade import grade, grade_to_file
+from raykit_grading.markers import MarkerError, strip_solutions
+from raykit_grading.mistakes import MISTAKES
+from raykit_grading.release import build_release
 
 # Gradescope's results.json, as its autograder specification documents it
 RESULTS_SCHEMA = {
@@ -237,7 +237,7 @@ def test_image_comparison_forgives_a_silhouette_pixel_but_not_a_wrong_colour():
 
 
 def test_score_is_linear_between_the_thresholds():
-    from grading.compare import Comparison
+    from raykit_grading.compare import Comparison
 
     assert Comparison(None, 0.995, 0).score() == 1.0
     assert Comparison(None, 0.9475, 0).score() == pytest.approx(0.5)
@@ -259,7 +259,7 @@ def test_batch_grades_a_folder_into_a_csv_and_a_feedback_folder_each(
     import csv
     import shutil
 
-    from grading.batch import grade_folder
+    from raykit_grading.batch import grade_folder
 
     students = tmp_path / "submissions"
     make_submission(students / "ada")
@@ -282,7 +282,7 @@ def test_grading_command_line_writes_results(tmp_path, child_python, solution):
         [
             sys.executable,
             "-m",
-            "grading",
+            "raykit_grading",
             "grade",
             str(solution),
             "-o",

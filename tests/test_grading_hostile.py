@@ -18,8 +18,8 @@ from pathlib import Path
 
 import pytest
 
-from grading.gradescope import build_zip
-from grading.release import build_release
+from raykit_grading.gradescope import build_zip
+from raykit_grading.release import build_release
 
 AS_ROOT = os.geteuid() == 0
 NAMES = ["2.1", "3.6"]  # one array test, one image test
@@ -157,8 +157,8 @@ def test_hostile_submission_scores_zero_and_the_run_survives(
             autograder, submission, child_python, f"--only {' '.join(NAMES)} --wall-seconds {WALL}"
         )
     else:
-        from grading.grade import grade_to_file
-        from grading.sandbox import Limits
+        from raykit_grading.grade import grade_to_file
+        from raykit_grading.sandbox import Limits
 
         out = tmp_path / "results.json"
         grade_to_file(
@@ -184,7 +184,7 @@ def test_a_correct_submission_through_run_autograder_scores_full_marks(
         pytest.skip("run_autograder is exercised as root, as Gradescope runs it")
     from mistaken_submissions import make_submission
 
-    from grading.catalog import TESTS
+    from raykit_grading.catalog import TESTS
 
     results = run_autograder(autograder, make_submission(tmp_path), child_python, "")
     assert results["score"] == pytest.approx(sum(t.points for t in TESTS))
@@ -193,7 +193,7 @@ def test_a_correct_submission_through_run_autograder_scores_full_marks(
 def test_no_sandbox_user_process_outlives_the_run():
     if not AS_ROOT:
         pytest.skip("processes are counted per sandbox user, which exists when grading as root")
-    from grading.sandbox import SANDBOX_UIDS
+    from raykit_grading.sandbox import SANDBOX_UIDS
 
     uids = set(SANDBOX_UIDS)
     left = [p for p in Path("/proc").iterdir() if p.name.isdigit() and p.stat().st_uid in uids]

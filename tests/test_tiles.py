@@ -10,7 +10,7 @@ from raykit.screen_bounds import billboard_bounds, object_bounds, sphere_bounds
 from raykit.spheres import Sphere
 from raykit.tiles import CROWDED, regions
 
-EXAMPLES = sorted(SCENES.glob("*.json")) + sorted((SCENES.parent / "grading/scenes").glob("*.json"))
+EXAMPLES = sorted(SCENES.glob("*.json")) + sorted((SCENES.parent / "grading-scenes").glob("*.json"))
 
 
 def _same(a, b) -> bool:

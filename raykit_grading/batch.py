@@ -1,6 +1,6 @@
 """Grading a folder of submissions (one folder per student) on all cores.
 
-    python -m grading batch SUBMISSIONS/ -o OUT/ [--jobs N]
+    python -m raykit_grading batch SUBMISSIONS/ -o OUT/ [--jobs N]
 
 writes ``OUT/scores.csv`` (student, score, max_score, then one column per test) and
 ``OUT/feedback/<student>/`` with that student's results.json and feedback pictures. Each
@@ -16,8 +16,8 @@ from pathlib import Path
 
 from tqdm import tqdm
 
-from grading.catalog import by_name
-from grading.grade import grade_to_file
+from raykit_grading.catalog import by_name
+from raykit_grading.grade import grade_to_file
 
 
 def _grade_student(folder: Path, out: Path, options: dict) -> tuple[str, dict]:

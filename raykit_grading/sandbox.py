@@ -1,6 +1,7 @@
 """Running a submission's code in a child process that can do nothing but hand back arrays.
 
-Each task runs in a fresh child (:mod:`grading.child`) in a fresh work folder holding a copy of
+Each task runs in a fresh child (:mod:`raykit_grading.child`) in a fresh work folder holding a
+copy of
 the submission's ``raykit`` package, the task's inputs and any texture files; nothing else of
 the grader's is there. The child gets:
 
@@ -17,7 +18,7 @@ the grader's is there. The child gets:
   (``child_python``; Gradescope's ``setup.sh`` makes one).
 
 The parent reads back ``outputs.npz`` with ``allow_pickle=False`` and checks every array's
-shape, type and values itself (:func:`grading.grade.check_arrays`); nothing the child says is
+shape, type and values itself (:func:`raykit_grading.grade.check_arrays`); nothing the child says is
 trusted beyond that.
 """
 
@@ -227,7 +228,7 @@ class Sandbox:
         arrays: dict[str, np.ndarray],
         files: dict[str, Path] | None = None,
     ) -> ChildResult:
-        """Run ``task`` of :mod:`grading.child` on the submission's ``raykit`` package."""
+        """Run ``task`` of :mod:`raykit_grading.child` on the submission's ``raykit`` package."""
         work = Path(tempfile.mkdtemp(prefix="raykit-child-"))
         try:
             shutil.copytree(

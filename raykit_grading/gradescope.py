@@ -1,6 +1,6 @@
 """The Gradescope autograder zip.
 
-    python -m grading gradescope -o autograder.zip
+    python -m raykit_grading gradescope -o autograder.zip
 
 The zip holds ``setup.sh`` and ``run_autograder`` at its top, and ``source/`` with the grader,
 the reference raykit, the scenes and the hidden scenes. On Gradescope's Ubuntu image:
@@ -20,7 +20,7 @@ from __future__ import annotations
 import zipfile
 from pathlib import Path
 
-from grading.catalog import REPO
+from raykit_grading.catalog import REPO
 
 SETUP = """#!/usr/bin/env bash
 # Gradescope runs this once, as root, when the autograder is built.
@@ -53,7 +53,7 @@ for archive in "$submission"/*.zip; do
 done
 # RAYKIT_GRADE_OPTIONS (e.g. "--only 3.6 --wall-seconds 5") is for testing this script
 # shellcheck disable=SC2086
-PYTHONPATH="$root/source" "$grader_python" -m grading grade "$submission" \\
+PYTHONPATH="$root/source" "$grader_python" -m raykit_grading grade "$submission" \\
   -o "$root/results/results.json" --child-python "$child_python" ${RAYKIT_GRADE_OPTIONS:-}
 """
 
@@ -66,7 +66,7 @@ def build_zip(out: Path) -> Path:
             info = zipfile.ZipInfo(name)
             info.external_attr = 0o755 << 16
             archive.writestr(info, text)
-        for folder in ("raykit", "grading", "scenes"):
+        for folder in ("raykit", "raykit_grading", "scenes", "grading-scenes"):
             for path in sorted((REPO / folder).rglob("*")):
                 if path.is_file() and "__pycache__" not in path.parts:
                     archive.write(path, f"source/{path.relative_to(REPO)}")

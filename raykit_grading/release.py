@@ -1,11 +1,11 @@
 """The student release: the package with the solutions taken out, visible tests, scenes.
 
-    python -m grading release -o student-release/
+    python -m raykit_grading release -o student-release/
 
 writes a folder students can ``pip install -e`` and test with ``python -m pytest``:
 
 * ``raykit/``: every ``# BEGIN SOLUTION`` region replaced by a NotImplementedError with its
-  hint (:mod:`grading.markers`); everything else as in the solution.
+  hint (:mod:`raykit_grading.markers`); everything else as in the solution.
 * ``scenes/``: the example scenes and their textures.
 * ``tests/``: the visible grading tests, each with its inputs and the reference results (and,
   for renders, the reference image as a PNG to look at), checked by the same task code and
@@ -21,10 +21,10 @@ from pathlib import Path
 
 import numpy as np
 
-from grading import child
-from grading.catalog import REPO, TESTS, VISIBLE
-from grading.markers import strip_solutions
 from raykit.images import quantize, save_image
+from raykit_grading import child
+from raykit_grading.catalog import REPO, TESTS, VISIBLE
+from raykit_grading.markers import strip_solutions
 
 VISIBLE_TESTS = '''"""The visible grading tests: your functions against the reference results.
 
@@ -150,7 +150,9 @@ def _student_pyproject() -> str:
     """The solution's pyproject.toml without what only the course repository has (the
     grader, the notebooks and their nbval run)."""
     text = (REPO / "pyproject.toml").read_text()
-    text = text.replace('include = ["raykit*", "grading*"]', 'include = ["raykit*"]')
+    text = text.replace(
+        'include = ["raykit", "raykit.*", "raykit_grading"]', 'include = ["raykit*"]'
+    )
     text = text.replace('testpaths = ["tests", "notebooks"]', 'testpaths = ["tests"]')
     lines = [
         line

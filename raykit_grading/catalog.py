@@ -1,9 +1,10 @@
 """The grading tests: per stage, with points and Gradescope visibility.
 
-Each test names a task of :mod:`grading.child` and builds its inputs from a fixed seed or a
+Each test names a task of :mod:`raykit_grading.child` and builds its inputs from a seed or a
 scene file. The expected result is that task run with the reference raykit; the submission's
 result is the same task run in the child. Array tests compare every number within the stated
-tolerance (a miss may be NaN or inf); image tests compare renders with :mod:`grading.compare`.
+tolerance (a miss may be NaN or inf); image tests compare renders with
+:mod:`raykit_grading.compare`.
 
 ``visible`` tests show their result at once (and ship with the student release);
 ``after_due_date`` tests are hidden until then.
@@ -20,7 +21,7 @@ import numpy as np
 
 REPO = Path(__file__).resolve().parent.parent
 SCENES = REPO / "scenes"
-HIDDEN_SCENES = Path(__file__).resolve().parent / "scenes"
+HIDDEN_SCENES = REPO / "grading-scenes"
 VISIBLE, HIDDEN = "visible", "after_due_date"
 RTOL, ATOL = 1e-6, 1e-9
 

@@ -1,10 +1,10 @@
 """Grading one submission: every test of the catalog, in a sandbox, into Gradescope's results.
 
 The expected results are the catalog's tasks run here with the reference raykit (cached for
-the run); the submission's results come back from :class:`grading.sandbox.Sandbox` as plain
+the run); the submission's results come back from :class:`raykit_grading.sandbox.Sandbox` as plain
 arrays and are checked here: shape, finite numbers, values. Image results are compared with
-:mod:`grading.compare`; a failed render is also compared with the classic mistakes
-(:mod:`grading.mistakes`) so that feedback can name one.
+:mod:`raykit_grading.compare`; a failed render is also compared with the classic mistakes
+(:mod:`raykit_grading.mistakes`) so that feedback can name one.
 
 results.json follows Gradescope's specification (score, execution_time, output, tests with
 name, score, max_score, output, visibility, status). It is written by this process, last and
@@ -25,9 +25,10 @@ from pathlib import Path
 
 import numpy as np
 
-from grading import child
-from grading.catalog import TESTS, GradingTest, by_name
-from grading.compare import (
+from raykit.images import quantize, save_image
+from raykit_grading import child
+from raykit_grading.catalog import TESTS, GradingTest, by_name
+from raykit_grading.compare import (
     DEFAULT_SCORING,
     Scoring,
     check_arrays,
@@ -35,9 +36,8 @@ from grading.compare import (
     feedback_picture,
     strict_fraction,
 )
-from grading.mistakes import MISTAKES
-from grading.sandbox import Limits, Sandbox
-from raykit.images import quantize, save_image
+from raykit_grading.mistakes import MISTAKES
+from raykit_grading.sandbox import Limits, Sandbox
 
 DIAGNOSE_FROM = 0.95  # a mistake is named only if it explains this much of the image
 STRICTLY_RIGHT = 0.99  # an image this close to the reference, pixel for pixel, needs no diagnosis
