@@ -1,4 +1,9 @@
-"""``python -m raykit_grading COMMAND``: release, grade, batch, gradescope, tests."""
+"""``python -m raykit_grading COMMAND``: release, grade, batch, gradescope, tests.
+
+Exit status: 0 done; 1 graded, but a submission had nothing to grade (batch: some student
+could not be graded); 2 bad arguments; 3 the grader could not grade (no sandbox here, or it
+failed on some tests): it says so, and never stands a made-up score in for a grade.
+"""
 
 from __future__ import annotations
 
@@ -7,16 +12,32 @@ import sys
 from pathlib import Path
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m raykit_grading", description=__doc__)
+def _seconds(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a number of seconds, got {text!r}") from None
+    if not 0 < value <= 86400:
+        raise argparse.ArgumentTypeError(f"must be between 0 and 86400, got {value:g}")
+    return value
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="python -m raykit_grading", description=__doc__, allow_abbrev=False
+    )
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
-    grade = commands.add_parser("grade", help="grade one submission into results.json")
+    def command(name: str, **kw) -> argparse.ArgumentParser:
+        return commands.add_parser(name, allow_abbrev=False, **kw)
+
+    grade = command("grade", help="grade one submission into results.json")
     grade.add_argument("submission", type=Path, help="folder holding the student's raykit/")
     grade.add_argument("-o", "--output", type=Path, required=True, help="results.json to write")
     grade.add_argument("--feedback", type=Path, help="folder for feedback pictures")
+    grade.add_argument("--seed", type=int, help="the graded draw to repeat (default: a new one)")
 
-    batch = commands.add_parser("batch", help="grade a folder of submissions on all cores")
+    batch = command("batch", help="grade a folder of submissions, a few at a time")
     batch.add_argument("submissions", type=Path, help="folder with one folder per student")
     batch.add_argument(
         "-o",
@@ -25,63 +46,76 @@ def main(argv: list[str] | None = None) -> int:
         required=True,
         help="folder for scores.csv and one feedback folder per student",
     )
-    batch.add_argument("--jobs", type=int, default=None, help="parallel graders (all cores)")
+    batch.add_argument("--jobs", type=int, default=None, help="students graded at once")
+    batch.add_argument(
+        "--regrade", action="store_true", help="grade everyone again, not only the new ones"
+    )
 
-    release = commands.add_parser("release", help="build the student release")
+    release = command("release", help="build the student release")
     release.add_argument("-o", "--output", type=Path, required=True, help="folder to create")
 
-    zip_ = commands.add_parser("gradescope", help="build the Gradescope autograder zip")
+    zip_ = command("gradescope", help="build the Gradescope autograder zip")
     zip_.add_argument("-o", "--output", type=Path, required=True, help="autograder.zip")
 
-    commands.add_parser("tests", help="list the grading tests, their points and visibility")
+    command("tests", help="list the grading tests, their points and visibility")
 
     for sub in (grade, batch):
         sub.add_argument(
             "--child-python",
-            help="Python to run submissions with (as root: one the sandbox user may run)",
+            help="Python to run submissions with (default: this one; needs numpy and Pillow)",
         )
         sub.add_argument(
             "--only",
-            nargs="*",
-            metavar="NAME",
-            help="grade only the tests whose names start with these",
+            nargs="+",
+            metavar="TEST",
+            help="grade only these tests (numbers such as 3.6, or name beginnings)",
         )
         sub.add_argument(
             "--wall-seconds",
-            type=float,
+            type=_seconds,
             default=20.0,
             help="time one test's code may take before it is stopped (default 20)",
         )
+        sub.add_argument(
+            "--total-seconds",
+            type=_seconds,
+            default=None,
+            help="time all of one submission's tests may take together (default 480)",
+        )
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
     args = parser.parse_args(argv)
     if args.command in ("grade", "batch"):
+        from raykit_grading.catalog import by_name
+        from raykit_grading.grade import TOTAL_SECONDS, Options
         from raykit_grading.sandbox import Limits
 
+        if args.only and not by_name(args.only):
+            parser.error(f"--only {' '.join(args.only)}: no test has that number or name")
         limits = Limits(wall_seconds=args.wall_seconds, cpu_seconds=int(args.wall_seconds) + 1)
-        shared = {"child_python": args.child_python, "names": args.only, "limits": limits}
+        options = Options(args.child_python, limits, args.total_seconds or TOTAL_SECONDS)
 
     if args.command == "grade":
-        from raykit_grading.grade import grade_to_file
-
-        results = grade_to_file(
-            args.submission,
-            args.output,
-            feedback=args.feedback,
-            **shared,
-        )
-        total = sum(t["max_score"] for t in results["tests"])
-        print(f"wrote {args.output}: {results['score']:g} of {total:g} points")
-    elif args.command == "batch":
+        return _grade(args, options)
+    if args.command == "batch":
         from raykit_grading.batch import grade_folder
 
-        grade_folder(
+        return grade_folder(
             args.submissions,
             args.output,
             jobs=args.jobs,
-            **shared,
+            names=args.only,
+            options=options,
+            regrade=args.regrade,
         )
-    elif args.command == "release":
+    if args.command == "release":
         from raykit_grading.release import build_release
 
+        if args.output.exists():
+            parser.error(f"{args.output} exists; give a new folder")
         build_release(args.output)
     elif args.command == "gradescope":
         from raykit_grading.gradescope import build_zip
@@ -93,6 +127,56 @@ def main(argv: list[str] | None = None) -> int:
         for test in TESTS:
             print(f"{test.points:>4g}  {test.visibility:<15} {test.name}")
     return 0
+
+
+def _grade(args, options) -> int:
+    from raykit_grading.catalog import by_name
+    from raykit_grading.grade import grade_to_file
+
+    if not args.submission.is_dir():
+        print(f"raykit_grading: error: {args.submission}: no such folder", file=sys.stderr)
+        return 2
+    tests = by_name(args.only)
+    bar = _progress(len(tests), f"grading {args.submission.name}")
+    try:
+        status = grade_to_file(
+            args.submission,
+            args.output,
+            names=args.only,
+            feedback=args.feedback,
+            seed=args.seed,
+            options=options,
+            progress=(lambda test: bar.update()) if bar else None,
+        )
+    finally:
+        if bar:
+            bar.close()
+    import json
+
+    results = json.loads(args.output.read_text())
+    total = sum(t["max_score"] for t in results["tests"])
+    if status == 3:
+        print(f"wrote {args.output}: NOT GRADED (see above)")
+    else:
+        print(f"wrote {args.output}: {results['score']:g} of {total:g} points")
+    if status == 1:
+        print(
+            f"raykit_grading: error: {args.submission}: no raykit package "
+            "(expected raykit/__init__.py)",
+            file=sys.stderr,
+        )
+    return status
+
+
+def _progress(total: int, what: str):
+    """A progress bar on stderr when it is a terminal and tqdm is installed."""
+    if not sys.stderr.isatty():
+        return None
+    try:
+        from tqdm import tqdm
+    except ImportError:
+        return None
+    return tqdm(total=total, desc=what, unit="test", file=sys.stderr, leave=False)
 
 
 if __name__ == "__main__":

@@ -1,59 +1,162 @@
-"""Grading a folder of submissions (one folder per student) on all cores.
+"""Grading a folder of submissions (one folder per student), a few at a time.
 
-    python -m raykit_grading batch SUBMISSIONS/ -o OUT/ [--jobs N]
+    python -m raykit_grading batch SUBMISSIONS/ -o OUT/ [--jobs N] [--regrade]
 
-writes ``OUT/scores.csv`` (student, score, max_score, then one column per test) and
-``OUT/feedback/<student>/`` with that student's results.json and feedback pictures. Each
-student is graded in a worker process of its own; a progress bar shows how far it has got.
+First a preflight (:func:`raykit_grading.grade.preflight`): if no sandbox can be made here,
+nothing is graded and the command says why. Then each student is graded by a grader process of
+its own (``python -m raykit_grading grade``), with a time budget: a student whose grading
+hangs, crashes or cannot be done is that student's "could not grade" line, never the class's.
+Submitted code runs only inside sandboxes that see none of OUT/, the other students' folders or
+this process; ``scores.csv`` is written by this process alone, one row as each student's
+grader has finished (and all its sandboxes are gone), so a batch that is stopped keeps what it
+has graded, and running it again grades only the students not graded yet.
+
+``OUT/scores.csv``: student, status (``graded`` or ``could not grade: why``), score,
+max_score, then one column per test. ``OUT/feedback/<student>/``: results.json and feedback
+pictures. The exit status is 1 (and the students are listed) if any could not be graded.
 """
 
 from __future__ import annotations
 
 import csv
+import json
 import os
-from concurrent.futures import ProcessPoolExecutor, as_completed
+import stat
+import subprocess
+import sys
+from concurrent.futures import ThreadPoolExecutor, as_completed
 from pathlib import Path
 
-from tqdm import tqdm
-
 from raykit_grading.catalog import by_name
-from raykit_grading.grade import grade_to_file
+from raykit_grading.grade import GradingImpossible, Options, preflight
+
+MARGIN_SECONDS = 180.0  # a student's grader may take its tests' total time and this much more
 
 
-def _grade_student(folder: Path, out: Path, options: dict) -> tuple[str, dict]:
-    feedback = out / "feedback" / folder.name
-    results = grade_to_file(folder, feedback / "results.json", feedback=feedback, **options)
-    return folder.name, results
+def _students(submissions: Path) -> list[Path]:
+    found = []
+    for entry in sorted(os.scandir(submissions), key=lambda e: e.name):
+        if stat.S_ISDIR(entry.stat(follow_symlinks=False).st_mode):
+            found.append(Path(entry.path))
+    return found
 
 
-def grade_folder(submissions: Path, out: Path, *, jobs: int | None = None, **options) -> Path:
-    """Grade every folder in ``submissions``; returns the path of scores.csv."""
-    students = sorted(p for p in Path(submissions).iterdir() if p.is_dir())
+def _read_scores(path: Path) -> dict[str, dict]:
+    if not path.is_file():
+        return {}
+    with open(path, newline="") as stream:
+        return {row["student"]: row for row in csv.DictReader(stream)}
+
+
+def grade_folder(
+    submissions: Path,
+    out: Path,
+    *,
+    jobs: int | None = None,
+    names: list[str] | None = None,
+    options: Options | None = None,
+    regrade: bool = False,
+) -> int:
+    """Grade every student folder in ``submissions``; returns the exit status."""
+    options = options or Options()
+    if not Path(submissions).is_dir():
+        print(f"raykit_grading: error: {submissions}: no such folder", file=sys.stderr)
+        return 2
+    students = _students(Path(submissions))
+    if not students:
+        print(f"raykit_grading: error: {submissions}: no student folders in it", file=sys.stderr)
+        return 2
+    try:
+        preflight(options)
+    except GradingImpossible as exc:
+        print(f"raykit_grading: error: cannot grade: {exc}", file=sys.stderr)
+        return 3
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    tests = by_name(options.get("names"))
-    rows = {}
-    with ProcessPoolExecutor(max_workers=jobs or os.cpu_count()) as pool:
-        futures = [pool.submit(_grade_student, s, out, options) for s in students]
-        for future in tqdm(
-            as_completed(futures), total=len(futures), unit="student", desc="grading"
-        ):
-            name, results = future.result()
-            rows[name] = results
+    tests = by_name(names)
+    header = ["student", "status", "score", "max_score", *(t.key for t in tests)]
     path = out / "scores.csv"
-    with open(path, "w", newline="") as stream:
+    rows = {} if regrade else _read_scores(path)
+    done = {name for name, row in rows.items() if row.get("status") == "graded"}
+    todo = [s for s in students if s.name not in done]
+    if rows and list(next(iter(rows.values())).keys()) != header:
+        rows, todo = {}, students  # other tests than last time: start over
+    _write_all(path, header, rows)
+    failed: list[str] = []
+    with open(path, "a", newline="") as stream, ThreadPoolExecutor(jobs or 2) as pool:
         writer = csv.writer(stream)
-        writer.writerow(["student", "score", "max_score", *(t.name for t in tests)])
+        futures = {pool.submit(_grade_student, s, out, names, options): s for s in todo}
+        for future in _progress(as_completed(futures), len(futures)):
+            student = futures[future]
+            row = future.result()
+            if row["status"] != "graded":
+                failed.append(f"{student.name}: {row['status']}")
+            rows[student.name] = row
+            writer.writerow([row.get(k, "") for k in header])
+            stream.flush()
+    _write_all(path, header, rows)  # sorted, whole
+    graded = sum(r["status"] == "graded" for r in rows.values())
+    print(f"wrote {path}: {graded} of {len(students)} students graded")
+    if failed:
+        print("could not grade:\n  " + "\n  ".join(failed), file=sys.stderr)
+        return 1
+    return 0
+
+
+def _grade_student(folder: Path, out: Path, names, options: Options) -> dict:
+    """One student, by a grader process of its own under a time budget: a row of scores.csv."""
+    feedback = out / "feedback" / folder.name
+    feedback.mkdir(parents=True, exist_ok=True)
+    results_path = feedback / "results.json"
+    results_path.unlink(missing_ok=True)
+    command = [
+        sys.executable, "-m", "raykit_grading", "grade", str(folder),
+        "-o", str(results_path), "--feedback", str(feedback),
+        "--wall-seconds", str(options.limits.wall_seconds),
+        "--total-seconds", str(options.total_seconds),
+    ]  # fmt: skip
+    if options.child_python:
+        command += ["--child-python", options.child_python]
+    if names:
+        command += ["--only", *names]
+    row = {"student": folder.name}
+    try:
+        run = subprocess.run(
+            command,
+            capture_output=True,
+            text=True,
+            timeout=options.total_seconds + MARGIN_SECONDS,
+            stdin=subprocess.DEVNULL,
+        )
+    except subprocess.TimeoutExpired:
+        return {**row, "status": "could not grade: its grader went over its time budget"}
+    if run.returncode not in (0, 1) or not results_path.is_file():
+        last = (run.stderr.strip().splitlines() or [f"exit status {run.returncode}"])[-1]
+        return {**row, "status": f"could not grade: {last[:300]}"}
+    results = json.loads(results_path.read_text())
+    if run.returncode == 1:
+        row["status"] = "could not grade: no raykit package in the folder"
+    else:
+        row["status"] = "graded"
+    row["score"] = results["score"]
+    row["max_score"] = sum(t["max_score"] for t in results["tests"])
+    row.update({t["number"]: t["score"] for t in results["tests"]})
+    return row
+
+
+def _write_all(path: Path, header: list[str], rows: dict[str, dict]) -> None:
+    temporary = path.with_suffix(".csv.part")
+    with open(temporary, "w", newline="") as stream:
+        writer = csv.writer(stream)
+        writer.writerow(header)
         for name in sorted(rows):
-            results = rows[name]
-            scores = {t["name"]: t["score"] for t in results["tests"]}
-            writer.writerow(
-                [
-                    name,
-                    results["score"],
-                    sum(t.points for t in tests),
-                    *(scores.get(t.name, 0) for t in tests),
-                ]
-            )
-    print(f"wrote {path} and {out / 'feedback'}/ for {len(rows)} students")
-    return path
+            writer.writerow([rows[name].get(k, "") for k in header])
+    os.replace(temporary, path)
+
+
+def _progress(iterable, total: int):
+    try:
+        from tqdm import tqdm
+    except ImportError:
+        return iterable
+    return tqdm(iterable, total=total, unit="student", desc="grading", file=sys.stderr)

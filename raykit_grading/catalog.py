@@ -6,13 +6,20 @@ result is the same task run in the child. Array tests compare every number withi
 tolerance (a miss may be NaN or inf); image tests compare renders with
 :mod:`raykit_grading.compare`.
 
-``visible`` tests show their result at once (and ship with the student release);
-``after_due_date`` tests are hidden until then.
+Inputs are drawn, never fixed: :meth:`GradingTest.inputs` takes a random generator. The
+student release ships each visible test's *public* draw (:meth:`GradingTest.public_inputs`,
+from a seed derived from its name) for practice; grading draws fresh ones
+(:meth:`GradingTest.graded_inputs`) from a seed chosen when grading starts, so nothing shipped
+to students answers a graded test. Scenes are graded from a camera moved a little at random
+(:func:`jitter_camera`), arrays from new random rays, sizes and parameters.
+
+``visible`` tests show their result at once; ``after_due_date`` tests are hidden until then.
 """
 
 from __future__ import annotations
 
 import json
+import zlib
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -28,21 +35,40 @@ RTOL, ATOL = 1e-6, 1e-9
 
 @dataclass(frozen=True)
 class GradingTest:
-    """One graded check. ``inputs()`` gives (spec, arrays, files for the child)."""
+    """One graded check. ``inputs(rng)`` gives (spec, arrays, files for the child); ``rng`` is
+    None for the public draw of a scene (the scene exactly as in ``scenes/``)."""
 
     name: str
     stage: str
     points: float
     visibility: str
     task: str
-    inputs: Callable[[], tuple[dict, dict[str, np.ndarray], dict[str, Path]]]
+    inputs: Callable[
+        [np.random.Generator | None], tuple[dict, dict[str, np.ndarray], dict[str, Path]]
+    ]
     kind: str = "arrays"  # or "image"
     tolerance: str = f"each number within rtol {RTOL:g}, atol {ATOL:g}"
     mistakes: bool = False  # diagnose the classic 3D mistakes on this image
 
+    @property
+    def key(self) -> str:
+        """``"3.6"``: the number the test is known by."""
+        return self.name.split()[0]
 
-def _rays(seed: int, count: int, dims: int, aim: np.ndarray, spread: float):
-    rng = np.random.default_rng(seed)
+    def public_inputs(self):
+        """The practice draw shipped with the student release (always the same)."""
+        return self.inputs(None)
+
+    def graded_inputs(self, seed: int):
+        """The draw graded under ``seed`` (chosen when grading starts, unknown to students)."""
+        return self.inputs(np.random.default_rng([seed, zlib.crc32(self.name.encode())]))
+
+
+def _public(rng: np.random.Generator | None, seed: int) -> np.random.Generator:
+    return rng if rng is not None else np.random.default_rng(seed)
+
+
+def _rays(rng, count: int, dims: int, aim: np.ndarray, spread: float):
     origins = rng.uniform(-4, 4, (count, dims))
     targets = aim + rng.uniform(-spread, spread, (count, dims))
     directions = targets - origins
@@ -50,35 +76,58 @@ def _rays(seed: int, count: int, dims: int, aim: np.ndarray, spread: float):
     return origins, directions
 
 
-def _arrays(**spec_and_arrays):
-    def build():
-        spec = {k: v for k, v in spec_and_arrays.items() if not isinstance(v, np.ndarray)}
-        arrays = {k: v for k, v in spec_and_arrays.items() if isinstance(v, np.ndarray)}
-        return spec, arrays, {}
-
-    return build
+def _split(values: dict):
+    spec = {k: v for k, v in values.items() if not isinstance(v, np.ndarray)}
+    arrays = {k: v for k, v in values.items() if isinstance(v, np.ndarray)}
+    return spec, arrays, {}
 
 
-def _ray_test(seed, count, dims, aim, spread, **more):
-    def build():
-        origins, directions = _rays(seed, count, dims, np.asarray(aim, float), spread)
-        spec = {key: v for key, v in more.items() if not isinstance(v, np.ndarray)}
-        arrays = {key: v for key, v in more.items() if isinstance(v, np.ndarray)}
-        return spec, {"origins": origins, "directions": directions, **arrays}, {}
+def _drawn(seed: int, draw: Callable[[np.random.Generator], dict]):
+    """A test whose spec and arrays ``draw`` makes from a generator (``seed`` for the public
+    draw)."""
+    return lambda rng: _split(draw(_public(rng, seed)))
 
-    return build
+
+def _ray_test(seed, count, dims, aim, spread, more: Callable[[np.random.Generator], dict]):
+    def draw(rng):
+        origins, directions = _rays(rng, count, dims, np.asarray(aim, float), spread)
+        return {"origins": origins, "directions": directions, **more(rng)}
+
+    return _drawn(seed, draw)
+
+
+def jitter_camera(scene: dict, rng: np.random.Generator) -> dict:
+    """The scene seen from a camera moved a little at random: the eye by up to 2% of its
+    distance to what it looks at, fov_angle by up to 3%. Every pixel changes; the picture
+    stays the scene's (and its classic mistakes stay recognisable)."""
+    camera = scene["camera"]
+    if "eye" in camera:  # 3D
+        eye, lookat = np.array(camera["eye"], float), np.array(camera["lookat"], float)
+        reach = np.linalg.norm(eye - lookat)
+        camera["eye"] = (eye + rng.uniform(-0.02, 0.02, 3) * reach).tolist()
+    else:  # the 2D line-scan camera
+        e, w = np.array(camera["e"], float), np.array(camera["w"], float)
+        turn = rng.uniform(-0.03, 0.03)
+        rotation = np.array([[np.cos(turn), -np.sin(turn)], [np.sin(turn), np.cos(turn)]])
+        camera["e"] = (e + rng.uniform(-0.05, 0.05, 2)).tolist()
+        camera["w"] = (rotation @ w).tolist()
+    camera["fov_angle"] = float(camera["fov_angle"] * (1 + rng.uniform(-0.03, 0.03)))
+    return scene
 
 
 def _scene_test(
     path: Path, *, width: int | None = None, height: int | None = None, scans: int | None = None
 ):
-    """A scene file (and its textures) for the render, scan and sweep tasks."""
+    """A scene file (and its textures) for the render, scan and sweep tasks; graded draws see
+    it through :func:`jitter_camera`."""
 
-    def build():
+    def build(rng):
         scene = json.loads(path.read_text())
         scene.pop("$schema", None)
         if width:
             scene["camera"]["width"], scene["camera"]["height"] = width, height
+        if rng is not None:
+            jitter_camera(scene, rng)
         files = {}
         for board in scene.get("billboards", []):
             if "image" in board:
@@ -94,31 +143,34 @@ def _scene_test(
     return build
 
 
-def _tiny_far_sphere(seed: int):
+def _tiny_far_sphere(rng):
     """Rays from the origin at the silhouette of a sphere of radius 1e-3 at distance 1e5."""
-    center = np.array([0.0, 0.0, -1e5])
-    rng = np.random.default_rng(seed)
+    distance = rng.uniform(0.8e5, 1.2e5)
+    center = np.array([0.0, 0.0, -distance])
     aim = center + rng.uniform(-1.5e-3, 1.5e-3, (400, 3)) * [1, 1, 0]
     directions = aim / np.linalg.norm(aim, axis=1, keepdims=True)
-    return (
-        {"radius": 1e-3},
-        {"origins": np.zeros((400, 3)), "directions": directions, "center": center},
-        {},
-    )
+    return {"radius": 1e-3, "origins": np.zeros((400, 3)), "directions": directions,
+            "center": center}  # fmt: skip
 
 
-def _line_camera(**kw):
-    return {"e": [0.5, -1.0], "w": [2.0, 1.0], "fov_angle": 50.0, "pixels": 9, **kw}
-
-
-def _camera(**kw):
+def _line_camera(rng, **kw):
     return {
-        "eye": [1.0, 2.0, 6.0],
-        "lookat": [0.0, 0.5, 0.0],
-        "up": [0.2, 1.0, 0.1],
-        "fov_angle": 40.0,
-        "width": 13,
-        "height": 9,
+        "e": (np.array([0.5, -1.0]) + rng.uniform(-0.5, 0.5, 2)).tolist(),
+        "w": (np.array([2.0, 1.0]) + rng.uniform(-0.5, 0.5, 2)).tolist(),
+        "fov_angle": float(rng.uniform(30, 80)),
+        "pixels": int(rng.integers(5, 20)),
+        **kw,
+    }
+
+
+def _camera(rng, **kw):
+    return {
+        "eye": (np.array([1.0, 2.0, 6.0]) + rng.uniform(-1, 1, 3)).tolist(),
+        "lookat": (np.array([0.0, 0.5, 0.0]) + rng.uniform(-0.5, 0.5, 3)).tolist(),
+        "up": (np.array([0.2, 1.0, 0.1]) + rng.uniform(-0.2, 0.2, 3)).tolist(),
+        "fov_angle": float(rng.uniform(25, 70)),
+        "width": int(rng.integers(9, 20)),
+        "height": int(rng.integers(7, 15)),
         **kw,
     }
 
@@ -131,42 +183,56 @@ def _unit_rows(rng, count):
 def _shading_arrays(seed: int, *names: str):
     """Random inputs of the shading terms: colours, intensity, unit vectors, exponents."""
 
-    def build():
-        rng = np.random.default_rng(seed)
+    def draw(rng):
         count = 300
-        n = _unit_rows(rng, count)
         made = {
             "kd": rng.uniform(0, 1, (count, 3)),
             "ks": rng.uniform(0, 1, (count, 3)),
             "intensity": rng.uniform(0, 1.5, 3),
-            "n": n,
+            "n": _unit_rows(rng, count),
             "l": _unit_rows(rng, count),
             "v": _unit_rows(rng, count),
             "p": rng.uniform(1, 200, count),
             "d": _unit_rows(rng, count),
         }
-        return {}, {k: made[k] for k in names}, {}
+        return {k: made[k] for k in names}
 
-    return build
-
-
-def _sphere_points(seed: int):
-    rng = np.random.default_rng(seed)
-    center, radius = np.array([1.0, 2.0, -3.0]), 2.5
-    return (
-        {"radius": radius},
-        {"points": center + radius * _unit_rows(rng, 200), "center": center},
-        {},
-    )
+    return _drawn(seed, draw)
 
 
-def _shadow_test(seed: int):
+def _sphere_points(rng):
+    center, radius = rng.uniform(-3, 3, 3), float(rng.uniform(0.5, 3))
+    return {"radius": radius, "points": center + radius * _unit_rows(rng, 200), "center": center}
+
+
+def _parallel_planes(rng):
+    """Rays parallel to a plane (some in it), and planes behind the ray."""
+    n = rng.normal(size=3)
+    n /= np.linalg.norm(n)
+    a = rng.uniform(-1, 1, 3)
+    along = np.cross(n, rng.normal(size=3))
+    along /= np.linalg.norm(along)
+    above = a + n * rng.uniform(0.5, 2)
+    origins = np.array([above, above, above, a - n])
+    directions = np.array([along, n, -n, -n])
+    return {"origins": origins, "directions": directions, "a": a, "n": n}
+
+
+def _pixel_points(rng, camera: dict) -> dict:
+    count = 27
+    return {
+        "camera": camera,
+        "x": rng.uniform(0, camera["width"], count),
+        "y": rng.uniform(0, camera["height"], count),
+    }
+
+
+def _shadow_test(rng: np.random.Generator):
     """Points on a tilted floor near 1e6 (as a renderer finds them, with their rounding) under a
     point light, some behind a ball: the shadow test must find the ball and nothing else."""
     from raykit.planes import hit_plane
     from raykit.rays import point_at
 
-    rng = np.random.default_rng(seed)
     far = np.array([1e6, 1e6, 1e6])
     eye = far + [0.0, 4.0, 6.0]
     aim = far + np.column_stack([rng.uniform(-3, 3, 400), np.zeros(400), rng.uniform(-3, 3, 400)])
@@ -177,7 +243,7 @@ def _shadow_test(seed: int):
     normal /= np.linalg.norm(normal)
     t = hit_plane(origins, directions, far, normal)
     points = point_at(origins, directions, t)
-    light = far + [0.5, 5.0, 0.2]
+    light = far + [0.5, 5.0, 0.2] + rng.uniform(-0.3, 0.3, 3)
     to_light = light - points
     distance = np.linalg.norm(to_light, axis=1)
     floor = {
@@ -200,281 +266,181 @@ def _shadow_test(seed: int):
         ],
         "billboards": [floor],
     }
-    return (
-        {"scene": scene},
-        {
-            "points": points,
-            "normals": np.tile(normal, (len(points), 1)),
-            "error": np.finfo(float).eps * (np.abs(origins).max(axis=1) + t),
-            "l": to_light / distance[:, None],
-            "distance": distance,
-        },
-        {},
-    )
+    return {
+        "scene": scene,
+        "points": points,
+        "normals": np.tile(normal, (len(points), 1)),
+        "error": np.finfo(float).eps * (np.abs(origins).max(axis=1) + t),
+        "l": to_light / distance[:, None],
+        "distance": distance,
+    }
 
 
 STAGE1, STAGE2, STAGE3 = "1 line-scan camera", "2 rays, planes and spheres", "3 renderer"
 STAGE4 = "4 shading, shadows and mirrors"
 
 TESTS = [
-    GradingTest("1.1 pixel positions x_i, N = 7", STAGE1, 1, VISIBLE, "pixel_x", _arrays(pixels=7)),
     GradingTest(
-        "1.2 pixel positions with 3 samples per pixel, N = 16",
-        STAGE1,
-        1,
-        HIDDEN,
-        "pixel_x",
-        _arrays(pixels=16, samples=3),
+        "1.1 pixel positions x_i",
+        STAGE1, 1, VISIBLE, "pixel_x",
+        _drawn(11, lambda rng: {"pixels": int(rng.integers(5, 40))}),
+    ),
+    GradingTest(
+        "1.2 pixel positions with several samples per pixel",
+        STAGE1, 1, HIDDEN, "pixel_x",
+        _drawn(12, lambda rng: {"pixels": int(rng.integers(8, 40)),
+                                "samples": int(rng.integers(2, 5))}),
     ),
     GradingTest(
         "1.3 perspective rays of the line-scan camera",
-        STAGE1,
-        2,
-        VISIBLE,
-        "line_rays",
-        _arrays(camera=_line_camera()),
+        STAGE1, 2, VISIBLE, "line_rays",
+        _drawn(13, lambda rng: {"camera": _line_camera(rng)}),
     ),
     GradingTest(
         "1.4 orthographic rays of the line-scan camera",
-        STAGE1,
-        1,
-        HIDDEN,
-        "line_rays",
-        _arrays(camera=_line_camera(projection="orthographic", width=3.0, pixels=11)),
+        STAGE1, 1, HIDDEN, "line_rays",
+        _drawn(14, lambda rng: {"camera": _line_camera(
+            rng, projection="orthographic", width=float(rng.uniform(1, 4)))}),
     ),
     GradingTest(
         "1.5 ray-segment hits: t and s",
-        STAGE1,
-        2,
-        VISIBLE,
-        "hit_segment",
-        _ray_test(11, 400, 2, [1.0, 1.0], 3.0, start=[0.0, 2.0], end=[2.5, -0.5]),
+        STAGE1, 2, VISIBLE, "hit_segment",
+        _ray_test(15, 400, 2, [1.0, 1.0], 3.0, lambda rng: {
+            "start": (np.array([0.0, 2.0]) + rng.uniform(-0.5, 0.5, 2)).tolist(),
+            "end": (np.array([2.5, -0.5]) + rng.uniform(-0.5, 0.5, 2)).tolist()}),
     ),
     GradingTest(
         "1.6 one scan of scenes/linescan/slide.json",
-        STAGE1,
-        2,
-        VISIBLE,
-        "scan",
+        STAGE1, 2, VISIBLE, "scan",
         _scene_test(SCENES / "linescan/slide.json"),
         kind="image",
     ),
     GradingTest(
         "1.7 a sweep of scenes/linescan/conveyor.json",
-        STAGE1,
-        2,
-        HIDDEN,
-        "sweep",
+        STAGE1, 2, HIDDEN, "sweep",
         _scene_test(SCENES / "linescan/conveyor.json", scans=160),
         kind="image",
     ),
     GradingTest(
         "2.1 ray-plane hits",
-        STAGE2,
-        2,
-        VISIBLE,
-        "hit_plane",
-        _ray_test(
-            21,
-            500,
-            3,
-            [0.0, 0.0, 0.0],
-            5.0,
-            a=np.array([0.3, -0.2, 0.5]),
-            n=np.array([0.2, 1.0, -0.4]),
-        ),
+        STAGE2, 2, VISIBLE, "hit_plane",
+        _ray_test(21, 500, 3, [0.0, 0.0, 0.0], 5.0, lambda rng: {
+            "a": rng.uniform(-1, 1, 3), "n": rng.normal(size=3)}),
     ),
     GradingTest(
         "2.2 ray-plane: rays parallel to the plane and planes behind the ray",
-        STAGE2,
-        1,
-        HIDDEN,
-        "hit_plane",
-        _arrays(
-            origins=np.array([[0, 1, 0], [0, 1, 0], [0, 1, 0], [0, 0, 0]], float),
-            directions=np.array([[1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 1, 0]], float),
-            a=np.zeros(3),
-            n=np.array([0.0, 1.0, 0.0]),
-        ),
+        STAGE2, 1, HIDDEN, "hit_plane",
+        _drawn(22, lambda rng: _parallel_planes(rng)),
     ),
     GradingTest(
         "2.3 ray-sphere hits",
-        STAGE2,
-        2,
-        VISIBLE,
-        "hit_sphere",
-        _ray_test(23, 500, 3, [0.5, 0.0, -1.0], 2.5, center=np.array([0.5, 0, -1.0]), radius=1.3),
+        STAGE2, 2, VISIBLE, "hit_sphere",
+        _ray_test(23, 500, 3, [0.5, 0.0, -1.0], 2.5, lambda rng: {
+            "center": np.array([0.5, 0, -1.0]) + rng.uniform(-0.5, 0.5, 3),
+            "radius": float(rng.uniform(0.8, 1.8))}),
     ),
     GradingTest(
         "2.4 ray-sphere from inside the sphere",
-        STAGE2,
-        1,
-        HIDDEN,
-        "hit_sphere",
-        _ray_test(24, 200, 3, [0.0, 0.0, 0.0], 9.0, center=np.zeros(3), radius=9.0),
+        STAGE2, 1, HIDDEN, "hit_sphere",
+        _ray_test(24, 200, 3, [0.0, 0.0, 0.0], 9.0, lambda rng: {
+            "center": rng.uniform(-0.5, 0.5, 3), "radius": float(rng.uniform(8, 10))}),
     ),
     GradingTest(
         "2.5 ray-sphere: a tiny sphere far away (the discriminant's lost digits)",
-        STAGE2,
-        2,
-        HIDDEN,
-        "hit_sphere",
-        lambda: _tiny_far_sphere(25),
+        STAGE2, 2, HIDDEN, "hit_sphere",
+        _drawn(25, _tiny_far_sphere),
     ),
     GradingTest(
         "3.1 the camera frame u, v, w",
-        STAGE3,
-        1,
-        VISIBLE,
-        "camera_frame",
-        _arrays(eye=[1.0, 2.0, 6.0], lookat=[0.0, 0.5, 0.0], up=[0.2, 1.0, 0.1]),
+        STAGE3, 1, VISIBLE, "camera_frame",
+        _drawn(31, lambda rng: {k: v for k, v in _camera(rng).items()
+                                if k in ("eye", "lookat", "up")}),
     ),
     GradingTest(
         "3.2 perspective rays through pixel points",
-        STAGE3,
-        2,
-        VISIBLE,
-        "rays_through",
-        lambda: (
-            {"camera": _camera()},
-            {"x": np.linspace(0, 13, 27), "y": np.linspace(9, 0, 27)},
-            {},
-        ),
+        STAGE3, 2, VISIBLE, "rays_through",
+        _drawn(32, lambda rng: _pixel_points(rng, _camera(rng))),
     ),
     GradingTest(
         "3.3 orthographic rays through pixel points",
-        STAGE3,
-        1,
-        HIDDEN,
-        "rays_through",
-        lambda: (
-            {"camera": _camera(projection="orthographic")},
-            {"x": np.linspace(0.5, 12.5, 13), "y": np.linspace(0.5, 8.5, 13)},
-            {},
-        ),
+        STAGE3, 1, HIDDEN, "rays_through",
+        _drawn(33, lambda rng: _pixel_points(rng, _camera(rng, projection="orthographic"))),
     ),
     GradingTest(
         "3.4 ray-billboard hits: t, alpha, beta",
-        STAGE3,
-        2,
-        VISIBLE,
-        "hit_billboard",
-        _ray_test(
-            34,
-            500,
-            3,
-            [0.5, 0.5, 0.0],
-            2.0,
-            upper_left=[-0.5, 1.5, 0.2],
-            lower_left=[-0.3, -0.5, -0.1],
-            upper_right=[1.8, 1.4, 0.4],
-        ),
+        STAGE3, 2, VISIBLE, "hit_billboard",
+        _ray_test(34, 500, 3, [0.5, 0.5, 0.0], 2.0, lambda rng: {
+            "upper_left": (np.array([-0.5, 1.5, 0.2]) + rng.uniform(-0.3, 0.3, 3)).tolist(),
+            "lower_left": (np.array([-0.3, -0.5, -0.1]) + rng.uniform(-0.3, 0.3, 3)).tolist(),
+            "upper_right": (np.array([1.8, 1.4, 0.4]) + rng.uniform(-0.3, 0.3, 3)).tolist()}),
     ),
     GradingTest(
         "3.5 nearest texel of (alpha, beta)",
-        STAGE3,
-        1,
-        VISIBLE,
-        "texel_indices",
-        _arrays(alpha=np.linspace(0, 1, 41), beta=np.linspace(1, 0, 41), width=7, height=5),
+        STAGE3, 1, VISIBLE, "texel_indices",
+        _drawn(35, lambda rng: {
+            "alpha": np.append(rng.uniform(0, 1, 40), [0.0, 1.0]),
+            "beta": np.append(rng.uniform(0, 1, 40), [1.0, 0.0]),
+            "width": int(rng.integers(3, 12)), "height": int(rng.integers(3, 12))}),
     ),
     GradingTest(
         "3.6 render scenes/classic.json (320 x 240)",
-        STAGE3,
-        4,
-        VISIBLE,
-        "render",
+        STAGE3, 4, VISIBLE, "render",
         _scene_test(SCENES / "classic.json", width=320, height=240),
-        kind="image",
-        mistakes=True,
+        kind="image", mistakes=True,
     ),
     GradingTest(
         "3.7 render scenes/cutouts.json",
-        STAGE3,
-        3,
-        VISIBLE,
-        "render",
+        STAGE3, 3, VISIBLE, "render",
         _scene_test(SCENES / "cutouts.json", width=240, height=160),
-        kind="image",
-        mistakes=True,
+        kind="image", mistakes=True,
     ),
     GradingTest(
         "3.8 render scenes/orthographic.json",
-        STAGE3,
-        2,
-        HIDDEN,
-        "render",
+        STAGE3, 2, HIDDEN, "render",
         _scene_test(SCENES / "orthographic.json", width=200, height=200),
-        kind="image",
-        mistakes=True,
+        kind="image", mistakes=True,
     ),
     GradingTest(
         "3.9 render scenes/wide_fov.json",
-        STAGE3,
-        2,
-        HIDDEN,
-        "render",
+        STAGE3, 2, HIDDEN, "render",
         _scene_test(SCENES / "wide_fov.json", width=300, height=150),
-        kind="image",
-        mistakes=True,
+        kind="image", mistakes=True,
     ),
     GradingTest(
         "3.10 render a hidden scene: odd size, tilted up, inside a sphere",
-        STAGE3,
-        3,
-        HIDDEN,
-        "render",
+        STAGE3, 3, HIDDEN, "render",
         _scene_test(HIDDEN_SCENES / "odd.json"),
-        kind="image",
-        mistakes=True,
+        kind="image", mistakes=True,
     ),
     GradingTest(
         "3.11 render a hidden scene: balls into each other, a wall through a ball",
-        STAGE3,
-        3,
-        HIDDEN,
-        "render",
+        STAGE3, 3, HIDDEN, "render",
         _scene_test(HIDDEN_SCENES / "overlaps.json"),
-        kind="image",
-        mistakes=True,
+        kind="image", mistakes=True,
     ),
     GradingTest(
-        "4.1 sphere normals", STAGE4, 1, VISIBLE, "sphere_normals", lambda: _sphere_points(41)
+        "4.1 sphere normals", STAGE4, 1, VISIBLE, "sphere_normals", _drawn(41, _sphere_points)
     ),
     GradingTest(
         "4.2 toward a point light: l and distance",
-        STAGE4,
-        1,
-        VISIBLE,
-        "toward_light",
-        _arrays(
-            position=[0.5, 4.0, -1.0], points=np.random.default_rng(42).uniform(-3, 3, (50, 3))
-        ),
+        STAGE4, 1, VISIBLE, "toward_light",
+        _drawn(42, lambda rng: {"position": rng.uniform(-2, 5, 3).tolist(),
+                                "points": rng.uniform(-3, 3, (50, 3))}),
     ),
     GradingTest(
         "4.3 toward a directional light",
-        STAGE4,
-        1,
-        HIDDEN,
-        "toward_light",
-        _arrays(
-            direction=[1.0, -2.0, 0.5], points=np.random.default_rng(43).uniform(-3, 3, (50, 3))
-        ),
+        STAGE4, 1, HIDDEN, "toward_light",
+        _drawn(43, lambda rng: {"direction": rng.normal(size=3).tolist(),
+                                "points": rng.uniform(-3, 3, (50, 3))}),
     ),
     GradingTest(
         "4.4 Lambert's diffuse term",
-        STAGE4,
-        2,
-        VISIBLE,
-        "lambert",
+        STAGE4, 2, VISIBLE, "lambert",
         _shading_arrays(44, "kd", "intensity", "n", "l"),
     ),
     GradingTest(
         "4.5 Blinn-Phong's highlight",
-        STAGE4,
-        2,
-        VISIBLE,
-        "blinn_phong",
+        STAGE4, 2, VISIBLE, "blinn_phong",
         _shading_arrays(45, "ks", "intensity", "n", "l", "v", "p"),
     ),
     GradingTest(
@@ -482,57 +448,38 @@ TESTS = [
     ),
     GradingTest(
         "4.7 the shadow test on a floor at 1e6 (shadow acne)",
-        STAGE4,
-        2,
-        HIDDEN,
-        "in_shadow",
-        lambda: _shadow_test(47),
+        STAGE4, 2, HIDDEN, "in_shadow",
+        _drawn(47, _shadow_test),
     ),
     GradingTest(
         "4.8 render scenes/classic_lit.json (320 x 240)",
-        STAGE4,
-        4,
-        VISIBLE,
-        "render",
+        STAGE4, 4, VISIBLE, "render",
         _scene_test(SCENES / "classic_lit.json", width=320, height=240),
-        kind="image",
-        mistakes=True,
+        kind="image", mistakes=True,
     ),
     GradingTest(
         "4.9 render scenes/shadow_on_billboard.json",
-        STAGE4,
-        3,
-        VISIBLE,
-        "render",
+        STAGE4, 3, VISIBLE, "render",
         _scene_test(SCENES / "shadow_on_billboard.json", width=240, height=180),
-        kind="image",
-        mistakes=True,
+        kind="image", mistakes=True,
     ),
     GradingTest(
         "4.10 render scenes/mirror_balls.json",
-        STAGE4,
-        3,
-        HIDDEN,
-        "render",
+        STAGE4, 3, HIDDEN, "render",
         _scene_test(SCENES / "mirror_balls.json", width=240, height=150),
-        kind="image",
-        mistakes=True,
+        kind="image", mistakes=True,
     ),
     GradingTest(
         "4.11 render a hidden lit scene at 1e6, a ball touching the floor",
-        STAGE4,
-        3,
-        HIDDEN,
-        "render",
+        STAGE4, 3, HIDDEN, "render",
         _scene_test(HIDDEN_SCENES / "lit_far.json"),
-        kind="image",
-        mistakes=True,
+        kind="image", mistakes=True,
     ),
-]
+]  # fmt: skip
 
 
 def by_name(names: list[str] | None) -> list[GradingTest]:
-    """The tests whose names start with any of ``names`` (all when None)."""
+    """The tests whose numbers or names start with any of ``names`` (all when None)."""
     if not names:
         return list(TESTS)
-    return [t for t in TESTS if any(t.name.startswith(n) for n in names)]
+    return [t for t in TESTS if any(t.key == n or t.name.startswith(n) for n in names)]

@@ -2,9 +2,11 @@
 
     python -I -S child.py WORK_FOLDER
 
-reads ``task.json`` and ``inputs.npz`` from WORK_FOLDER, puts the submission and the allowed
-libraries (numpy, Pillow) on ``sys.path`` and nothing else, runs the task, and writes the
-results to ``outputs.npz`` (plain arrays: the parent loads them with ``allow_pickle=False``).
+runs inside the sandbox (:mod:`raykit_grading.isolation`). It reads ``task.json`` and
+``inputs.npz`` from WORK_FOLDER (read-only), drops root if it has it, puts the submission and
+the allowed libraries (numpy, Pillow) on ``sys.path`` and nothing else, runs the task, and
+writes the results as an ``.npz`` of plain arrays to a pipe the grader holds (never to a file:
+the grader reads nothing back from the sandbox's disk).
 
 The same :data:`TASKS` run in the grader with the reference raykit, to make the expected
 results; so a task is written once and means the same on both sides. This file imports only
@@ -14,7 +16,9 @@ on its path: the submission's.
 
 from __future__ import annotations
 
+import io
 import json
+import os
 import sys
 from pathlib import Path
 
@@ -48,6 +52,14 @@ def _camera(spec: dict):
         spec["height"],
         spec.get("projection", "perspective"),
     )
+
+
+def task_probe(spec, arrays):
+    """The grader's preflight: the sandbox's Python imports numpy and Pillow."""
+    import numpy as np
+    import PIL.Image  # noqa: F401
+
+    return {"ok": np.ones(1)}
 
 
 def task_pixel_x(spec, arrays):
@@ -207,8 +219,25 @@ def task_sweep(spec, arrays):
 TASKS = {name[len("task_") :]: f for name, f in dict(globals()).items() if name.startswith("task_")}
 
 
+def _drop_privileges(uid: int | None) -> None:
+    """As root (grading on Gradescope), become the task's own unprivileged uid before any
+    submitted code is imported; and never gain privileges again (no setuid programs)."""
+    import ctypes
+
+    if uid is not None and os.geteuid() == 0:
+        os.setgroups([])
+        os.setgid(uid)
+        os.setuid(uid)
+    if os.geteuid() == 0 and uid is not None:
+        raise SystemExit("raykit grader: could not drop root")
+    PR_SET_NO_NEW_PRIVS = 38
+    ctypes.CDLL(None, use_errno=True).prctl(PR_SET_NO_NEW_PRIVS, 1, 0, 0, 0)
+
+
 def main(work: Path) -> int:
     order = json.loads((work / "task.json").read_text())
+    _drop_privileges(order.get("uid"))
+    returned = os.fdopen(order["outputs_fd"], "wb")
     sys.path[:0] = [str(work / "submission"), *order["library_paths"]]
     import numpy as np  # only now, from the allowed paths
 
@@ -218,7 +247,10 @@ def main(work: Path) -> int:
     if "folder" in spec:
         spec["folder"] = str(work / spec["folder"])
     outputs = TASKS[order["task"]](spec, arrays)
-    np.savez(work / "outputs.npz", **{k: np.asarray(v) for k, v in outputs.items()})
+    packed = io.BytesIO()
+    np.savez(packed, **{k: np.asarray(v) for k, v in outputs.items()})
+    returned.write(packed.getvalue())
+    returned.close()
     return 0
 
 

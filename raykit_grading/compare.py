@@ -59,20 +59,48 @@ def compare_images(
     return Comparison(matched, float(matched.mean()), psnr)
 
 
+def strict_matched(student: np.ndarray, reference: np.ndarray, tolerance: int = 2) -> np.ndarray:
+    """``(H, W)``: pixels within ``tolerance`` of the reference pixel itself (no neighbours)."""
+    difference = np.abs(student.astype(np.int16) - reference.astype(np.int16))
+    return (difference <= tolerance).all(axis=-1)
+
+
 def strict_fraction(student: np.ndarray, reference: np.ndarray, tolerance: int = 2) -> float:
     """The share of pixels within ``tolerance`` of the reference pixel itself (no neighbours):
     for telling apart images that the fair comparison cannot, such as a half-pixel shift."""
-    difference = np.abs(student.astype(np.int16) - reference.astype(np.int16))
-    return float((difference <= tolerance).all(axis=-1).mean())
+    return float(strict_matched(student, reference, tolerance).mean())
 
 
-def feedback_picture(student: np.ndarray, reference: np.ndarray, matched: np.ndarray) -> np.ndarray:
-    """Student | reference | mismatches in red over a greyed reference, side by side, uint8."""
+CAPTIONS = ("yours", "expected", "where they differ (red)")
+
+
+def feedback_picture(
+    student: np.ndarray, reference: np.ndarray, matched: np.ndarray, note: str | None = None
+) -> np.ndarray:
+    """Yours | expected | mismatches in red over a greyed reference, side by side, each panel
+    captioned, and ``note`` (e.g. the diagnosed mistake) on a line above them; uint8."""
+    from PIL import Image, ImageDraw, ImageFont
+
     grey = reference.mean(axis=-1, keepdims=True)
     greyed = np.repeat(0.35 * grey + 0.65 * 255, 3, axis=-1)
     greyed[~matched] = [230, 20, 20]
-    gap = np.full((reference.shape[0], 4, 3), 255)
-    return np.concatenate([student, gap, reference, gap, greyed], axis=1).astype(np.uint8)
+    scale = max(1, -(-200 // reference.shape[1]))  # small images (a scan's strip) made visible
+    student, reference, greyed = (
+        np.kron(np.asarray(a), np.ones((scale, scale, 1))) for a in (student, reference, greyed)
+    )
+    height, width = reference.shape[:2]
+    gap, line = 6, 18
+    top = line * (2 if note else 1) + 4
+    canvas = Image.new("RGB", (3 * width + 2 * gap, height + top), "white")
+    draw = ImageDraw.Draw(canvas)
+    font = ImageFont.load_default(13)
+    if note:
+        draw.text((2, 2), note, fill=(150, 0, 0), font=font)
+    for i, (panel, caption) in enumerate(zip((student, reference, greyed), CAPTIONS, strict=True)):
+        left = i * (width + gap)
+        canvas.paste(Image.fromarray(np.asarray(panel, np.uint8)), (left, top))
+        draw.text((left + 2, top - line), caption, fill=(0, 0, 0), font=font)
+    return np.asarray(canvas)
 
 
 def check_arrays(got: dict[str, np.ndarray], want: dict[str, np.ndarray]) -> tuple[bool, str]:

@@ -1,33 +1,47 @@
 """Grading one submission: every test of the catalog, in a sandbox, into Gradescope's results.
 
-The expected results are the catalog's tasks run here with the reference raykit (cached for
-the run); the submission's results come back from :class:`raykit_grading.sandbox.Sandbox` as plain
-arrays and are checked here: shape, finite numbers, values. Image results are compared with
-:mod:`raykit_grading.compare`; a failed render is also compared with the classic mistakes
-(:mod:`raykit_grading.mistakes`) so that feedback can name one.
+The submission is first staged (:mod:`raykit_grading.submissions`: plain files only, links
+and special files left out) into a private workspace (:mod:`raykit_grading.workspace`), then a
+sandbox is checked to work (:meth:`Sandbox.check`) before any test runs. Each test draws its
+inputs from the run's seed (:meth:`GradingTest.graded_inputs`: nothing shipped to students
+answers it), runs the submission's code on them in a sandbox of its own, and compares what
+comes back with the same task run here by the reference raykit: arrays within a tolerance,
+renders with :mod:`raykit_grading.compare`; a render that is not right is also compared with
+the classic mistakes (:mod:`raykit_grading.mistakes`), and a mistake found there costs that
+test its points (a systematic mistake is not float noise), saying why.
+
+A test that fails, for whatever reason, fails alone: every other test keeps its score. If the
+grader itself fails on a test, that test says so ("not graded"), the others are graded, and
+the run ends with :class:`NotGraded` so that the command exits non-zero. If no sandbox can be
+made, nothing is graded (:class:`GradingImpossible`).
 
 results.json follows Gradescope's specification (score, execution_time, output, tests with
-name, score, max_score, output, visibility, status). It is written by this process, last and
-atomically, whatever the submission did; if grading itself fails, it still says so in a valid
-results.json with score 0.
+name, number, score, max_score, status, output, output_format, visibility). It is written by
+this process, last and atomically. A visible render's output is HTML with the captioned
+feedback picture (yours | expected | where they differ) inline; hidden tests show their score
+and message only, never a picture or what the code printed.
 """
 
 from __future__ import annotations
 
+import base64
 import functools
+import html
+import io
 import json
 import os
+import secrets
 import sys
 import tempfile
 import time
-import traceback
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from raykit.images import quantize, save_image
 from raykit_grading import child
-from raykit_grading.catalog import TESTS, GradingTest, by_name
+from raykit_grading.catalog import HIDDEN_SCENES, SCENES, TESTS, VISIBLE, GradingTest, by_name
 from raykit_grading.compare import (
     DEFAULT_SCORING,
     Scoring,
@@ -35,164 +49,275 @@ from raykit_grading.compare import (
     compare_images,
     feedback_picture,
     strict_fraction,
+    strict_matched,
 )
+from raykit_grading.isolation import IsolationUnavailable
 from raykit_grading.mistakes import MISTAKES
 from raykit_grading.sandbox import Limits, Sandbox
+from raykit_grading.submissions import SubmissionError, stage
+from raykit_grading.workspace import Workspace
 
 DIAGNOSE_FROM = 0.95  # a mistake is named only if it explains this much of the image
 STRICTLY_RIGHT = 0.99  # an image this close to the reference, pixel for pixel, needs no diagnosis
+TOTAL_SECONDS = 480.0  # what all of one submission's tests may take together
+OUTPUT_LIMIT = 4000  # characters of text per test (pictures come on top, as HTML)
 
 
-def find_package(submission: Path) -> Path | None:
-    """The submission's ``raykit`` package folder: at its top, or one folder down."""
-    for candidate in [submission / "raykit", *sorted(submission.glob("*/raykit"))]:
-        if (candidate / "__init__.py").is_file():
-            return candidate
-    return None
+class GradingImpossible(RuntimeError):
+    """Nothing can be graded here (no sandbox, no clone); the message says why and the fix."""
 
 
-@functools.cache
-def expected(test_name: str, mistake: str | None = None) -> dict[str, np.ndarray]:
-    """The reference results of a test (optionally with a classic mistake made)."""
-    test = next(t for t in TESTS if t.name == test_name)
-    spec, arrays, files = test.inputs()
-    spec = json.loads(json.dumps(spec))
-    if "folder" in spec:  # the parent reads the textures where they are
-        with tempfile.TemporaryDirectory() as folder:
-            for relative, source in files.items():
-                target = Path(folder) / relative
-                target.parent.mkdir(parents=True, exist_ok=True)
-                target.write_bytes(source.read_bytes())
-            spec["folder"] = str(Path(folder) / spec["folder"])
-            return _run_reference(test, spec, arrays, mistake)
-    return _run_reference(test, spec, arrays, mistake)
+class NotGraded(RuntimeError):
+    """Some tests could not be graded because the grader failed on them (``results`` holds
+    the rest, graded)."""
+
+    def __init__(self, message: str, results: dict) -> None:
+        super().__init__(message)
+        self.results = results
 
 
-def _run_reference(test: GradingTest, spec, arrays, mistake: str | None):
-    if mistake is None:
-        return child.TASKS[test.task](spec, arrays)
-    wrong = next(m for m in MISTAKES if m.key == mistake)
-    with wrong.active():
-        outputs = child.TASKS[test.task](spec, arrays)
-    return {k: wrong.after(v) for k, v in outputs.items()}
+@dataclass(frozen=True)
+class Options:
+    child_python: str | None = None
+    limits: Limits = Limits()
+    total_seconds: float = TOTAL_SECONDS
+    scoring: Scoring = DEFAULT_SCORING
 
 
-def _image_result(
-    test: GradingTest, got: dict, feedback: Path | None, scoring: Scoring
-) -> tuple[float, str]:
-    want = quantize(expected(test.name)["rgb"])
-    rgb = got.get("rgb")
-    if rgb is None or rgb.shape != want.shape:
-        shape = None if rgb is None else rgb.shape
-        return 0.0, f"the image has shape {shape}, expected {want.shape}"
-    if not np.issubdtype(rgb.dtype, np.number) or not np.isfinite(rgb).all():
-        return 0.0, "the image holds NaN, infinity or values that are not numbers"
-    mine = quantize(rgb)
-    result = compare_images(mine, want, scoring)
-    score = result.score(scoring)
-    lines = [
-        f"{result.fraction:.2%} of pixels match the reference (full marks from "
-        f"{scoring.full_at:.1%}, none below {scoring.none_below:.0%}); "
-        f"PSNR {result.psnr:.1f} dB"
-    ]
-    if feedback is not None:
-        feedback.mkdir(parents=True, exist_ok=True)
-        picture = feedback / f"{test.name.split()[0]}.png"
-        save_image(feedback_picture(mine, want, result.matched), picture)
-        lines.append(f"feedback picture (yours | reference | mismatches): {picture.name}")
-    if test.mistakes:
-        diagnosis = diagnose(test, mine, want)
-        if diagnosis:
-            lines.append(diagnosis if score < 1 else f"Full marks, but note: {diagnosis}")
-    return score, "\n".join(lines)
+def check_clone() -> None:
+    """The grader reads the course repository's scenes; say so plainly when they are absent."""
+    for folder in (SCENES, HIDDEN_SCENES):
+        if not folder.is_dir():
+            raise GradingImpossible(
+                f"the grader needs a clone of the course repository ({folder} not found); "
+                "run it from a clone (pip install -e '.[grading]')"
+            )
 
 
-def diagnose(test: GradingTest, mine: np.ndarray, want: np.ndarray) -> str | None:
-    """Name the classic mistake whose image explains the submission's better than the
-    reference does, pixel for pixel (strictly, so that even a half-pixel shift shows)."""
-    best, best_fraction = None, max(strict_fraction(mine, want), DIAGNOSE_FROM)
-    if best_fraction >= STRICTLY_RIGHT:
-        return None
-    for mistake in MISTAKES:
-        wrong = quantize(expected(test.name, mistake.key)["rgb"])
-        if wrong.shape != mine.shape:
-            continue
-        matched = strict_fraction(mine, wrong)
-        if matched > best_fraction:
-            best, best_fraction = mistake, matched
-    if best is None:
-        return None
-    return (
-        f"Your image matches what the renderer gives when {best.says} "
-        f"({best_fraction:.1%} of pixels)."
-    )
+def preflight(options: Options = Options()) -> None:
+    """Before any student is graded: the scenes are there and a sandbox works here."""
+    check_clone()
+    with Workspace() as workspace:
+        empty = workspace / "nothing"
+        empty.mkdir(mode=0o755)
+        try:
+            Sandbox(empty, workspace, options.child_python, options.limits).check()
+        except IsolationUnavailable as exc:
+            raise GradingImpossible(str(exc)) from None
 
 
 def grade(
     submission: Path,
     *,
-    child_python: str | None = None,
     names: list[str] | None = None,
     feedback: Path | None = None,
-    limits: Limits | None = None,
-    scoring: Scoring = DEFAULT_SCORING,
+    seed: int | None = None,
+    options: Options = Options(),
+    progress=None,
 ) -> dict:
-    """Grade a submission folder; returns Gradescope's results as a dict."""
+    """Grade a submission folder; returns Gradescope's results as a dict.
+
+    Raises :class:`GradingImpossible` if nothing can be graded here, :class:`NotGraded` (with
+    the results of the rest) if the grader failed on some tests.
+    """
     start = time.perf_counter()
     tests = by_name(names)
-    package = find_package(Path(submission))
-    results = []
-    if package is None:
-        message = "no raykit package found in the submission (expected raykit/__init__.py)"
-        results = [_result(t, 0.0, message) for t in tests]
-    else:
-        with Sandbox(child_python or sys.executable, limits) as sandbox:
+    seed = secrets.randbits(63) if seed is None else seed
+    check_clone()
+    results, notes, failures = [], [], []
+    with Workspace() as workspace:
+        try:
+            staged = stage(Path(submission), workspace / "submission")
+            notes = staged.notes
+            package = staged.package
+            problem = "no raykit package found in the submission (expected raykit/__init__.py)"
+        except SubmissionError as exc:
+            package, problem = None, f"the submission could not be taken in: {exc}"
+        if package is None:
+            results = [_result(t, 0.0, problem) for t in tests]
+        else:
+            try:
+                sandbox = Sandbox(staged.root, workspace, options.child_python, options.limits)
+                sandbox.check()
+            except IsolationUnavailable as exc:
+                raise GradingImpossible(str(exc)) from None
+            deadline = time.monotonic() + options.total_seconds
             for test in tests:
-                results.append(_grade_one(sandbox, package, test, feedback, scoring))
-    return {
+                try:
+                    results.append(_grade_one(sandbox, test, seed, feedback, options, deadline))
+                except Exception as exc:  # noqa: BLE001 - one test's failure stays its own
+                    failures.append(f"{test.key}: {type(exc).__name__}: {exc}")
+                    results.append(
+                        _result(
+                            test,
+                            0.0,
+                            "not graded: the autograder failed on this test (not your "
+                            "code's fault); your instructor has to regrade it",
+                        )
+                    )
+                if progress:
+                    progress(test)
+    summary = [f"raykit autograder: {len(tests)} tests"]
+    summary += [f"Note: {note}" for note in notes]
+    if failures:
+        summary.append(f"{len(failures)} test(s) could not be graded; they need a regrade")
+    graded = {
         "score": round(sum(r["score"] for r in results), 4),
         "execution_time": round(time.perf_counter() - start, 2),
-        "output": f"raykit autograder: {len(tests)} tests",
+        "output": "\n".join(summary),
         "visibility": "visible",
         "stdout_visibility": "hidden",
+        "extra_data": {"seed": seed, "not_graded": failures},
         "tests": results,
     }
+    if failures:
+        raise NotGraded("; ".join(failures), graded)
+    return graded
 
 
 def _grade_one(
-    sandbox: Sandbox, package: Path, test: GradingTest, feedback: Path | None, scoring: Scoring
+    sandbox: Sandbox,
+    test: GradingTest,
+    seed: int,
+    feedback: Path | None,
+    options: Options,
+    deadline: float,
 ) -> dict:
-    spec, arrays, files = test.inputs()
-    ran = sandbox.run(package, test.task, spec, arrays, files)
+    left = deadline - time.monotonic()
+    if left <= 1:
+        return _result(
+            test,
+            0.0,
+            f"not run: all tests together may take {options.total_seconds:g} s, and your "
+            "code used that time up in the tests before this one",
+        )
+    spec, arrays, files = test.graded_inputs(seed)
+    ran = sandbox.run(
+        test.task, spec, arrays, files, wall_seconds=min(options.limits.wall_seconds, left)
+    )
     if ran.outputs is None:
         return _result(test, 0.0, ran.problem, ran.output)
     if test.kind == "image":
-        share, message = _image_result(test, ran.outputs, feedback, scoring)
-        return _result(test, test.points * share, message)
-    passed, message = check_arrays(ran.outputs, expected(test.name))
+        return _image_result(test, seed, ran.outputs, feedback, options.scoring)
+    passed, message = check_arrays(ran.outputs, expected(test.name, seed))
     return _result(test, test.points if passed else 0.0, f"{message} ({test.tolerance})")
 
 
+@functools.cache
+def expected(test_name: str, seed: int | None, mistake: str | None = None) -> dict:
+    """The reference results of a test's draw (``seed`` None: the public draw), optionally
+    with a classic mistake made."""
+    test = next(t for t in TESTS if t.name == test_name)
+    spec, arrays, files = test.public_inputs() if seed is None else test.graded_inputs(seed)
+    return reference_results(test, spec, arrays, files, mistake)
+
+
+def reference_results(test: GradingTest, spec, arrays, files, mistake: str | None = None):
+    """``test``'s task run here by the reference raykit on these inputs."""
+    spec = json.loads(json.dumps(spec))
+    with tempfile.TemporaryDirectory() as folder:
+        if "folder" in spec:  # the reference reads the textures where the child would
+            for relative, source in files.items():
+                target = Path(folder) / relative
+                target.parent.mkdir(parents=True, exist_ok=True)
+                target.write_bytes(source.read_bytes())
+            spec["folder"] = str(Path(folder) / spec["folder"])
+        if mistake is None:
+            return child.TASKS[test.task](spec, arrays)
+        wrong = next(m for m in MISTAKES if m.key == mistake)
+        with wrong.active():
+            outputs = child.TASKS[test.task](spec, arrays)
+        return {k: wrong.after(v) for k, v in outputs.items()}
+
+
+def _image_result(
+    test: GradingTest, seed: int, got: dict, feedback: Path | None, scoring: Scoring
+) -> dict:
+    want = quantize(expected(test.name, seed)["rgb"])
+    rgb = got.get("rgb")
+    if rgb is None or rgb.shape != want.shape:
+        shape = None if rgb is None else rgb.shape
+        return _result(test, 0.0, f"the image has shape {shape}, expected {want.shape}")
+    if not np.isfinite(rgb).all():
+        return _result(test, 0.0, "the image holds NaN or infinity")
+    mine = quantize(rgb)
+    result = compare_images(mine, want, scoring)
+    share = result.score(scoring)
+    lines = [
+        f"{result.fraction:.2%} of pixels match the reference (full marks from "
+        f"{scoring.full_at:.1%}, none below {scoring.none_below:.0%}); "
+        f"PSNR {result.psnr:.1f} dB"
+    ]
+    mistake = diagnose(test, seed, mine, want) if test.mistakes else None
+    if mistake is not None:
+        says, fraction = mistake
+        lines.append(
+            f"Your image matches what the renderer gives when {says} ({fraction:.1%} of "
+            "pixels exactly). That is a systematic mistake, not rounding: this test gives no "
+            "points for it, however close the picture looks."
+        )
+        share = 0.0
+    picture = None
+    if test.visibility == VISIBLE or feedback is not None:
+        note = f"Diagnosed: {mistake[0]} (red: every pixel it changes)" if mistake else None
+        shown = strict_matched(mine, want) if mistake else result.matched
+        picture = feedback_picture(mine, want, shown, note)
+    if feedback is not None:
+        feedback.mkdir(parents=True, exist_ok=True)
+        path = feedback / f"{test.key}.png"
+        save_image(picture, path)
+        lines.append(f"feedback picture (yours | expected | where they differ): {path.name}")
+    text = "\n".join(lines)
+    entry = _result(test, test.points * share, text)
+    if test.visibility == VISIBLE:  # hidden tests show nothing a student could copy
+        entry["output"] = _html(text, picture)
+        entry["output_format"] = "html"
+    return entry
+
+
+def diagnose(test: GradingTest, seed: int, mine: np.ndarray, want: np.ndarray):
+    """The classic mistake whose image explains the submission's better than the reference
+    does, pixel for pixel (strictly, so that even a half-pixel shift shows): (what it says,
+    the share of pixels it explains), or None."""
+    best, best_fraction = None, max(strict_fraction(mine, want), DIAGNOSE_FROM)
+    if best_fraction >= STRICTLY_RIGHT:
+        return None
+    for mistake in MISTAKES:
+        wrong = quantize(expected(test.name, seed, mistake.key)["rgb"])
+        if wrong.shape != mine.shape or strict_fraction(wrong, want) >= 1.0:
+            continue  # this mistake does not change this picture
+        matched = strict_fraction(mine, wrong)
+        if matched > best_fraction:
+            best, best_fraction = mistake, matched
+    return None if best is None else (best.says, best_fraction)
+
+
+def _html(text: str, picture: np.ndarray | None) -> str:
+    parts = [f"<pre>{html.escape(text)}</pre>"]
+    if picture is not None:
+        png = io.BytesIO()
+        from PIL import Image
+
+        Image.fromarray(picture).save(png, format="PNG", optimize=True)
+        encoded = base64.b64encode(png.getvalue()).decode()
+        parts.append(
+            f'<img alt="yours | expected | where they differ" '
+            f'src="data:image/png;base64,{encoded}">'
+        )
+    return "\n".join(parts)
+
+
 def _result(test: GradingTest, score: float, message: str, output: str = "") -> dict:
-    text = message if not output.strip() else f"{message}\n--- your code printed ---\n{output}"
+    if output.strip() and test.visibility == VISIBLE:  # a hidden test's data never shows
+        message = f"{message}\n--- your code printed ---\n{output}"
     return {
         "name": test.name,
+        "number": test.key,
         "score": round(score, 4),
         "max_score": test.points,
-        "output": text[:4000],
+        "output": message[:OUTPUT_LIMIT],
         "visibility": test.visibility,
         "status": "passed" if score >= test.points else "failed",
-    }
-
-
-def failed_results(why: str) -> dict:
-    """A valid results.json when grading itself could not run."""
-    return {
-        "score": 0,
-        "execution_time": 0,
-        "visibility": "visible",
-        "output": f"The autograder could not grade this submission: {why}",
-        "tests": [_result(t, 0.0, "not graded: the autograder failed") for t in TESTS],
     }
 
 
@@ -206,12 +331,33 @@ def write_results(results: dict, path: Path) -> None:
     os.replace(temporary, path)
 
 
-def grade_to_file(submission: Path, output: Path, **options) -> dict:
-    """Grade and write results.json, always: a crash of the grader becomes a score of 0."""
+def not_graded_results(why: str, tests: list[GradingTest] | None = None) -> dict:
+    """results.json for a run that could grade nothing: it says so on every test (and the
+    command exits non-zero); it is never a score the student earned."""
+    message = f"NOT GRADED: the autograder could not run here ({why}); ask your instructor"
+    return {
+        "score": 0,
+        "execution_time": 0,
+        "output": message,
+        "visibility": "visible",
+        "stdout_visibility": "hidden",
+        "extra_data": {"not_graded": [why]},
+        "tests": [_result(t, 0.0, message) for t in (tests or TESTS)],
+    }
+
+
+def grade_to_file(submission: Path, output: Path, **options) -> int:
+    """Grade and write results.json: the exit status (0 graded, 1 the submission has no
+    package, 3 some or all tests could not be graded; results.json says which)."""
+    names = options.get("names")
     try:
         results = grade(submission, **options)
-    except Exception as exc:  # noqa: BLE001 - the results file must exist whatever happened
-        traceback.print_exc()
-        results = failed_results(f"{type(exc).__name__}: {exc}")
+        status = 1 if any("no raykit package" in t["output"] for t in results["tests"]) else 0
+    except NotGraded as exc:
+        results, status = exc.results, 3
+        print(f"raykit_grading: some tests could not be graded: {exc}", file=sys.stderr)
+    except GradingImpossible as exc:
+        results, status = not_graded_results(str(exc), by_name(names)), 3
+        print(f"raykit_grading: error: cannot grade: {exc}", file=sys.stderr)
     write_results(results, output)
-    return results
+    return status

@@ -5,14 +5,19 @@
 The zip holds ``setup.sh`` and ``run_autograder`` at its top, and ``source/`` with the grader,
 the reference raykit, the scenes and the hidden scenes. On Gradescope's Ubuntu image:
 
-* ``setup.sh`` installs Python with numpy and Pillow for the grader, and a separate virtual
-  environment (numpy and Pillow only, readable by all) that submissions run in, as an
-  unprivileged uid; and it closes ``/autograder/source`` to everyone but root.
-* ``run_autograder`` grades ``/autograder/submission`` and writes
-  ``/autograder/results/results.json`` (the grader writes it in every case).
+* ``setup.sh`` installs bubblewrap (the sandbox, :mod:`raykit_grading.isolation`) and a Python
+  with numpy and Pillow pinned to the versions of the machine that built the zip (the
+  references are computed with them at grading time, and submissions run on the same
+  interpreter, inside the sandbox, which shows them numpy and Pillow only); and it closes
+  ``/autograder/source`` to everyone but root.
+* ``run_autograder`` grades ``/autograder/submission`` (a folder or a zip in it) and writes
+  ``/autograder/results/results.json``; it exits non-zero if the grader could not grade.
 
-``AUTOGRADER_ROOT``, ``RAYKIT_GRADER_PYTHON`` and ``RAYKIT_CHILD_PYTHON`` change the paths, so
-the same script runs in a test on any machine.
+Set Gradescope's autograder timeout to at least 12 minutes: one submission's tests may take
+480 s together (``--total-seconds``), plus the reference renders and start-up.
+
+``AUTOGRADER_ROOT`` and ``RAYKIT_GRADER_PYTHON`` change the paths, so the same script runs in a
+test on any machine.
 """
 
 from __future__ import annotations
@@ -26,43 +31,43 @@ SETUP = """#!/usr/bin/env bash
 # Gradescope runs this once, as root, when the autograder is built.
 set -euo pipefail
 apt-get update -qq
-apt-get install -y -qq python3 python3-pip python3-venv
+apt-get install -y -qq python3 python3-pip python3-venv bubblewrap
 python3 -m venv /opt/raykit-grader
-/opt/raykit-grader/bin/pip install -q numpy Pillow tqdm
-# the submissions' own Python: numpy and Pillow, no raykit, runnable by the sandbox user
-python3 -m venv /opt/raykit-sandbox
-/opt/raykit-sandbox/bin/pip install -q numpy Pillow
-chmod -R a+rX /opt/raykit-sandbox
-# submissions run as an unprivileged uid (50000-59999) that can read none of this
+/opt/raykit-grader/bin/pip install -q {pins} tqdm
+chmod -R a+rX /opt/raykit-grader
+# submissions run in a sandbox, as an unprivileged uid (50000-59999): none of this is in it
 chmod 700 /autograder/source
 """
 
 RUN = """#!/usr/bin/env bash
 # Gradescope runs this, as root, for every submission.
 set -uo pipefail
-root="${AUTOGRADER_ROOT:-/autograder}"
-grader_python="${RAYKIT_GRADER_PYTHON:-/opt/raykit-grader/bin/python}"
+root="${{AUTOGRADER_ROOT:-/autograder}}"
+grader_python="${{RAYKIT_GRADER_PYTHON:-/opt/raykit-grader/bin/python}}"
 [ -x "$grader_python" ] || grader_python=python3
-child_python="${RAYKIT_CHILD_PYTHON:-/opt/raykit-sandbox/bin/python}"
 mkdir -p "$root/results"
-cd "$root/source" || exit 1
-submission="$root/submission"
-# a submitted zip is unpacked first
-for archive in "$submission"/*.zip; do
-  [ -e "$archive" ] && "$grader_python" -m zipfile -e "$archive" "$submission/" || true
-done
+cd "$root/source" || exit 3
 # RAYKIT_GRADE_OPTIONS (e.g. "--only 3.6 --wall-seconds 5") is for testing this script
 # shellcheck disable=SC2086
-PYTHONPATH="$root/source" "$grader_python" -m raykit_grading grade "$submission" \\
-  -o "$root/results/results.json" --child-python "$child_python" ${RAYKIT_GRADE_OPTIONS:-}
+PYTHONPATH="$root/source" exec "$grader_python" -m raykit_grading grade "$root/submission" \\
+  -o "$root/results/results.json" ${{RAYKIT_GRADE_OPTIONS:-}}
 """
+
+
+def pins() -> str:
+    """numpy and Pillow at the versions this machine has (the references' own)."""
+    import numpy
+    import PIL
+
+    return f"numpy=={numpy.__version__} Pillow=={PIL.__version__}"
 
 
 def build_zip(out: Path) -> Path:
     """Write the autograder zip to ``out``."""
     out = Path(out)
     with zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as archive:
-        for name, text in (("setup.sh", SETUP), ("run_autograder", RUN)):
+        scripts = (("setup.sh", SETUP.format(pins=pins())), ("run_autograder", RUN.format()))
+        for name, text in scripts:
             info = zipfile.ZipInfo(name)
             info.external_attr = 0o755 << 16
             archive.writestr(info, text)

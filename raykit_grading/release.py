@@ -47,7 +47,12 @@ EXPECTED = Path(__file__).parent / "expected"
 CASES = sorted(p.name for p in EXPECTED.iterdir() if p.is_dir())
 
 
-@pytest.mark.parametrize("case", CASES)
+def _what(case: str) -> str:
+    """The test's id: its number and what it checks (``2.1 ray-plane hits``)."""
+    return json.loads((EXPECTED / case / "task.json").read_text())["name"]
+
+
+@pytest.mark.parametrize("case", CASES, ids=[_what(case) for case in CASES])
 def test_visible(case):
     folder = EXPECTED / case
     order = json.loads((folder / "task.json").read_text())
@@ -86,7 +91,13 @@ python -m pytest
 The tests in `tests/` are the visible grading tests: your functions' results against the
 reference, within a stated tolerance, and your renders against the reference images in
 `tests/expected/*/reference.png` (a pixel counts as right when it is within 2 levels of the
-reference pixel or one of its neighbours). The grader also runs hidden tests of the same kind.
+reference pixel or one of its neighbours).
+
+**These are practice tests.** The grader runs the same kinds of test on inputs it draws fresh
+each time it grades (new random rays and sizes, the scenes seen from a slightly moved camera),
+plus hidden tests. Code that only reproduces these expected results scores nothing; code that
+computes them right passes both. A render that shows a classic mistake (such as rays through
+pixel corners instead of centres) loses that test's points even when it looks close.
 
 Look at your pictures as you go: `raykit render scenes/classic.json -o classic.png`,
 `raykit scan scenes/linescan/slide.json -o strip.png --diagram rays.png`.
@@ -117,7 +128,7 @@ def build_release(out: Path) -> list[str]:
     """Build the release in ``out`` (which must not exist); returns the stubbed functions."""
     out = Path(out)
     if out.exists():
-        raise SystemExit(f"{out} exists; give a new folder")
+        raise FileExistsError(f"{out} exists; give a new folder")
     stubbed: list[str] = []
     for source in sorted((REPO / "raykit").rglob("*")):
         if "__pycache__" in source.parts or source.is_dir():
@@ -179,7 +190,7 @@ def _visible_tests(tests: Path) -> None:
             continue
         folder = tests / "expected" / test.name.split()[0].replace(".", "_")
         folder.mkdir(parents=True)
-        spec, arrays, files = test.inputs()
+        spec, arrays, files = test.public_inputs()
         for relative, source in files.items():
             (folder / relative).parent.mkdir(parents=True, exist_ok=True)
             shutil.copy(source, folder / relative)

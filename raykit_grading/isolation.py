@@ -1,0 +1,270 @@
+"""What a submission's code can see, reach and outlive: the kernel's namespaces, through bubblewrap.
+
+Every task runs in a sandbox made by bubblewrap (``bwrap``, Debian/Ubuntu package
+``bubblewrap``), the tool Flatpak uses. It gives the child new namespaces:
+
+* **mount**: a tree holding nothing but the Python it runs on (the interpreter and its standard
+  library, with ``site-packages`` masked), numpy and Pillow (mounted at :data:`SITE`), the shared
+  libraries those load, the task's own work folder (read-only, at :data:`WORK`), and a private
+  ``/tmp`` of :attr:`Limits.tmp_bytes`. No other file of the machine exists in there: not the
+  grader, not the reference raykit, not the hidden scenes, not a classmate's folder.
+* **pid**: the child sees only its own processes, so it cannot signal or trace the grader or
+  read another process's command line; when the task ends every process in it is killed.
+* **network** (none but a loopback of its own), **ipc** and **uts**.
+
+As root (Gradescope), bwrap needs no user namespace; the child's first act (in
+:mod:`raykit_grading.child`, before any submitted code is imported) is to drop to a uid of its
+own for that one task, leased from :class:`UidPool` under a lock so that two graders on one
+machine never share one. As a normal user, bwrap makes a user namespace (no privilege needed)
+and the child stays the grader's uid, but inside the namespaces above.
+
+Why bubblewrap: it is one small, well-kept setuid-free tool that works the same as root and as
+a normal user, and its mount namespace both hides everything else and makes an interpreter under
+``/root`` usable by the sandbox uid. Landlock would restrict reads as well, but leaves the network
+(UDP) and the process tree to other means; ``unshare`` alone cannot build the minimal tree.
+If bwrap is missing or the kernel refuses namespaces, :func:`preflight` says so in one line and
+the grader grades nothing (no score is written as if it had).
+"""
+
+from __future__ import annotations
+
+import fcntl
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sysconfig
+from dataclasses import dataclass
+from pathlib import Path
+
+SITE = "/sandbox/site"  # where numpy and Pillow appear in the sandbox
+WORK = "/work"  # where the task's work folder appears, read-only
+SANDBOX_UIDS = range(50000, 60000)  # the uids tasks run as, when grading as root
+UID_LOCKS = Path("/run/raykit-grading/uids")
+LIBRARIES = ("numpy", "PIL", "numpy.libs", "pillow.libs")
+INSTALL_BWRAP = "install bubblewrap (Debian/Ubuntu: apt-get install bubblewrap)"
+
+
+class IsolationUnavailable(RuntimeError):
+    """The sandbox cannot be made here; the message says why and what to do, in one line."""
+
+
+@dataclass(frozen=True)
+class ChildPython:
+    """The interpreter submissions run on, and exactly the files it needs.
+
+    ``executable``: the real interpreter binary (a venv's python resolved to its base);
+    ``stdlib``: its standard library folder; ``packages``: numpy's and Pillow's folders (and
+    their bundled ``.libs``); ``shared_libraries``: every shared object these load, as
+    ``(path the loader asks for, real file)``.
+    """
+
+    executable: str
+    stdlib: str
+    packages: tuple[str, ...]
+    shared_libraries: tuple[tuple[str, str], ...]
+
+
+_PROBE = """
+import json, os, sys, sysconfig, numpy, PIL
+print(json.dumps({
+    "executable": os.path.realpath(sys.executable),
+    "stdlib": sysconfig.get_paths()["stdlib"],
+    "site": [os.path.dirname(os.path.dirname(m.__file__)) for m in (numpy, PIL)],
+}))
+"""
+
+
+def probe_python(python: str) -> ChildPython:
+    """Ask ``python`` (trusted: the instructor's) where it and its numpy and Pillow live."""
+    try:
+        run = subprocess.run(
+            [python, "-I", "-c", _PROBE], capture_output=True, text=True, timeout=120
+        )
+    except (OSError, subprocess.TimeoutExpired) as exc:
+        raise IsolationUnavailable(f"cannot run the child Python {python}: {exc}") from None
+    if run.returncode != 0:
+        last = (run.stderr.strip().splitlines() or ["no output"])[-1]
+        raise IsolationUnavailable(
+            f"the child Python {python} cannot import numpy and Pillow ({last}); "
+            "give --child-python one that can"
+        )
+    found = json.loads(run.stdout)
+    packages = []
+    for folder in dict.fromkeys(found["site"]):
+        packages += [str(Path(folder) / n) for n in LIBRARIES if (Path(folder) / n).is_dir()]
+    stdlib = found["stdlib"]
+    binaries = [found["executable"]]
+    for top in [*packages, str(Path(stdlib) / "lib-dynload")]:
+        binaries += [str(p) for p in Path(top).rglob("*.so*") if p.is_file()]
+    return ChildPython(
+        found["executable"], stdlib, tuple(packages), _shared_libraries(binaries, packages)
+    )
+
+
+def _shared_libraries(binaries: list[str], packages: list[str]) -> tuple[tuple[str, str], ...]:
+    """Every shared library ``binaries`` load, by ``ldd``: (path asked for, real file); the
+    ones inside ``packages`` (numpy's bundled libraries) come with their package."""
+    ldd = shutil.which("ldd")
+    if ldd is None:
+        raise IsolationUnavailable("ldd is not installed; the grader needs it to build sandboxes")
+    found: dict[str, str] = {}
+    for start in range(0, len(binaries), 64):
+        run = subprocess.run(
+            [ldd, *binaries[start : start + 64]], capture_output=True, text=True, timeout=120
+        )
+        for line in run.stdout.splitlines():
+            words = line.split()
+            path = words[2] if len(words) >= 3 and words[1] == "=>" else words[0] if words else ""
+            inside_a_package = any(path.startswith(f"{p}/") for p in packages)
+            if path.startswith("/") and os.path.exists(path) and not inside_a_package:
+                # the folder as it really is (/lib may be a link to usr/lib), the name as asked
+                asked = os.path.join(os.path.realpath(os.path.dirname(path)), Path(path).name)
+                found[asked] = os.path.realpath(path)
+    return tuple(sorted(found.items()))
+
+
+def find_bwrap() -> str:
+    bwrap = shutil.which("bwrap") or next(
+        (p for p in ("/usr/bin/bwrap", "/usr/local/bin/bwrap") if os.access(p, os.X_OK)), None
+    )
+    if bwrap is None:
+        raise IsolationUnavailable(
+            f"cannot isolate submissions: bubblewrap (bwrap) is not installed; {INSTALL_BWRAP}"
+        )
+    return bwrap
+
+
+def _parents(path: str) -> list[str]:
+    parts = Path(path).parts[1:-1]
+    return ["/" + "/".join(parts[: i + 1]) for i in range(len(parts))]
+
+
+def sandbox_arguments(
+    python: ChildPython, work: Path, submission: Path, tmp_bytes: int, as_root: bool
+) -> list[str]:
+    """bwrap's arguments (without the command) for one task: the tree described above."""
+    arguments = ["--unshare-ipc", "--unshare-pid", "--unshare-net", "--unshare-uts"]
+    arguments += ["--unshare-cgroup-try", "--die-with-parent", "--new-session", "--clearenv"]
+    if not as_root:  # a user namespace needs no privilege, and none may be made inside it
+        arguments += ["--unshare-user", "--disable-userns"]
+    made: set[str] = set()
+
+    def bind(source: str, target: str) -> None:
+        for parent in _parents(target):
+            if parent not in made:
+                made.add(parent)
+                arguments.extend(["--perms", "0755", "--dir", parent])
+        arguments.extend(["--ro-bind", source, target])
+        made.add(target)
+
+    bind(python.executable, python.executable)
+    bind(python.stdlib, python.stdlib)
+    for hidden in ("site-packages", "dist-packages"):
+        if (Path(python.stdlib) / hidden).is_dir():
+            arguments += ["--tmpfs", str(Path(python.stdlib) / hidden)]
+    for package in python.packages:
+        bind(package, f"{SITE}/{Path(package).name}")
+    for asked, real in python.shared_libraries:
+        if asked not in made:
+            bind(real, asked)
+    for link in ("/lib", "/lib64", "/bin"):  # the loader's own path names them
+        if os.path.islink(link):
+            arguments += ["--symlink", os.readlink(link), link]
+    if os.path.isfile("/etc/ld.so.cache"):
+        bind("/etc/ld.so.cache", "/etc/ld.so.cache")
+    bind(str(work), WORK)
+    bind(str(submission), f"{WORK}/submission")
+    arguments += ["--proc", "/proc", "--dev", "/dev"]
+    arguments += [
+        "--size",
+        str(tmp_bytes),
+        "--perms",
+        "01777",
+        "--tmpfs",
+        "/tmp",
+        "--chdir",
+        "/tmp",
+    ]
+    environment = {
+        "HOME": "/tmp",
+        "TMPDIR": "/tmp",
+        "PATH": "/usr/bin:/bin",
+        "OPENBLAS_NUM_THREADS": "1",
+        "OMP_NUM_THREADS": "1",
+        "MKL_NUM_THREADS": "1",
+        "LANG": "C.UTF-8",
+    }
+    for name, value in environment.items():
+        arguments += ["--setenv", name, value]
+    return arguments
+
+
+class UidLease:
+    """One sandbox uid, held (by an flock) for one task; see :class:`UidPool`."""
+
+    def __init__(self, uid: int, lock_fd: int) -> None:
+        self.uid = uid
+        self._lock_fd = lock_fd
+
+    def release(self) -> None:
+        """Kill whatever still runs as the uid, then give it back."""
+        kill_uid(self.uid)
+        os.close(self._lock_fd)  # closing drops the flock
+
+
+class UidPool:
+    """Unprivileged uids for tasks, when grading as root: one per task at a time, never shared.
+
+    A uid is taken by an exclusive, non-blocking ``flock`` on ``UID_LOCKS/<uid>``, held until
+    the task's processes are all dead: two graders on one machine (or a batch's parallel
+    graders) never run tasks as the same uid. A uid that still has processes when its lock is
+    free was left by a grader that was killed: they are killed before the uid is used again.
+    """
+
+    def __init__(self, uids: range = SANDBOX_UIDS, locks: Path = UID_LOCKS) -> None:
+        self.uids = uids
+        self.locks = locks
+        try:
+            locks.mkdir(parents=True, exist_ok=True, mode=0o700)
+            info = os.lstat(locks)
+        except OSError as exc:
+            raise IsolationUnavailable(f"cannot make the uid lock folder {locks}: {exc}") from None
+        if info.st_uid != 0 or info.st_mode & 0o022 or os.path.islink(locks):
+            raise IsolationUnavailable(f"{locks} must be a folder only root may write")
+
+    def lease(self) -> UidLease:
+        start = (os.getpid() * 7919) % len(self.uids)
+        for step in range(len(self.uids)):
+            uid = self.uids[(start + step) % len(self.uids)]
+            fd = os.open(self.locks / str(uid), os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW, 0o600)
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                os.close(fd)
+                continue
+            kill_uid(uid)  # a killed grader's leftovers
+            return UidLease(uid, fd)
+        raise IsolationUnavailable(f"all {len(self.uids)} sandbox uids are in use")
+
+
+def kill_uid(uid: int) -> None:
+    """SIGKILL every process of ``uid`` (as root), sweeping until none is left."""
+    for _ in range(50):
+        found = False
+        for proc in Path("/proc").iterdir():
+            if not proc.name.isdigit():
+                continue
+            try:
+                if proc.stat().st_uid == uid:
+                    found = True
+                    os.kill(int(proc.name), signal.SIGKILL)
+            except (FileNotFoundError, ProcessLookupError, PermissionError):
+                pass
+        if not found:
+            return
+
+
+def default_tmp() -> Path:
+    return Path(os.environ.get("TMPDIR") or sysconfig.get_config_var("TMPDIR") or "/tmp")

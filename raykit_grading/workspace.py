@@ -1,0 +1,62 @@
+"""The grader's own temporary folder: private, locked while in use, gone afterwards.
+
+Each grading run makes ``<TMPDIR>/raykit-grading-XXXXXXXX`` (mode 700: no sandbox uid and no
+other user may enter it) and holds an ``flock`` on ``.lock`` inside it for as long as it runs.
+On leaving, the folder is removed. A grader that was killed cannot remove its folder; the next
+grader started by the same user finds it unlocked and removes it (:func:`clean_stale`), so
+nothing is left behind for long.
+"""
+
+from __future__ import annotations
+
+import fcntl
+import os
+import shutil
+import tempfile
+from pathlib import Path
+
+PREFIX = "raykit-grading-"
+
+
+class Workspace:
+    """``with Workspace() as folder:`` a private folder for one grading run."""
+
+    def __init__(self, parent: Path | None = None) -> None:
+        self.parent = Path(parent or tempfile.gettempdir())
+        self.path: Path | None = None
+        self._lock: int | None = None
+
+    def __enter__(self) -> Path:
+        clean_stale(self.parent)
+        self.path = Path(tempfile.mkdtemp(prefix=PREFIX, dir=self.parent))
+        # locked before it has its name, so that no other grader ever sees it unlocked
+        self._lock = os.open(self.path / ".lock.new", os.O_RDWR | os.O_CREAT | os.O_EXCL, 0o600)
+        fcntl.flock(self._lock, fcntl.LOCK_EX)
+        os.rename(self.path / ".lock.new", self.path / ".lock")
+        return self.path
+
+    def __exit__(self, *exc) -> None:
+        shutil.rmtree(self.path, ignore_errors=True)
+        os.close(self._lock)
+
+
+def clean_stale(parent: Path) -> list[Path]:
+    """Remove this user's grading folders whose grader is gone (their lock is free)."""
+    removed = []
+    for folder in parent.glob(f"{PREFIX}*"):
+        try:
+            info = os.lstat(folder)
+            if info.st_uid != os.geteuid() or not os.path.isdir(folder) or folder.is_symlink():
+                continue
+            lock = os.open(folder / ".lock", os.O_RDWR | os.O_NOFOLLOW)
+        except OSError:
+            continue
+        try:
+            fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            os.close(lock)
+            continue  # a grader is using it
+        shutil.rmtree(folder, ignore_errors=True)
+        os.close(lock)
+        removed.append(folder)
+    return removed
