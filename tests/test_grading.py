@@ -13,7 +13,7 @@ from mistaken_submissions import EDITS, make_submission
 from conftest import REPO
 from raykit_grading.catalog import HIDDEN, TESTS, VISIBLE
 from raykit_grading.compare import check_arrays, compare_images, feedback_picture, strict_fraction
-from raykit_grading.grade import grade, grade_to_file
+from raykit_grading.grade import Options, grade, grade_to_file
 from raykit_grading.markers import MarkerError, strip_solutions
 from raykit_grading.mistakes import MISTAKES
 from raykit_grading.release import build_release
@@ -72,7 +72,7 @@ def _student_pytest(folder):
         cwd=folder,
         capture_output=True,
         text=True,
-        env={"PYTHONPATH": str(folder), "PATH": "/usr/bin:/bin"},
+        env={"PYTHONPATH": str(folder), "PATH": "/usr/bin:/bin", "COLUMNS": "400"},
     )
 
 
@@ -98,13 +98,14 @@ def test_catalog_has_points_visibility_and_every_stage():
 
 
 def test_solution_scores_full_marks_in_a_valid_results_file(solution, child_python, tmp_path):
-    results = grade_to_file(
+    status = grade_to_file(
         solution,
         tmp_path / "results.json",
-        child_python=child_python,
+        options=Options(child_python),
         feedback=tmp_path / "feedback",
     )
-    written = json.loads((tmp_path / "results.json").read_text())
+    assert status == 0
+    written = results = json.loads((tmp_path / "results.json").read_text())
     jsonschema.validate(written, RESULTS_SCHEMA)
     failed = [(t["name"], t["output"]) for t in written["tests"] if t["score"] < t["max_score"]]
     assert failed == []
@@ -163,14 +164,14 @@ def test_release_hides_the_solutions_and_the_hidden_scenes(release):
 
 
 def test_grader_scores_the_bare_release_zero_and_says_what_to_write(release, child_python):
-    results = grade(release, child_python=child_python)
+    results = grade(release, options=Options(child_python))
     assert results["score"] == 0
     assert all(t["output"].startswith("not written yet: ") for t in results["tests"])
 
 
 def test_submission_without_a_package_scores_zero(tmp_path, child_python):
     (tmp_path / "notes.txt").write_text("oops")
-    results = grade(tmp_path, child_python=child_python)
+    results = grade(tmp_path, options=Options(child_python))
     assert results["score"] == 0 and "no raykit package" in results["tests"][0]["output"]
 
 
@@ -183,7 +184,7 @@ def test_each_classic_mistake_is_named_in_the_feedback(key, tmp_path, child_pyth
         "3": ["3.6", "3.9", "3.11"],  # classic, inside a ring (behind the eye), overlaps
         "4": ["4.8", "4.10", "4.11"],  # lit classic, mirrors, at 1e6 with a touching ball
     }[mistake.stage]
-    results = grade(submission, child_python=child_python, names=names)
+    results = grade(submission, options=Options(child_python), names=names)
     outputs = [t["output"] for t in results["tests"]]
     assert any(f"when {says}" in out for out in outputs), outputs
     for out in outputs:  # no other mistake is named instead
@@ -192,7 +193,7 @@ def test_each_classic_mistake_is_named_in_the_feedback(key, tmp_path, child_pyth
 
 def test_no_mistake_is_named_for_the_solution(solution, child_python):
     names = ["3.6", "3.9", "3.11", "4.8", "4.10", "4.11"]
-    results = grade(solution, child_python=child_python, names=names)
+    results = grade(solution, options=Options(child_python), names=names)
     assert not any("matches what the renderer gives" in t["output"] for t in results["tests"])
 
 
@@ -233,7 +234,8 @@ def test_image_comparison_forgives_a_silhouette_pixel_but_not_a_wrong_colour():
     assert result.score() == 0.0
     assert np.isfinite(result.psnr) and result.psnr < 30
     picture = feedback_picture(recoloured, reference, result.matched)
-    assert picture.shape == (20, 68, 3) and picture.dtype == np.uint8
+    # each panel drawn 10 times larger (a small image made visible), captions above
+    assert picture.shape == (222, 3 * 200 + 2 * 6, 3) and picture.dtype == np.uint8
 
 
 def test_score_is_linear_between_the_thresholds():
@@ -265,13 +267,15 @@ def test_batch_grades_a_folder_into_a_csv_and_a_feedback_folder_each(
     make_submission(students / "ada")
     make_submission(students / "bob", "u_v_swapped")
     shutil.copytree(release / "raykit", students / "cy" / "raykit")
-    path = grade_folder(
-        students, tmp_path / "out", jobs=2, child_python=child_python, names=["2.1", "3.6"]
+    status = grade_folder(
+        students, tmp_path / "out", jobs=2, options=Options(child_python), names=["2.1", "3.6"]
     )
-    rows = {row["student"]: row for row in csv.DictReader(path.open())}
+    assert status == 0
+    rows = {row["student"]: row for row in csv.DictReader((tmp_path / "out/scores.csv").open())}
     assert set(rows) == {"ada", "bob", "cy"}
     assert float(rows["ada"]["score"]) == float(rows["ada"]["max_score"]) == 6
     assert float(rows["bob"]["score"]) == 2 and float(rows["cy"]["score"]) == 0
+    assert rows["bob"]["3.6"] == "0.0" and rows["bob"]["2.1"] == "2"
     bob = json.loads((tmp_path / "out/feedback/bob/results.json").read_text())
     assert "u and v are swapped" in bob["tests"][1]["output"]
     assert (tmp_path / "out/feedback/bob/3.6.png").is_file()
@@ -311,3 +315,49 @@ def test_release_readme_lists_the_functions_in_the_lectures_order(release):
     assert names[0] == "pixel_x" and names[-1] == "reflect"
     assert names.index("hit_plane") < names.index("camera_frame") < names.index("cast")
     assert names.index("cast") < names.index("lambert")
+
+
+@pytest.mark.parametrize(
+    "arguments, status, says",
+    [
+        (["batch", "no/such/folder", "-o", "out"], 2, "no/such/folder: no such folder"),
+        (["grade", "no/such/folder", "-o", "r.json"], 2, "no/such/folder: no such folder"),
+        (["grade", ".", "-o", "r.json", "--only", "9.9"], 2, "--only 9.9: no test has that"),
+        (["grade", ".", "-o", "r.json", "--wall", "3"], 2, "unrecognized arguments: --wall"),
+    ],
+)
+def test_grading_command_line_refuses_bad_input_in_one_line(tmp_path, arguments, status, says):
+    run = subprocess.run(
+        [sys.executable, "-m", "raykit_grading", *arguments],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+    )
+    assert run.returncode == status
+    assert says in run.stderr and "Traceback" not in run.stderr
+    assert not (tmp_path / "out").exists() and not (tmp_path / "r.json").exists()
+
+
+def test_the_old_command_name_says_where_the_grader_went():
+    run = subprocess.run(
+        [sys.executable, "-m", "grading", "tests"], capture_output=True, text=True, cwd=REPO
+    )
+    assert run.returncode == 2
+    assert "python -m raykit_grading tests" in run.stderr
+
+
+def test_graded_draws_differ_from_the_public_ones_and_repeat_under_their_seed():
+    for test in TESTS:
+        public, graded = test.public_inputs(), test.graded_inputs(7)
+        again = test.graded_inputs(7)
+        assert json.dumps(graded[0]) == json.dumps(again[0]), test.name
+        assert all(np.array_equal(graded[1][k], again[1][k]) for k in graded[1]), test.name
+        differs = json.dumps(public[0], default=str) != json.dumps(graded[0], default=str) or any(
+            not np.array_equal(public[1][k], graded[1][k]) for k in public[1]
+        )
+        assert differs, test.name
+        if test.kind == "image":  # a shipped reference picture cannot even have the shape
+            camera = graded[0]["scene"]["camera"]
+            shipped = public[0]["scene"]["camera"]
+            size = ("width", "height") if "eye" in camera else ("pixels",)
+            assert [camera[k] for k in size] != [shipped[k] for k in size], test.name
