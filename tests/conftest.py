@@ -121,3 +121,19 @@ def child_python() -> str:
     import sys
 
     return sys.executable
+
+
+def pytest_collection_modifyitems(config, items):
+    """Grading runs submissions in bubblewrap sandboxes; where bwrap is not installed, say so
+    and skip those tests (but never in CI, which installs it: there they must run)."""
+    import os
+    import shutil
+
+    if shutil.which("bwrap") or os.environ.get("CI"):
+        return
+    skip = pytest.mark.skip(
+        reason="grading needs bubblewrap (apt-get install bubblewrap) to sandbox submissions"
+    )
+    for item in items:
+        if "child_python" in getattr(item, "fixturenames", ()) or "hostile" in item.nodeid:
+            item.add_marker(skip)
