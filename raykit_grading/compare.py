@@ -14,9 +14,13 @@ score follows the matched fraction: full at ``full_at`` (99.5%) and above, none 
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 import numpy as np
+
+DIAGNOSE_FROM = 0.95  # a mistake is named only if it explains this much of the image
+STRICTLY_RIGHT = 0.99  # an image this close to the reference, pixel for pixel, needs no diagnosis
 
 
 @dataclass(frozen=True)
@@ -69,6 +73,67 @@ def strict_fraction(student: np.ndarray, reference: np.ndarray, tolerance: int =
     """The share of pixels within ``tolerance`` of the reference pixel itself (no neighbours):
     for telling apart images that the fair comparison cannot, such as a half-pixel shift."""
     return float(strict_matched(student, reference, tolerance).mean())
+
+
+def diagnose(
+    mine: np.ndarray, want: np.ndarray, mistakes: Iterable[tuple[str, np.ndarray]]
+) -> tuple[str, float] | None:
+    """The classic mistake whose picture explains ``mine`` better than ``want`` does, pixel
+    for pixel (strictly, so that even a half-pixel shift shows): (what it says, the share of
+    pixels it explains), or None. ``mistakes`` yields (what it says, its picture) and is only
+    looked at when ``mine`` is not right; a mistake that does not change this picture is
+    skipped."""
+    best, best_fraction = None, max(strict_fraction(mine, want), DIAGNOSE_FROM)
+    if best_fraction >= STRICTLY_RIGHT:
+        return None
+    for says, wrong in mistakes:
+        if wrong.shape != mine.shape or strict_fraction(wrong, want) >= 1.0:
+            continue
+        matched = strict_fraction(mine, wrong)
+        if matched > best_fraction:
+            best, best_fraction = says, matched
+    return None if best is None else (best, best_fraction)
+
+
+@dataclass(frozen=True)
+class ImageVerdict:
+    """How a render fares: the share of its points, what to tell the student, the picture."""
+
+    share: float
+    message: str
+    picture: np.ndarray
+
+
+def judge_image(
+    mine: np.ndarray,
+    want: np.ndarray,
+    mistakes: Iterable[tuple[str, np.ndarray]] = (),
+    scoring: Scoring = DEFAULT_SCORING,
+) -> ImageVerdict:
+    """Compare a uint8 render with the reference, name a classic mistake it shows (which
+    then costs all of the test's points: it is systematic, not float noise), and draw the
+    captioned feedback picture. The grader and the students' self-check both use this."""
+    result = compare_images(mine, want, scoring)
+    share = result.score(scoring)
+    lines = [
+        f"{result.fraction:.2%} of pixels match the reference (full marks from "
+        f"{scoring.full_at:.1%}, none below {scoring.none_below:.0%}); "
+        f"PSNR {result.psnr:.1f} dB"
+    ]
+    mistake = diagnose(mine, want, mistakes)
+    if mistake is None:
+        picture = feedback_picture(mine, want, result.matched)
+    else:
+        says, fraction = mistake
+        lines.append(
+            f"Your image matches what the renderer gives when {says} ({fraction:.1%} of "
+            "pixels exactly). That is a systematic mistake, not rounding: this test gives no "
+            "points for it, however close the picture looks."
+        )
+        share = 0.0
+        note = f"Diagnosed: {says} (red: every pixel it changes)"
+        picture = feedback_picture(mine, want, strict_matched(mine, want), note)
+    return ImageVerdict(share, "\n".join(lines), picture)
 
 
 CAPTIONS = ("yours", "expected", "where they differ (red)")

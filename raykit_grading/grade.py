@@ -42,23 +42,13 @@ import numpy as np
 from raykit.images import quantize, save_image
 from raykit_grading import child
 from raykit_grading.catalog import HIDDEN_SCENES, SCENES, TESTS, VISIBLE, GradingTest, by_name
-from raykit_grading.compare import (
-    DEFAULT_SCORING,
-    Scoring,
-    check_arrays,
-    compare_images,
-    feedback_picture,
-    strict_fraction,
-    strict_matched,
-)
+from raykit_grading.compare import DEFAULT_SCORING, Scoring, check_arrays, judge_image
 from raykit_grading.isolation import IsolationUnavailable
 from raykit_grading.mistakes import MISTAKES
 from raykit_grading.sandbox import Limits, Sandbox
 from raykit_grading.submissions import SubmissionError, stage
 from raykit_grading.workspace import Workspace
 
-DIAGNOSE_FROM = 0.95  # a mistake is named only if it explains this much of the image
-STRICTLY_RIGHT = 0.99  # an image this close to the reference, pixel for pixel, needs no diagnosis
 TOTAL_SECONDS = 480.0  # what all of one submission's tests may take together
 OUTPUT_LIMIT = 4000  # characters of text per test (pictures come on top, as HTML)
 
@@ -242,55 +232,23 @@ def _image_result(
     if not np.isfinite(rgb).all():
         return _result(test, 0.0, "the image holds NaN or infinity")
     mine = quantize(rgb)
-    result = compare_images(mine, want, scoring)
-    share = result.score(scoring)
-    lines = [
-        f"{result.fraction:.2%} of pixels match the reference (full marks from "
-        f"{scoring.full_at:.1%}, none below {scoring.none_below:.0%}); "
-        f"PSNR {result.psnr:.1f} dB"
-    ]
-    mistake = diagnose(test, seed, mine, want) if test.mistakes else None
-    if mistake is not None:
-        says, fraction = mistake
-        lines.append(
-            f"Your image matches what the renderer gives when {says} ({fraction:.1%} of "
-            "pixels exactly). That is a systematic mistake, not rounding: this test gives no "
-            "points for it, however close the picture looks."
-        )
-        share = 0.0
-    picture = None
-    if test.visibility == VISIBLE or feedback is not None:
-        note = f"Diagnosed: {mistake[0]} (red: every pixel it changes)" if mistake else None
-        shown = strict_matched(mine, want) if mistake else result.matched
-        picture = feedback_picture(mine, want, shown, note)
+    mistakes = (
+        ((m.says, quantize(expected(test.name, seed, m.key)["rgb"])) for m in MISTAKES)
+        if test.mistakes
+        else ()
+    )
+    verdict = judge_image(mine, want, mistakes, scoring)
+    message = verdict.message
     if feedback is not None:
         feedback.mkdir(parents=True, exist_ok=True)
         path = feedback / f"{test.key}.png"
-        save_image(picture, path)
-        lines.append(f"feedback picture (yours | expected | where they differ): {path.name}")
-    entry = _result(test, test.points * share, "\n".join(lines), printed)
-    text = entry["output"]
+        save_image(verdict.picture, path)
+        message += f"\nfeedback picture (yours | expected | where they differ): {path.name}"
+    entry = _result(test, test.points * verdict.share, message, printed)
     if test.visibility == VISIBLE:  # hidden tests show nothing a student could copy
-        entry["output"] = _html(text, picture)
+        entry["output"] = _html(entry["output"], verdict.picture)
         entry["output_format"] = "html"
     return entry
-
-
-def diagnose(test: GradingTest, seed: int, mine: np.ndarray, want: np.ndarray):
-    """The classic mistake whose image explains the submission's better than the reference
-    does, pixel for pixel (strictly, so that even a half-pixel shift shows): (what it says,
-    the share of pixels it explains), or None."""
-    best, best_fraction = None, max(strict_fraction(mine, want), DIAGNOSE_FROM)
-    if best_fraction >= STRICTLY_RIGHT:
-        return None
-    for mistake in MISTAKES:
-        wrong = quantize(expected(test.name, seed, mistake.key)["rgb"])
-        if wrong.shape != mine.shape or strict_fraction(wrong, want) >= 1.0:
-            continue  # this mistake does not change this picture
-        matched = strict_fraction(mine, wrong)
-        if matched > best_fraction:
-            best, best_fraction = mistake, matched
-    return None if best is None else (best.says, best_fraction)
 
 
 def _html(text: str, picture: np.ndarray | None) -> str:

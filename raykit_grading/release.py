@@ -99,6 +99,11 @@ plus hidden tests. Code that only reproduces these expected results scores nothi
 computes them right passes both. A render that shows a classic mistake (such as rays through
 pixel corners instead of centres) loses that test's points even when it looks close.
 
+Before you submit, run the self-check: `python check.py`. It runs the practice tests with the
+grader's own comparison and its diagnosis of the classic mistakes, and writes a captioned
+picture of each render (yours | expected | where they differ) and `check/index.html` with all
+of them: open it in a browser.
+
 Look at your pictures as you go: `raykit render scenes/classic.json -o classic.png`,
 `raykit scan scenes/linescan/slide.json -o strip.png --diagram rays.png`.
 
@@ -148,6 +153,7 @@ def build_release(out: Path) -> list[str]:
     )
     (out / "pyproject.toml").write_text(_student_pyproject())
     _visible_tests(out / "tests")
+    shutil.copy(Path(__file__).with_name("selfcheck.py"), out / "check.py")
     functions = "\n".join(f"- `{name}`" for name in sorted(stubbed, key=_lecture_order))
     (out / "README.md").write_text(STUDENT_README.format(functions=functions))
     print(
@@ -157,22 +163,43 @@ def build_release(out: Path) -> list[str]:
     return stubbed
 
 
+STUDENT_PYPROJECT = """[build-system]
+requires = ["setuptools>=64"]
+build-backend = "setuptools.build_meta"
+
+[project]
+name = "raykit"
+version = "{version}"
+description = "raykit, the starter kit: the ray-tracing lecture's functions, for you to write"
+requires-python = ">=3.10"
+dependencies = {dependencies}
+
+[project.optional-dependencies]
+test = ["pytest>=7.4"]
+
+[project.scripts]
+raykit = "raykit.cli:main"
+
+[tool.setuptools.packages.find]
+include = ["raykit*"]
+
+[tool.setuptools.package-data]
+raykit = ["schemas/*.json"]
+
+[tool.pytest.ini_options]
+testpaths = ["tests"]
+"""
+
+
 def _student_pyproject() -> str:
-    """The solution's pyproject.toml without what only the course repository has (the
-    grader, the notebooks and their nbval run)."""
+    """What the release uses and nothing more: raykit's own dependencies, pytest for its
+    tests (no notebooks, no lint rules for files it does not ship, no grader)."""
+    import re
+
     text = (REPO / "pyproject.toml").read_text()
-    text = text.replace(
-        'include = ["raykit", "raykit.*", "raykit_grading"]', 'include = ["raykit*"]'
-    )
-    text = text.replace('testpaths = ["tests", "notebooks"]', 'testpaths = ["tests"]')
-    lines = [
-        line
-        for line in text.splitlines()
-        if not line.startswith(
-            ("addopts", "grading = ", "# every notebook", "# the instructor's autograder")
-        )
-    ]
-    return "\n".join(lines) + "\n"
+    version = re.search(r'^version = "([^"]+)"', text, re.M).group(1)
+    dependencies = re.search(r"^dependencies = (\[[^\]]*\])", text, re.M).group(1)
+    return STUDENT_PYPROJECT.format(version=version, dependencies=dependencies)
 
 
 def _visible_tests(tests: Path) -> None:
@@ -204,3 +231,19 @@ def _visible_tests(tests: Path) -> None:
         np.savez(folder / "expected.npz", **{k: np.asarray(v) for k, v in want.items()})
         if test.kind == "image":
             save_image(quantize(want["rgb"]), folder / "reference.png")
+        if test.mistakes:  # the classic mistakes' pictures, for the self-check's diagnosis
+            _mistake_pictures(test, quantize(want["rgb"]), folder)
+
+
+def _mistake_pictures(test, right: np.ndarray, folder: Path) -> None:
+    from raykit_grading.grade import expected
+    from raykit_grading.mistakes import MISTAKES
+
+    says = {}
+    (folder / "mistakes").mkdir()
+    for mistake in MISTAKES:
+        wrong = quantize(expected(test.name, None, mistake.key)["rgb"])
+        if not np.array_equal(wrong, right):  # only the mistakes that change this picture
+            save_image(wrong, folder / "mistakes" / f"{mistake.key}.png")
+            says[mistake.key] = mistake.says
+    (folder / "mistakes.json").write_text(json.dumps(says, indent=1))

@@ -361,3 +361,44 @@ def test_graded_draws_differ_from_the_public_ones_and_repeat_under_their_seed():
             shipped = public[0]["scene"]["camera"]
             size = ("width", "height") if "eye" in camera else ("pixels",)
             assert [camera[k] for k in size] != [shipped[k] for k in size], test.name
+
+
+def test_release_self_check_judges_like_the_grader_and_draws_the_pictures(release, tmp_path):
+    import shutil
+
+    def check(key):
+        copy = tmp_path / (key or "solution")
+        shutil.copytree(release, copy)
+        shutil.rmtree(copy / "raykit")
+        make_submission(copy, key)
+        return subprocess.run(
+            [sys.executable, "check.py"],
+            cwd=copy,
+            capture_output=True,
+            text=True,
+            env={"PATH": "/usr/bin:/bin"},
+        ), copy
+
+    right, folder = check(None)
+    assert right.returncode == 0, right.stdout[-2000:]
+    visible = [t for t in TESTS if t.visibility == VISIBLE]
+    assert f"{len(visible)} of {len(visible)} practice tests pass" in right.stdout
+    pictures = sorted(p.name for p in (folder / "check").glob("*.png"))
+    assert pictures == sorted(
+        f"{t.key.replace('.', '_')}.png" for t in visible if t.kind == "image"
+    )
+    assert "<img src='3_6.png'" in (folder / "check/index.html").read_text()
+    wrong, _ = check("pixel_corners")
+    assert wrong.returncode == 1
+    assert "FAIL  3.6 render scenes/classic.json (320 x 240)" in wrong.stdout
+    assert "rays go through pixel corners instead of pixel centres" in wrong.stdout
+
+
+def test_release_pyproject_carries_only_what_the_release_uses(release):
+    import tomllib
+
+    project = tomllib.loads((release / "pyproject.toml").read_text())
+    assert project["project"]["optional-dependencies"] == {"test": ["pytest>=7.4"]}
+    kit = tomllib.loads((REPO / "pyproject.toml").read_text())["project"]
+    assert project["project"]["dependencies"] == kit["dependencies"]
+    assert "ruff" not in project.get("tool", {}) and "nbval" not in str(project)

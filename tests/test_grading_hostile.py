@@ -192,9 +192,7 @@ def test_sabotage_scores_zero_and_the_run_survives(name, release, autograder, tm
 # ---- 1: the shipped (public) answers do not answer the graded tests --------------------------
 
 
-def test_1_a_submission_that_replays_the_shipped_answers_scores_zero(
-    release, autograder, tmp_path
-):
+def test_1_a_submission_that_replays_the_shipped_answers_scores_zero(release, autograder, tmp_path):
     """It implements nothing: it returns the release's expected results (and reference image)
     for any input, which passes every public test and no graded one."""
     submission = make_submission(tmp_path / "submission")
