@@ -43,7 +43,7 @@ def loglog_plot(
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from raykit.images import save_figure
+    from raykit.io.images import save_figure
 
     figure, ax = plt.subplots(figsize=(5, 3.5), layout="constrained")
     for label, (xs, ys, style) in series.items():

@@ -39,8 +39,9 @@ sys.path.insert(0, str(HERE))
 
 from common import arguments, median_time, seconds  # noqa: E402
 
+from raykit.io.scene_json import load_scene, scene_from_dict  # noqa: E402
 from raykit.render import render  # noqa: E402
-from raykit.scene import Scene, load_scene, scene_from_dict  # noqa: E402
+from raykit.scene import Scene  # noqa: E402
 from scenes import many_spheres, sphereflake  # noqa: E402
 
 VARIANTS = ("scalar_rgb", "llvm_ad_rgb")

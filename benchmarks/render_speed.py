@@ -36,8 +36,9 @@ sys.path.insert(0, str(HERE))
 from common import arguments, loglog_plot, median_time, seconds  # noqa: E402
 
 from raykit.camera import rays_through  # noqa: E402
+from raykit.io.scene_json import load_scene  # noqa: E402
 from raykit.render import cast, render  # noqa: E402
-from raykit.scene import Scene, load_scene  # noqa: E402
+from raykit.scene import Scene  # noqa: E402
 from scenes import many_spheres, sphereflake  # noqa: E402
 
 CROP = (32, 24)  # pixels the per-pixel loop renders (--quick: 8 x 6), scaled up to the image

@@ -10,7 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from raykit.scene import Scene, scene_from_dict
+from raykit.io.scene_json import scene_from_dict
+from raykit.scene import Scene
 
 
 def _directions() -> np.ndarray:

@@ -28,11 +28,12 @@ sys.path.insert(0, str(HERE))
 from common import arguments, median_time, seconds  # noqa: E402
 
 import raykit.render  # noqa: E402
-from raykit.bvh import BVH  # noqa: E402
+from raykit.engine.bvh import BVH  # noqa: E402
+from raykit.io.scene_json import load_scene  # noqa: E402
 from raykit.lights import DirectionalLight, PointLight  # noqa: E402
 from raykit.materials import PLAIN, Material  # noqa: E402
 from raykit.render import cast, cast_pixels, render, secondary_caster  # noqa: E402
-from raykit.scene import Scene, load_scene  # noqa: E402
+from raykit.scene import Scene  # noqa: E402
 from raykit.shading import shade  # noqa: E402
 from scenes import sphereflake  # noqa: E402
 

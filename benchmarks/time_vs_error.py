@@ -17,9 +17,10 @@ from pathlib import Path
 
 import numpy as np
 
-from raykit.adaptive import edge_pixels
+from raykit.engine.adaptive import edge_pixels
+from raykit.io.scene_json import load_scene
 from raykit.render import render
-from raykit.scene import Scene, load_scene
+from raykit.scene import Scene
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))

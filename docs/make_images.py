@@ -69,7 +69,7 @@ def make(folder: Path) -> None:
     import matplotlib.pyplot as plt
 
     from raykit.diagrams import math_figures
-    from raykit.images import save_figure
+    from raykit.io.images import save_figure
 
     for name, function in MATH_FIGURES:
         figure = getattr(math_figures, function)()

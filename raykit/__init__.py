@@ -1,17 +1,21 @@
 """raykit: the ray-tracing lecture as code — cameras, rays, spheres, billboards, and the renderer.
 
-Read in the lecture's order:
+The tree is the architecture, in three wings:
 
-1. the line-scan camera: :mod:`raykit.linescan` (camera, objects, scene, scan, diagrams);
-2. the math: :mod:`raykit.rays`, :mod:`raykit.planes`, :mod:`raykit.spheres`;
-3. the renderer: :mod:`raykit.billboards`, :mod:`raykit.camera`, :mod:`raykit.scene`,
-   :mod:`raykit.render`, and its figures in :mod:`raykit.diagrams`.
+* **the lecture's math**, at the top, one noun a module, read in the lecture's order:
+  :mod:`raykit.linescan` (stage 1, the 2D line-scan camera); :mod:`raykit.rays`,
+  :mod:`raykit.planes`, :mod:`raykit.spheres` (stage 2); :mod:`raykit.camera`,
+  :mod:`raykit.billboards`, :mod:`raykit.hits`, :mod:`raykit.scene` and the lecture's loop,
+  :mod:`raykit.render` (stage 3); :mod:`raykit.lights`, :mod:`raykit.materials`,
+  :mod:`raykit.surfaces`, :mod:`raykit.shading`, :mod:`raykit.shadows`, :mod:`raykit.mirrors`
+  (stage 4, FOCG 4.5-4.8); and their figures, :mod:`raykit.diagrams`;
+* **the engine**, :mod:`raykit.engine`: speed only, named for what it skips, never a different
+  picture;
+* **input and output**, :mod:`raykit.io`: scene files, textures, images.
 
-Beside the renderer, named for what they skip: :mod:`raykit.tiles` and
-:mod:`raykit.screen_bounds` (objects a tile cannot see), :mod:`raykit.adaptive` (extra rays in
-flat areas). Typical use::
+The math imports nothing from the engine or io (``tests/test_layout.py``). Typical use::
 
-    from raykit.scene import load_scene
+    from raykit.io.scene_json import load_scene
     from raykit.render import render
     image = render(load_scene("scenes/classic.json"), samples=2)   # image.rgb: (H, W, 3)
 """

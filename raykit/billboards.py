@@ -16,7 +16,7 @@ fall in the unit square.
 which is q written in the basis (a, b): (b × n)·a = |n|², (b × n)·b = 0, and likewise for beta.
 
 Texture lookup (nearest texel). For an image W texels wide and H high, with image row 0 at the
-top (:mod:`raykit.textures`), the texel at (alpha, beta) is
+top (:mod:`raykit.io.textures`), the texel at (alpha, beta) is
 
     column = min(floor(alpha·W), W - 1),   row = min(floor(beta·H), H - 1),
 
@@ -29,6 +29,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import cached_property
+from typing import Protocol
 
 import numpy as np
 
@@ -36,7 +37,24 @@ from raykit.hits import ColorAt, solid
 from raykit.materials import PLAIN, Material
 from raykit.planes import hit_plane, hit_points_on_plane
 from raykit.rays import MISS, normalize
-from raykit.textures import Texture, colors_and_opacity
+
+OPAQUE_FROM = 128  # a texel whose alpha is below this is a hole
+
+
+class Texels(Protocol):
+    """What a billboard needs of its image: ``rgba (H, W, 4)`` uint8, row 0 the top row
+    (:class:`raykit.io.textures.Texture` reads one from a file when first asked)."""
+
+    width: int
+    height: int
+
+    @property
+    def rgba(self) -> np.ndarray: ...
+
+
+def colors_and_opacity(rgba: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Texels ``(M, 4)`` uint8 as colours ``(M, 3)`` in [0, 1] and opacity ``(M,)`` bool."""
+    return rgba[:, :3] / 255.0, rgba[:, 3] >= OPAQUE_FROM
 
 
 @dataclass(frozen=True)
@@ -47,7 +65,7 @@ class Billboard:
     lower_left: np.ndarray
     upper_right: np.ndarray
     color: np.ndarray | None = None
-    texture: Texture | None = None
+    texture: Texels | None = None
     name: str | None = None
     material: Material = PLAIN
 
@@ -74,7 +92,7 @@ class Billboard:
 
 
 def _floats(point) -> np.ndarray:
-    """The point as a float array, keeping float32 as float32 (see raykit.precision)."""
+    """The point as a float array, keeping float32 as float32 (see raykit.engine.precision)."""
     point = np.asarray(point)
     return point if point.dtype.kind == "f" else point.astype(float)
 

@@ -5,7 +5,7 @@
     raykit sweep SCENE2D.json -o sweep.png [--scans M]           M line-scans stacked
     raykit diagram SCENE.json -o rays.png [--view 3d|top|side|camera] [--rays K]
 
-Bad input (a :class:`raykit.errors.SceneError`, or an output file that cannot be written) is
+Bad input (a :class:`raykit.io.errors.SceneError`, or an output file that cannot be written) is
 reported as one line on stderr with exit status 2, never as a traceback, and leaves no output
 file behind.
 """
@@ -165,18 +165,18 @@ def _positive(text: str) -> int:
 
 
 def _load_3d(path: str):
-    """A 3D scene from JSON (format v1) or, for a .nff file, from NFF (raykit.nff)."""
+    """A 3D scene from JSON (format v1) or, for a .nff file, from NFF (raykit.io.nff)."""
     if path.lower().endswith(".nff"):
-        from raykit.nff import load_nff
+        from raykit.io.nff import load_nff
 
         return load_nff(path)
-    from raykit.scene import load_scene
+    from raykit.io.scene_json import load_scene
 
     return load_scene(path)
 
 
 def _run_render(args: argparse.Namespace) -> None:
-    from raykit.images import save_image
+    from raykit.io.images import save_image
     from raykit.render import render
 
     start = time.perf_counter()
@@ -194,9 +194,9 @@ def _run_render(args: argparse.Namespace) -> None:
 def _run_scan(args: argparse.Namespace) -> None:
     import numpy as np
 
-    from raykit.images import save_image
+    from raykit.io.images import save_image
+    from raykit.io.linescan_json import load_line_scene
     from raykit.linescan.scan import scan
-    from raykit.linescan.scene import load_line_scene
 
     start = time.perf_counter()
     scene = load_line_scene(args.scene)
@@ -210,9 +210,9 @@ def _run_scan(args: argparse.Namespace) -> None:
 
 
 def _run_sweep(args: argparse.Namespace) -> None:
-    from raykit.images import save_image
+    from raykit.io.images import save_image
+    from raykit.io.linescan_json import load_line_scene
     from raykit.linescan.scan import sweep
-    from raykit.linescan.scene import load_line_scene
 
     start = time.perf_counter()
     scene = load_line_scene(args.scene)
@@ -277,7 +277,7 @@ def _save_figure(module: str, function: str, subject, path: str, **options) -> N
     matplotlib.use("Agg")  # files only: no window, works headless
     import matplotlib.pyplot as plt
 
-    from raykit.images import save_figure
+    from raykit.io.images import save_figure
 
     figure = getattr(importlib.import_module(module), function)(subject, **options)
     try:

@@ -1,12 +1,13 @@
-"""A scene: a camera, a background colour, spheres and billboards; read from JSON (format v1).
+"""A scene, as data: a camera, a background colour, spheres and billboards, and (stage 4) lights.
 
 Stage 4 adds, all optional: ``lights`` (:mod:`raykit.lights`), ``ambient``, per-object materials
-(:mod:`raykit.materials`), a ``shadows`` switch and ``max_depth`` for mirror bounces. A file
+(:mod:`raykit.materials`), a ``shadows`` switch and ``max_depth`` for mirror bounces. A scene
 without them renders exactly as format v1 always did.
 
-The format is documented in ``docs/scene-format.md`` and published as a JSON Schema in
-``raykit/schemas/scene-v1.schema.json``. Geometry conventions live with the objects:
-:mod:`raykit.camera`, :mod:`raykit.spheres`, :mod:`raykit.billboards`.
+Scenes are read from files by :mod:`raykit.io.scene_json` (format v1, documented in
+``docs/scene-format.md``) and :mod:`raykit.io.nff`. Geometry conventions live with the
+objects: :mod:`raykit.camera`, :mod:`raykit.spheres`, :mod:`raykit.billboards`. Nothing here
+is kept for speed: the engine's arrays of a scene are :mod:`raykit.engine.arrays`.
 
 Object indices. Wherever raykit reports "which object a ray hit" (the renderer's
 ``object_index`` image, diagrams, grading), object i counts the spheres first, in file order,
@@ -18,24 +19,16 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
 from functools import cached_property
-from pathlib import Path
-from typing import Any
 
 import numpy as np
 
-from raykit.billboards import Billboard, is_degenerate
-from raykit.boxes import object_boxes
-from raykit.camera import PROJECTIONS, Camera, DegenerateFrameError, camera_frame
-from raykit.fields import Field, read_json_file
-from raykit.lights import LIGHT_TYPES, DirectionalLight, Light, PointLight
-from raykit.materials import DEFAULT_SHININESS, PLAIN, Material, MaterialTable
+from raykit.billboards import Billboard
+from raykit.camera import Camera
+from raykit.lights import Light
+from raykit.materials import MaterialTable
 from raykit.spheres import Sphere
-from raykit.textures import Texture
 
-MAX_IMAGE_SIDE = 16384
-MAX_DEPTH_LIMIT = 16
 DEFAULT_MAX_DEPTH = 3
-MATERIAL_FIELDS = ("diffuse", "specular", "shininess", "mirror")
 
 
 @dataclass(frozen=True)
@@ -76,192 +69,3 @@ class Scene:
     def materials(self) -> MaterialTable:
         """Every object's material as arrays, in object index order."""
         return MaterialTable.of(self.objects)
-
-    @cached_property
-    def boxes(self) -> tuple[np.ndarray, np.ndarray]:
-        """Every object's padded bounding box, ``lower`` and ``upper (K, 3)``, in index order
-        (:mod:`raykit.boxes`)."""
-        return object_boxes(self.spheres, self.billboards)
-
-    @cached_property
-    def sphere_colors(self) -> np.ndarray:
-        """The spheres' colours ``(S, 3)``, in index order."""
-        return np.array([s.color for s in self.spheres], dtype=float).reshape(-1, 3)
-
-    @cached_property
-    def sphere_arrays(self) -> tuple[np.ndarray, np.ndarray]:
-        """The spheres' ``centers (S, 3)`` and ``radii (S,)``, in index order."""
-        if not self.spheres:
-            return np.zeros((0, 3)), np.zeros(0)
-        return (
-            np.stack([np.asarray(s.center) for s in self.spheres]),
-            np.array([s.radius for s in self.spheres]),
-        )
-
-
-def load_scene(path: str | Path) -> Scene:
-    """Read and validate a v1 scene file; raises :class:`raykit.errors.SceneError`."""
-    data, source = read_json_file(path)
-    return scene_from_dict(data, source=source, folder=Path(path).parent)
-
-
-def scene_from_dict(data: Any, source: str = "<scene>", folder: str | Path = ".") -> Scene:
-    """Validate parsed JSON ``data`` as a v1 scene; texture paths are relative to ``folder``."""
-    top = Field(data, source).object(
-        required=("camera",),
-        optional=(
-            "$schema",
-            "background",
-            "spheres",
-            "billboards",
-            "lights",
-            "ambient",
-            "shadows",
-            "max_depth",
-        ),
-    )
-    camera = _read_camera(top["camera"])
-    background = top["background"].color() if "background" in top else np.zeros(3)
-    spheres = _read_spheres(top["spheres"]) if "spheres" in top else ()
-    billboards = (
-        tuple(_read_billboard(f, Path(folder)) for f in top["billboards"].items())
-        if "billboards" in top
-        else ()
-    )
-    return Scene(
-        camera,
-        spheres,
-        billboards,
-        background,
-        source,
-        lights=tuple(_read_light(f) for f in top["lights"].items()) if "lights" in top else (),
-        ambient=top["ambient"].intensity() if "ambient" in top else None,
-        shadows=top["shadows"].boolean() if "shadows" in top else True,
-        max_depth=(
-            top["max_depth"].integer(ge=0, le=MAX_DEPTH_LIMIT)
-            if "max_depth" in top
-            else DEFAULT_MAX_DEPTH
-        ),
-    )
-
-
-def _read_light(node: Field) -> Light:
-    kind = node.object(required=("type",), optional=("direction", "position", "color", "name"))
-    light_type = kind["type"].string(LIGHT_TYPES)
-    place, other = ("direction", "position")
-    if light_type == "point":
-        place, other = other, place
-    if other in kind:
-        raise kind[other].error(f'a {light_type} light takes "{place}", not "{other}"')
-    f = node.object(required=("type", place), optional=("color", "name"))
-    color = f["color"].intensity() if "color" in f else np.ones(3)
-    if light_type == "point":
-        return PointLight(f["position"].vector(3), color)
-    direction = f["direction"].vector(3)
-    if not np.any(direction):
-        raise f["direction"].error("is the zero vector, so the light shines nowhere")
-    return DirectionalLight(direction, color)
-
-
-def _read_material(f: dict[str, Field]) -> Material:
-    if not any(key in f for key in MATERIAL_FIELDS):
-        return PLAIN
-    return Material(
-        diffuse=f["diffuse"].color() if "diffuse" in f else None,
-        specular=f["specular"].color() if "specular" in f else np.zeros(3),
-        shininess=f["shininess"].number(gt=0) if "shininess" in f else DEFAULT_SHININESS,
-        mirror=f["mirror"].color() if "mirror" in f else np.zeros(3),
-    )
-
-
-def _read_camera(node: Field) -> Camera:
-    f = node.object(
-        required=("eye", "lookat", "up", "fov_angle", "width", "height"),
-        optional=("projection",),
-    )
-    eye, lookat, up = (f[key].vector(3) for key in ("eye", "lookat", "up"))
-    fov_angle = f["fov_angle"].number(gt=0, lt=180)
-    width = f["width"].integer(ge=1, le=MAX_IMAGE_SIDE)
-    height = f["height"].integer(ge=1, le=MAX_IMAGE_SIDE)
-    projection = f["projection"].string(PROJECTIONS) if "projection" in f else "perspective"
-    try:
-        camera_frame(eye, lookat, up)
-    except DegenerateFrameError as exc:
-        raise f[exc.culprit].error(str(exc)) from None
-    return Camera(eye, lookat, up, fov_angle, width, height, projection)
-
-
-def _read_spheres(node: Field) -> tuple[Sphere, ...]:
-    """All spheres: plain ones in bulk (:func:`_plain_spheres`), else field by field."""
-    plain = _plain_spheres(node.value)
-    if plain is not None:
-        return plain
-    return tuple(_read_sphere(f) for f in node.items())
-
-
-PLAIN_SPHERE_KEYS = {"center", "radius", "color"}
-
-
-def _plain_spheres(values) -> tuple[Sphere, ...] | None:
-    """Spheres of only center, radius and color, every value valid, checked all at once with
-    numpy (a scene of thousands of spheres loads in milliseconds); None when any sphere is not
-    that plain or not valid, and then the field-by-field reading finds and names the problem."""
-    if not isinstance(values, list) or not values:
-        return None
-    try:
-        if any(not isinstance(v, dict) or v.keys() != PLAIN_SPHERE_KEYS for v in values):
-            return None
-        rows = [[*v["center"], v["radius"], *v["color"]] for v in values]
-        if any(len(row) != 7 or any(isinstance(x, bool) for x in row) for row in rows):
-            return None
-        numbers = np.array(rows, dtype=float)  # strings, lists, None: an error, so None
-    except (TypeError, ValueError, OverflowError):
-        return None
-    colors = numbers[:, 4:]
-    valid = (
-        np.isfinite(numbers).all()
-        and (numbers[:, 3] > 0).all()
-        and ((colors >= 0) & (colors <= 1)).all()
-    )
-    if not valid:
-        return None
-    return tuple(Sphere(row[:3], float(row[3]), row[4:]) for row in numbers)
-
-
-def _read_sphere(node: Field) -> Sphere:
-    f = node.object(required=("center", "radius", "color"), optional=("name", *MATERIAL_FIELDS))
-    return Sphere(
-        center=f["center"].vector(3),
-        radius=f["radius"].number(gt=0),
-        color=f["color"].color(),
-        name=f["name"].string() if "name" in f else None,
-        material=_read_material(f),
-    )
-
-
-def _read_billboard(node: Field, folder: Path) -> Billboard:
-    f = node.object(
-        required=("upper_left", "lower_left", "upper_right"),
-        optional=("image", "color", "name", *MATERIAL_FIELDS),
-    )
-    upper_left, lower_left, upper_right = (
-        f[key].vector(3) for key in ("upper_left", "lower_left", "upper_right")
-    )
-    for corner, other in (("upper_right", upper_right), ("lower_left", lower_left)):
-        if np.array_equal(other, upper_left):
-            raise f[corner].error("coincides with upper_left, so the billboard has no area")
-    if is_degenerate(upper_right - upper_left, lower_left - upper_left):
-        raise node.error("corners upper_left, lower_left and upper_right are collinear")
-    node.exactly_one_of(f, "image", "color")
-    color = f["color"].color() if "color" in f else None
-    texture = None
-    if "image" in f:
-        if "diffuse" in f:
-            raise f["diffuse"].error(
-                'a billboard with an "image" takes its diffuse colour from the image'
-            )
-        texture = Texture(folder / f["image"].string(), f["image"].source, f["image"].path)
-    name = f["name"].string() if "name" in f else None
-    return Billboard(
-        upper_left, lower_left, upper_right, color, texture, name, material=_read_material(f)
-    )

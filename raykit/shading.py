@@ -15,7 +15,7 @@ surface point (the conventions of :mod:`raykit.lights`):
 
 A scene with no lights and no ambient (every format v1 scene) is unlit: L is the object's flat
 colour (plus km·L(r) on mirrors). Colours add up unclamped; the image clamps to [0, 1] when it
-is quantised (:mod:`raykit.images`).
+is quantised (:mod:`raykit.io.images`).
 
 What is skipped. The renderer calls :func:`shade` only when a scene has lights, ambient light or
 a mirror; shadow rays are cast only for points facing a light, and only when the scene's
@@ -26,8 +26,6 @@ only on objects with a specular colour; mirror rays start only on mirrors.
 """
 
 from __future__ import annotations
-
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -69,21 +67,6 @@ def blinn_phong(
     # END SOLUTION
 
 
-@dataclass(frozen=True)
-class RaySegments:
-    """Secondary rays that shading cast, for diagrams: ``kind`` ("shadow" or "mirror"),
-    ``origins``, ``directions`` ``(M, 3)``, where each ends ``t (M,)`` (inf: nothing met),
-    ``blocked (M,)`` (shadow rays stopped before their light), and ``ray (M,)``, the primary
-    ray each belongs to."""
-
-    kind: str
-    origins: np.ndarray
-    directions: np.ndarray
-    t: np.ndarray
-    blocked: np.ndarray
-    ray: np.ndarray
-
-
 def casts_shadows(scene: Scene) -> bool:
     """Whether shadow rays are needed: shadows on, lights, and two objects or more."""
     return scene.shadows and bool(scene.lights) and len(scene.objects) > 1
@@ -100,11 +83,10 @@ def shade(
     origins: np.ndarray,
     directions: np.ndarray,
     hits: Hits,
-    paths: list[RaySegments] | None = None,
 ) -> np.ndarray:
     """Colours ``(N, 3)`` of rays ``(N, 3)`` (unit directions) with their nearest ``hits``
     (object indices of ``scene``). ``cast`` finds the nearest hits of secondary rays over the
-    whole scene. ``paths``: if a list, the secondary rays are appended to it (for diagrams)."""
+    whole scene (a diagram that wants to see those rays wraps it: :mod:`raykit.diagrams.rays`)."""
     count = len(origins)
     colors = np.zeros((count, 3))
     weight = np.ones((count, 3))  # what one unit of light along the ray adds to its pixel
@@ -118,9 +100,7 @@ def shade(
         if not len(index):
             break
         surface = surface_points(scene, origins, directions, hits.t[hit], index)
-        colors[ray] += weight * surface_color(
-            scene, cast, surface, directions, index, color, ray, paths
-        )
+        colors[ray] += weight * surface_color(scene, cast, surface, directions, index, color)
         km = mirror[index]
         bounce = np.flatnonzero(km.any(axis=1))
         if depth == scene.max_depth or not len(bounce):
@@ -129,9 +109,6 @@ def shade(
         origins = surface.take(bounce).start(directions)
         ray, weight = ray[bounce], weight[bounce] * km[bounce]
         hits = cast(origins, directions)
-        if paths is not None:
-            no_block = np.zeros(len(ray), dtype=bool)
-            paths.append(RaySegments("mirror", origins, directions, hits.t, no_block, ray))
     return colors
 
 
@@ -142,12 +119,10 @@ def surface_color(
     directions: np.ndarray,
     index: np.ndarray,
     color: np.ndarray,
-    ray: np.ndarray,
-    paths: list[RaySegments] | None = None,
 ) -> np.ndarray:
     """A surface's own colour ``(N, 3)`` at hit points (all but the mirror term): the flat
     ``color (N, 3)`` in an unlit scene, else ambient + each visible light's Lambert and
-    Blinn-Phong terms. ``index (N,)``: the objects hit; ``ray (N,)``: for ``paths``."""
+    Blinn-Phong terms. ``index (N,)``: the objects hit."""
     if not scene.lit:
         return color
     table = scene.materials
@@ -161,10 +136,7 @@ def surface_color(
         l, distance = toward_light(light, surface.points)
         lit = np.flatnonzero(dot(surface.normals, l) > 0)
         if shadows and len(lit):
-            facing = surface.take(lit)
-            blocked = in_shadow(cast, facing, l[lit], distance[lit])
-            if paths is not None:
-                _record_shadow_rays(paths, cast, facing, l[lit], distance[lit], blocked, ray[lit])
+            blocked = in_shadow(cast, surface.take(lit), l[lit], distance[lit])
             lit = lit[~blocked]
         n = surface.normals
         total[lit] += lambert(kd[lit], light.color, n[lit], l[lit])
@@ -180,9 +152,3 @@ def surface_color(
                 table.shininess[which],
             )
     return total
-
-
-def _record_shadow_rays(paths, cast, facing, l, distance, blocked, ray) -> None:
-    origins = facing.start(l)
-    t = np.minimum(cast(origins, l, distance).t, distance)
-    paths.append(RaySegments("shadow", origins, np.asarray(l), t, blocked, ray))

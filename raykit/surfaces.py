@@ -77,8 +77,10 @@ def surface_points(
     spheres = len(scene.spheres)
     on_sphere = np.flatnonzero(index < spheres)
     if len(on_sphere):
-        centers, radii = scene.sphere_arrays
-        which = index[on_sphere]
+        hit = np.unique(index[on_sphere])  # the spheres hit, in index order
+        centers = np.stack([np.asarray(scene.spheres[i].center) for i in hit])
+        radii = np.array([scene.spheres[i].radius for i in hit])
+        which = np.searchsorted(hit, index[on_sphere])
         normals[on_sphere] = sphere_normals(
             points[on_sphere], centers[which], radii[which][:, None]
         )

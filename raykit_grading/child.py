@@ -180,8 +180,8 @@ def task_reflect(spec, arrays):
 
 
 def task_in_shadow(spec, arrays):
+    from raykit.io.scene_json import scene_from_dict
     from raykit.render import secondary_caster
-    from raykit.scene import scene_from_dict
     from raykit.shadows import in_shadow
     from raykit.surfaces import SurfacePoints
 
@@ -192,8 +192,8 @@ def task_in_shadow(spec, arrays):
 
 
 def task_render(spec, arrays):
+    from raykit.io.scene_json import scene_from_dict
     from raykit.render import render
-    from raykit.scene import scene_from_dict
 
     scene = scene_from_dict(spec["scene"], folder=spec["folder"])
     # every object against every ray: skipping assumes right answers (t > 0), and a student's
@@ -202,15 +202,15 @@ def task_render(spec, arrays):
 
 
 def task_scan(spec, arrays):
+    from raykit.io.linescan_json import line_scene_from_dict
     from raykit.linescan.scan import scan
-    from raykit.linescan.scene import line_scene_from_dict
 
     return {"rgb": scan(line_scene_from_dict(spec["scene"], folder=spec["folder"])).colors[None]}
 
 
 def task_sweep(spec, arrays):
+    from raykit.io.linescan_json import line_scene_from_dict
     from raykit.linescan.scan import sweep
-    from raykit.linescan.scene import line_scene_from_dict
 
     scene = line_scene_from_dict(spec["scene"], folder=spec["folder"])
     return {"rgb": sweep(scene, spec.get("scans")).image}

@@ -39,7 +39,7 @@ from pathlib import Path
 
 import numpy as np
 
-from raykit.images import quantize, save_image
+from raykit.io.images import quantize, save_image
 from raykit_grading import child
 from raykit_grading.catalog import HIDDEN_SCENES, SCENES, TESTS, VISIBLE, GradingTest, by_name
 from raykit_grading.compare import DEFAULT_SCORING, Scoring, check_arrays, judge_image

@@ -22,6 +22,7 @@ import numpy as np
 
 import raykit.billboards
 import raykit.camera
+import raykit.engine.regions
 import raykit.render
 import raykit.shading
 import raykit.surfaces
@@ -157,7 +158,7 @@ MISTAKES = [
         "pixel_corners",
         "rays go through pixel corners instead of pixel centres",
         patches=lambda: [
-            mock.patch.object(raykit.render, "sample_offsets", lambda n: np.zeros((1, 2)))
+            mock.patch.object(raykit.engine.regions, "sample_offsets", lambda n: np.zeros((1, 2)))
         ],
     ),
     Mistake(

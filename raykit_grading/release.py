@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from raykit.images import quantize, save_image
+from raykit.io.images import quantize, save_image
 from raykit_grading import child
 from raykit_grading.catalog import REPO, TESTS, VISIBLE
 from raykit_grading.markers import strip_solutions
@@ -41,7 +41,7 @@ import pytest
 from _grading.child import TASKS
 from _grading.compare import check_arrays, compare_images
 
-from raykit.images import quantize
+from raykit.io.images import quantize
 
 EXPECTED = Path(__file__).parent / "expected"
 CASES = sorted(p.name for p in EXPECTED.iterdir() if p.is_dir())
@@ -184,7 +184,7 @@ raykit = "raykit.cli:main"
 include = ["raykit*"]
 
 [tool.setuptools.package-data]
-raykit = ["schemas/*.json"]
+raykit = ["io/schemas/*.json"]
 
 [tool.pytest.ini_options]
 testpaths = ["tests"]

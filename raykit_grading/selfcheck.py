@@ -29,7 +29,7 @@ from _grading.child import TASKS  # noqa: E402
 from _grading.compare import check_arrays, judge_image  # noqa: E402
 from PIL import Image  # noqa: E402
 
-from raykit.images import quantize  # noqa: E402
+from raykit.io.images import quantize  # noqa: E402
 
 EXPECTED = HERE / "tests" / "expected"
 

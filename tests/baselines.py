@@ -21,9 +21,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 from raykit.diagrams import math_figures  # noqa: E402
 from raykit.diagrams.camera import camera_diagrams  # noqa: E402
 from raykit.diagrams.rays import ray_diagram as ray_diagram_3d  # noqa: E402
+from raykit.io.linescan_json import load_line_scene  # noqa: E402
+from raykit.io.scene_json import load_scene  # noqa: E402
 from raykit.linescan.diagrams import ray_diagram, sweep_diagram  # noqa: E402
-from raykit.linescan.scene import load_line_scene  # noqa: E402
-from raykit.scene import load_scene  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 SCENES = HERE.parent / "scenes"

@@ -2,9 +2,9 @@ import numpy as np
 import pytest
 
 from conftest import SCENES
-from raykit.adaptive import edge_pixels
+from raykit.engine.adaptive import edge_pixels
+from raykit.io.scene_json import load_scene
 from raykit.render import render
-from raykit.scene import load_scene
 
 
 @pytest.mark.parametrize("name", ["classic", "cutouts", "wide_fov"])

@@ -7,10 +7,10 @@ import pytest
 
 import raykit.render
 from conftest import SCENES, random_scene, scene_dict, write_texture
-from raykit.boxes import objects_near_segments
-from raykit.bvh import BVH
+from raykit.engine.boxes import objects_near_segments
+from raykit.engine.bvh import BVH
+from raykit.io.scene_json import load_scene, scene_from_dict
 from raykit.render import cast, cast_nearby, render
-from raykit.scene import load_scene, scene_from_dict
 
 
 def _random_rays(rng, count, spread=6.0):

@@ -6,8 +6,8 @@ from PIL import Image
 
 from conftest import SCENES
 from raykit.cli import main
+from raykit.io.scene_json import load_scene
 from raykit.render import render
-from raykit.scene import load_scene
 
 
 def test_render_writes_the_png_and_says_what_it_wrote(tmp_path, capsys):
@@ -24,7 +24,7 @@ def test_samples_option_averages_n_by_n_rays(tmp_path, capsys):
     out = tmp_path / "o.png"
     assert main(["render", str(SCENES / "cutouts.json"), "-o", str(out), "--samples", "2"]) == 0
     expected = render(load_scene(SCENES / "cutouts.json"), samples=2).rgb
-    from raykit.images import quantize
+    from raykit.io.images import quantize
 
     assert np.array_equal(np.asarray(Image.open(out)), quantize(expected))
 

@@ -13,9 +13,9 @@ from raykit.diagrams import math_figures  # noqa: E402
 from raykit.diagrams.camera import camera_diagram, coarse  # noqa: E402
 from raykit.diagrams.rays import chosen_pixels, ray_diagram  # noqa: E402
 from raykit.diagrams.views import view_for  # noqa: E402
+from raykit.io.scene_json import load_scene  # noqa: E402
 from raykit.rays import point_at  # noqa: E402
 from raykit.render import cast_pixels, render  # noqa: E402
-from raykit.scene import load_scene  # noqa: E402
 from raykit.spheres import sphere_roots  # noqa: E402
 
 

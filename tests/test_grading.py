@@ -79,8 +79,8 @@ def _student_pytest(folder):
 def test_mistakes_apply_to_a_camera_that_has_already_computed_its_frame():
     from dataclasses import replace
 
+    from raykit.io.scene_json import load_scene
     from raykit.render import render
-    from raykit.scene import load_scene
 
     scene = load_scene(REPO / "scenes/classic.json")
     scene = replace(scene, camera=replace(scene.camera, width=80, height=60))

@@ -2,7 +2,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from raykit.images import quantize, save_image
+from raykit.io.images import quantize, save_image
 
 
 def test_quantising_rounds_halves_up_and_clamps():

@@ -4,10 +4,11 @@ import numpy as np
 import pytest
 from PIL import Image
 
+from raykit.io.linescan_json import line_scene_from_dict
 from raykit.linescan.camera import LineCamera, line_rays, pixel_positions, pixel_x
 from raykit.linescan.objects import Ball, Billboard, hit_segment
 from raykit.linescan.scan import scan, sweep
-from raykit.linescan.scene import LineScene, line_scene_from_dict
+from raykit.linescan.scene import LineScene
 
 
 def camera(**kw) -> LineCamera:

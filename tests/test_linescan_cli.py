@@ -11,12 +11,12 @@ from PIL import Image
 
 from conftest import REPO, SCENES, delete_field, set_field
 from raykit.cli import main
-from raykit.errors import SceneError
-from raykit.images import quantize
+from raykit.io.errors import SceneError
+from raykit.io.images import quantize
+from raykit.io.linescan_json import load_line_scene
 from raykit.linescan.scan import scan, sweep
-from raykit.linescan.scene import load_line_scene
 
-SCHEMA = json.loads((REPO / "raykit/schemas/linescan-v1.schema.json").read_text())
+SCHEMA = json.loads((REPO / "raykit/io/schemas/linescan-v1.schema.json").read_text())
 SCENE = {
     "camera": {"e": [0, 0], "w": [1, 0], "fov_angle": 60, "pixels": 16},
     "balls": [{"center": [5, 0], "radius": 1, "color": [1, 0, 0]}],

@@ -7,9 +7,9 @@ import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
 from conftest import SCENES  # noqa: E402
+from raykit.io.linescan_json import load_line_scene  # noqa: E402
 from raykit.linescan.diagrams import ray_diagram, sweep_diagram  # noqa: E402
 from raykit.linescan.scan import scan  # noqa: E402
-from raykit.linescan.scene import load_line_scene  # noqa: E402
 
 
 def _collection(figure, gid):

@@ -4,10 +4,10 @@ import numpy as np
 import pytest
 
 from raykit.cli import main
-from raykit.errors import SceneError
-from raykit.nff import scene_from_nff
+from raykit.io.errors import SceneError
+from raykit.io.nff import scene_from_nff
+from raykit.io.scene_json import scene_from_dict
 from raykit.render import render
-from raykit.scene import scene_from_dict
 
 BALLS = """# a small scene in the SPD's NFF
 v

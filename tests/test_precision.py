@@ -5,9 +5,9 @@ import pytest
 
 from conftest import SCENES
 from raykit.billboards import hit_billboard
-from raykit.precision import eye_relative
+from raykit.engine.precision import eye_relative
+from raykit.io.scene_json import load_scene
 from raykit.render import render
-from raykit.scene import load_scene
 
 
 @pytest.mark.parametrize("name", ["classic", "cutouts", "orthographic", "far_away"])

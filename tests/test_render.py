@@ -5,9 +5,9 @@ import pytest
 
 from conftest import SCENES, random_scene, scene_dict, write_texture
 from independent_tracer import trace_object_index
-from raykit.images import quantize
+from raykit.io.images import quantize
+from raykit.io.scene_json import load_scene, scene_from_dict
 from raykit.render import render
-from raykit.scene import load_scene, scene_from_dict
 
 
 def rendered(scene: dict, folder=".", samples: int = 1):
@@ -192,7 +192,7 @@ def test_object_index_and_t_describe_the_pixel_centre_whatever_the_samples(sampl
 
 
 def test_band_and_tile_sizes_do_not_change_the_image(monkeypatch):
-    import raykit.tiles as tiles
+    import raykit.engine.tiles as tiles
 
     scene = scene_from_dict(scene_dict())
     whole = render(scene, samples=2, skip_hidden=False)

@@ -14,10 +14,10 @@ import pytest
 
 from conftest import REPO, delete_field, scene_dict, set_field
 from raykit.cli import main
-from raykit.errors import SceneError
-from raykit.scene import load_scene
+from raykit.io.errors import SceneError
+from raykit.io.scene_json import load_scene
 
-SCHEMA = json.loads((REPO / "raykit/schemas/scene-v1.schema.json").read_text())
+SCHEMA = json.loads((REPO / "raykit/io/schemas/scene-v1.schema.json").read_text())
 
 
 BOARD = {"upper_left": [-1, 1, 0], "lower_left": [-1, -1, 0], "upper_right": [1, 1, 0]}
@@ -397,8 +397,8 @@ def test_cli_in_a_real_process_prints_no_traceback(folder):
 def test_plain_spheres_load_in_bulk_exactly_as_field_by_field():
     import numpy as np
 
-    from raykit.fields import Field
-    from raykit.scene import _plain_spheres, _read_sphere, scene_from_dict
+    from raykit.io.fields import Field
+    from raykit.io.scene_json import _plain_spheres, _read_sphere, scene_from_dict
 
     rng = np.random.default_rng(12)
     spheres = [

@@ -10,11 +10,11 @@ import raykit.shading
 import raykit.surfaces
 from conftest import SCENES, random_scene, scene_dict, write_texture
 from independent_tracer import trace_shaded
-from raykit.images import quantize
+from raykit.io.images import quantize
+from raykit.io.scene_json import scene_from_dict
 from raykit.lights import DirectionalLight, PointLight, toward_light
 from raykit.mirrors import reflect
 from raykit.render import render
-from raykit.scene import scene_from_dict
 from raykit.shading import blinn_phong, lambert
 from raykit.spheres import sphere_normals
 

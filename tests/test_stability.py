@@ -10,8 +10,8 @@ from conftest import SCENES
 from exact import exact_sphere_hit
 from independent_tracer import trace_object_index
 from raykit.camera import pixel_points, rays_through
+from raykit.io.scene_json import scene_from_dict
 from raykit.render import render
-from raykit.scene import scene_from_dict
 from raykit.spheres import hit_sphere_textbook
 
 

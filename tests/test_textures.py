@@ -5,7 +5,7 @@ import numpy as np
 from PIL import Image
 
 from conftest import SCENES
-from raykit.textures import Texture, to_rgba8
+from raykit.io.textures import Texture, to_rgba8
 
 
 def test_16_bit_grey_is_scaled_not_clipped():

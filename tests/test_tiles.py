@@ -4,11 +4,11 @@ import numpy as np
 import pytest
 
 from conftest import SCENES, random_scene, write_texture
+from raykit.engine.screen_bounds import billboard_bounds, object_bounds, sphere_bounds
+from raykit.engine.tiles import CROWDED, regions
+from raykit.io.scene_json import load_scene, scene_from_dict
 from raykit.render import render
-from raykit.scene import load_scene, scene_from_dict
-from raykit.screen_bounds import billboard_bounds, object_bounds, sphere_bounds
 from raykit.spheres import Sphere
-from raykit.tiles import CROWDED, regions
 
 EXAMPLES = sorted(SCENES.glob("*.json")) + sorted((SCENES.parent / "grading-scenes").glob("*.json"))
 
@@ -38,7 +38,7 @@ def test_skipping_changes_no_pixel_on_random_scenes(tmp_path):
 
 def test_crowded_tiles_pair_rays_with_objects_and_change_no_pixel(tmp_path):
     """Scenes of 20-60 objects, textured billboards with holes among them, so that most tiles
-    hold CROWDED objects or more and go through ray-object pairs (raykit.pairs)."""
+    hold CROWDED objects or more and go through ray-object pairs (raykit.engine.pairs)."""
     rng = np.random.default_rng(31)
     write_texture(tmp_path, "noise.png", rng.integers(0, 256, size=(5, 7, 4)))
     crowded = 0
@@ -107,7 +107,7 @@ def test_rays_are_made_only_where_some_object_may_be_seen(monkeypatch):
 def _random_regions(rng, count: int = 40):
     """Tiles of 1-64 pixels a side with 30 screen rectangles each: inside, across and outside
     the tile, a third with edges through pixel centres, every seventh NaN (never visible)."""
-    from raykit.tiles import Region
+    from raykit.engine.tiles import Region
 
     for _ in range(count):
         rows, cols = range(64, 64 + rng.integers(1, 65)), range(128, 128 + rng.integers(1, 65))

@@ -5,14 +5,16 @@ drawn through pixel (r, c) ends on the object that pixel of the render shows. Hi
 solid in the colour of what they hit; misses dashed and faded, to the edge of the picture.
 
 In a lit scene or one with mirrors, the secondary rays that shading casts for those pixels are
-drawn too, as :func:`raykit.shading.shade` recorded them: shadow rays thin and gold up to their
-light, or dark red up to what blocks them (marked x); mirror rays silver, to what they meet
-(dashed when they meet nothing).
+drawn too, as shading cast them (:class:`RecordingCaster` wraps the caster that
+:func:`raykit.shading.shade` is given, so the physics knows nothing of diagrams): shadow rays
+thin and gold up to their light, or dark red up to what blocks them (marked x); mirror rays
+silver, to what they meet (dashed when they meet nothing).
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from matplotlib.axes import Axes
@@ -31,9 +33,46 @@ from raykit.lights import PointLight
 from raykit.rays import point_at
 from raykit.render import cast_pixels, secondary_caster
 from raykit.scene import Scene
-from raykit.shading import RaySegments, needs_shading, shade
+from raykit.shading import needs_shading, shade
+from raykit.shadows import Caster
 
 MOST_RAYS_A_SIDE = 8
+
+
+@dataclass(frozen=True)
+class RaySegments:
+    """Secondary rays that shading cast: ``kind`` ("shadow" or "mirror"), ``origins``,
+    ``directions`` ``(M, 3)``, where each ends ``t (M,)`` (inf: nothing met) and ``blocked
+    (M,)`` (shadow rays stopped before their light)."""
+
+    kind: str
+    origins: np.ndarray
+    directions: np.ndarray
+    t: np.ndarray
+    blocked: np.ndarray
+
+
+class RecordingCaster:
+    """A caster that casts with ``cast`` and keeps every call's rays as :class:`RaySegments`:
+    a call with ``t_max`` is a shadow test (blocked where the nearest hit is nearer than its
+    light, :func:`raykit.shadows.in_shadow`), one without is a mirror bounce."""
+
+    def __init__(self, cast: Caster) -> None:
+        self.cast = cast
+        self.segments: list[RaySegments] = []
+
+    def __call__(self, origins: np.ndarray, directions: np.ndarray, t_max=None):
+        if t_max is None:
+            hits = self.cast(origins, directions)
+            blocked = np.zeros(len(origins), dtype=bool)
+            self.segments.append(RaySegments("mirror", origins, directions, hits.t, blocked))
+        else:
+            hits = self.cast(origins, directions, t_max)
+            t = np.minimum(hits.t, t_max)
+            self.segments.append(
+                RaySegments("shadow", origins, np.asarray(directions), t, hits.t < t_max)
+            )
+        return hits
 
 
 def chosen_pixels(
@@ -81,7 +120,9 @@ def ray_diagram(
     hit = hits.index >= 0
     paths: list[RaySegments] = []
     if needs_shading(scene):
-        shade(scene, secondary_caster(scene), origins, directions, hits, paths)
+        recorder = RecordingCaster(secondary_caster(scene))
+        shade(scene, recorder, origins, directions, hits)
+        paths = recorder.segments
 
     corners = image_plane_corners(camera)
     extent = _scene_points(scene, corners)
@@ -123,9 +164,9 @@ def ray_diagram(
     title = f"{len(rows)} rays through pixel centres ({int(hit.sum())} hit): solid = hit, "
     title += "dashed = miss"
     if paths:
-        shadow = sum(len(p.ray) for p in paths if p.kind == "shadow")
+        shadow = sum(len(p.t) for p in paths if p.kind == "shadow")
         blocked = sum(int(p.blocked.sum()) for p in paths if p.kind == "shadow")
-        mirror = sum(len(p.ray) for p in paths if p.kind == "mirror")
+        mirror = sum(len(p.t) for p in paths if p.kind == "mirror")
         title += f"\n{shadow} shadow rays ({blocked} blocked, x), {mirror} mirror rays"
     ax.set_title(title, fontsize=10)
     return ax.figure

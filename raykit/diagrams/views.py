@@ -21,9 +21,9 @@ from matplotlib.patches import Circle, Polygon
 from matplotlib.transforms import Affine2D
 from mpl_toolkits.mplot3d.art3d import Line3DCollection
 
+from raykit.billboards import OPAQUE_FROM
 from raykit.camera import Camera
 from raykit.scene import Scene
-from raykit.textures import OPAQUE_FROM
 
 VIEWS = ("3d", "top", "side")
 AXIS_NAMES = "xyz"

@@ -23,10 +23,10 @@ from matplotlib.collections import LineCollection
 from matplotlib.figure import Figure
 from matplotlib.patches import Arc, Circle
 
+from raykit.billboards import OPAQUE_FROM
 from raykit.linescan.camera import pixel_positions
 from raykit.linescan.scan import Scan, scan, sweep
 from raykit.linescan.scene import LineScene
-from raykit.textures import OPAQUE_FROM
 
 MAX_RAYS_DRAWN = 24
 

@@ -20,11 +20,11 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from raykit.billboards import Texels, colors_and_opacity
 from raykit.hits import ColorAt, solid
 from raykit.planes import hit_plane, hit_points_on_plane
 from raykit.rays import MISS
 from raykit.spheres import hit_sphere
-from raykit.textures import Texture, colors_and_opacity
 
 
 @dataclass(frozen=True)
@@ -50,7 +50,7 @@ class Billboard:
     start: np.ndarray
     end: np.ndarray
     color: np.ndarray | None = None
-    texture: Texture | None = None
+    texture: Texels | None = None
     row: int = 0
     velocity: np.ndarray = field(default_factory=lambda: np.zeros(2))
     name: str | None = None

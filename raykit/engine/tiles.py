@@ -3,7 +3,7 @@
 The renderer (:func:`raykit.render.render`) walks the image region by region and calls the
 same ``cast`` on each. Without skipping, a region is a band of whole rows and sees every object.
 With skipping (the default), a region is a ``TILE`` x ``TILE`` square and sees only the objects
-whose screen bounds (:mod:`raykit.screen_bounds`) overlap it, in their scene order, so the
+whose screen bounds (:mod:`raykit.engine.screen_bounds`) overlap it, in their scene order, so the
 nearest hit and the tie rule are the same as with every object: the bounds are conservative.
 ``index_of`` maps a region's object numbers back to the scene's (and -1 to -1).
 
@@ -11,7 +11,7 @@ Within a tile, :meth:`Region.holding` tells which objects' screen rectangles hol
 point. The renderer (``raykit.render._colors``) makes no ray for a point that no rectangle
 holds: it sees the background, as its ray would. A crowded tile (``CROWDED`` objects or more,
 as in a sphereflake) goes one step further: each of its rays is paired only with the objects
-whose rectangle holds its point, and all pairs are intersected at once (:mod:`raykit.pairs`),
+whose rectangle holds its point, and all pairs are intersected at once (:mod:`raykit.engine.pairs`),
 instead of every ray of the tile meeting every object of the tile.
 
 ``holding`` defines these (object, point) pairs as a ``(K, N)`` table; the renderer finds the
@@ -28,8 +28,8 @@ from functools import cached_property
 
 import numpy as np
 
+from raykit.engine.screen_bounds import object_bounds
 from raykit.scene import Scene
-from raykit.screen_bounds import object_bounds
 
 TILE = 128  # pixels a side: among 64, 96, 128, 192 and 256, the best or within 10% of it on
 # every example and benchmark scene (measured); bigger tiles pay less per-tile overhead, and

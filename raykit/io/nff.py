@@ -22,7 +22,7 @@ What is read (one entity per line, ``#`` starts a comment):
   flat colours.
 
 Anything else (cones and cylinders ``c``, other polygons, unknown entities) is a one-line
-:class:`raykit.errors.SceneError` naming the file and the line.
+:class:`raykit.io.errors.SceneError` naming the file and the line.
 """
 
 from __future__ import annotations
@@ -32,14 +32,15 @@ from pathlib import Path
 
 import numpy as np
 
-from raykit.errors import SceneError
-from raykit.scene import Scene, scene_from_dict
+from raykit.io.errors import SceneError
+from raykit.io.scene_json import scene_from_dict
+from raykit.scene import Scene
 
 VIEW_KEYS = ("from", "at", "up", "angle", "hither", "resolution")
 
 
 def load_nff(path: str | Path) -> Scene:
-    """Read an NFF file as a scene; raises :class:`raykit.errors.SceneError`."""
+    """Read an NFF file as a scene; raises :class:`raykit.io.errors.SceneError`."""
     source = str(path)
     try:
         lines = Path(path).read_text(encoding="utf-8", errors="replace").splitlines()

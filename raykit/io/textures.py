@@ -2,8 +2,8 @@
 
 Convention: ``rgba`` is ``(H, W, 4)`` uint8 with row 0 the *top* row of the image, as Pillow and
 the PNG store it. Grey, palette (with or without transparency), RGB, RGBA and 16-bit images are
-all converted to this one form; an image without alpha is opaque. A texel with alpha < 128 is
-transparent (:data:`OPAQUE_FROM`).
+all converted to this one form; an image without alpha is opaque. Which texels are holes is the
+billboard's rule (:data:`raykit.billboards.OPAQUE_FROM`).
 
 Opening a file reads only its header, which is enough to reject a missing file, a file that is
 no image, or an absurd size, at scene-load time. The pixels are decoded on first access of
@@ -19,9 +19,8 @@ from pathlib import Path
 import numpy as np
 from PIL import Image, UnidentifiedImageError
 
-from raykit.errors import SceneError
+from raykit.io.errors import SceneError
 
-OPAQUE_FROM = 128
 MAX_TEXTURE_SIDE = 16384
 MAX_TEXTURE_PIXELS = 64 * 1024 * 1024
 
@@ -80,11 +79,6 @@ class Texture:
             raise
         except (OSError, ValueError, SyntaxError) as exc:
             raise self._error(f"texture cannot be decoded: {self.path} ({exc})") from None
-
-
-def colors_and_opacity(rgba: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Texels ``(M, 4)`` uint8 as colours ``(M, 3)`` in [0, 1] and opacity ``(M,)`` bool."""
-    return rgba[:, :3] / 255.0, rgba[:, 3] >= OPAQUE_FROM
 
 
 def to_rgba8(image: Image.Image) -> np.ndarray:

@@ -1,6 +1,6 @@
 """A bounding volume hierarchy: each ray tests only the objects whose boxes it passes through.
 
-Primary rays can skip hidden objects by screen position (:mod:`raykit.tiles`), but shadow and
+Primary rays can skip hidden objects by screen position (:mod:`raykit.engine.tiles`), but shadow and
 mirror rays start anywhere and go anywhere, so they need a structure in the scene itself. A BVH
 is a binary tree of axis-aligned boxes: each node's box holds all of its objects, a leaf holds
 at most ``LEAF_SIZE`` objects. A ray that misses a node's box cannot hit anything inside it, so
@@ -29,8 +29,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from raykit.engine.arrays import SceneArrays
+from raykit.engine.pairs import nearest_of_pairs
 from raykit.hits import Hits
-from raykit.pairs import nearest_of_pairs
 from raykit.scene import Scene
 
 LEAF_SIZE = 4
@@ -40,9 +41,11 @@ RAYS_PER_CHUNK = 8192  # bounds the memory of (ray, object) pairs
 @dataclass(frozen=True)
 class BVH:
     """The tree as arrays over its M nodes: box corners ``lower``, ``upper (M, 3)``;
-    ``children (M, 2)`` (-1 for a leaf); a leaf's objects are ``order[first:first + count]``."""
+    ``children (M, 2)`` (-1 for a leaf); a leaf's objects are ``order[first:first + count]``;
+    ``arrays``, the scene's (:mod:`raykit.engine.arrays`)."""
 
     scene: Scene
+    arrays: SceneArrays
     lower: np.ndarray
     upper: np.ndarray
     children: np.ndarray
@@ -51,8 +54,9 @@ class BVH:
     order: np.ndarray
 
     @classmethod
-    def build(cls, scene: Scene) -> BVH:
-        lower, upper = scene.boxes
+    def build(cls, scene: Scene, arrays: SceneArrays | None = None) -> BVH:
+        arrays = arrays or SceneArrays.of(scene)
+        lower, upper = arrays.boxes
         centres = (lower + upper) / 2
         nodes: list[list] = []  # [lower, upper, left, right, first, count]
         order: list[int] = []
@@ -75,6 +79,7 @@ class BVH:
             make(np.arange(len(lower)))
         return cls(
             scene,
+            arrays,
             np.array([n[0] for n in nodes]).reshape(-1, 3),
             np.array([n[1] for n in nodes]).reshape(-1, 3),
             np.array([n[2:4] for n in nodes], dtype=np.intp).reshape(-1, 2),
@@ -130,7 +135,7 @@ class BVH:
 
     def _nearest(self, origins, directions, t_max):
         ray, obj = self.candidates(origins, directions, t_max)
-        return nearest_of_pairs(self.scene, origins, directions, ray, obj)
+        return nearest_of_pairs(self.scene, self.arrays, origins, directions, ray, obj)
 
 
 def _enters(origins, inverse, lower, upper, t_max) -> np.ndarray:

@@ -6,7 +6,7 @@ lengths, ranges, NaN and unknown keys the same way and word their errors the sam
 
     scenes/bad.json: spheres[2].radius: must be > 0, got -1
 
-The published JSON Schemas (``raykit/schemas/``) describe the same rules for editors; the tests
+The published JSON Schemas (``raykit/io/schemas/``) describe the same rules for editors; the tests
 check that schema and loader accept and reject the same files. The loader does not call a
 JSON Schema library itself: its messages are better, and it keeps ``raykit render`` quick to
 start.
@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from raykit.errors import SceneError
+from raykit.io.errors import SceneError
 
 
 def _shown(value: Any) -> str:

@@ -40,9 +40,9 @@ def edge_pixels(rgb: np.ndarray, object_index: np.ndarray) -> np.ndarray:
 def refine(regions, colors, rgb: np.ndarray, edge: np.ndarray, samples: int) -> int:
     """Replace the colour of every edge pixel by the mean of its n x n samples, in place.
 
-    ``regions`` are the renderer's (:mod:`raykit.tiles`), so each tile's edge pixels are tested
-    only against the objects seen there; ``colors(region, x, y)`` gives the renderer's colours
-    ``(N, 3)`` of the rays through image points (x, y) ``(N,)``. It is called with many
+    ``regions`` are the renderer's (:mod:`raykit.engine.tiles`), so each tile's edge pixels are
+    tested only against the objects seen there; ``colors(region, x, y)`` gives the renderer's
+    colours ``(N, 3)`` of the rays through image points (x, y) ``(N,)``. It is called with many
     samples of a tile's edge pixels at once, up to ``POINTS_PER_CALL``, so the renderer's fixed
     cost per call is not paid n² times. Returns how many pixels were supersampled.
     """

@@ -3,7 +3,7 @@
 For each object, a rectangle ``(x0, x1, y0, y1)`` in continuous image coordinates (x along
 columns, y down rows, as in :mod:`raykit.camera`) that contains every image point whose ray can
 hit the object, or ``None`` when no ray can (it lies behind the eye, or off the image). The
-renderer's tiles (:mod:`raykit.tiles`) use them to skip objects that cannot be hit in a tile.
+renderer's tiles (:mod:`raykit.engine.tiles`) use them to skip objects that cannot be hit in a tile.
 
 The rectangles are conservative, never tight at the cost of a pixel:
 

@@ -1,11 +1,11 @@
 """Ray–object pairs: each ray's nearest hit among the objects paired with it, all at once.
 
 The skipping structures decide which objects a ray *might* hit and hand over (ray, object)
-pairs: the BVH (:mod:`raykit.bvh`) from the boxes a ray passes through, a crowded tile
-(:mod:`raykit.tiles`) from the objects whose screen rectangle holds the ray's pixel. Here every
-pair is intersected in one go: all sphere pairs in one call of :func:`raykit.spheres.hit_sphere`
-(each pair with its own centre and radius), billboard pairs one billboard at a time, holes in
-textures let through. Then each ray keeps its nearest hit, the lower object index on a tie:
+pairs: the BVH (:mod:`raykit.engine.bvh`) from the boxes a ray passes through, a crowded tile
+(:mod:`raykit.engine.tiles`) from the objects whose screen rectangle holds the ray's pixel. Here
+every pair is intersected in one go: all sphere pairs in one call of
+:func:`raykit.spheres.hit_sphere` (each pair with its own centre and radius), billboard pairs
+one billboard at a time, holes in textures let through. Then each ray keeps its nearest hit, the lower object index on a tie:
 exactly what :func:`raykit.render.cast` answers when the pairs include every object a ray hits.
 """
 
@@ -14,13 +14,19 @@ from __future__ import annotations
 import numpy as np
 
 from raykit.billboards import billboard_color_at, hit_billboard
+from raykit.engine.arrays import SceneArrays
 from raykit.rays import MISS
 from raykit.scene import Scene
 from raykit.spheres import hit_sphere
 
 
 def nearest_of_pairs(
-    scene: Scene, origins: np.ndarray, directions: np.ndarray, ray: np.ndarray, obj: np.ndarray
+    scene: Scene,
+    arrays: SceneArrays,
+    origins: np.ndarray,
+    directions: np.ndarray,
+    ray: np.ndarray,
+    obj: np.ndarray,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Per ray ``(N, 3)``, the nearest hit among the objects paired with it (pairs
     ``ray``, ``obj`` ``(P,)``): ``index (N,)`` (-1 none), ``t (N,)``, ``color (N, 3)``
@@ -30,7 +36,7 @@ def nearest_of_pairs(
     spheres = len(scene.spheres)
     on_sphere = np.flatnonzero(obj < spheres)
     if len(on_sphere):
-        centers, radii = scene.sphere_arrays
+        centers, radii = arrays.centers, arrays.radii
         which, rays = obj[on_sphere], ray[on_sphere]
         t[on_sphere] = hit_sphere(origins[rays], directions[rays], centers[which], radii[which])
     for i in np.unique(obj[obj >= spheres]):
@@ -55,6 +61,6 @@ def nearest_of_pairs(
     index[ray[first]] = obj[first]
     nearest_color = np.empty((len(origins), 3))
     sphere_won = obj[first] < spheres  # a sphere's colour is looked up only where it wins
-    nearest_color[ray[first[sphere_won]]] = scene.sphere_colors[obj[first[sphere_won]]]
+    nearest_color[ray[first[sphere_won]]] = arrays.sphere_colors[obj[first[sphere_won]]]
     nearest_color[ray[first[~sphere_won]]] = board_color[first[~sphere_won]]
     return index, nearest_t, nearest_color

@@ -3,7 +3,7 @@
 A box is its two corners, ``lower`` and ``upper`` ``(3,)``: a sphere's is c ± r, a billboard's
 spans its four corners. Boxes are padded a little (``BOX_PADDING``) so that rounding in a test
 against a box never drops a ray that the exact intersection would keep. The BVH
-(:mod:`raykit.bvh`) is built from them, and :func:`objects_near_segments` uses them to leave
+(:mod:`raykit.engine.bvh`) is built from them, and :func:`objects_near_segments` uses them to leave
 out of a shadow ray's test every object that cannot lie between a point and its light.
 """
 

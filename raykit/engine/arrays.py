@@ -1,0 +1,37 @@
+"""A scene's objects as the arrays the engine's skips work on, made once per render.
+
+:class:`SceneArrays` holds what :class:`raykit.scene.Scene` (plain data) does not: the spheres'
+centres, radii and colours stacked in object index order, and every object's padded bounding
+box (:mod:`raykit.engine.boxes`). The renderer makes it once (:func:`SceneArrays.of`) and hands
+it to the tiles, the (object, ray) pairs, the BVH and the culling of shadow rays.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from raykit.engine.boxes import object_boxes
+from raykit.scene import Scene
+
+
+@dataclass(frozen=True)
+class SceneArrays:
+    """``centers (S, 3)``, ``radii (S,)``, ``sphere_colors (S, 3)`` of the spheres; ``boxes``:
+    every object's box, ``lower`` and ``upper (K, 3)``; all in object index order."""
+
+    centers: np.ndarray
+    radii: np.ndarray
+    sphere_colors: np.ndarray
+    boxes: tuple[np.ndarray, np.ndarray]
+
+    @classmethod
+    def of(cls, scene: Scene) -> SceneArrays:
+        if scene.spheres:
+            centers = np.stack([np.asarray(s.center) for s in scene.spheres])
+            radii = np.array([s.radius for s in scene.spheres])
+        else:
+            centers, radii = np.zeros((0, 3)), np.zeros(0)
+        colors = np.array([s.color for s in scene.spheres], dtype=float).reshape(-1, 3)
+        return cls(centers, radii, colors, object_boxes(scene.spheres, scene.billboards))

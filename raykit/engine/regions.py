@@ -1,0 +1,257 @@
+"""The renderer's machinery: which pixels, which rays, against which objects.
+
+:func:`raykit.render.render` reads as the lecture's loop; this module is what it stands on. A
+:class:`Plan` walks the image region by region (:mod:`raykit.engine.tiles`) and, within a
+region, sample offset by sample offset; each step is a :class:`Batch` of image points. For a
+batch it makes the viewing rays only for the points that some object's screen rectangle holds
+(the others see the background, which is what their rays would find: the rectangles are
+conservative), finds their nearest hits with ``cast`` over the region's objects, or in a
+crowded tile (:data:`raykit.engine.tiles.CROWDED` objects or more) over (object, ray) pairs by
+screen rectangle (:mod:`raykit.engine.pairs`), and stores colours, object indices and t in the
+image. None of it changes a pixel: ``skip_hidden=False`` gives the same image the plain way.
+
+Shadow and mirror rays cannot use the screen tiles. :func:`secondary_caster` gives them ``cast``
+over only the objects whose boxes meet their segments (:mod:`raykit.engine.boxes`) in small
+scenes, or a bounding volume hierarchy (:mod:`raykit.engine.bvh`) from ``BVH_FROM`` objects on.
+
+Conventions: pixels, samples and rays per :mod:`raykit.camera`; object indices per
+:mod:`raykit.scene`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
+from functools import partial
+
+import numpy as np
+
+from raykit.camera import rays_through, region_points, sample_offsets
+from raykit.engine.arrays import SceneArrays
+from raykit.engine.boxes import objects_near_segments
+from raykit.engine.bvh import BVH
+from raykit.engine.pairs import nearest_of_pairs
+from raykit.engine.precision import eye_relative
+from raykit.engine.tiles import CROWDED, Region, regions
+from raykit.hits import Hits
+from raykit.scene import Scene
+from raykit.shading import needs_shading
+from raykit.shadows import Caster
+
+BVH_FROM = 24  # objects: below this, brute force was faster for secondary rays (measured)
+
+# cast(scene, origins (N, 3), directions (N, 3)) -> Hits: the lecture's nearest hit over every
+# object of a scene (raykit.render.cast); the engine only chooses which scene to give it
+SceneCaster = Callable[[Scene, np.ndarray, np.ndarray], Hits]
+
+
+def secondary_caster(scene: Scene, cast: SceneCaster, arrays: SceneArrays | None = None) -> Caster:
+    """The nearest-hit function for shadow and mirror rays over the whole scene: ``cast`` over
+    the objects the rays can reach, or a BVH's for scenes of ``BVH_FROM`` objects or more (the
+    same answers)."""
+    arrays = arrays or SceneArrays.of(scene)
+    if len(scene.objects) < BVH_FROM:
+        return partial(cast_nearby, scene, arrays, cast)
+    return BVH.build(scene, arrays).cast
+
+
+def cast_nearby(
+    scene: Scene,
+    arrays: SceneArrays,
+    cast: SceneCaster,
+    origins: np.ndarray,
+    directions: np.ndarray,
+    t_max: np.ndarray | None = None,
+) -> Hits:
+    """``cast`` over only the objects whose boxes meet the box around the rays' segments up to
+    ``t_max (N,)`` (:func:`raykit.engine.boxes.objects_near_segments`): shadow rays of a tile
+    toward a light skip what lies elsewhere. Hits at t >= t_max may be left out."""
+    if t_max is None:
+        t_max = np.full(len(origins), np.inf)
+    near = objects_near_segments(arrays.boxes, origins, directions, t_max)
+    if len(near) == len(scene.objects):
+        return cast(scene, origins, directions)
+    hits = cast(scene.only(near), origins, directions)
+    hits.index = np.append(near, -1)[hits.index]
+    return hits
+
+
+@dataclass(frozen=True)
+class Batch:
+    """Image points (x, y) ``(N,)`` of one region: its pixels at one sample offset ``grid``
+    (row-major), or scattered points (``grid`` None). ``centre``: this batch's hits are the
+    ones the image keeps per pixel (the ray through the pixel centre); ``colour``: its colours
+    count towards the pixel's mean (False for a centre batch cast only for the hits)."""
+
+    region: Region
+    x: np.ndarray
+    y: np.ndarray
+    grid: tuple[float, float] | None
+    centre: bool = False
+    colour: bool = True
+
+
+class Plan:
+    """How one render goes: the scene (moved to the eye in float32), its regions and samples,
+    the caster of its shadow and mirror rays; see the module docstring."""
+
+    def __init__(
+        self,
+        scene: Scene,
+        cast: SceneCaster,
+        samples: int = 1,
+        *,
+        skip_hidden: bool = True,
+        dtype: type = np.float64,
+    ) -> None:
+        if samples < 1:
+            raise ValueError(f"samples must be >= 1, got {samples}")
+        self.scene = eye_relative(scene, dtype) if dtype != np.float64 else scene
+        self.cast = cast
+        self.samples = samples
+        self.skip_hidden = skip_hidden
+        self.dtype = dtype
+        self.arrays = SceneArrays.of(self.scene)
+        shaded = needs_shading(self.scene)
+        self.secondary = secondary_caster(self.scene, cast, self.arrays) if shaded else None
+
+    def regions(self) -> Iterator[Region]:
+        return regions(self.scene, self.skip_hidden)
+
+    def batches(self) -> Iterator[Batch]:
+        """Every region's pixels at every sample offset, in the order their colours are summed."""
+        offsets = sample_offsets(self.samples)
+        n = self.samples
+        centre = n // 2 * (n + 1) if n % 2 else None  # the offset (0.5, 0.5), if there is one
+        for region in self.regions():
+            for k, (a, b) in enumerate(offsets):
+                x, y = region_points(region.rows, region.cols, a, b)
+                yield Batch(region, x, y, (a, b), centre=k == centre)
+            if centre is None:  # even n: no sample sits at the centre, so cast one there
+                x, y = region_points(region.rows, region.cols)
+                yield Batch(region, x, y, (0.5, 0.5), centre=True, colour=False)
+
+    def viewing_rays(self, batch: Batch) -> ViewingRays:
+        """The rays through the batch's points that some object's screen rectangle holds; a
+        point no rectangle holds gets no ray (it sees the background)."""
+        seen, pairs = _seen_and_pairs(batch.region, batch.x, batch.y, batch.grid)
+        x, y = (batch.x, batch.y) if seen is None else (batch.x[seen], batch.y[seen])
+        origins, directions = rays_through(self.scene.camera, x, y)
+        return ViewingRays(
+            origins.astype(self.dtype, copy=False),
+            directions.astype(self.dtype, copy=False),
+            seen,
+            pairs,
+        )
+
+    def nearest_hits(self, batch: Batch, rays: ViewingRays) -> Hits:
+        """The nearest hits of the viewing rays, with the scene's object indices."""
+        if not len(rays.origins):
+            return Hits.none(0, self.scene.background)
+        return cast_region(
+            self.cast, batch.region, self.arrays, rays.origins, rays.directions, rays.pairs
+        )
+
+    def colors_at(self, region: Region, x: np.ndarray, y: np.ndarray, illumination) -> np.ndarray:
+        """Colours ``(N, 3)`` of the rays through scattered image points (x, y) ``(N,)`` of a
+        region, as :func:`raykit.render.render` colours them (for adaptive sampling), with its
+        ``illumination(plan, rays, hits)``."""
+        batch = Batch(region, x, y, None)
+        rays = self.viewing_rays(batch)
+        hits = self.nearest_hits(batch, rays)
+        colors = illumination(self, rays, hits)
+        return _scatter(self.scene, rays.seen, len(x), hits, colors)[1]
+
+
+@dataclass(frozen=True)
+class ViewingRays:
+    """Rays ``origins``, ``directions`` ``(M, 3)`` through the ``seen (N,)`` points of a batch
+    (None: all N), and in a crowded region the (object, ray) ``pairs`` to intersect."""
+
+    origins: np.ndarray
+    directions: np.ndarray
+    seen: np.ndarray | None
+    pairs: tuple[np.ndarray, np.ndarray] | None
+
+
+def _scatter(scene: Scene, seen, count: int, hits: Hits, colors: np.ndarray):
+    """The hits and colours of a batch's seen rays spread over all its ``count`` points: the
+    points without a ray see the background."""
+    if seen is None:
+        return hits, colors
+    every = Hits.none(count, scene.background)
+    all_colors = every.color.copy()
+    every.index[seen], every.t[seen], every.color[seen] = hits.index, hits.t, hits.color
+    all_colors[seen] = colors
+    return every, all_colors
+
+
+class Image:
+    """The image being rendered: colours summed over samples, and per pixel the centre ray's
+    object index and t (see :class:`raykit.render.Render`)."""
+
+    def __init__(self, plan: Plan) -> None:
+        camera = plan.scene.camera
+        self.plan = plan
+        self.rgb = np.zeros((camera.height, camera.width, 3))
+        self.object_index = np.empty((camera.height, camera.width), dtype=np.int64)
+        self.t = np.empty((camera.height, camera.width))
+
+    def store(self, batch: Batch, rays: ViewingRays, hits: Hits, colors: np.ndarray) -> None:
+        """Add the batch's colours to its pixels' sums; keep a centre batch's hits."""
+        region = batch.region
+        hits, colors = _scatter(self.plan.scene, rays.seen, len(batch.x), hits, colors)
+        shape = (len(region.rows), len(region.cols))
+        if batch.colour:
+            self.rgb[region.pixels] += colors.reshape(*shape, 3)
+        if batch.centre:
+            self.object_index[region.pixels] = hits.index.reshape(shape)
+            self.t[region.pixels] = hits.t.reshape(shape)
+
+    def mean(self) -> np.ndarray:
+        return self.rgb / len(sample_offsets(self.plan.samples))
+
+
+def cast_region(
+    cast: SceneCaster,
+    region: Region,
+    arrays: SceneArrays,
+    origins: np.ndarray,
+    directions: np.ndarray,
+    pairs: tuple[np.ndarray, np.ndarray] | None = None,
+) -> Hits:
+    """The nearest hits of a region's rays ``(N, 3)``, with the scene's object indices:
+    ``cast`` over the region's objects or, given ``pairs`` (region object, ray) ``(P,)`` each,
+    only those pairs, all at once (:mod:`raykit.engine.pairs`): the same hits if the pairs hold
+    every object each ray can hit."""
+    if pairs is None:
+        hits = cast(region.scene, origins, directions)
+        hits.index = region.index_of[hits.index]
+        return hits
+    which, ray = pairs
+    index, t, color = nearest_of_pairs(
+        region.whole, arrays, origins, directions, ray, region.index_of[which]
+    )
+    hits = Hits.none(len(origins), region.whole.background)
+    found = index >= 0
+    hits.index[found], hits.t[found], hits.color[found] = index[found], t[found], color[found]
+    return hits
+
+
+def _seen_and_pairs(
+    region: Region, x: np.ndarray, y: np.ndarray, grid: tuple[float, float] | None
+) -> tuple[np.ndarray | None, tuple[np.ndarray, np.ndarray] | None]:
+    """Which image points (x, y) ``(N,)`` some object's screen rectangle holds (``(N,)`` bool,
+    None for all), and in a crowded region the (object, ray) pairs to intersect, rays numbered
+    among the seen ones (None: every ray meets every object of the region)."""
+    if region.bounds is None or (len(region.bounds) < CROWDED and region.covered):
+        return None, None
+    which, ray = region.pairs_on_grid(*grid) if grid else region.pairs_at(x, y)
+    seen = np.zeros(len(x), dtype=bool)
+    seen[ray] = True
+    pairs = (which, ray) if len(region.bounds) >= CROWDED else None
+    if seen.all():
+        return None, pairs
+    if pairs is not None:
+        pairs = which, (np.cumsum(seen) - 1)[ray]  # rays numbered among the seen ones
+    return seen, pairs
