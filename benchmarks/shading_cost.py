@@ -4,8 +4,9 @@
 
 Table 1, per scene: the render with its lights, shadows and mirrors, against the same scene
 with them taken away (flat colours, as in scene format v1) and against the same render with
-every shadow ray tested against every object (no culling by :func:`raykit.render.cast_nearby`);
-and the secondary rays cast (counted from what :func:`raykit.shading.shade` records).
+every shadow ray tested against every object (no culling by
+:func:`raykit.engine.regions.cast_nearby`); and the secondary rays cast (counted by wrapping the
+caster :func:`raykit.shading.shade` is given in a :class:`raykit.diagrams.rays.RecordingCaster`).
 
 Table 2, secondary rays through the BVH against brute force (``cast`` over every object), on
 lit sphereflakes with every ball a weak mirror: the renderer picks the BVH from
@@ -27,7 +28,9 @@ sys.path.insert(0, str(HERE))
 
 from common import arguments, median_time, seconds  # noqa: E402
 
+import raykit.engine.regions  # noqa: E402
 import raykit.render  # noqa: E402
+from raykit.diagrams.rays import RecordingCaster  # noqa: E402
 from raykit.engine.bvh import BVH  # noqa: E402
 from raykit.io.scene_json import load_scene  # noqa: E402
 from raykit.lights import DirectionalLight, PointLight  # noqa: E402
@@ -60,11 +63,11 @@ def secondary_rays(scene: Scene) -> dict[str, int]:
     camera = scene.camera
     rows, cols = np.divmod(np.arange(camera.width * camera.height), camera.width)
     origins, directions, hits = cast_pixels(scene, rows, cols)
-    paths: list = []
-    shade(scene, secondary_caster(scene), origins, directions, hits, paths)
+    recorder = RecordingCaster(secondary_caster(scene))
+    shade(scene, recorder, origins, directions, hits)
     count = {"shadow": 0, "mirror": 0}
-    for p in paths:
-        count[p.kind] += len(p.ray)
+    for p in recorder.segments:
+        count[p.kind] += len(p.t)
     return count
 
 
@@ -84,9 +87,14 @@ def lit_flake(level: int, size: int) -> Scene:
     )
 
 
-def every_object(scene: Scene):
+def every_object(scene: Scene, cast_scene=cast, arrays=None):
     """The brute-force caster: every object tested against every secondary ray."""
-    return lambda origins, directions, t_max=None: cast(scene, origins, directions)
+    return lambda origins, directions, t_max=None: cast_scene(scene, origins, directions)
+
+
+def bvh_caster(scene: Scene, cast_scene=cast, arrays=None):
+    """The BVH's caster, whatever the number of objects."""
+    return BVH.build(scene, arrays).cast
 
 
 def main() -> None:
@@ -101,15 +109,15 @@ def main() -> None:
         "| no culling / shaded | shadow rays | mirror rays |"
     )
     print("|---|---|---|---|---|---|---|---|---|")
-    original = raykit.render.secondary_caster
+    original = raykit.engine.regions.secondary_caster
     for name in ["classic", *EXAMPLES]:
         scene = sized(load_scene(scenes_folder / f"{name}.json"), width, height)
         flat_scene = unlit(scene)
         _, flat = median_time(lambda s=flat_scene: render(s), args.repeats)
         _, shaded = median_time(lambda s=scene: render(s), args.repeats)
-        raykit.render.secondary_caster = every_object
+        raykit.engine.regions.secondary_caster = every_object
         _, unculled = median_time(lambda s=scene: render(s), args.repeats)
-        raykit.render.secondary_caster = original
+        raykit.engine.regions.secondary_caster = original
         rays = secondary_rays(scene)
         print(
             f"| {name} | {width}x{height} | {seconds(flat)} | {seconds(shaded)} "
@@ -123,11 +131,11 @@ def main() -> None:
     print("|---|---|---|---|---|---|")
     for level in levels:
         scene = lit_flake(level, size)
-        raykit.render.secondary_caster = every_object
+        raykit.engine.regions.secondary_caster = every_object
         brute_image, brute = median_time(lambda s=scene: render(s), args.repeats)
-        raykit.render.secondary_caster = lambda s: BVH.build(s).cast
+        raykit.engine.regions.secondary_caster = bvh_caster
         bvh_image, through_bvh = median_time(lambda s=scene: render(s), args.repeats)
-        raykit.render.secondary_caster = original
+        raykit.engine.regions.secondary_caster = original
         assert np.array_equal(brute_image.rgb, bvh_image.rgb)
         print(
             f"| level {level} | {size}x{size} | {len(scene.objects):,} | {seconds(brute)} "

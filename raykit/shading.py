@@ -21,8 +21,8 @@ What is skipped. The renderer calls :func:`shade` only when a scene has lights, 
 a mirror; shadow rays are cast only for points facing a light, and only when the scene's
 ``shadows`` is on and it has two objects or more (a sphere or billboard cannot shadow itself
 where it faces the light), and each is tested only against objects that can lie between its
-point and the light (:func:`raykit.render.cast_nearby`, or the BVH); the highlight is computed
-only on objects with a specular colour; mirror rays start only on mirrors.
+point and the light (:func:`raykit.engine.regions.cast_nearby`, or the BVH); the highlight is
+computed only on objects with a specular colour; mirror rays start only on mirrors.
 """
 
 from __future__ import annotations

@@ -5,12 +5,15 @@ import json
 import numpy as np
 import pytest
 
+import raykit.engine.regions
 import raykit.render
 from conftest import SCENES, random_scene, scene_dict, write_texture
+from raykit.engine.arrays import SceneArrays
 from raykit.engine.boxes import objects_near_segments
 from raykit.engine.bvh import BVH
+from raykit.engine.regions import cast_nearby
 from raykit.io.scene_json import load_scene, scene_from_dict
-from raykit.render import cast, cast_nearby, render
+from raykit.render import cast, render
 
 
 def _random_rays(rng, count, spread=6.0):
@@ -83,12 +86,14 @@ def test_shaded_render_is_the_same_through_the_bvh_and_by_brute_force(monkeypatc
     data["spheres"][0]["mirror"] = [0.6, 0.6, 0.6]
     scene = scene_from_dict(data, folder=SCENES)
 
-    def every_object(s):
-        return lambda origins, directions, t_max=None: cast(s, origins, directions)
+    def every_object(s, cast_scene, arrays=None):
+        return lambda origins, directions, t_max=None: cast_scene(s, origins, directions)
 
-    monkeypatch.setattr(raykit.render, "secondary_caster", every_object)
+    monkeypatch.setattr(raykit.engine.regions, "secondary_caster", every_object)
     brute = render(scene)
-    monkeypatch.setattr(raykit.render, "secondary_caster", lambda s: BVH.build(s).cast)
+    monkeypatch.setattr(
+        raykit.engine.regions, "secondary_caster", lambda s, c, a=None: BVH.build(s, a).cast
+    )
     through_bvh = render(scene)
     assert np.array_equal(brute.rgb, through_bvh.rgb)
 
@@ -116,14 +121,15 @@ def test_segments_reach_every_object_they_hit_and_skip_the_rest(tmp_path):
         for origins, directions, t_max in _shadow_bundles(rng):
             want = cast(scene, origins, directions)
             before = want.t < t_max
+            arrays = SceneArrays.of(scene)
             for hits in (
-                cast_nearby(scene, origins, directions, t_max),
+                cast_nearby(scene, arrays, cast, origins, directions, t_max),
                 BVH.build(scene).cast(origins, directions, t_max),
             ):
                 assert np.array_equal(hits.index[before], want.index[before])
                 assert np.array_equal(hits.t[before], want.t[before])
                 assert np.all((hits.t >= t_max) | (hits.t == want.t))
-            near = objects_near_segments(scene.boxes, origins, directions, t_max)
+            near = objects_near_segments(arrays.boxes, origins, directions, t_max)
             assert set(want.index[before]) - {-1} <= set(near.tolist())
             skipped += len(scene.objects) - len(near)
     assert skipped > 0  # the culling does cull

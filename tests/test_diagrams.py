@@ -157,6 +157,8 @@ def test_diagram_command_on_a_bad_scene_is_one_line_exit_2(tmp_path, capsys):
 
 
 def test_lit_scene_diagram_draws_the_shadow_and_mirror_rays_shading_cast():
+    from raykit.diagrams.rays import RecordingCaster
+    from raykit.rays import point_at
     from raykit.render import secondary_caster
     from raykit.shading import shade
 
@@ -164,28 +166,28 @@ def test_lit_scene_diagram_draws_the_shadow_and_mirror_rays_shading_cast():
     figure = ray_diagram(scene, view="top", every=40)
     rows, cols = chosen_pixels(scene.camera.width, scene.camera.height, every=40)
     origins, directions, hits = cast_pixels(scene, rows, cols)
-    paths = []
-    shade(scene, secondary_caster(scene), origins, directions, hits, paths)
+    recorder = RecordingCaster(secondary_caster(scene))
+    colors = shade(scene, recorder, origins, directions, hits)
+    assert np.array_equal(colors, shade(scene, secondary_caster(scene), origins, directions, hits))
+    paths = recorder.segments
     shown = view_for(scene.camera, "top")
     mirror = [p for p in paths if p.kind == "mirror"]
     assert mirror
-    assert scene.materials.mirror[hits.index[mirror[0].ray]].any(axis=1).all()  # mirrors only
     starts = np.vstack([p.origins for p in mirror])
     met = np.isfinite(np.concatenate([p.t for p in mirror]))
     assert met.any() and not met.all()
     assert np.array_equal(_segments(figure, "rays-mirror")[:, 0], shown.project(starts[met]))
     missed = _segments(figure, "rays-mirror-missed")  # dashed: they meet nothing
     assert np.array_equal(missed[:, 0], shown.project(starts[~met]))
-    # each mirror ray starts on the mirror its pixel shows, ε off the surface
-    first = mirror[0]
-    sphere = scene.spheres[0]
-    on_big = hits.index[first.ray] == 0
-    distance = np.linalg.norm(first.origins[on_big] - sphere.center, axis=1) - sphere.radius
-    assert np.all(np.abs(distance) < 1e-9)
+    # each first mirror ray starts where a pixel's ray meets a mirror, ε off the surface
+    on_mirror = scene.materials.mirror[hits.index].any(axis=1) & (hits.index >= 0)
+    mirror_points = point_at(origins, directions, hits.t)[on_mirror]
+    gaps = np.linalg.norm(mirror[0].origins[:, None] - mirror_points[None], axis=2).min(axis=1)
+    assert len(mirror[0].origins) == on_mirror.sum() and np.all(gaps < 1e-9)
     shadow = [p for p in paths if p.kind == "shadow"]
     lit_drawn = _segments(figure, "rays-shadow")
     blocked = sum(int(p.blocked.sum()) for p in shadow)
-    assert len(lit_drawn) + blocked == sum(len(p.ray) for p in shadow) > 0
+    assert len(lit_drawn) + blocked == sum(len(p.t) for p in shadow) > 0
 
 
 def test_unlit_scene_diagram_draws_no_secondary_rays():

@@ -73,10 +73,10 @@ def test_rays_are_made_only_where_some_object_may_be_seen(monkeypatch):
     """A ball that fills a few hundred of 64,000 pixels: only the image points its screen
     rectangle holds get a ray; every other pixel is background without one, as it would be
     with its ray. Lit too: shading runs only on the rays made."""
-    import raykit.render
+    import raykit.engine.regions
 
     made = []
-    real = raykit.render.rays_through
+    real = raykit.engine.regions.rays_through
 
     def counting(camera, x, y):
         made.append(len(x))
@@ -97,7 +97,7 @@ def test_rays_are_made_only_where_some_object_may_be_seen(monkeypatch):
         }
     )
     full = render(scene, skip_hidden=False)
-    monkeypatch.setattr(raykit.render, "rays_through", counting)
+    monkeypatch.setattr(raykit.engine.regions, "rays_through", counting)
     skipping = render(scene)
     assert _same(full, skipping)
     ball = int((full.object_index == 0).sum())

@@ -5,8 +5,9 @@ pairs: the BVH (:mod:`raykit.engine.bvh`) from the boxes a ray passes through, a
 (:mod:`raykit.engine.tiles`) from the objects whose screen rectangle holds the ray's pixel. Here
 every pair is intersected in one go: all sphere pairs in one call of
 :func:`raykit.spheres.hit_sphere` (each pair with its own centre and radius), billboard pairs
-one billboard at a time, holes in textures let through. Then each ray keeps its nearest hit, the lower object index on a tie:
-exactly what :func:`raykit.render.cast` answers when the pairs include every object a ray hits.
+one billboard at a time, holes in textures let through. Then each ray keeps its nearest hit,
+the lower object index on a tie: exactly what :func:`raykit.render.cast` answers when the pairs
+include every object a ray hits.
 """
 
 from __future__ import annotations
