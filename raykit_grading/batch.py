@@ -30,6 +30,7 @@ from pathlib import Path
 from raykit_grading.catalog import by_name
 from raykit_grading.grade import GradingImpossible, Options, preflight
 
+NAMES_AS_BYTES = {"encoding": "utf-8", "errors": "surrogateescape"}  # folder names as they are
 MARGIN_SECONDS = 180.0  # a student's grader may take its tests' total time and this much more
 
 
@@ -44,7 +45,7 @@ def _students(submissions: Path) -> list[Path]:
 def _read_scores(path: Path) -> dict[str, dict]:
     if not path.is_file():
         return {}
-    with open(path, newline="") as stream:
+    with open(path, newline="", **NAMES_AS_BYTES) as stream:
         return {row["student"]: row for row in csv.DictReader(stream)}
 
 
@@ -83,12 +84,18 @@ def grade_folder(
         rows, todo = {}, students  # other tests than last time: start over
     _write_all(path, header, rows)
     failed: list[str] = []
-    with open(path, "a", newline="") as stream, ThreadPoolExecutor(jobs or 2) as pool:
+    with (
+        open(path, "a", newline="", **NAMES_AS_BYTES) as stream,
+        ThreadPoolExecutor(jobs or 2) as pool,
+    ):
         writer = csv.writer(stream)
         futures = {pool.submit(_grade_student, s, out, names, options): s for s in todo}
         for future in _progress(as_completed(futures), len(futures)):
             student = futures[future]
-            row = future.result()
+            try:
+                row = future.result()
+            except Exception as exc:  # noqa: BLE001 - one student's trouble stays theirs
+                row = {"student": student.name, "status": f"could not grade: {exc!r}"[:300]}
             if row["status"] != "graded":
                 failed.append(f"{student.name}: {row['status']}")
             rows[student.name] = row
@@ -125,6 +132,8 @@ def _grade_student(folder: Path, out: Path, names, options: Options) -> dict:
             command,
             capture_output=True,
             text=True,
+            encoding="utf-8",
+            errors="replace",  # a folder name that is not UTF-8 is printed as it is
             timeout=options.total_seconds + MARGIN_SECONDS,
             stdin=subprocess.DEVNULL,
         )
@@ -146,7 +155,7 @@ def _grade_student(folder: Path, out: Path, names, options: Options) -> dict:
 
 def _write_all(path: Path, header: list[str], rows: dict[str, dict]) -> None:
     temporary = path.with_suffix(".csv.part")
-    with open(temporary, "w", newline="") as stream:
+    with open(temporary, "w", newline="", **NAMES_AS_BYTES) as stream:
         writer = csv.writer(stream)
         writer.writerow(header)
         for name in sorted(rows):

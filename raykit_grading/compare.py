@@ -14,6 +14,7 @@ score follows the matched fraction: full at ``full_at`` (99.5%) and above, none 
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Iterable
 from dataclasses import dataclass
 
@@ -115,6 +116,7 @@ def judge_image(
     captioned feedback picture. The grader and the students' self-check both use this."""
     result = compare_images(mine, want, scoring)
     share = result.score(scoring)
+    mistakes = itertools.chain(mistakes, shifted_by_one(want))
     lines = [
         f"{result.fraction:.2%} of pixels match the reference (full marks from "
         f"{scoring.full_at:.1%}, none below {scoring.none_below:.0%}); "
@@ -134,6 +136,23 @@ def judge_image(
         note = f"Diagnosed: {says} (red: every pixel it changes)"
         picture = feedback_picture(mine, want, strict_matched(mine, want), note)
     return ImageVerdict(share, "\n".join(lines), picture)
+
+
+SHIFTS = {"down": (1, 0), "up": (-1, 0), "right": (0, 1), "left": (0, -1)}
+
+
+def shifted_by_one(image: np.ndarray):
+    """(what it says, picture) for ``image`` moved by one pixel each way, edges repeated: an
+    off-by-one in the pixel indices, which the fair comparison's 3x3 neighbourhood would
+    otherwise forgive."""
+    height, width = image.shape[:2]
+    padded = np.pad(image, ((1, 1), (1, 1), (0, 0)), mode="edge")
+    for way, (dy, dx) in SHIFTS.items():
+        moved = padded[1 - dy : 1 - dy + height, 1 - dx : 1 - dx + width]
+        yield (
+            f"the picture is shifted by one pixel ({way}): an off-by-one in the pixel indices",
+            moved,
+        )
 
 
 CAPTIONS = ("yours", "expected", "where they differ (red)")

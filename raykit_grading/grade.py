@@ -123,6 +123,8 @@ def grade(
             problem = "no raykit package found in the submission (expected raykit/__init__.py)"
         except SubmissionError as exc:
             package, problem = None, f"the submission could not be taken in: {exc}"
+        except OSError as exc:  # a shape of folder the staging did not foresee: theirs
+            package, problem = None, f"the submission could not be read: {exc.strerror}"
         if package is None:
             results = [_result(t, 0.0, problem) for t in tests]
         else:
@@ -186,7 +188,8 @@ def _grade_one(
         test.task, spec, arrays, files, wall_seconds=min(options.limits.wall_seconds, left)
     )
     if ran.outputs is None:
-        return _result(test, 0.0, ran.problem, ran.output)
+        problem = ran.problem if test.visibility == VISIBLE else _withheld(ran.problem)
+        return _result(test, 0.0, problem, ran.output)
     if test.kind == "image":
         return _image_result(test, seed, ran.outputs, feedback, options.scoring, ran.output)
     passed, message = check_arrays(ran.outputs, expected(test.name, seed))
@@ -249,6 +252,15 @@ def _image_result(
         entry["output"] = _html(entry["output"], verdict.picture)
         entry["output_format"] = "html"
     return entry
+
+
+def _withheld(problem: str) -> str:
+    """A hidden test's problem without anything the code said (its error message could carry
+    the test's inputs): what kind of failure, only."""
+    for kind in ("not written yet", "your code stopped with an error"):
+        if problem.startswith(kind):
+            return f"{kind} (a hidden test: what it said is not shown)"
+    return problem
 
 
 def _html(text: str, picture: np.ndarray | None) -> str:

@@ -22,6 +22,14 @@ Why bubblewrap: it is one small, well-kept setuid-free tool that works the same 
 a normal user, and its mount namespace both hides everything else and makes an interpreter under
 ``/root`` usable by the sandbox uid. Landlock would restrict reads as well, but leaves the network
 (UDP) and the process tree to other means; ``unshare`` alone cannot build the minimal tree.
+A seccomp filter (:func:`seccomp_filter`, given to bwrap) refuses the system calls that reach
+kernel state namespaces do not isolate: the keyrings (``add_key``, ``request_key``, ``keyctl``;
+a uid's keyring outlives its processes and would carry a hidden test's data to a later test or
+student), and ``bpf``, ``perf_event_open``, ``userfaultfd``, ``io_uring_*``, module and kexec
+loading; and any call of another architecture's numbering (32-bit or x32 calls on x86_64).
+The tree is mounted read-only but for ``/tmp`` (of :attr:`Limits.tmp_bytes`), so the child can
+fill no other memory-backed folder.
+
 If bwrap is missing or the kernel refuses namespaces, :func:`preflight` says so in one line and
 the grader grades nothing (no score is written as if it had).
 """
@@ -31,8 +39,11 @@ from __future__ import annotations
 import fcntl
 import json
 import os
+import platform
+import secrets
 import shutil
 import signal
+import struct
 import subprocess
 import sysconfig
 from dataclasses import dataclass
@@ -125,6 +136,51 @@ def _shared_libraries(binaries: list[str], packages: list[str]) -> tuple[tuple[s
     return tuple(sorted(found.items()))
 
 
+# system calls refused in the sandbox, by architecture: (AUDIT_ARCH, {name: number})
+SECCOMP_ARCHES = {
+    "x86_64": (0xC000003E, {
+        "add_key": 248, "request_key": 249, "keyctl": 250, "bpf": 321, "perf_event_open": 298,
+        "userfaultfd": 323, "io_uring_setup": 425, "io_uring_enter": 426,
+        "io_uring_register": 427, "init_module": 175, "finit_module": 313, "kexec_load": 246,
+        "kexec_file_load": 320,
+    }),
+    "aarch64": (0xC00000B7, {
+        "add_key": 217, "request_key": 218, "keyctl": 219, "bpf": 280, "perf_event_open": 241,
+        "userfaultfd": 282, "io_uring_setup": 425, "io_uring_enter": 426,
+        "io_uring_register": 427, "init_module": 105, "finit_module": 273, "kexec_load": 104,
+        "kexec_file_load": 294,
+    }),
+}  # fmt: skip
+X32_SYSCALL_BIT = 0x40000000
+SECCOMP_RET_ALLOW, SECCOMP_RET_ERRNO, EPERM = 0x7FFF0000, 0x00050000, 1
+
+
+def seccomp_filter(machine: str | None = None) -> bytes:
+    """The sandbox's seccomp program, classic BPF as bwrap's ``--seccomp`` reads it: a call of
+    another architecture, an x32 call, or one of :data:`SECCOMP_ARCHES` fails with EPERM;
+    everything else is allowed."""
+    machine = machine or platform.machine()
+    if machine not in SECCOMP_ARCHES:
+        raise IsolationUnavailable(f"no seccomp filter for {machine} machines; grade on x86_64")
+    arch, calls = SECCOMP_ARCHES[machine]
+    numbers = sorted(calls.values())
+
+    def op(code: int, k: int, jt: int = 0, jf: int = 0) -> bytes:
+        return struct.pack("HBBI", code, jt, jf, k)
+
+    load_word, jump_eq, jump_ge, ret = 0x20, 0x15, 0x35, 0x06
+    deny_at = 5 + len(numbers)  # the index of the final "deny"; jumps count from the next
+    program = [op(load_word, 4)]  # seccomp_data.arch
+    program.append(op(jump_eq, arch, 0, deny_at - 2))  # another architecture: deny
+    program.append(op(load_word, 0))  # seccomp_data.nr
+    program.append(op(jump_ge, X32_SYSCALL_BIT, deny_at - 4, 0))
+    for i, number in enumerate(numbers):
+        program.append(op(jump_eq, number, deny_at - (5 + i), 0))
+    program.append(op(ret, SECCOMP_RET_ALLOW))
+    program.append(op(ret, SECCOMP_RET_ERRNO | EPERM))
+    return b"".join(program)
+
+
 def find_bwrap() -> str:
     bwrap = shutil.which("bwrap") or next(
         (p for p in ("/usr/bin/bwrap", "/usr/local/bin/bwrap") if os.access(p, os.X_OK)), None
@@ -176,17 +232,10 @@ def sandbox_arguments(
         bind("/etc/ld.so.cache", "/etc/ld.so.cache")
     bind(str(work), WORK)
     bind(str(submission), f"{WORK}/submission")
-    arguments += ["--proc", "/proc", "--dev", "/dev"]
-    arguments += [
-        "--size",
-        str(tmp_bytes),
-        "--perms",
-        "01777",
-        "--tmpfs",
-        "/tmp",
-        "--chdir",
-        "/tmp",
-    ]
+    arguments += ["--proc", "/proc", "--dev", "/dev", "--remount-ro", "/dev"]
+    private_tmp = ["--size", str(tmp_bytes), "--perms", "01777", "--tmpfs", "/tmp"]
+    arguments += [*private_tmp, "--chdir", "/tmp"]
+    arguments += ["--remount-ro", "/"]  # nothing but /tmp (of a fixed size) can be written
     environment = {
         "HOME": "/tmp",
         "TMPDIR": "/tmp",
@@ -235,7 +284,7 @@ class UidPool:
             raise IsolationUnavailable(f"{locks} must be a folder only root may write")
 
     def lease(self) -> UidLease:
-        start = (os.getpid() * 7919) % len(self.uids)
+        start = secrets.randbelow(len(self.uids))  # a test seldom gets the uid of the one before
         for step in range(len(self.uids)):
             uid = self.uids[(start + step) % len(self.uids)]
             fd = os.open(self.locks / str(uid), os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW, 0o600)

@@ -47,6 +47,7 @@ from raykit_grading.isolation import (
     find_bwrap,
     probe_python,
     sandbox_arguments,
+    seccomp_filter,
 )
 
 CHILD_SCRIPT = Path(__file__).with_name("child.py")
@@ -60,7 +61,7 @@ class Limits:
     wall_seconds: float = 20.0
     cpu_seconds: int = 20
     memory_bytes: int = 2 * 1024**3
-    processes: int = 64
+    processes: int = 16
     file_bytes: int = 64 * 1024**2
     tmp_bytes: int = 64 * 1024**2
     returned_bytes: int = 64 * 1024**2
@@ -97,6 +98,7 @@ class Sandbox:
         self.python = probe_python(child_python or sys.executable)
         self.as_root = os.geteuid() == 0
         self.uids = UidPool() if self.as_root else None
+        self.seccomp = seccomp_filter()
 
     def check(self) -> None:
         """Preflight: a sandbox can be made and its Python imports numpy and Pillow, as the
@@ -163,23 +165,27 @@ class Sandbox:
 
     def _start(self, work: Path, returned_write: int) -> tuple[subprocess.Popen, int]:
         """Start bwrap and the child in it: (the process, the read end of what it prints)."""
-        arguments = sandbox_arguments(
-            self.python, work, self.submission, self.limits.tmp_bytes, self.as_root
-        )
         command = [self.python.executable, "-I", "-S", "-B", f"{WORK}/child.py", WORK]
         printed_read, printed_write = os.pipe()
-        # bwrap reads its arguments from a file, so that the child's /proc shows none of them
-        with tempfile.TemporaryFile() as argument_file:
-            argument_file.write(b"\0".join(a.encode() for a in arguments) + b"\0")
-            argument_file.seek(0)
+        # bwrap reads its arguments and its seccomp program from files, so that the child's
+        # /proc shows neither
+        with tempfile.TemporaryFile() as arguments, tempfile.TemporaryFile() as seccomp:
+            seccomp.write(self.seccomp)
+            seccomp.seek(0)
+            listed = sandbox_arguments(
+                self.python, work, self.submission, self.limits.tmp_bytes, self.as_root
+            )
+            listed += ["--seccomp", str(seccomp.fileno())]
+            arguments.write(b"\0".join(a.encode() for a in listed) + b"\0")
+            arguments.seek(0)
             try:
                 child = subprocess.Popen(
-                    [self.bwrap, "--args", str(argument_file.fileno()), *command],
+                    [self.bwrap, "--args", str(arguments.fileno()), *command],
                     stdin=subprocess.DEVNULL,
                     stdout=printed_write,
                     stderr=printed_write,
                     env={"PATH": "/usr/bin:/bin"},
-                    pass_fds=(returned_write, argument_file.fileno()),
+                    pass_fds=(returned_write, arguments.fileno(), seccomp.fileno()),
                     preexec_fn=self._limit,  # noqa: PLW1509 - the point
                 )
             except BaseException:

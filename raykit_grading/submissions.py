@@ -82,40 +82,70 @@ def _kind(fd: int, name: str) -> int:
 
 
 def _find_package(top: int, staged: Staged) -> int | None:
-    """A descriptor of ``raykit/`` at the top or one folder down (a real folder, not a link)."""
-    candidates = [(top, PACKAGE, PACKAGE)]
+    """A descriptor of ``raykit/`` at the top or one folder down (a real folder, not a link);
+    folders are looked into one at a time, so a submission of many folders opens few files."""
+    found = _package_in(top, PACKAGE, staged)
+    if found is not None:
+        return found
     for name in sorted(os.listdir(top)):
-        if name != PACKAGE and stat.S_ISDIR(_kind(top, name)):
-            inner = os.open(name, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW, dir_fd=top)
-            candidates.append((inner, PACKAGE, f"{name}/{PACKAGE}"))
-    found = None
-    for fd, name, shown in candidates:
         try:
-            mode = _kind(fd, name)
-        except FileNotFoundError:
+            if name == PACKAGE or not stat.S_ISDIR(_kind(top, name)):
+                continue
+            inner = os.open(name, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW, dir_fd=top)
+        except OSError:
             continue
+        try:
+            found = _package_in(inner, f"{_shown(name)}/{PACKAGE}", staged)
+        finally:
+            os.close(inner)
         if found is not None:
-            continue
-        if stat.S_ISLNK(mode):
-            staged.notes.append(f"{shown} is a symbolic link: not followed (submit the folder)")
-        elif stat.S_ISDIR(mode):
-            found = os.open(name, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW, dir_fd=fd)
-    for fd, _, _ in candidates[1:]:
-        os.close(fd)
-    return found
+            return found
+    return None
+
+
+def _package_in(folder: int, shown: str, staged: Staged) -> int | None:
+    try:
+        mode = _kind(folder, PACKAGE)
+    except OSError:
+        return None
+    if stat.S_ISLNK(mode):
+        staged.notes.append(f"{shown} is a symbolic link: not followed (submit the folder)")
+    elif stat.S_ISDIR(mode):
+        try:
+            return os.open(PACKAGE, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW, dir_fd=folder)
+        except OSError as exc:
+            staged.notes.append(f"{shown} could not be opened ({exc.strerror})")
+    return None
+
+
+def _shown(name: str) -> str:
+    """A file name as text that any JSON reader takes (undecodable bytes escaped)."""
+    return name.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace")
 
 
 def _copy_folder(source: int, target: Path, staged: Staged, shown: str, depth: int) -> None:
     if depth > MAX_DEPTH:
         raise SubmissionError(f"{shown}: folders nested more than {MAX_DEPTH} deep")
     target.mkdir(mode=0o755)
-    for name in sorted(os.listdir(source)):
+    try:
+        names = sorted(os.listdir(source))
+    except OSError as exc:
+        staged.notes.append(f"{shown} could not be read ({exc.strerror}): left out")
+        return
+    for name in names:
         if name == "__pycache__":
             continue
-        where = f"{shown}/{name}"
-        mode = _kind(source, name)
+        where = f"{shown}/{_shown(name)}"
+        try:
+            mode = _kind(source, name)
+        except OSError:
+            continue
         if stat.S_ISDIR(mode):
-            inner = os.open(name, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW, dir_fd=source)
+            try:
+                inner = os.open(name, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW, dir_fd=source)
+            except OSError as exc:
+                staged.notes.append(f"{where} could not be read ({exc.strerror}): left out")
+                continue
             try:
                 _copy_folder(inner, target / name, staged, where, depth + 1)
             finally:
@@ -142,8 +172,11 @@ def _copy_file(folder: int, name: str, target: Path, staged: Staged, shown: str)
     if len(data) > info.st_size:
         raise SubmissionError(f"{shown}: grew while it was copied")
     flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW
-    with open(os.open(target, flags, 0o644), "wb") as out:
-        out.write(data)
+    try:
+        with open(os.open(target, flags, 0o644), "wb") as out:
+            out.write(data)
+    except OSError as exc:
+        staged.notes.append(f"{shown} could not be copied ({exc.strerror}): left out")
 
 
 def _count(staged: Staged, size: int, shown: str) -> None:
@@ -179,22 +212,36 @@ def _unzip(top: int, name: str, root: Path, staged: Staged) -> None:
                 if ".." in parts or member.filename.startswith("/"):
                     raise SubmissionError(f"{name}: {member.filename} leaves the folder")
                 if stat.S_ISLNK(member.external_attr >> 16):
-                    staged.notes.append(f"{name}: {member.filename} is a link: left out")
+                    staged.notes.append(f"{name}: {_shown(member.filename)} is a link: left out")
                     continue
                 members.append((member, parts[inside[0] :]))
             if sum(m.file_size for m, _ in members) > MAX_BYTES or len(members) > MAX_FILES:
                 raise SubmissionError(f"{name} unpacks to more than {MAX_BYTES // 2**20} MB")
             for member, parts in members:
-                target = root.joinpath(*parts)
-                if len(parts) > MAX_DEPTH or target.exists():
-                    continue
-                target.parent.mkdir(parents=True, exist_ok=True, mode=0o755)
-                with archive.open(member) as data:
-                    content = data.read(member.file_size + 1)
-                _count(staged, len(content), "/".join(parts))
-                flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW
-                with open(os.open(target, flags, 0o644), "wb") as out:
-                    out.write(content[: member.file_size])
+                _unzip_member(archive, member, parts, root, staged, name)
+
+
+def _unzip_member(archive, member, parts, root: Path, staged: Staged, name: str) -> None:
+    shown = _shown("/".join(parts))
+    target = root.joinpath(*parts)
+    if len(parts) > MAX_DEPTH or os.path.lexists(target):
+        return
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True, mode=0o755)
+        with archive.open(member) as data:
+            content = data.read(member.file_size + 1)
+        _count(staged, len(content), shown)
+        flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW
+        with open(os.open(target, flags, 0o644), "wb") as out:
+            out.write(content[: member.file_size])
+    except SubmissionError:
+        raise
+    except OSError as exc:  # a name too long, a file where a folder should be, ...
+        staged.notes.append(f"{name}: {shown} could not be unpacked ({exc.strerror}): left out")
+    except Exception as exc:  # noqa: BLE001 - a damaged, encrypted or exotic member
+        raise SubmissionError(
+            f"{_shown(name)}: {shown} cannot be unpacked ({type(exc).__name__}: {exc})"
+        ) from None
 
 
 def _describe(mode: int) -> str:

@@ -21,6 +21,7 @@ from __future__ import annotations
 import csv
 import json
 import os
+import platform
 import re
 import shutil
 import socket
@@ -395,6 +396,79 @@ def test_5_a_hidden_test_cannot_leave_its_inputs_for_a_visible_one(release, auto
     assert "HIDDEN-INPUTS" not in everything_visible(results)
 
 
+def test_5_kernel_keyrings_carry_nothing_from_a_hidden_test(release, autograder, tmp_path):
+    """A uid's keyring outlives its processes; the sandbox refuses the keyring system calls
+    (seccomp), so a hidden test cannot leave its inputs there for a visible one."""
+    from raykit_grading.isolation import SECCOMP_ARCHES
+
+    calls = SECCOMP_ARCHES[platform.machine()][1]
+    keep = (
+        "def hit_sphere(origins, directions, center, radius):\n"
+        "    import ctypes\n    libc = ctypes.CDLL(None, use_errno=True)\n"
+        "    data = b'HIDDEN-INPUTS ' + repr(center.tolist()).encode()\n"
+        f"    libc.syscall({calls['add_key']}, b'user', b'stash', data, len(data), -4)\n"
+        f"    libc.syscall({calls['add_key']}, b'user', b'stash', data, len(data), -3)\n"
+        "    return _hit_sphere(origins, directions, center, radius)\n"
+    )
+    fetch = (
+        "def hit_plane(origins, directions, a, n):\n"
+        "    import ctypes\n    libc = ctypes.CDLL(None, use_errno=True)\n"
+        "    for ring in (-4, -3):\n"
+        f"        key = libc.syscall({calls['request_key']}, b'user', b'stash', None, ring)\n"
+        "        buffer = ctypes.create_string_buffer(4096)\n"
+        f"        got = libc.syscall({calls['keyctl']}, 11, key, buffer, 4096)\n"
+        "        print('keyring', ring, key, got, ctypes.get_errno(), buffer.value[:200])\n"
+        "    return _hit_plane(origins, directions, a, n)\n"
+    )
+    submission = make_submission(tmp_path / "submission")
+    for name, old, new in (("spheres.py", "hit_sphere", keep), ("planes.py", "hit_plane", fetch)):
+        path = submission / "raykit" / name
+        text = path.read_text().replace(f"def {old}(", f"def _{old}(", 1)
+        path.write_text(text + "\n" + new)
+    results, run = grade_as_deployed(autograder, submission, ["2.4", "2.5", "2.1"], tmp_path)
+    assert scores(results) == {"2.4": 1, "2.5": 2, "2.1": 2}, results
+    visible = next(t for t in results["tests"] if t["number"] == "2.1")["output"]
+    assert "keyring -4 -1 -1 1" in visible  # refused: EPERM
+    assert "HIDDEN-INPUTS" not in everything_visible(results)
+
+
+def test_9_no_memory_is_there_to_fill_but_a_small_tmp(release, autograder, tmp_path):
+    """Writing 100 MB anywhere fails: the tree is read-only but /tmp, which is 64 MB. The code
+    answers right only if every big write failed."""
+    code = (
+        "def hit_plane(origins, directions, a, n):\n"
+        "    stored = []\n"
+        "    for path in ('/big', '/dev/shm/big', '/dev/big', '/tmp/big', '/work/big'):\n"
+        "        try:\n"
+        "            with open(path, 'wb') as out:\n"
+        "                for _ in range(100):\n"
+        "                    out.write(b'x' * 2**20)\n"
+        "            stored.append(path)\n"
+        "        except OSError:\n            pass\n"
+        "    print('stored', stored)\n"
+        "    return _hit_plane(origins, directions, a, n) if not stored else origins[:, 0]\n"
+    )
+    submission = make_submission(tmp_path / "submission")
+    planes = submission / "raykit" / "planes.py"
+    planes.write_text(planes.read_text().replace("def hit_plane(", "def _hit_plane(", 1) + code)
+    results, run = grade_as_deployed(autograder, submission, ["2.1"], tmp_path)
+    assert scores(results) == {"2.1": 2}, results
+    assert "stored []" in results["tests"][0]["output"]
+
+
+def test_5_a_hidden_tests_error_message_is_not_shown(release, autograder, tmp_path):
+    code = (
+        "def hit_plane(origins, directions, a, n):\n"
+        "    raise ValueError('INPUTS ' + repr(origins.tolist()))\n"
+    )
+    submission = submission_with(release, tmp_path, {"planes.py": code})
+    results, run = grade_as_deployed(autograder, submission, ["2.2", "2.1"], tmp_path)
+    assert scores(results) == {"2.2": 0, "2.1": 0}
+    visible, hidden = results["tests"]  # in the catalogue's order
+    assert hidden["output"].startswith("your code stopped with an error (a hidden test")
+    assert "INPUTS" not in hidden["output"] and "INPUTS" in visible["output"]
+
+
 # ---- 6: the solution is nowhere the child can read -----------------------------------------
 
 SEARCH = (
@@ -434,6 +508,34 @@ def test_6_a_submission_that_searches_the_disk_finds_no_solution(
     assert "CANARY" not in everything_visible(results) and "FOUND" not in everything_visible(
         results
     )
+
+
+def test_6_nothing_outside_the_sandbox_is_written(release, autograder, canary, tmp_path):
+    """It answers right, and on the way tries to leave files everywhere it might: they all
+    stay inside its own sandbox (gone after the test), and it keeps its full score."""
+    marker = f"written-by-a-submission-{os.getpid()}"
+    targets = [
+        f"/tmp/{marker}",
+        str(canary.parent / marker),
+        str(REPO / marker),
+        str(autograder / "source" / marker),
+        str(tmp_path / marker),
+        f"/var/tmp/{marker}",
+        f"/dev/shm/{marker}",
+    ]
+    code = (
+        "def hit_plane(origins, directions, a, n):\n    import os\n"
+        f"    for path in {targets!r}:\n"
+        "        try:\n            open(path, 'w').write('x')\n"
+        "        except OSError:\n            pass\n"
+        "    return _hit_plane(origins, directions, a, n)\n"
+    )
+    submission = make_submission(tmp_path / "submission")
+    planes = submission / "raykit" / "planes.py"
+    planes.write_text(planes.read_text().replace("def hit_plane(", "def _hit_plane(", 1) + code)
+    results, run = grade_as_deployed(autograder, submission, ["2.1"], tmp_path)
+    assert scores(results) == {"2.1": 2}, results
+    assert [path for path in targets if os.path.exists(path)] == []
 
 
 # ---- 7: the results are the grader's; killing it loses nothing ----------------------------
@@ -584,6 +686,7 @@ def test_9_classmates_network_and_daemons_in_a_batch(release, tmp_path):
 def test_batch_goes_on_past_a_student_it_cannot_grade_and_resumes(release, tmp_path):
     students = tmp_path / "submissions"
     make_submission(students / "ada")
+    make_submission(students / os.fsdecode(b"b\xf8rge"))  # a name that is not UTF-8
     (students / "empty").mkdir()  # no raykit/ at all
     out = tmp_path / "out"
     command = [sys.executable, "-m", "raykit_grading", "batch", str(students), "-o", str(out),
@@ -591,13 +694,19 @@ def test_batch_goes_on_past_a_student_it_cannot_grade_and_resumes(release, tmp_p
     first = subprocess.run(command, capture_output=True, text=True, cwd=REPO, timeout=300)
     assert first.returncode == 1
     assert "empty: could not grade: no raykit package" in first.stderr
-    rows = {row["student"]: row for row in csv.DictReader((out / "scores.csv").open())}
+    rows = _rows(out / "scores.csv")
     assert rows["ada"]["status"] == "graded" and float(rows["ada"]["score"]) == 2
+    assert rows[os.fsdecode(b"b\xf8rge")]["status"] == "graded"
     make_submission(students / "bob")
     again = subprocess.run(command, capture_output=True, text=True, cwd=REPO, timeout=300)
-    assert "3 students" in again.stdout and again.returncode == 1
-    rows = {row["student"]: row for row in csv.DictReader((out / "scores.csv").open())}
+    assert "3 of 4 students" in again.stdout and again.returncode == 1
+    rows = _rows(out / "scores.csv")
     assert rows["bob"]["status"] == "graded"
+
+
+def _rows(path: Path) -> dict[str, dict]:
+    with open(path, newline="", encoding="utf-8", errors="surrogateescape") as stream:
+        return {row["student"]: row for row in csv.DictReader(stream)}
 
 
 def test_a_slow_submission_is_stopped_by_the_total_budget(release, autograder, tmp_path):

@@ -8,7 +8,7 @@ nearest hit and the tie rule are the same as with every object: the bounds are c
 ``index_of`` maps a region's object numbers back to the scene's (and -1 to -1).
 
 Within a tile, :meth:`Region.holding` tells which objects' screen rectangles hold each image
-point. The renderer (``raykit.render._colors``) makes no ray for a point that no rectangle
+point. The renderer (:mod:`raykit.engine.regions`) makes no ray for a point that no rectangle
 holds: it sees the background, as its ray would. A crowded tile (``CROWDED`` objects or more,
 as in a sphereflake) goes one step further: each of its rays is paired only with the objects
 whose rectangle holds its point, and all pairs are intersected at once (:mod:`raykit.engine.pairs`),
