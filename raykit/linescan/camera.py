@@ -15,6 +15,11 @@ Conventions (owned here; every line-scan module refers to this page)
 * Perspective rays start at e and go through p_i (direction p_i - e = x_i·u + D·w, unit
   length). Orthographic rays are parallel to w; their origins lie along an image line through e,
   ``width`` long: o_i = e + (width/2)·x_i·u (fov_angle plays no part).
+* The letter D. The slides use D for two things: here, the distance from e to the image line;
+  in the ray–sphere quadratic, the discriminant B² - 4AC (:mod:`raykit.spheres`). They never
+  meet in one formula, so raykit keeps the slide's letter in both places and spells the other
+  out where both could be meant: ``LineCamera.D`` is always this distance, and the sphere code
+  calls its D ``discriminant``.
 """
 
 from __future__ import annotations
