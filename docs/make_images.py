@@ -40,6 +40,7 @@ MATH_FIGURES = [
     ("math_sphere_cases.png", "sphere_cases"),
     ("math_plane_hit.png", "plane_hit"),
     ("math_dot_projection.png", "dot_projection"),
+    ("math_plane_sides.png", "plane_sides"),
 ]
 
 
