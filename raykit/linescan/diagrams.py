@@ -5,7 +5,8 @@ image line at distance D with its pixel centres and the scan's colours on it, th
 the objects, and the rays, each from its origin to the hit point the tracer returned, in the
 colour of what it hit (solid), or faded and dashed to the edge of the frame where it hits
 nothing; beside it, the scan as a strip of pixels. :func:`sweep_diagram` shows the world at a
-few scan times above the sweep image as far as it has grown.
+few scan times above the sweep image as far as it has grown. :func:`pixel_formulas` sets the
+slide's second pixel formula, u_i = i·2/N, beside the pixel centres x_i that the cameras use.
 
 Nothing here computes geometry of its own: rays and hits come from
 :mod:`raykit.linescan.scan`. Figures stay readable in grey: misses are dashed, objects outlined.
@@ -23,7 +24,7 @@ from matplotlib.collections import LineCollection
 from matplotlib.figure import Figure
 from matplotlib.patches import Arc, Circle
 
-from raykit.linescan.camera import pixel_positions
+from raykit.linescan.camera import pixel_positions, pixel_x, slide_pixel_positions
 from raykit.linescan.scan import Scan, scan, sweep
 from raykit.linescan.scene import LineScene
 from raykit.textures import OPAQUE_FROM
@@ -278,3 +279,50 @@ def sweep_diagram(
         bottom.set_xlabel("pixel i")
         bottom.set_ylabel("scan m")
     return fig
+
+
+def pixel_formulas(counts: tuple[int, ...] = (8, 7), ax: Axes | None = None) -> Figure:
+    """The image line from -1 to 1 cut into N pixels, once per N in ``counts``: the centres
+    x_i = -1 + (i + 0.5)·2/N (:func:`raykit.linescan.camera.pixel_x`, what raykit uses) as
+    dots, and the slide's u_i = i·2/N, i = 0, ±1, …, ±N/2
+    (:func:`raykit.linescan.camera.slide_pixel_positions`) as crosses, each row counted."""
+    if ax is None:
+        _, ax = plt.subplots(figsize=(8, 1.1 + 0.9 * len(counts)), layout="constrained")
+    for row, n in enumerate(counts):
+        y = -1.4 * row
+        edges = np.linspace(-1, 1, n + 1)
+        for left, right, shade in zip(edges[:-1], edges[1:], range(n), strict=True):
+            ax.fill_between([left, right], y - 0.3, y + 0.3, color=("0.93", "0.82")[shade % 2])
+        centres, slide = pixel_x(n), slide_pixel_positions(n)
+        ax.plot(
+            centres,
+            np.full(n, y),
+            "o",
+            color="tab:blue",
+            ms=7,
+            label="x_i = -1 + (i + 0.5)·2/N: pixel centres" if row == 0 else None,
+        )
+        ax.plot(
+            slide,
+            np.full(len(slide), y),
+            "x",
+            color="tab:red",
+            ms=10,
+            mew=2.2,
+            label="u_i = i·2/N, i = 0, ±1, …, ±N/2 (the slide)" if row == 0 else None,
+        )
+        ax.text(
+            1.08, y, f"N = {n}: {n} centres, {len(slide)} slide positions", va="center", fontsize=9
+        )
+    ax.axvline(-1, color="black", lw=1)
+    ax.axvline(1, color="black", lw=1)
+    ax.set_xlim(-1.1, 2.05)
+    ax.set_ylim(-1.4 * (len(counts) - 1) - 0.6, 0.9)
+    ax.set_yticks([])
+    ax.set_xticks([-1, -0.5, 0, 0.5, 1])
+    ax.set_xlabel("position on the image line (u)")
+    ax.legend(loc="upper left", fontsize=8, ncol=2, frameon=False)
+    for side in ("top", "right", "left"):
+        ax.spines[side].set_visible(False)
+    ax.set_title("the slide's second pixel formula against the pixel centres", fontsize=10)
+    return ax.figure
