@@ -68,3 +68,20 @@ def test_line_scan_ray_starting_on_a_ball_sees_past_it():
     ball = Ball(center=np.zeros(2), radius=1.0, color=np.array([1.0, 0.0, 0.0]))
     hits = trace(LineScene(camera, balls=(ball,)), *line_rays(camera))
     assert (hits.index == -1).all()
+
+
+def test_dot_with_a_unit_vector_is_the_length_of_the_projection():
+    """The slide's dot product as a projection: r·u is how far r reaches along unit u, and
+    r - (r·u)u is perpendicular to u."""
+    from raykit.rays import dot, normalize
+
+    rng = np.random.default_rng(19)
+    r, u = rng.normal(size=(50, 3)), normalize(rng.normal(size=(50, 3)))
+    along = dot(r, u)
+    assert along == pytest.approx(np.linalg.norm(r, axis=1) * np.cos(_angle(r, u)))
+    assert dot(r - along[:, None] * u, u) == pytest.approx(np.zeros(50), abs=1e-12)
+
+
+def _angle(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    cos = np.einsum("ij,ij->i", a, b) / (np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1))
+    return np.arccos(np.clip(cos, -1, 1))
