@@ -149,8 +149,11 @@ def dot_projection(ax: Axes | None = None) -> Figure:
     return ax.figure
 
 
-SIDE_STYLE = {1: ("tab:blue", "in front: p·n > a·n"), 0: ("black", "on: p·n = a·n"),
-              -1: ("tab:red", "behind: p·n < a·n")}  # fmt: skip
+SIDE_STYLE = {
+    1: ("tab:blue", "in front: p·n > a·n"),
+    0: ("black", "on: p·n = a·n"),
+    -1: ("tab:red", "behind: p·n < a·n"),
+}
 
 
 def plane_sides(axes: list[Axes] | None = None) -> Figure:
@@ -195,11 +198,18 @@ def plane_sides(axes: list[Axes] | None = None) -> Figure:
     centre = triangle[:3].mean(axis=0)
     ax3.quiver(*centre, *n3, color="tab:red", arrow_length_ratio=0.08, lw=1.6)
     ax3.quiver(*centre, *(n3 / np.linalg.norm(n3)), color="tab:blue", arrow_length_ratio=0.2, lw=2)
-    ax3.text(*(centre + np.array([0.1, 0, 0.8 * n3[2]])),
-             f"n = (p - a) × (q - a)\n|n| = {np.linalg.norm(n3):g}", color="tab:red",
-             fontsize=9)  # fmt: skip
-    ax3.text(*(centre + n3 / np.linalg.norm(n3) + np.array([0.15, 0, -0.3])), "unit n",
-             color="tab:blue", fontsize=9)  # fmt: skip
+    ax3.text(
+        *(centre + np.array([0.1, 0, 0.8 * n3[2]])),
+        f"n = (p - a) × (q - a)\n|n| = {np.linalg.norm(n3):g}",
+        color="tab:red",
+        fontsize=9,
+    )
+    ax3.text(
+        *(centre + n3 / np.linalg.norm(n3) + np.array([0.15, 0, -0.3])),
+        "unit n",
+        color="tab:blue",
+        fontsize=9,
+    )
     ax3.set_xlim(-0.5, 2.5)
     ax3.set_ylim(-0.5, 2.0)
     ax3.set_zlim(0, 3.2)
