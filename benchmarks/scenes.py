@@ -34,6 +34,11 @@ def _frame_to(axis: np.ndarray) -> np.ndarray:
 
 
 def sphereflake(level: int, width: int = 512, height: int = 512) -> Scene:
+    return scene_from_dict(sphereflake_dict(level, width, height))
+
+
+def sphereflake_dict(level: int, width: int = 512, height: int = 512) -> dict:
+    """The sphereflake as a scene file's contents (what :func:`sphereflake` loads)."""
     spheres = []
     palette = [
         [0.85, 0.25, 0.2],
@@ -68,14 +73,12 @@ def sphereflake(level: int, width: int = 512, height: int = 512) -> Scene:
         "lower_left": [-6, -0.6, 6],
         "color": [0.6, 0.6, 0.55],
     }
-    return scene_from_dict(
-        {
-            "camera": camera,
-            "background": [0.75, 0.85, 1.0],
-            "spheres": spheres,
-            "billboards": [ground],
-        }
-    )
+    return {
+        "camera": camera,
+        "background": [0.75, 0.85, 1.0],
+        "spheres": spheres,
+        "billboards": [ground],
+    }
 
 
 def many_spheres(count: int, width: int = 1920, height: int = 1080, seed: int = 0) -> Scene:

@@ -40,6 +40,20 @@ MATH_FIGURES = [
     ("math_sphere_cases.png", "sphere_cases"),
     ("math_plane_hit.png", "plane_hit"),
     ("math_dot_projection.png", "dot_projection"),
+    ("math_plane_sides.png", "plane_sides"),
+]
+
+# the lecture's other figures: (file name, "module:function", the scene it is drawn for, args);
+# named *_diagram, so the tests compare them as figures, not pixel for pixel
+LECTURE_FIGURES = [
+    ("pinhole_diagram.png", "raykit.diagrams.pinhole:pinhole_figure", "scenes/classic.json", ()),
+    (
+        "paths_of_light_diagram.png",
+        "raykit.linescan.diagrams:paths_of_light",
+        "scenes/linescan/slide.json",
+        ((3.0, 4.5),),
+    ),
+    ("pixel_formulas_diagram.png", "raykit.linescan.diagrams:pixel_formulas", None, ()),
 ]
 
 
@@ -77,10 +91,31 @@ def make(folder: Path) -> None:
         plt.close(figure)
         print(f"wrote {folder / name}")
 
+    import importlib
+
+    from raykit.io.linescan_json import load_line_scene
+    from raykit.io.scene_json import load_scene
+
+    for name, target, scene_path, args in LECTURE_FIGURES:
+        module, function = target.split(":")
+        if scene_path is None:
+            arguments = args
+        else:
+            loader = load_line_scene if "linescan" in scene_path else load_scene
+            arguments = (loader(REPO / scene_path), *args)
+        figure = getattr(importlib.import_module(module), function)(*arguments)
+        save_figure(figure, folder / name)
+        plt.close(figure)
+        print(f"wrote {folder / name}")
+
 
 def all_outputs() -> list[str]:
     """Every file name :func:`make` writes."""
-    return [n for c in COMMANDS for n in outputs(c)] + [n for n, _ in MATH_FIGURES]
+    return (
+        [n for c in COMMANDS for n in outputs(c)]
+        + [n for n, _ in MATH_FIGURES]
+        + [n for n, *_ in LECTURE_FIGURES]
+    )
 
 
 if __name__ == "__main__":

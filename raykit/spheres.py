@@ -1,28 +1,42 @@
-"""Spheres, and where a ray meets one: the quadratic and its discriminant.
+"""Spheres, and where a ray meets one: the quadratic and its discriminant, in the slide's letters.
 
-A point p is on the sphere with centre c and radius r when |p - c|² = r². With the ray
-p(t) = o + t·d (see :mod:`raykit.rays`) and f = o - c this is the quadratic
+A point p is on the sphere with centre c and radius R when (p - c)·(p - c) - R² = 0. With the
+ray p(t) = o + t·d (see :mod:`raykit.rays`) this is the lecture's quadratic A·t² + B·t + C = 0,
 
-    a·t² + 2·b'·t + c' = 0,   a = d·d,   b' = f·d,   c' = f·f - r²,
+    A = d·d,   B = 2 d·(o - c),   C = (o - c)·(o - c) - R²,
 
-with discriminant Δ = b'² - a·c'. Δ < 0: the ray misses; Δ = 0: it grazes; Δ > 0: two roots.
+with discriminant D = B² - 4AC and roots t = (-B ± √D) / 2A. D < 0: the ray misses; D = 0: it
+grazes; D > 0: two roots, of which the lower positive one is the hit (:mod:`raykit.rays`: t > 0).
 
-The lecture's formula t = (-b' ± √Δ) / a is exact on paper but loses digits in floating point
-in two places, and :func:`hit_sphere_textbook` keeps it to show where:
+The letter D. The slides use D twice: here it is the discriminant; in the line-scan camera it is
+the distance from the eye to the image line (:mod:`raykit.linescan.camera`). They never meet in
+one formula, so raykit keeps the slide's letter in both places and names it in full where the two
+could be confused: ``discriminant`` in code, ``camera.D`` for the distance.
 
-1. Δ itself. For a small sphere far away b'² and a·c' are huge and nearly equal, so their
+The stable form, from the same letters. :func:`hit_sphere_textbook` is the formula above as
+written. It is exact on paper but loses digits in floating point in two places, and
+:func:`sphere_roots` (the renderer's) avoids both. Write B = 2b', so b' = d·(o - c) = B/2; then
+
+    D = B² - 4AC = 4(b'² - AC) = 4Δ,   Δ = b'² - AC,   t = (-B ± √D) / 2A = (-b' ± √Δ) / A.
+
+Dividing out the 2s changes no bit (they are powers of two); the digits are lost elsewhere:
+
+1. In D itself. For a small sphere far away b'² and AC are huge and nearly equal, so their
    difference is mostly rounding error: a ray that misses can "hit" and a ray that hits can
-   miss. Haines et al. (Ray Tracing Gems, 2019, ch. 7) rewrite it as
+   miss. Haines et al. (Ray Tracing Gems, 2019, ch. 7) rewrite it with f = o - c and
+   b'/A = (B/2)/A, the t of the point of the ray's line nearest the centre:
 
-       Δ = a·(r² - |f - (b'/a)·d|²),
+       Δ = D/4 = A·(R² - |f - (b'/A)·d|²),
 
-   where f - (b'/a)·d is the vector from the centre to the closest point of the ray's line: a
-   difference of vectors, small exactly when it matters, with no huge squares cancelling.
-2. The root in which -b' and ±√Δ have opposite signs cancels when a·c' ≪ b'². The stable form
-   takes only the root without cancellation, q = -(b' + sign(b')·√Δ), and gets the other from
-   the product of the roots: t0 = q/a, t1 = c'/q. (When c' is small because the ray starts
-   just outside the surface, c' = f·f - r² has itself lost those digits; no root formula can
-   win them back, so a ray should not start on a surface: see the t > 0 rule in raykit.rays.)
+   where f - (b'/A)·d is the vector from the centre to that nearest point: a difference of
+   vectors, small exactly when it matters, with no huge squares cancelling. (Expand
+   |f - (b'/A)·d|² = f·f - b'²/A and multiply by A: A·R² - A·f·f + b'² = b'² - AC.)
+2. In the root where -B and ±√D have opposite signs, which cancels when AC ≪ b'². The stable
+   form takes only the root without cancellation, q = -(B + sign(B)·√D)/2 = -(b' +
+   sign(b')·√Δ), and gets the other from the product of the roots, t0·t1 = C/A: t0 = q/A,
+   t1 = C/q. (When C is small because the ray starts just outside the surface, C has itself
+   lost those digits; no root formula can win them back, so a ray should not start on a surface:
+   see the t > 0 rule in raykit.rays.)
 
 This module owns the sphere; the 2D line-scan world calls the same function with k = 2 for its
 balls (a circle is the 2D sphere).
@@ -55,21 +69,23 @@ def sphere_roots(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Both roots and the discriminant of the ray–sphere quadratic, by the stable form.
 
-    Returns ``(t0, t1, discriminant)``, each ``(N,)``; the roots are NaN where the
-    discriminant is negative (the ray's line misses), and in no particular order.
+    ``origins``, ``directions``: ``(N, k)``; ``center``: ``(k,)``. Returns ``(t0, t1,
+    discriminant)``, each ``(N,)``, where the discriminant is Δ = D/4 (the module docstring:
+    the same sign as D); the roots are NaN where it is negative (the ray's line misses), and
+    in no particular order.
     """
     # BEGIN SOLUTION
-    # hint: f = o - c, a = d·d, b' = f·d, c' = f·f - r²; Δ = a·(r² - |f - (b'/a)·d|²); q = -(b' +
-    #       sign(b')·√Δ), t0 = q/a, t1 = c'/q
+    # hint: f = o - c, A = d·d, b' = B/2 = f·d, C = f·f - R²; Δ = D/4 = A·(R² - |f - (b'/A)·d|²);
+    #       q = -(b' + sign(b')·√Δ), t0 = q/A, t1 = C/q
     f = origins - center
-    a = dot(directions, directions)
-    b = dot(f, directions)  # b' = half the textbook b
-    c = dot(f, f) - radius * radius
+    A = dot(directions, directions)
+    b = dot(f, directions)  # b' = B/2
+    C = dot(f, f) - radius * radius
     with np.errstate(divide="ignore", invalid="ignore"):
-        closest = f - (b / a)[:, None] * directions  # centre -> closest point on the line
-        discriminant = a * (radius * radius - dot(closest, closest))
+        closest = f - (b / A)[:, None] * directions  # centre -> closest point on the line
+        discriminant = A * (radius * radius - dot(closest, closest))  # Δ = D/4
         q = -(b + np.copysign(np.sqrt(discriminant), b))
-        return q / a, c / q, discriminant
+        return q / A, C / q, discriminant
     # END SOLUTION
 
 
@@ -106,16 +122,18 @@ def sphere_normals(points: np.ndarray, center: np.ndarray, radius) -> np.ndarray
 def hit_sphere_textbook(
     origins: np.ndarray, directions: np.ndarray, center: np.ndarray, radius: float
 ) -> np.ndarray:
-    """The lecture's formula, t = (-b' ± √(b'² - a·c')) / a, kept to show where it loses digits.
+    """The slide's formula as written: A = d·d, B = 2 d·(o - c), C = (o - c)·(o - c) - R²,
+    D = B² - 4AC, t = (-B ± √D) / 2A, the lower positive root preferred.
 
-    Same arguments and result as :func:`hit_sphere`; never used by the renderer.
+    Same arguments and result as :func:`hit_sphere` (``(N, k)`` rays, ``(k,)`` centre, ``t
+    (N,)`` or ``MISS``); kept to show where it loses digits, never used by the renderer.
     """
-    f = origins - center
-    a = dot(directions, directions)
-    b = dot(f, directions)
-    c = dot(f, f) - radius * radius
-    discriminant = b * b - a * c
+    o_minus_c = origins - center
+    A = dot(directions, directions)
+    B = 2.0 * dot(directions, o_minus_c)
+    C = dot(o_minus_c, o_minus_c) - radius * radius
+    D = B * B - 4.0 * A * C  # the discriminant (not the line-scan camera's D)
     with np.errstate(invalid="ignore"):
-        root = np.sqrt(discriminant)
-        t = nearest_positive((-b - root) / a, (-b + root) / a)
-    return np.where(discriminant >= 0, t, MISS)
+        root = np.sqrt(D)
+        t = nearest_positive((-B - root) / (2.0 * A), (-B + root) / (2.0 * A))
+    return np.where(D >= 0, t, MISS)

@@ -230,6 +230,19 @@ def _parallel_planes(rng):
     return {"origins": origins, "directions": directions, "a": a, "n": n}
 
 
+def _plane_sides(rng):
+    """Whole-number points and normal, so p·n > a·n is decided exactly however it is computed;
+    a third of the points lie on the plane."""
+    n = rng.integers(-3, 4, 3).astype(float)
+    n[0] = n[0] or 1.0
+    a = rng.integers(-3, 4, 3).astype(float)
+    p = rng.integers(-5, 6, (90, 3)).astype(float)
+    on = p[:30].copy()
+    on[:, 0] = a[0] - ((on[:, 1:] - a[1:]) @ n[1:]) / n[0]  # solved for x: on the plane
+    keep = on[:, 0] == np.round(on[:, 0])  # whole numbers only
+    return {"p": np.vstack([on[keep], p[30:]]), "a": a, "n": n}
+
+
 def _pixel_points(rng, camera: dict) -> dict:
     count = 27
     return {
@@ -361,6 +374,16 @@ TESTS = [
         "2.5 ray-sphere: a tiny sphere far away (the discriminant's lost digits)",
         STAGE2, 2, HIDDEN, "hit_sphere",
         _drawn(25, _tiny_far_sphere),
+    ),
+    GradingTest(
+        "2.6 which side of a plane points are on: front, on, behind",
+        STAGE2, 1, VISIBLE, "plane_side",
+        _drawn(26, lambda rng: _plane_sides(rng)),
+    ),
+    GradingTest(
+        "2.7 the normal of a plane through three points (not normalized)",
+        STAGE2, 1, VISIBLE, "normal_from_points",
+        _drawn(27, lambda rng: {k: rng.uniform(-3, 3, (100, 3)) for k in ("a", "p", "q")}),
     ),
     GradingTest(
         "3.1 the camera frame u, v, w",

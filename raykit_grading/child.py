@@ -93,6 +93,18 @@ def task_hit_plane(spec, arrays):
     return {"t": hit_plane(arrays["origins"], arrays["directions"], arrays["a"], arrays["n"])}
 
 
+def task_plane_side(spec, arrays):
+    from raykit.planes import plane_side
+
+    return {"side": plane_side(arrays["p"], arrays["a"], arrays["n"])}
+
+
+def task_normal_from_points(spec, arrays):
+    from raykit.planes import normal_from_points
+
+    return {"n": normal_from_points(arrays["a"], arrays["p"], arrays["q"])}
+
+
 def task_hit_sphere(spec, arrays):
     from raykit.spheres import hit_sphere
 

@@ -79,6 +79,16 @@ def _radians(camera: Camera) -> tuple[float, float]:
     return Hp * camera.width / camera.height, Hp
 
 
+def _stretched(camera: Camera, x, y) -> np.ndarray:
+    """The image plane's points with the slide's u_i = i·2/N_cols: the first and the last
+    pixel centres on the plane's edges, the rest spread evenly between."""
+    u, v, _ = camera.frame
+    Wp, Hp = camera.plane_size
+    s = -Wp / 2 + (np.asarray(x, float) - 0.5) * (Wp / max(camera.width - 1, 1))
+    t = Hp / 2 - (np.asarray(y, float) - 0.5) * (Hp / max(camera.height - 1, 1))
+    return s[:, None] * u + t[:, None] * v
+
+
 def _far_root(origins, directions, center, radius):
     t0, t1, discriminant = sphere_roots(origins, directions, center, radius)
     far = np.fmax(t0, t1)
@@ -156,10 +166,17 @@ MISTAKES = [
     ),
     Mistake(
         "pixel_corners",
-        "rays go through pixel corners instead of pixel centres",
+        "rays go through pixel corners instead of pixel centres (as the slide's second formula "
+        "u_i = i·2/N_cols does when its first N_cols positions are kept)",
         patches=lambda: [
             mock.patch.object(raykit.engine.regions, "sample_offsets", lambda n: np.zeros((1, 2)))
         ],
+    ),
+    Mistake(
+        "slide_second_formula",
+        "pixels are placed by the slide's second formula u_i = i·2/N_cols, i = 0, ±1, …, "
+        "±N_cols/2 (N_cols + 1 positions spread over N_cols pixels: the picture is stretched)",
+        patches=lambda: [mock.patch.object(raykit.camera, "_in_plane", _stretched)],
     ),
     Mistake(
         "degrees_as_radians",

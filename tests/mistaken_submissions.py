@@ -41,6 +41,18 @@ EDITS = {
             "centres = np.arange(samples) / samples",
         )
     ],
+    "slide_second_formula": [
+        (
+            "camera.py",
+            "s = -Wp / 2 + np.asarray(x, dtype=float) * (Wp / camera.width)",
+            "s = -Wp / 2 + (np.asarray(x, dtype=float) - 0.5) * (Wp / (camera.width - 1))",
+        ),
+        (
+            "camera.py",
+            "t = Hp / 2 - np.asarray(y, dtype=float) * (Hp / camera.height)",
+            "t = Hp / 2 - (np.asarray(y, dtype=float) - 0.5) * (Hp / (camera.height - 1))",
+        ),
+    ],
     "degrees_as_radians": [
         (
             "camera.py",

@@ -111,3 +111,15 @@ def test_billboard_becomes_a_mitsuba_rectangle_with_the_same_corners():
     ):
         point = to_world @ mi.ScalarPoint3f(x, y, 0)
         np.testing.assert_allclose(np.array(point), board[corner], atol=1e-5)
+
+
+def test_object_order_quick_prints_a_row_per_object_count():
+    rows = _table_rows("object_order.py")
+    assert [row.split(" | ")[0] for row in rows] == ["| 1", "| 10", "| 100"]
+    assert all(row.count(" ms") + row.count(" s ") >= 3 for row in rows)
+
+
+def test_forward_backward_quick_prints_both_directions():
+    rows = _table_rows("forward_backward.py")
+    directions = [row.split(" | ")[0] for row in rows]
+    assert directions == ["| backward"] * 2 + ["| forward"] * 2

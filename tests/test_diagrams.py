@@ -126,6 +126,21 @@ def test_sphere_cases_mark_the_roots_the_math_returns():
     assert f"t0 = {min(t0[0], t1[0]):.2f}" in labels and f"t1 = {max(t0[0], t1[0]):.2f}" in labels
 
 
+def test_plane_sides_colours_each_point_by_the_side_plane_side_returns():
+    figure = math_figures.plane_sides()
+    ax = figure.axes[0]
+    counts = {}
+    for line in ax.lines:
+        label = line.get_label()
+        if label.startswith(("in front", "on:", "behind")):
+            counts[label.split(":")[0]] = len(line.get_xdata())
+    assert counts["on"] == 2  # the two points put exactly on the plane
+    assert counts["in front"] + counts["behind"] == 40
+    assert min(counts["in front"], counts["behind"]) > 5
+    texts = [t.get_text() for t in figure.axes[1].texts]
+    assert "n = (p - a) × (q - a)\n|n| = 3" in texts  # drawn at its own length, not 1
+
+
 def test_diagram_command_writes_each_view(tmp_path, capsys):
     for view in ("3d", "top", "side", "camera"):
         out = tmp_path / f"{view}.png"

@@ -181,7 +181,7 @@ def test_each_classic_mistake_is_named_in_the_feedback(key, tmp_path, child_pyth
     mistake = next(m for m in MISTAKES if m.key == key)
     says = mistake.says
     names = {
-        "3": ["3.6", "3.9", "3.11"],  # classic, inside a ring (behind the eye), overlaps
+        "3": ["3.6", "3.8", "3.9", "3.11"],  # classic, parallel rays, inside a ring, overlaps
         "4": ["4.8", "4.10", "4.11"],  # lit classic, mirrors, at 1e6 with a touching ball
     }[mistake.stage]
     results = grade(submission, options=Options(child_python), names=names)

@@ -22,8 +22,12 @@ MATH = {
     "surfaces", "shading", "shadows", "mirrors",
     "linescan.camera", "linescan.objects", "linescan.scene", "linescan.scan",
 }  # fmt: skip
-# the top: the lecture's loop, its figures and the command line, which put the wings together
-TOP = {"render", "cli", "__main__", "__init__", "linescan.__init__", "linescan.diagrams"}
+# the top: the lecture's loops (image order, object order, forward), their figures and the
+# command line, which put the wings together
+TOP = {
+    "render", "object_order", "forward", "pinhole", "cli", "__main__", "__init__",
+    "linescan.__init__", "linescan.diagrams",
+}  # fmt: skip
 
 
 def wing(module: str) -> str:

@@ -5,7 +5,13 @@ import pytest
 from PIL import Image
 
 from raykit.io.linescan_json import line_scene_from_dict
-from raykit.linescan.camera import LineCamera, line_rays, pixel_positions, pixel_x
+from raykit.linescan.camera import (
+    LineCamera,
+    line_rays,
+    pixel_positions,
+    pixel_x,
+    slide_pixel_positions,
+)
 from raykit.linescan.objects import Ball, Billboard, hit_segment
 from raykit.linescan.scan import scan, sweep
 from raykit.linescan.scene import LineScene
@@ -249,3 +255,14 @@ def test_hits_and_colours_agree_with_an_independent_computation_on_random_scenes
                 assert np.allclose(taken.hit_points[i], points[i], atol=1e-9)
                 assert np.allclose(taken.colors[i], scene.objects[k].color)
     assert agree == total
+
+
+def test_slides_second_pixel_formula_gives_one_position_too_many_and_ends_on_the_edges():
+    u = slide_pixel_positions(8)
+    assert u.tolist() == [-1.0, -0.75, -0.5, -0.25, 0.0, 0.25, 0.5, 0.75, 1.0]  # 9, not 8
+    assert len(slide_pixel_positions(640)) == 641
+    assert len(slide_pixel_positions(7)) == 7  # odd: i = 0, ±1, ±2, ±3
+    # for even N, every position is a pixel edge: half a pixel from the nearest centre x_i
+    centres = pixel_x(640)
+    gap = np.abs(slide_pixel_positions(640)[:, None] - centres[None]).min(axis=1)
+    assert np.allclose(gap, 1.0 / 640)

@@ -78,3 +78,14 @@ def test_sweep_diagram_shows_three_times_and_the_growing_image():
     images = [ax.images[0].get_array() for ax in figure.axes[3:]]
     assert all(img.shape == (30, 96, 3) for img in images)
     plt.close(figure)
+
+
+def test_pixel_formulas_draws_the_centres_and_the_slides_positions_one_row_per_count():
+    from raykit.linescan.diagrams import pixel_formulas
+
+    figure = pixel_formulas((8, 7))
+    ax = figure.axes[0]
+    marks = [(line.get_marker(), len(line.get_xdata())) for line in ax.lines if line.get_marker()]
+    assert ("o", 8) in marks and ("x", 9) in marks  # N = 8: one slide position too many
+    assert ("o", 7) in marks and ("x", 7) in marks
+    plt.close(figure)

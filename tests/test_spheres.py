@@ -67,3 +67,23 @@ def test_tiny_far_sphere_stable_form_classifies_every_ray_textbook_does_not(dtyp
     assert 0.2 * n < exact.sum() < 0.8 * n  # the sample straddles the silhouette
     assert np.array_equal(stable, exact)
     assert (textbook != exact).sum() > 0.1 * n
+
+
+def test_textbook_formula_takes_the_lower_positive_root_in_the_slide_letters():
+    """o = (0, 0, 10), d = (0, 0, -1), c = 0, R = 2: A = 1, B = -20, C = 96, D = 16,
+    t = (20 ± 4)/2 = 8 or 12, and the lower one is the hit."""
+    o, d = rays([0, 0, 10], [0, 0, -1])
+    assert hit_sphere_textbook(o, d, np.zeros(3), 2.0)[0] == 8.0
+
+
+def test_stable_and_textbook_forms_agree_on_ordinary_rays():
+    """D = 4Δ and (-B ± √D)/2A = (-b' ± √Δ)/A with only powers of two between them: the forms
+    differ only in how they compute Δ and the cancelling root, which ordinary rays barely feel."""
+    rng = np.random.default_rng(19)
+    origins = rng.uniform(-5, 5, (500, 3)) + np.array([0, 0, 10])
+    directions = normalize(rng.uniform(-1, 1, (500, 3)) - origins / 10)
+    stable = hit_sphere(origins, directions, np.zeros(3), 2.0)
+    textbook = hit_sphere_textbook(origins, directions, np.zeros(3), 2.0)
+    assert (np.isfinite(stable) == np.isfinite(textbook)).all()
+    assert np.isfinite(stable).sum() > 20
+    assert stable[np.isfinite(stable)] == pytest.approx(textbook[np.isfinite(textbook)], rel=1e-9)

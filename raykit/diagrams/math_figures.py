@@ -6,6 +6,9 @@
   :func:`raykit.planes.hit_plane`.
 * :func:`dot_projection`: the dot product as a projection: r·u is the length of the shadow
   that r casts on the unit vector u.
+* :func:`plane_sides`: points in front of, on and behind a plane, as
+  :func:`raykit.planes.plane_side` sorts them, and the normal n = (p - a) × (q - a) that
+  :func:`raykit.planes.normal_from_points` makes from three points, drawn at its own length.
 
 Drawn in a 2D cross-section (k = 2): the math is the same in every dimension (raykit.rays).
 """
@@ -18,7 +21,7 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from matplotlib.patches import Circle
 
-from raykit.planes import hit_plane
+from raykit.planes import hit_plane, normal_from_points, plane_side
 from raykit.rays import dot, point_at
 from raykit.spheres import sphere_roots
 
@@ -143,4 +146,76 @@ def dot_projection(ax: Axes | None = None) -> Figure:
     ax.set_xticks([])
     ax.set_yticks([])
     ax.set_title("the dot product as a projection", fontsize=10)
+    return ax.figure
+
+
+SIDE_STYLE = {
+    1: ("tab:blue", "in front: p·n > a·n"),
+    0: ("black", "on: p·n = a·n"),
+    -1: ("tab:red", "behind: p·n < a·n"),
+}
+
+
+def plane_sides(axes: list[Axes] | None = None) -> Figure:
+    """Two panels: points coloured by :func:`raykit.planes.plane_side` about a plane (a line in
+    this 2D cross-section), and a triangle a, p, q with its normal (p - a) × (q - a) in 3D, not
+    unit length. ``axes``: two, the second a 3D axes."""
+    if axes is None:
+        figure = plt.figure(figsize=(10, 4.2), layout="constrained")
+        axes = [figure.add_subplot(1, 2, 1), figure.add_subplot(1, 2, 2, projection="3d")]
+    ax, ax3 = axes
+    a, n = np.array([0.0, 0.0]), np.array([0.75, 1.0])  # any length: the sides are its sign
+    along = np.array([n[1], -n[0]]) / np.linalg.norm(n)
+    rng = np.random.default_rng(433)
+    points = rng.uniform(-2, 2, (40, 2))
+    points = np.vstack([points, [[-1.5, 1.125], [1.75, -1.3125]]])  # two on it: p·n = a·n exactly
+    side = plane_side(points, a, n)
+    ax.plot(*np.stack([a - 2.6 * along, a + 2.6 * along]).T, color="black", lw=2)
+    ax.plot(*a, "ks")
+    ax.annotate("a", a, xytext=(-16, -4), textcoords="offset points", fontsize=11)
+    _arrow(ax, a, a + n, "n")
+    for value, (color, label) in SIDE_STYLE.items():
+        chosen = points[side == value]
+        ax.plot(
+            *chosen.T, "o", color=color, ms=5 + 3 * (value == 0), label=f"{label} ({len(chosen)})"
+        )
+    ax.legend(loc="lower left", fontsize=8, framealpha=0.9)
+    ax.set_xlim(-2.2, 2.2)
+    ax.set_ylim(-2.9, 2.2)
+    ax.set_aspect("equal")
+    ax.set_xticks([])
+    ax.set_yticks([])
+    ax.set_title("front and back: plane_side(p, a, n)", fontsize=10)
+
+    a3, p3, q3 = np.array([0.0, 0.0, 0.0]), np.array([2.0, 0.0, 0.0]), np.array([0.5, 1.5, 0.0])
+    n3 = normal_from_points(a3, p3, q3)
+    triangle = np.stack([a3, p3, q3, a3])
+    ax3.plot(*triangle.T, color="0.3")
+    ax3.plot_trisurf(*triangle[:3].T, color="0.85", alpha=0.6)
+    for point, name in ((a3, "a"), (p3, "p"), (q3, "q")):
+        ax3.scatter(*point, color="black", s=12)
+        ax3.text(*(point + np.array([0.05, -0.15, 0.0])), name, fontsize=11)
+    centre = triangle[:3].mean(axis=0)
+    ax3.quiver(*centre, *n3, color="tab:red", arrow_length_ratio=0.08, lw=1.6)
+    ax3.quiver(*centre, *(n3 / np.linalg.norm(n3)), color="tab:blue", arrow_length_ratio=0.2, lw=2)
+    ax3.text(
+        *(centre + np.array([0.1, 0, 0.8 * n3[2]])),
+        f"n = (p - a) × (q - a)\n|n| = {np.linalg.norm(n3):g}",
+        color="tab:red",
+        fontsize=9,
+    )
+    ax3.text(
+        *(centre + n3 / np.linalg.norm(n3) + np.array([0.15, 0, -0.3])),
+        "unit n",
+        color="tab:blue",
+        fontsize=9,
+    )
+    ax3.set_xlim(-0.5, 2.5)
+    ax3.set_ylim(-0.5, 2.0)
+    ax3.set_zlim(0, 3.2)
+    ax3.set_box_aspect((3.0, 2.5, 3.2))
+    ax3.view_init(elev=18, azim=-65)
+    for axis in (ax3.xaxis, ax3.yaxis, ax3.zaxis):
+        axis.set_ticklabels([])
+    ax3.set_title("normal from three points: normal does not mean normalized", fontsize=10)
     return ax.figure

@@ -12,9 +12,19 @@ Conventions (owned here; every line-scan module refers to this page)
   p_i = e + x_i·u + D·w. Pixel 0 is at x = -1, the end of the line on your *right*; the scan
   lists pixels in that order (index i), and so do sweep images (column i).
 * With n samples per pixel, sample k of pixel i sits at x = -1 + (i + (k + 0.5)/n)·2/N.
+* The slides give a second pixel formula (from 2D to 3D), u_i = i·2/N_cols for i = 0, ±1, …,
+  ±N_cols/2. raykit keeps it only to show it (:func:`slide_pixel_positions`): for even N_cols
+  it lists N_cols + 1 positions, not N_cols, the outer two exactly on the ends of the image
+  line (pixel edges, not centres), and it leaves no position at a pixel centre of x_i above
+  (they fall half a pixel between them). Every camera in raykit uses x_i.
 * Perspective rays start at e and go through p_i (direction p_i - e = x_i·u + D·w, unit
   length). Orthographic rays are parallel to w; their origins lie along an image line through e,
   ``width`` long: o_i = e + (width/2)·x_i·u (fov_angle plays no part).
+* The letter D. The slides use D for two things: here, the distance from e to the image line;
+  in the ray–sphere quadratic, the discriminant B² - 4AC (:mod:`raykit.spheres`). They never
+  meet in one formula, so raykit keeps the slide's letter in both places and spells the other
+  out where both could be meant: ``LineCamera.D`` is always this distance, and the sphere code
+  calls its D ``discriminant``.
 """
 
 from __future__ import annotations
@@ -63,6 +73,15 @@ def pixel_x(pixels: int, samples: int = 1) -> np.ndarray:
     k = np.tile(np.arange(samples), pixels)
     return -1.0 + (i + (k + 0.5) / samples) * (2.0 / pixels)
     # END SOLUTION
+
+
+def slide_pixel_positions(n_cols: int) -> np.ndarray:
+    """The slide's second formula as written: u_i = i·2/N_cols for i = 0, ±1, …, ±N_cols/2,
+    in increasing order, ``(2·(N_cols // 2) + 1,)``: N_cols + 1 positions for even N_cols (from
+    -1 to 1, both ends included), N_cols for odd (i up to ±(N_cols - 1)/2). Not used by any
+    camera; compare :func:`pixel_x` (see the module conventions)."""
+    i = np.arange(-(n_cols // 2), n_cols // 2 + 1)
+    return i * (2.0 / n_cols)
 
 
 def pixel_positions(camera: LineCamera, samples: int = 1) -> np.ndarray:

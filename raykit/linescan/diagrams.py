@@ -5,7 +5,9 @@ image line at distance D with its pixel centres and the scan's colours on it, th
 the objects, and the rays, each from its origin to the hit point the tracer returned, in the
 colour of what it hit (solid), or faded and dashed to the edge of the frame where it hits
 nothing; beside it, the scan as a strip of pixels. :func:`sweep_diagram` shows the world at a
-few scan times above the sweep image as far as it has grown.
+few scan times above the sweep image as far as it has grown. :func:`paths_of_light` draws
+photons leaving a light, most of them never reaching the image. :func:`pixel_formulas` sets the
+slide's second pixel formula, u_i = i·2/N, beside the pixel centres x_i that the cameras use.
 
 Nothing here computes geometry of its own: rays and hits come from
 :mod:`raykit.linescan.scan`. Figures stay readable in grey: misses are dashed, objects outlined.
@@ -24,8 +26,8 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Arc, Circle
 
 from raykit.billboards import OPAQUE_FROM
-from raykit.linescan.camera import pixel_positions
-from raykit.linescan.scan import Scan, scan, sweep
+from raykit.linescan.camera import pixel_positions, pixel_x, slide_pixel_positions
+from raykit.linescan.scan import Scan, scan, sweep, trace
 from raykit.linescan.scene import LineScene
 
 MAX_RAYS_DRAWN = 24
@@ -278,3 +280,123 @@ def sweep_diagram(
         bottom.set_xlabel("pixel i")
         bottom.set_ylabel("scan m")
     return fig
+
+
+def pixel_formulas(counts: tuple[int, ...] = (8, 7), ax: Axes | None = None) -> Figure:
+    """The image line from -1 to 1 cut into N pixels, once per N in ``counts``: the centres
+    x_i = -1 + (i + 0.5)·2/N (:func:`raykit.linescan.camera.pixel_x`, what raykit uses) as
+    dots, and the slide's u_i = i·2/N, i = 0, ±1, …, ±N/2
+    (:func:`raykit.linescan.camera.slide_pixel_positions`) as crosses, each row counted."""
+    if ax is None:
+        _, ax = plt.subplots(figsize=(8, 1.1 + 0.9 * len(counts)), layout="constrained")
+    for row, n in enumerate(counts):
+        y = -1.4 * row
+        edges = np.linspace(-1, 1, n + 1)
+        for left, right, shade in zip(edges[:-1], edges[1:], range(n), strict=True):
+            ax.fill_between([left, right], y - 0.3, y + 0.3, color=("0.93", "0.82")[shade % 2])
+        centres, slide = pixel_x(n), slide_pixel_positions(n)
+        ax.plot(
+            centres,
+            np.full(n, y),
+            "o",
+            color="tab:blue",
+            ms=7,
+            label="x_i = -1 + (i + 0.5)·2/N: pixel centres" if row == 0 else None,
+        )
+        ax.plot(
+            slide,
+            np.full(len(slide), y),
+            "x",
+            color="tab:red",
+            ms=10,
+            mew=2.2,
+            label="u_i = i·2/N, i = 0, ±1, …, ±N/2 (the slide)" if row == 0 else None,
+        )
+        ax.text(
+            1.08, y, f"N = {n}: {n} centres, {len(slide)} slide positions", va="center", fontsize=9
+        )
+    ax.axvline(-1, color="black", lw=1)
+    ax.axvline(1, color="black", lw=1)
+    ax.set_xlim(-1.1, 2.05)
+    ax.set_ylim(-1.4 * (len(counts) - 1) - 0.6, 0.9)
+    ax.set_yticks([])
+    ax.set_xticks([-1, -0.5, 0, 0.5, 1])
+    ax.set_xlabel("position on the image line (u)")
+    ax.legend(loc="upper left", fontsize=8, ncol=2, frameon=False)
+    for side in ("top", "right", "left"):
+        ax.spines[side].set_visible(False)
+    ax.set_title("the slide's second pixel formula against the pixel centres", fontsize=10)
+    return ax.figure
+
+
+def paths_of_light(
+    scene: LineScene,
+    light: tuple[float, float],
+    photons: int = 90,
+    seed: int = 0,
+    ax: Axes | None = None,
+) -> Figure:
+    """Photons leaving a point ``light`` (2,) in random directions (seeded), each to the first
+    thing it meets (the tracer's own :func:`raykit.linescan.scan.trace`). A photon *arrives* if
+    the camera sees the point it lit (the eye's ray toward it meets the same object there,
+    within the field of view): drawn solid, with its bounce to the eye; the rest faded, misses
+    dashed to the frame's edge. Returns the figure."""
+    if ax is None:
+        _, ax = plt.subplots(figsize=(8, 6), layout="constrained")
+    camera = scene.camera
+    u, w = camera.frame
+    e = np.asarray(camera.e, float)
+    rng = np.random.default_rng(seed)
+    angles = rng.uniform(0, 2 * np.pi, photons)
+    directions = np.column_stack([np.cos(angles), np.sin(angles)])
+    origins = np.broadcast_to(np.asarray(light, float), directions.shape).copy()
+    hits = trace(scene, origins, directions)
+    hit = np.isfinite(hits.t)
+    points = origins + np.where(hit, hits.t, 0.0)[:, None] * directions
+    to_point = points - e
+    distance = np.linalg.norm(to_point, axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        seen = trace(scene, np.broadcast_to(e, points.shape).copy(), to_point / distance[:, None])
+        inside = (to_point @ w) / distance >= math.cos(math.radians(camera.fov_angle) / 2)
+    arrives = hit & inside & (seen.index == hits.index)
+    arrives &= np.abs(seen.t - distance) <= 1e-9 * (distance + 1)
+    lower = np.minimum(e, np.asarray(light)) - 1.5
+    upper = np.maximum(e, np.asarray(light)) + 1.5
+    for obj in scene.balls:
+        lower = np.minimum(lower, obj.center - obj.radius - 0.5)
+        upper = np.maximum(upper, obj.center + obj.radius + 0.5)
+    ends = np.where(hit[:, None], points, _exit_points(origins, directions, lower, upper))
+    for k in np.flatnonzero(~arrives):
+        ax.plot(
+            *np.stack([origins[k], ends[k]]).T,
+            color="goldenrod",
+            alpha=0.35,
+            lw=0.8,
+            ls="-" if hit[k] else "--",
+            zorder=1,
+        )
+    for k in np.flatnonzero(arrives):
+        ax.plot(*np.stack([origins[k], points[k], e]).T, color="darkorange", lw=1.6, zorder=5)
+        ax.plot(*points[k], "o", color="darkorange", ms=4, zorder=6)
+    _draw_objects(ax, scene)
+    half = math.radians(camera.fov_angle) / 2
+    for sign in (-1, 1):  # the field of view's edges, and the image line
+        edge = w * math.cos(half) + sign * u * math.sin(half)
+        ax.plot(*np.stack([e, e + 2.2 * camera.D * edge]).T, color="0.5", lw=0.8, ls=":")
+    line = np.stack([e + camera.D * w - u, e + camera.D * w + u])
+    ax.plot(*line.T, color="black", lw=3)
+    ax.plot(*e, "ko", ms=6)
+    ax.annotate("eye e", e, xytext=(-10, -16), textcoords="offset points")
+    ax.plot(*light, "*", color="gold", mec="black", ms=18, zorder=7)
+    ax.annotate("light", light, xytext=(10, 6), textcoords="offset points")
+    ax.set_xlim(lower[0], upper[0])
+    ax.set_ylim(lower[1], upper[1])
+    ax.set_aspect("equal")
+    ax.set_xticks([])
+    ax.set_yticks([])
+    ax.set_title(
+        f"{photons} photons from the light: {int(hit.sum())} hit something, "
+        f"{int(arrives.sum())} bounce into the camera (solid); the rest never reach the image",
+        fontsize=10,
+    )
+    return ax.figure
