@@ -11,7 +11,7 @@ from pathlib import Path
 def arguments(doc: str, quick: str, repeats: int = 5) -> argparse.ArgumentParser:
     """The options every benchmark takes, ``--quick`` and ``--repeats``; ``doc`` is the
     script's docstring, whose first paragraph describes it."""
-    parser = argparse.ArgumentParser(description=doc.split("\n\n")[0])
+    parser = argparse.ArgumentParser(description=doc.split("\n\n")[0], allow_abbrev=False)
     parser.add_argument("--quick", action="store_true", help=quick)
     parser.add_argument("--repeats", type=int, default=repeats, help="runs per variant (median)")
     return parser

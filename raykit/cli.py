@@ -34,7 +34,7 @@ def _command(
     commands, name: str, *, summary: str, description: str, scene: str, output: str, samples: str
 ) -> argparse.ArgumentParser:
     """A subcommand with the arguments all share: the scene, -o and --samples."""
-    parser = commands.add_parser(name, help=summary, description=description)
+    parser = commands.add_parser(name, help=summary, description=description, allow_abbrev=False)
     parser.add_argument("scene", metavar=scene, help="the scene file")
     parser.add_argument("-o", "--output", required=True, metavar=output, help="image to write")
     parser.add_argument(
@@ -48,9 +48,13 @@ def _command(
 
 
 def build_parser() -> argparse.ArgumentParser:
+    # allow_abbrev=False everywhere: "--sample 4" is an error, not a silent "--samples 4"
     parser = argparse.ArgumentParser(
-        prog="raykit", description="raykit: the ray-tracing lecture's renderer and figures."
+        prog="raykit",
+        description="raykit: the ray-tracing lecture's renderer and figures.",
+        allow_abbrev=False,
     )
+    parser.add_argument("--version", action="version", version=f"raykit {_version()}")
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     render = _command(
@@ -117,6 +121,7 @@ def build_parser() -> argparse.ArgumentParser:
         description="Draw a 3D scene (JSON, format v1) and the rays of every K-th pixel, from "
         "the eye to what they hit, in 3D or in a top or side view; or draw its camera "
         "(--view camera: perspective and orthographic side by side).",
+        allow_abbrev=False,
     )
     diagram.add_argument("scene", metavar="SCENE.json", help="the scene file")
     diagram.add_argument(
@@ -146,12 +151,23 @@ def build_parser() -> argparse.ArgumentParser:
         description="Run benchmarks/render_speed.py, time_vs_error.py, shading_cost.py and "
         "mitsuba_compare.py (Mitsuba 3 when installed): tables of medians side by side, and "
         "with --plots, the plots.",
+        allow_abbrev=False,
     )
     bench.add_argument("--quick", action="store_true", help="small images, a short run")
     bench.add_argument("--repeats", type=_positive, default=3, help="runs per variant (median)")
     bench.add_argument("--plots", metavar="FOLDER", help="write the plots into this folder")
     bench.set_defaults(run=_run_bench)
     return parser
+
+
+def _version() -> str:
+    """The installed distribution's version (pyproject.toml's), from its metadata."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("raykit")
+    except PackageNotFoundError:  # run from a source tree that was never installed
+        return "(not installed)"
 
 
 def _positive(text: str) -> int:

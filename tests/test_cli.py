@@ -49,3 +49,30 @@ def test_unwritable_output_folder_is_one_line_exit_2(tmp_path, capsys):
 def test_help_lists_the_render_command():
     run = subprocess.run([sys.executable, "-m", "raykit", "--help"], capture_output=True, text=True)
     assert run.returncode == 0 and "render" in run.stdout
+
+
+def test_version_prints_the_installed_version():
+    from importlib.metadata import version
+
+    run = subprocess.run(
+        [sys.executable, "-m", "raykit", "--version"], capture_output=True, text=True
+    )
+    assert run.returncode == 0
+    assert run.stdout == f"raykit {version('raykit')}\n"
+
+
+def test_abbreviated_options_are_refused_not_guessed(tmp_path):
+    # "--sample 4" once silently meant "--samples 4"; every parser has allow_abbrev=False
+    for command in (
+        ["render", str(SCENES / "classic.json"), "-o", str(tmp_path / "o.png"), "--sample", "4"],
+        ["render", str(SCENES / "classic.json"), "--out", str(tmp_path / "o.png")],
+        ["diagram", str(SCENES / "classic.json"), "-o", str(tmp_path / "o.png"), "--vi", "top"],
+        ["bench", "--qu"],
+    ):
+        run = subprocess.run(
+            [sys.executable, "-m", "raykit", *command], capture_output=True, text=True
+        )
+        assert run.returncode == 2, command
+        assert "unrecognized arguments" in run.stderr or "required" in run.stderr, command
+        assert "Traceback" not in run.stderr
+    assert not (tmp_path / "o.png").exists()
