@@ -7,7 +7,8 @@
 
 Bad input (a :class:`raykit.errors.SceneError`, or an output file that cannot be written) is
 reported as one line on stderr with exit status 2, never as a traceback, and leaves no output
-file behind.
+file behind. Output paths are checked (folder, permission, suffix) before any rendering, so a
+long render is never thrown away for a typo in ``-o``.
 """
 
 from __future__ import annotations
@@ -192,9 +193,10 @@ def _load_3d(path: str):
 
 
 def _run_render(args: argparse.Namespace) -> None:
-    from raykit.images import save_image
+    from raykit.images import check_image_path, save_image
     from raykit.render import render
 
+    check_image_path(args.output)  # before the render, not after it is thrown away
     start = time.perf_counter()
     scene = _load_3d(args.scene)
     image = render(scene, samples=args.samples, adaptive=args.adaptive)
@@ -210,9 +212,13 @@ def _run_render(args: argparse.Namespace) -> None:
 def _run_scan(args: argparse.Namespace) -> None:
     import numpy as np
 
-    from raykit.images import save_image
+    from raykit.images import check_figure_path, check_image_path, save_image
     from raykit.linescan.scan import scan
     from raykit.linescan.scene import load_line_scene
+
+    check_image_path(args.output)
+    if args.diagram:
+        check_figure_path(args.diagram)
 
     start = time.perf_counter()
     scene = load_line_scene(args.scene)
@@ -226,9 +232,13 @@ def _run_scan(args: argparse.Namespace) -> None:
 
 
 def _run_sweep(args: argparse.Namespace) -> None:
-    from raykit.images import save_image
+    from raykit.images import check_figure_path, check_image_path, save_image
     from raykit.linescan.scan import sweep
     from raykit.linescan.scene import load_line_scene
+
+    check_image_path(args.output)
+    if args.diagram:
+        check_figure_path(args.diagram)
 
     start = time.perf_counter()
     scene = load_line_scene(args.scene)
@@ -242,6 +252,9 @@ def _run_sweep(args: argparse.Namespace) -> None:
 
 
 def _run_diagram(args: argparse.Namespace) -> None:
+    from raykit.images import check_figure_path
+
+    check_figure_path(args.output)
     start = time.perf_counter()
     scene = _load_3d(args.scene)
     if args.view == "camera":
