@@ -197,12 +197,16 @@ def _run_render(args: argparse.Namespace) -> None:
     from raykit.render import render
 
     check_image_path(args.output)  # before the render, not after it is thrown away
+    from raykit.progress import progress_bar
+
     start = time.perf_counter()
     scene = _load_3d(args.scene)
-    image = render(scene, samples=args.samples, adaptive=args.adaptive)
+    camera = scene.camera
+    # on a terminal, a bar of pixels done, tile by tile, once the render has taken a second
+    with progress_bar(camera.width * camera.height, "render", "px") as advance:
+        image = render(scene, samples=args.samples, adaptive=args.adaptive, progress=advance)
     save_image(image.rgb, args.output)
     seconds = time.perf_counter() - start
-    camera = scene.camera
     print(
         f"wrote {args.output} ({camera.width}x{camera.height}, "
         f"{args.samples}x{args.samples} samples per pixel) in {seconds:.2f} s"
@@ -281,19 +285,27 @@ def _run_bench(args: argparse.Namespace) -> None:
             "raykit bench runs from a clone of the repository: benchmarks/ is "
             f"not beside the installed package ({folder})"
         )
-    for script, plot in (
+    scripts = (
         ("render_speed.py", "time_vs_objects.png"),
         ("time_vs_error.py", "time_vs_error.png"),
         ("shading_cost.py", None),
         ("mitsuba_compare.py", None),
-    ):
+    )
+    for number, (script, plot) in enumerate(scripts, 1):
         command = [sys.executable, str(folder / script), "--repeats", str(args.repeats)]
         command += ["--quick"] if args.quick else []
         if args.plots and plot:
             Path(args.plots).mkdir(parents=True, exist_ok=True)
             command += ["--plot", str(Path(args.plots) / plot)]
+        # a line as each script starts and ends, on stderr: the tables on stdout stay clean
+        said = f"raykit bench: [{number}/{len(scripts)}] benchmarks/{script}"
+        print(f"{said} ...", file=sys.stderr, flush=True)
+        start = time.perf_counter()
+        sys.stdout.flush()
         if subprocess.run(command).returncode != 0:
             raise ValueError(f"benchmarks/{script} failed")
+        seconds = time.perf_counter() - start
+        print(f"{said}: done in {seconds:.0f} s", file=sys.stderr, flush=True)
         print(flush=True)
 
 

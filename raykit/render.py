@@ -20,6 +20,7 @@ mean of its samples' colours, taken before quantising to 8 bits (:mod:`raykit.im
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import partial
 
@@ -113,6 +114,7 @@ def render(
     skip_hidden: bool = True,
     adaptive: bool = False,
     dtype: type = np.float64,
+    progress: Callable[[int], object] | None = None,
 ) -> Render:
     """Render ``scene`` with ``samples`` x ``samples`` rays per pixel.
 
@@ -121,6 +123,8 @@ def render(
     ``adaptive``: take the n x n samples only in pixels at an edge (:mod:`raykit.adaptive`).
     ``dtype``: ``np.float32`` intersects in single precision, the scene moved to the eye first
     (:mod:`raykit.precision`); the default float64 uses the scene as it is.
+    ``progress``: called with each tile's pixel count as the tile is finished (width x height
+    in all; with ``adaptive``, as the tile's edge pixels are refined); a progress bar's update.
     """
     if samples < 1:
         raise ValueError(f"samples must be >= 1, got {samples}")
@@ -136,6 +140,7 @@ def render(
             first.rgb,
             edge,
             samples,
+            progress,
         )
         return first
     secondary = secondary_caster(scene) if needs_shading(scene) else None
@@ -162,6 +167,8 @@ def render(
             hits, _ = _colors(scene, region, x, y, dtype, None, grid=(0.5, 0.5))
             object_index[pixels] = hits.index.reshape(shape)
             t_image[pixels] = hits.t.reshape(shape)
+        if progress is not None:
+            progress(shape[0] * shape[1])
 
     rgb /= len(offsets)
     return Render(rgb, object_index, t_image)
