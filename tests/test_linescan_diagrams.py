@@ -78,3 +78,13 @@ def test_sweep_diagram_shows_three_times_and_the_growing_image():
     images = [ax.images[0].get_array() for ax in figure.axes[3:]]
     assert all(img.shape == (30, 96, 3) for img in images)
     plt.close(figure)
+
+
+@pytest.mark.parametrize("name", ["passing_car", "conveyor"])
+def test_sweep_diagram_panels_share_one_frame(name):
+    # a frame per panel made the (moving) camera seem to jump between them
+    figure = sweep_diagram(load_line_scene(SCENES / f"linescan/{name}.json"), scans=40)
+    worlds = figure.axes[:3]
+    assert len({ax.get_xlim() for ax in worlds}) == 1
+    assert len({ax.get_ylim() for ax in worlds}) == 1
+    plt.close(figure)
