@@ -36,7 +36,7 @@ from raykit.lights import toward_light
 from raykit.mirrors import reflect
 from raykit.rays import dot, normalize
 from raykit.scene import Scene
-from raykit.shadows import Caster, in_shadow
+from raykit.shadows import Caster, in_shadow, light_reach
 from raykit.surfaces import SurfacePoints, surface_points
 
 
@@ -158,13 +158,14 @@ def surface_color(
     shiny = table.specular[index].any(axis=1)
     shadows = casts_shadows(scene)
     for light in scene.lights:
-        l, distance = toward_light(light, surface.points)
+        l, _ = toward_light(light, surface.points)  # the shadow ray's reach: light_reach
         lit = np.flatnonzero(dot(surface.normals, l) > 0)
         if shadows and len(lit):
             facing = surface.take(lit)
-            blocked = in_shadow(cast, facing, l[lit], distance[lit])
+            reach = light_reach(facing, l[lit], light)  # from the offset start, less its margin
+            blocked = in_shadow(cast, facing, l[lit], reach)
             if paths is not None:
-                _record_shadow_rays(paths, cast, facing, l[lit], distance[lit], blocked, ray[lit])
+                _record_shadow_rays(paths, cast, facing, l[lit], reach, blocked, ray[lit])
             lit = lit[~blocked]
         n = surface.normals
         total[lit] += lambert(kd[lit], light.color, n[lit], l[lit])

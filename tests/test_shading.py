@@ -406,3 +406,25 @@ def test_float32_changes_no_object_and_little_colour_on_the_lit_scenes():
         assert np.array_equal(wide.object_index, single.object_index), name
         changed = np.any(quantize(wide.rgb) != quantize(single.rgb), axis=-1)
         assert changed.mean() <= 0.002, (name, changed.sum())
+
+
+def test_a_lamp_on_a_wall_is_not_shadowed_by_that_wall():
+    # the shadow ray's reach is measured from its offset start and shortened by the offset at
+    # the light's end, so the surface the lamp sits on never blocks it (it used to speckle)
+    floor = {"upper_left": [-4, -1, -6], "lower_left": [-4, -1, 4], "upper_right": [4, -1, -6]}
+    wall = {"upper_left": [-4, 3, -2], "lower_left": [-4, -1, -2], "upper_right": [4, 3, -2]}
+    camera = {"eye": [0, 1, 6], "lookat": [0, 0, -2], "up": [0, 1, 0], "fov_angle": 60}
+    for position in ([0.3, 1.7, -2], [0.1, 0.2, -2], [1 / 3, 2 / 3, -2]):
+        scene = scene_dict(
+            camera=camera | {"width": 160, "height": 120},
+            spheres=[],
+            billboards=[{**floor, "color": [0.6, 0.6, 0.6]}, {**wall, "color": [0.3, 0.3, 0.8]}],
+            lights=[{"type": "point", "position": position}],
+        )
+        shadowed = render(scene_from_dict(scene)).rgb
+        unshadowed = render(scene_from_dict(scene | {"shadows": False})).rgb
+        assert np.array_equal(shadowed, unshadowed), position
+        # a ball just in front of the lamp still casts a shadow on the floor
+        ball = {"center": [position[0], position[1], -1.9], "radius": 0.05, "color": [1, 1, 1]}
+        blocked = render(scene_from_dict(scene | {"spheres": [ball]})).rgb
+        assert (blocked.sum(axis=-1) < unshadowed.sum(axis=-1) - 1e-9).any(), position
