@@ -8,7 +8,7 @@ surface point (the conventions of :mod:`raykit.lights`):
 * ka·Ia: ambient light, the same everywhere (ka = kd, :mod:`raykit.materials`);
 * kd·I·max(0, n·l): Lambert's diffuse term, :func:`lambert`;
 * ks·I·max(0, n·h)^p with h = (l + v)/|l + v| and v = -d: Blinn-Phong's highlight,
-  :func:`blinn_phong`;
+  :func:`blinn_phong`; where l + v = 0 exactly, h is undefined and there is no highlight;
 * "visible": the light is not blocked (:mod:`raykit.shadows`). A light behind the surface
   (n·l <= 0) adds nothing, highlight included: it cannot light the side it does not reach;
 * km·L(r): what the mirror reflects (:mod:`raykit.mirrors`).
@@ -170,6 +170,9 @@ def surface_color(
         n = surface.normals
         total[lit] += lambert(kd[lit], light.color, n[lit], l[lit])
         highlight = lit[shiny[lit]]
+        # h = (l + v)/|l + v| is undefined where l + v = 0 (seen from inside a sphere, a light
+        # straight behind the point): no highlight there, rather than NaN
+        highlight = highlight[np.any(l[highlight] + v[highlight] != 0, axis=1)]
         if len(highlight):
             which = index[highlight]
             total[highlight] += blinn_phong(

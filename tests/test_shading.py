@@ -408,6 +408,26 @@ def test_float32_changes_no_object_and_little_colour_on_the_lit_scenes():
         assert changed.mean() <= 0.002, (name, changed.sum())
 
 
+def _inside_a_sphere(light: dict, **sphere) -> np.ndarray:
+    """The camera at a big sphere's centre, looking along -z; its one light ``light``."""
+    scene = scene_dict(
+        camera={"eye": [0, 0, 0], "lookat": [0, 0, -1], "up": [0, 1, 0], "fov_angle": 90}
+        | {"width": 5, "height": 5},
+        spheres=[{"center": [0, 0, 0], "radius": 3, "color": [0.5, 0.5, 0.5], **sphere}],
+        lights=[light],
+    )
+    return render(scene_from_dict(scene)).rgb
+
+
+def test_no_highlight_where_the_half_vector_is_undefined():
+    # seen from inside, the centre pixel's ray runs straight toward the light: l = -v, l + v = 0
+    image = _inside_a_sphere(
+        {"type": "directional", "direction": [0, 0, 1]}, specular=[1, 1, 1], shininess=8
+    )
+    assert np.isfinite(image).all()
+    assert image[2, 2].tolist() == [0.5, 0.5, 0.5]  # diffuse only, no NaN
+
+
 def test_a_lamp_on_a_wall_is_not_shadowed_by_that_wall():
     # the shadow ray's reach is measured from its offset start and shortened by the offset at
     # the light's end, so the surface the lamp sits on never blocks it (it used to speckle)
