@@ -408,6 +408,22 @@ def test_float32_changes_no_object_and_little_colour_on_the_lit_scenes():
         assert changed.mean() <= 0.002, (name, changed.sum())
 
 
+# -- rules the format docs settle (docs/scene-format.md, "Settled details") -------------------
+
+
+def test_an_empty_lights_list_is_unlit_and_black_ambient_is_lit(monkeypatch):
+    plain = render(scene_from_dict(scene_dict(background=[0, 0, 0.5]))).rgb
+    no_lights = scene_from_dict(scene_dict(background=[0, 0, 0.5], lights=[]))
+    assert not no_lights.lit
+    assert np.array_equal(render(no_lights).rgb, plain)  # flat colours, as with no field
+    black = scene_from_dict(scene_dict(background=[0, 0, 0.5], ambient=[0, 0, 0]))
+    assert black.lit  # ambient counts as lit, even black: L = ka·0 = 0 on every object
+    image = render(black)
+    hit = image.object_index >= 0
+    assert hit.any() and (image.rgb[hit] == 0).all()
+    assert (image.rgb[~hit] == [0, 0, 0.5]).all()  # the background is never shaded
+
+
 def _inside_a_sphere(light: dict, **sphere) -> np.ndarray:
     """The camera at a big sphere's centre, looking along -z; its one light ``light``."""
     scene = scene_dict(
@@ -417,6 +433,17 @@ def _inside_a_sphere(light: dict, **sphere) -> np.ndarray:
         lights=[light],
     )
     return render(scene_from_dict(scene)).rgb
+
+
+def test_inside_a_sphere_the_normal_still_points_out():
+    # a light outside lights the inside wherever the outward normal faces it: n·l > 0 with
+    # n = (p - c)/r, as if the wall let the light through
+    outside = _inside_a_sphere({"type": "directional", "direction": [0, 0, 1]})
+    assert outside[2, 2].tolist() == [0.5, 0.5, 0.5]  # n = (0, 0, -1) = l: kd·I·1
+    assert (outside[:, :, 0] > 0).all()  # every pixel sees the lit far wall
+    # a light inside lights none of it: n·l < 0 at every point of the wall
+    inside = _inside_a_sphere({"type": "point", "position": [0.5, 0.2, 0.1]})
+    assert (inside == 0).all()
 
 
 def test_no_highlight_where_the_half_vector_is_undefined():
