@@ -411,7 +411,7 @@ def test_float32_changes_no_object_and_little_colour_on_the_lit_scenes():
 # -- rules the format docs settle (docs/scene-format.md, "Settled details") -------------------
 
 
-def test_an_empty_lights_list_is_unlit_and_black_ambient_is_lit(monkeypatch):
+def test_an_empty_lights_list_is_unlit_and_black_ambient_is_lit():
     plain = render(scene_from_dict(scene_dict(background=[0, 0, 0.5]))).rgb
     no_lights = scene_from_dict(scene_dict(background=[0, 0, 0.5], lights=[]))
     assert not no_lights.lit
