@@ -239,6 +239,7 @@ def _run_sweep(args: argparse.Namespace) -> None:
     from raykit.images import check_figure_path, check_image_path, save_image
     from raykit.linescan.scan import sweep
     from raykit.linescan.scene import load_line_scene
+    from raykit.progress import progress_bar
 
     check_image_path(args.output)
     if args.diagram:
@@ -247,7 +248,9 @@ def _run_sweep(args: argparse.Namespace) -> None:
     start = time.perf_counter()
     scene = load_line_scene(args.scene)
     scans = args.scans or scene.scans
-    save_image(sweep(scene, scans, samples=args.samples).image, args.output)
+    with progress_bar(scans, "sweep", "scan") as advance:  # on a terminal, after a second
+        taken = sweep(scene, scans, samples=args.samples, progress=advance)
+    save_image(taken.image, args.output)
     wrote = [f"{args.output} ({scans} scans x {scene.camera.pixels} pixels)"]
     if args.diagram:
         _save_figure("raykit.linescan.diagrams", "sweep_diagram", scene, args.diagram, scans=scans)

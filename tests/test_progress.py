@@ -56,6 +56,17 @@ def test_render_reports_every_pixel_once(adaptive):
     assert (plain.rgb == reported.rgb).all()
 
 
+def test_sweep_reports_every_scan_once():
+    from raykit.linescan.scan import sweep
+    from raykit.linescan.scene import load_line_scene
+
+    done = []
+    scene = load_line_scene(SCENES / "linescan/conveyor.json")
+    taken = sweep(scene, 12, progress=done.append)
+    assert done == [1] * 12
+    assert (taken.image == sweep(scene, 12).image).all()
+
+
 def test_the_command_line_prints_no_bar_into_captured_output(tmp_path):
     run = subprocess.run(
         [sys.executable, "-m", "raykit", "render", str(SCENES / "cutouts.json")]
