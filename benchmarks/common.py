@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import statistics
+import textwrap
 import time
 from pathlib import Path
 
@@ -11,7 +12,7 @@ from pathlib import Path
 def arguments(doc: str, quick: str, repeats: int = 5) -> argparse.ArgumentParser:
     """The options every benchmark takes, ``--quick`` and ``--repeats``; ``doc`` is the
     script's docstring, whose first paragraph describes it."""
-    parser = argparse.ArgumentParser(description=doc.split("\n\n")[0])
+    parser = argparse.ArgumentParser(description=doc.split("\n\n")[0], allow_abbrev=False)
     parser.add_argument("--quick", action="store_true", help=quick)
     parser.add_argument("--repeats", type=int, default=repeats, help="runs per variant (median)")
     return parser
@@ -51,6 +52,43 @@ def loglog_plot(
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     ax.legend()
+    save_figure(figure, path)
+    plt.close(figure)
+    print(f"\nwrote {path}")
+
+
+def bar_plot(
+    path: Path, groups: list[str], series: dict[str, list], ylabel: str, title: str = ""
+) -> None:
+    """Bars side by side per group, one colour per ``label: values`` in seconds (None: no
+    bar), drawn in milliseconds from zero with each bar's value on it, written to ``path``."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    from raykit.io.images import save_figure
+
+    figure, ax = plt.subplots(figsize=(max(5, 2 * len(groups)), 3.5), layout="constrained")
+    width = 0.8 / max(1, len(series))
+    for k, (label, values) in enumerate(series.items()):
+        shown = [(g, v) for g, v in enumerate(values) if v is not None]
+        bars = ax.bar(
+            [g + (k - (len(series) - 1) / 2) * width for g, _ in shown],
+            [v * 1000 for _, v in shown],
+            width,
+            label=label,
+        )
+        ax.bar_label(bars, fmt="%.0f", fontsize=7, padding=1)
+    ax.set_xticks(
+        np.arange(len(groups)), [textwrap.fill(g, 14, break_long_words=False) for g in groups]
+    )
+    ax.set_ylabel(ylabel)
+    ax.margins(y=0.12)  # room for the labels on the tallest bars
+    if title:
+        ax.set_title(title, fontsize=9)
+    ax.legend(fontsize=8)
     save_figure(figure, path)
     plt.close(figure)
     print(f"\nwrote {path}")

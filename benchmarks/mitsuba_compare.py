@@ -1,7 +1,7 @@
 """raykit against Mitsuba 3 on the same scenes, in one run: load and render times, 1 sample
 per pixel, pure ray casting.
 
-    python benchmarks/mitsuba_compare.py [--quick] [--repeats N]
+    python benchmarks/mitsuba_compare.py [--quick] [--repeats N] [--plot mitsuba_compare.png]
 
 Mitsuba is an optional benchmark dependency, never a runtime one (``pip install mitsuba``).
 Its ``llvm_ad_rgb`` variant needs an LLVM it can load: on Debian 12, ``apt install libllvm19``
@@ -19,7 +19,8 @@ the table gives the share of pixels on which both agree whether anything is hit.
 
 Load: raykit from its JSON data (validation included), Mitsuba ``load_dict``. Render: the
 median of ``--repeats`` renders after one warm-up render (for ``llvm_ad_rgb`` the warm-up
-compiles its kernels; that first render is shown too).
+compiles its kernels; that first render is shown too). ``--plot`` draws the render medians as
+bars per scene, one per renderer (raykit's alone when Mitsuba is not installed).
 """
 
 from __future__ import annotations
@@ -37,7 +38,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-from common import arguments, median_time, seconds  # noqa: E402
+from common import arguments, bar_plot, median_time, seconds  # noqa: E402
 
 from raykit.io.scene_json import load_scene, scene_from_dict  # noqa: E402
 from raykit.render import render  # noqa: E402
@@ -182,8 +183,24 @@ def mitsuba_in_child(variant: str, data: dict, repeats: int) -> dict | str:
     return json.loads(run.stdout)
 
 
+def plot(path: Path, rows: list[dict]) -> None:
+    """The render medians as bars: a group per scene, a bar per renderer. ``rows``:
+    ``{"scene", "renderer", "render"}`` (seconds, or None for a variant that failed)."""
+    scenes = list(dict.fromkeys(row["scene"] for row in rows))
+    renderers = list(dict.fromkeys(row["renderer"] for row in rows))
+    times = {(row["scene"], row["renderer"]): row["render"] for row in rows}
+    bar_plot(
+        path,
+        scenes,
+        {r: [times.get((s, r)) for s in scenes] for r in renderers},
+        "render time, median (ms)",
+        "raykit against Mitsuba 3, 1 sample per pixel",
+    )
+
+
 def main() -> None:
     parser = arguments(__doc__, "small scenes")
+    parser.add_argument("--plot", type=Path, help="write the render medians as bars here")
     parser.add_argument("--child", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.child:
@@ -202,6 +219,7 @@ def main() -> None:
         "| hit masks agree |"
     )
     print("|---|---|---|---|---|---|---|")
+    rows = []
     for name, scene in benchmark_scenes(args.quick).items():
         data = scene_data(scene)
         start = time.perf_counter()
@@ -212,6 +230,7 @@ def main() -> None:
         first = time.perf_counter() - start
         _, render_time = median_time(lambda s=loaded: render(s), args.repeats)
         ours = first_image.object_index >= 0
+        rows.append({"scene": name, "renderer": "raykit", "render": render_time})
         print(
             f"| {name} | raykit | {seconds(load, 1)} | {seconds(first, 1)} "
             f"| {seconds(render_time, 1)} | {seconds(load + render_time, 1)} | - |"
@@ -220,9 +239,12 @@ def main() -> None:
             continue
         for variant in VARIANTS:
             result = mitsuba_in_child(variant, data, args.repeats)
+            renderer = f"Mitsuba {version} {variant}"
             if isinstance(result, str):
-                print(f"| {name} | Mitsuba {version} {variant} | {result} | | | | |")
+                print(f"| {name} | {renderer} | {result} | | | | |")
+                rows.append({"scene": name, "renderer": renderer, "render": None})
                 continue
+            rows.append({"scene": name, "renderer": renderer, "render": result["render"]})
             agree = np.mean(np.array(result["hit"]) == ours)
             print(
                 f"| {name} | Mitsuba {version} {variant} | {seconds(result['load'], 1)} "
@@ -232,6 +254,8 @@ def main() -> None:
     print(
         f"\nMedians of {args.repeats} renders after a warm-up; load and render in one process each."
     )
+    if args.plot:
+        plot(args.plot, rows)
 
 
 if __name__ == "__main__":

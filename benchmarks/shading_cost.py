@@ -1,6 +1,6 @@
 """What shading costs, and what skipping saves, side by side in one run.
 
-    python benchmarks/shading_cost.py [--quick] [--repeats N]
+    python benchmarks/shading_cost.py [--quick] [--repeats N] [--plot shading_cost.png]
 
 Table 1, per scene: the render with its lights, shadows and mirrors, against the same scene
 with them taken away (flat colours, as in scene format v1) and against the same render with
@@ -13,6 +13,7 @@ lit sphereflakes with every ball a weak mirror: the renderer picks the BVH from
 ``raykit.render.BVH_FROM`` objects on.
 
 Times are medians of ``--repeats`` renders (not loading). ``--quick`` uses small images.
+``--plot`` draws table 1's times as bars per scene.
 """
 
 from __future__ import annotations
@@ -26,7 +27,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-from common import arguments, median_time, seconds  # noqa: E402
+from common import arguments, bar_plot, median_time, seconds  # noqa: E402
 
 import raykit.engine.regions  # noqa: E402
 import raykit.render  # noqa: E402
@@ -97,8 +98,24 @@ def bvh_caster(scene: Scene, cast_scene=cast, arrays=None):
     return BVH.build(scene, arrays).cast
 
 
+def plot(path: Path, rows: list[dict]) -> None:
+    """Table 1 as bars: per scene, the flat, shaded and unculled render times (seconds)."""
+    bar_plot(
+        path,
+        [row["scene"] for row in rows],
+        {
+            "flat (v1)": [row["flat"] for row in rows],
+            "shaded": [row["shaded"] for row in rows],
+            "shaded, no culling": [row["unculled"] for row in rows],
+        },
+        "render time (ms)",
+        f"what shading costs, {rows[0]['image']}" if rows else "",
+    )
+
+
 def main() -> None:
     parser = arguments(__doc__, "small images, for CI")
+    parser.add_argument("--plot", type=Path, help="write table 1's times as bars here")
     args = parser.parse_args()
     print("$ python benchmarks/shading_cost.py " + " ".join(sys.argv[1:]) + "\n")
     width, height = (160, 120) if args.quick else (640, 480)
@@ -110,6 +127,7 @@ def main() -> None:
     )
     print("|---|---|---|---|---|---|---|---|---|")
     original = raykit.engine.regions.secondary_caster
+    rows = []
     for name in ["classic", *EXAMPLES]:
         scene = sized(load_scene(scenes_folder / f"{name}.json"), width, height)
         flat_scene = unlit(scene)
@@ -119,6 +137,10 @@ def main() -> None:
         _, unculled = median_time(lambda s=scene: render(s), args.repeats)
         raykit.engine.regions.secondary_caster = original
         rays = secondary_rays(scene)
+        rows.append(
+            {"scene": name, "image": f"{width}x{height}", "flat": flat, "shaded": shaded}
+            | {"unculled": unculled}
+        )
         print(
             f"| {name} | {width}x{height} | {seconds(flat)} | {seconds(shaded)} "
             f"| {shaded / flat:.2f} | {seconds(unculled)} | {unculled / shaded:.2f} "
@@ -142,6 +164,8 @@ def main() -> None:
             f"| {seconds(through_bvh)} | {brute / through_bvh:.1f}x |"
         )
     print(f"\nMedians of {args.repeats} renders; the two variants give the same image (checked).")
+    if args.plot:
+        plot(args.plot, rows)
 
 
 if __name__ == "__main__":

@@ -7,7 +7,8 @@
 
 Bad input (a :class:`raykit.io.errors.SceneError`, or an output file that cannot be written) is
 reported as one line on stderr with exit status 2, never as a traceback, and leaves no output
-file behind.
+file behind. Output paths are checked (folder, permission, suffix) before any rendering, so a
+long render is never thrown away for a typo in ``-o``.
 """
 
 from __future__ import annotations
@@ -34,7 +35,7 @@ def _command(
     commands, name: str, *, summary: str, description: str, scene: str, output: str, samples: str
 ) -> argparse.ArgumentParser:
     """A subcommand with the arguments all share: the scene, -o and --samples."""
-    parser = commands.add_parser(name, help=summary, description=description)
+    parser = commands.add_parser(name, help=summary, description=description, allow_abbrev=False)
     parser.add_argument("scene", metavar=scene, help="the scene file")
     parser.add_argument("-o", "--output", required=True, metavar=output, help="image to write")
     parser.add_argument(
@@ -48,9 +49,13 @@ def _command(
 
 
 def build_parser() -> argparse.ArgumentParser:
+    # allow_abbrev=False everywhere: "--sample 4" is an error, not a silent "--samples 4"
     parser = argparse.ArgumentParser(
-        prog="raykit", description="raykit: the ray-tracing lecture's renderer and figures."
+        prog="raykit",
+        description="raykit: the ray-tracing lecture's renderer and figures.",
+        allow_abbrev=False,
     )
+    parser.add_argument("--version", action="version", version=f"raykit {_version()}")
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     render = _command(
@@ -117,6 +122,7 @@ def build_parser() -> argparse.ArgumentParser:
         description="Draw a 3D scene (JSON, format v1) and the rays of every K-th pixel, from "
         "the eye to what they hit, in 3D or in a top or side view; or draw its camera "
         "(--view camera: perspective and orthographic side by side).",
+        allow_abbrev=False,
     )
     diagram.add_argument("scene", metavar="SCENE.json", help="the scene file")
     diagram.add_argument(
@@ -143,15 +149,26 @@ def build_parser() -> argparse.ArgumentParser:
     bench = commands.add_parser(
         "bench",
         help="run the benchmarks (from a clone of the repository)",
-        description="Run benchmarks/render_speed.py, time_vs_error.py, shading_cost.py and "
-        "mitsuba_compare.py (Mitsuba 3 when installed): tables of medians side by side, and "
-        "with --plots, the plots.",
+        description="Run benchmarks/render_speed.py, time_vs_error.py, shading_cost.py, "
+        "mitsuba_compare.py (Mitsuba 3 when installed), object_order.py and "
+        "forward_backward.py: tables of medians side by side, and with --plots, the plots.",
+        allow_abbrev=False,
     )
     bench.add_argument("--quick", action="store_true", help="small images, a short run")
     bench.add_argument("--repeats", type=_positive, default=3, help="runs per variant (median)")
     bench.add_argument("--plots", metavar="FOLDER", help="write the plots into this folder")
     bench.set_defaults(run=_run_bench)
     return parser
+
+
+def _version() -> str:
+    """The installed distribution's version (pyproject.toml's), from its metadata."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("raykit")
+    except PackageNotFoundError:  # run from a source tree that was never installed
+        return "(not installed)"
 
 
 def _positive(text: str) -> int:
@@ -176,15 +193,20 @@ def _load_3d(path: str):
 
 
 def _run_render(args: argparse.Namespace) -> None:
-    from raykit.io.images import save_image
+    from raykit.io.images import check_image_path, save_image
     from raykit.render import render
+
+    check_image_path(args.output)  # before the render, not after it is thrown away
+    from raykit.io.progress import progress_bar
 
     start = time.perf_counter()
     scene = _load_3d(args.scene)
-    image = render(scene, samples=args.samples, adaptive=args.adaptive)
+    camera = scene.camera
+    # on a terminal, a bar of pixels done, tile by tile, once the render has taken a second
+    with progress_bar(camera.width * camera.height, "render", "px") as advance:
+        image = render(scene, samples=args.samples, adaptive=args.adaptive, progress=advance)
     save_image(image.rgb, args.output)
     seconds = time.perf_counter() - start
-    camera = scene.camera
     print(
         f"wrote {args.output} ({camera.width}x{camera.height}, "
         f"{args.samples}x{args.samples} samples per pixel) in {seconds:.2f} s"
@@ -194,9 +216,13 @@ def _run_render(args: argparse.Namespace) -> None:
 def _run_scan(args: argparse.Namespace) -> None:
     import numpy as np
 
-    from raykit.io.images import save_image
+    from raykit.io.images import check_figure_path, check_image_path, save_image
     from raykit.io.linescan_json import load_line_scene
     from raykit.linescan.scan import scan
+
+    check_image_path(args.output)
+    if args.diagram:
+        check_figure_path(args.diagram)
 
     start = time.perf_counter()
     scene = load_line_scene(args.scene)
@@ -210,14 +236,21 @@ def _run_scan(args: argparse.Namespace) -> None:
 
 
 def _run_sweep(args: argparse.Namespace) -> None:
-    from raykit.io.images import save_image
+    from raykit.io.images import check_figure_path, check_image_path, save_image
     from raykit.io.linescan_json import load_line_scene
+    from raykit.io.progress import progress_bar
     from raykit.linescan.scan import sweep
+
+    check_image_path(args.output)
+    if args.diagram:
+        check_figure_path(args.diagram)
 
     start = time.perf_counter()
     scene = load_line_scene(args.scene)
     scans = args.scans or scene.scans
-    save_image(sweep(scene, scans, samples=args.samples).image, args.output)
+    with progress_bar(scans, "sweep", "scan") as advance:  # on a terminal, after a second
+        taken = sweep(scene, scans, samples=args.samples, progress=advance)
+    save_image(taken.image, args.output)
     wrote = [f"{args.output} ({scans} scans x {scene.camera.pixels} pixels)"]
     if args.diagram:
         _save_figure("raykit.linescan.diagrams", "sweep_diagram", scene, args.diagram, scans=scans)
@@ -226,6 +259,9 @@ def _run_sweep(args: argparse.Namespace) -> None:
 
 
 def _run_diagram(args: argparse.Namespace) -> None:
+    from raykit.io.images import check_figure_path
+
+    check_figure_path(args.output)
     start = time.perf_counter()
     scene = _load_3d(args.scene)
     if args.view == "camera":
@@ -252,19 +288,29 @@ def _run_bench(args: argparse.Namespace) -> None:
             "raykit bench runs from a clone of the repository: benchmarks/ is "
             f"not beside the installed package ({folder})"
         )
-    for script, plot in (
+    scripts = (
         ("render_speed.py", "time_vs_objects.png"),
         ("time_vs_error.py", "time_vs_error.png"),
-        ("shading_cost.py", None),
-        ("mitsuba_compare.py", None),
-    ):
+        ("shading_cost.py", "shading_cost.png"),
+        ("mitsuba_compare.py", "mitsuba_compare.png"),
+        ("object_order.py", "object_order.png"),
+        ("forward_backward.py", "forward_backward.png"),
+    )
+    for number, (script, plot) in enumerate(scripts, 1):  # every script draws a plot
         command = [sys.executable, str(folder / script), "--repeats", str(args.repeats)]
         command += ["--quick"] if args.quick else []
-        if args.plots and plot:
+        if args.plots:
             Path(args.plots).mkdir(parents=True, exist_ok=True)
             command += ["--plot", str(Path(args.plots) / plot)]
+        # a line as each script starts and ends, on stderr: the tables on stdout stay clean
+        said = f"raykit bench: [{number}/{len(scripts)}] benchmarks/{script}"
+        print(f"{said} ...", file=sys.stderr, flush=True)
+        start = time.perf_counter()
+        sys.stdout.flush()
         if subprocess.run(command).returncode != 0:
             raise ValueError(f"benchmarks/{script} failed")
+        seconds = time.perf_counter() - start
+        print(f"{said}: done in {seconds:.0f} s", file=sys.stderr, flush=True)
         print(flush=True)
 
 
@@ -297,6 +343,9 @@ def main(argv: Sequence[str] | None = None) -> int:
             else (f"{exc.filename}: {exc.strerror}")
         )
         print(f"raykit: error: {message}", file=sys.stderr)
+        return 2
+    except NotImplementedError as exc:  # the starter kit, before its functions are written
+        print(f"raykit: error: not written yet: {exc}", file=sys.stderr)
         return 2
     return 0
 

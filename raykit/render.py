@@ -25,6 +25,7 @@ mean of its samples' colours, taken before quantising to 8 bits (:mod:`raykit.io
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -59,6 +60,7 @@ def render(
     skip_hidden: bool = True,
     adaptive: bool = False,
     dtype: type = np.float64,
+    progress: Callable[[int], object] | None = None,
 ) -> Render:
     """Render ``scene`` with ``samples`` x ``samples`` rays per pixel.
 
@@ -67,8 +69,10 @@ def render(
     ``adaptive``: take the n x n samples only in pixels at an edge (:mod:`raykit.engine.adaptive`).
     ``dtype``: ``np.float32`` intersects in single precision, the scene moved to the eye first
     (:mod:`raykit.engine.precision`); the default float64 uses the scene as it is.
+    ``progress``: called with each tile's pixel count as the tile is finished (width x height
+    in all; with ``adaptive``, as the tile's edge pixels are refined); a progress bar's update.
     """
-    plan = Plan(scene, cast, samples, skip_hidden=skip_hidden, dtype=dtype)
+    plan = Plan(scene, cast, samples, skip_hidden=skip_hidden, dtype=dtype, progress=progress)
     if adaptive and samples > 1:
         return _adaptive(scene, plan)
     image = Image(plan)
@@ -93,7 +97,7 @@ def _adaptive(scene: Scene, plan: Plan) -> Render:
     first = render(scene, 1, skip_hidden=plan.skip_hidden, dtype=plan.dtype)
     edge = edge_pixels(first.rgb, first.object_index)
     colors = lambda region, x, y: plan.colors_at(region, x, y, illumination)  # noqa: E731
-    refine(plan.regions(), colors, first.rgb, edge, plan.samples)
+    refine(plan.regions(), colors, first.rgb, edge, plan.samples, plan.progress)
     return first
 
 

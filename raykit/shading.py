@@ -8,7 +8,7 @@ surface point (the conventions of :mod:`raykit.lights`):
 * ka·Ia: ambient light, the same everywhere (ka = kd, :mod:`raykit.materials`);
 * kd·I·max(0, n·l): Lambert's diffuse term, :func:`lambert`;
 * ks·I·max(0, n·h)^p with h = (l + v)/|l + v| and v = -d: Blinn-Phong's highlight,
-  :func:`blinn_phong`;
+  :func:`blinn_phong`; where l + v = 0 exactly, h is undefined and there is no highlight;
 * "visible": the light is not blocked (:mod:`raykit.shadows`). A light behind the surface
   (n·l <= 0) adds nothing, highlight included: it cannot light the side it does not reach;
 * km·L(r): what the mirror reflects (:mod:`raykit.mirrors`).
@@ -34,7 +34,7 @@ from raykit.lights import toward_light
 from raykit.mirrors import reflect
 from raykit.rays import dot, normalize
 from raykit.scene import Scene
-from raykit.shadows import Caster, in_shadow
+from raykit.shadows import Caster, in_shadow, light_reach
 from raykit.surfaces import SurfacePoints, surface_points
 
 
@@ -133,14 +133,18 @@ def surface_color(
     shiny = table.specular[index].any(axis=1)
     shadows = casts_shadows(scene)
     for light in scene.lights:
-        l, distance = toward_light(light, surface.points)
+        l, _ = toward_light(light, surface.points)  # the shadow ray's reach: light_reach
         lit = np.flatnonzero(dot(surface.normals, l) > 0)
         if shadows and len(lit):
-            blocked = in_shadow(cast, surface.take(lit), l[lit], distance[lit])
-            lit = lit[~blocked]
+            facing = surface.take(lit)
+            reach = light_reach(facing, l[lit], light)  # from the offset start, less its margin
+            lit = lit[~in_shadow(cast, facing, l[lit], reach)]
         n = surface.normals
         total[lit] += lambert(kd[lit], light.color, n[lit], l[lit])
         highlight = lit[shiny[lit]]
+        # h = (l + v)/|l + v| is undefined where l + v = 0 (seen from inside a sphere, a light
+        # straight behind the point): no highlight there, rather than NaN
+        highlight = highlight[np.any(l[highlight] + v[highlight] != 0, axis=1)]
         if len(highlight):
             which = index[highlight]
             total[highlight] += blinn_phong(

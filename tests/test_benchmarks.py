@@ -68,12 +68,26 @@ def test_raykit_bench_runs_every_benchmark_and_writes_the_plots(tmp_path):
         timeout=300,
     )
     assert run.returncode == 0, run.stderr
-    assert run.stdout.count("$ python benchmarks/") == 4
+    assert run.stdout.count("$ python benchmarks/") == 6
     assert "| mirror_balls |" in run.stdout and "| level 2 |" in run.stdout
     assert sorted(p.name for p in tmp_path.iterdir()) == [
+        "forward_backward.png",
+        "mitsuba_compare.png",
+        "object_order.png",
+        "shading_cost.png",
         "time_vs_error.png",
         "time_vs_objects.png",
     ]
+    # a line on stderr as each script starts and ends, never inside the tables on stdout
+    said = [line for line in run.stderr.splitlines() if line.startswith("raykit bench: ")]
+    scripts = ["render_speed", "time_vs_error", "shading_cost", "mitsuba_compare"]
+    scripts += ["object_order", "forward_backward"]
+    assert [line.split()[3] for line in said] == [
+        f"benchmarks/{name}.py{end}" for name in scripts for end in ("", ":")
+    ]
+    assert said[0] == "raykit bench: [1/6] benchmarks/render_speed.py ..."
+    assert said[-1].startswith("raykit bench: [6/6] benchmarks/forward_backward.py: done in ")
+    assert "raykit bench" not in run.stdout
 
 
 def test_mitsuba_comparison_times_raykit_and_mitsuba_when_installed():
@@ -123,3 +137,57 @@ def test_forward_backward_quick_prints_both_directions():
     rows = _table_rows("forward_backward.py")
     directions = [row.split(" | ")[0] for row in rows]
     assert directions == ["| backward"] * 2 + ["| forward"] * 2
+
+
+def _plot_module(name):
+    sys.path.insert(0, str(REPO / "benchmarks"))
+    import importlib
+
+    return importlib.import_module(name)
+
+
+def test_mitsuba_plot_draws_a_bar_per_scene_and_renderer(tmp_path, monkeypatch):
+    # Mitsuba is not installed here: made-up rows exercise the plot, a failed variant included
+    import matplotlib.pyplot as plt
+
+    module = _plot_module("mitsuba_compare")
+    rows = [
+        {"scene": "classic", "renderer": "raykit", "render": 0.081},
+        {"scene": "classic", "renderer": "Mitsuba 3.6 scalar_rgb", "render": 0.4},
+        {"scene": "classic", "renderer": "Mitsuba 3.6 llvm_ad_rgb", "render": 0.018},
+        {"scene": "sphereflake 4", "renderer": "raykit", "render": 0.152},
+        {"scene": "sphereflake 4", "renderer": "Mitsuba 3.6 scalar_rgb", "render": 0.9},
+        {"scene": "sphereflake 4", "renderer": "Mitsuba 3.6 llvm_ad_rgb", "render": None},
+    ]
+    drawn = {}
+    monkeypatch.setattr(plt, "close", lambda figure: drawn.setdefault("figure", figure))
+    module.plot(tmp_path / "mitsuba.png", rows)
+    ax = drawn["figure"].axes[0]
+    bars = {c.get_label(): [round(b.get_height(), 6) for b in c] for c in ax.containers}
+    assert bars == {
+        "raykit": [81, 152],  # milliseconds
+        "Mitsuba 3.6 scalar_rgb": [400, 900],
+        "Mitsuba 3.6 llvm_ad_rgb": [18],  # the failed variant has no bar
+    }
+    assert [t.get_text() for t in ax.get_xticklabels()] == ["classic", "sphereflake 4"]
+    assert (tmp_path / "mitsuba.png").stat().st_size > 1000
+    plt.close("all")
+
+
+def test_shading_cost_plot_draws_flat_shaded_and_unculled_per_scene(tmp_path, monkeypatch):
+    import matplotlib.pyplot as plt
+
+    module = _plot_module("shading_cost")
+    rows = [
+        {"scene": "classic", "image": "640x480", "flat": 0.08, "shaded": 0.08, "unculled": 0.076},
+        {"scene": "mirror_balls", "image": "640x480", "flat": 0.067, "shaded": 0.35}
+        | {"unculled": 0.34},
+    ]
+    drawn = {}
+    monkeypatch.setattr(plt, "close", lambda figure: drawn.setdefault("figure", figure))
+    module.plot(tmp_path / "shading.png", rows)
+    ax = drawn["figure"].axes[0]
+    bars = {c.get_label(): [round(b.get_height(), 6) for b in c] for c in ax.containers}
+    assert bars == {"flat (v1)": [80, 67], "shaded": [80, 350], "shaded, no culling": [76, 340]}
+    assert (tmp_path / "shading.png").stat().st_size > 1000
+    plt.close("all")

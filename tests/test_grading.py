@@ -402,3 +402,25 @@ def test_release_pyproject_carries_only_what_the_release_uses(release):
     kit = tomllib.loads((REPO / "pyproject.toml").read_text())["project"]
     assert project["project"]["dependencies"] == kit["dependencies"]
     assert "ruff" not in project.get("tool", {}) and "nbval" not in str(project)
+
+
+def test_release_render_names_the_function_to_write_next_in_one_line(release, tmp_path):
+    run = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "raykit",
+            "render",
+            "scenes/classic.json",
+            "-o",
+            str(tmp_path / "c.png"),
+        ],
+        cwd=release,
+        capture_output=True,
+        text=True,
+        env={"PYTHONPATH": str(release), "PATH": "/usr/bin:/bin"},
+    )
+    assert run.returncode == 2
+    assert run.stderr.startswith("raykit: error: not written yet: ")
+    assert "write this function" in run.stderr and run.stderr.count("\n") == 1
+    assert not (tmp_path / "c.png").exists()

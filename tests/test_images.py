@@ -37,3 +37,13 @@ def test_unknown_suffix_is_refused_before_anything_is_written(tmp_path):
     with pytest.raises(ValueError, match="unknown image suffix"):
         save_image(np.zeros((1, 1, 3)), tmp_path / "x.notanimage")
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_write_that_cannot_start_names_the_users_path_not_the_temporary_file(tmp_path):
+    # the folder vanishing between raykit's early check and the write: the error is about
+    # out/classic.png, never about a hidden .classic.png.XXXX.part beside it
+    out = tmp_path / "out" / "classic.png"
+    with pytest.raises(OSError) as raised:
+        save_image(np.zeros((2, 2, 3)), out)
+    assert raised.value.filename == str(out)
+    assert ".part" not in str(raised.value)

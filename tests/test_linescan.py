@@ -1,3 +1,4 @@
+import json
 import math
 
 import numpy as np
@@ -266,3 +267,45 @@ def test_slides_second_pixel_formula_gives_one_position_too_many_and_ends_on_the
     centres = pixel_x(640)
     gap = np.abs(slide_pixel_positions(640)[:, None] - centres[None]).min(axis=1)
     assert np.allclose(gap, 1.0 / 640)
+
+
+# -- rules docs/linescan-format.md settles ----------------------------------------------------
+
+
+def _wall(start, end) -> Billboard:
+    return Billboard(np.array(start, float), np.array(end, float), color=np.array([1.0, 1, 1]))
+
+
+def test_a_segment_along_a_ray_is_missed_and_one_touched_at_an_end_is_hit():
+    origins, directions = np.array([[0.0, 0.0]]), np.array([[1.0, 0.0]])
+    along = _wall([2, 0], [5, 0])  # the ray runs inside the segment: parallel, a miss
+    assert hit_segment(origins, directions, along)[0][0] == np.inf
+    for start, end in (([3, 0], [3, 2]), ([3, -2], [3, 0])):  # touched exactly at s = 0 or 1
+        t, s = hit_segment(origins, directions, _wall(start, end))
+        assert t[0] == 3 and s[0] in (0, 1)
+    # a ray tangent to a ball (discriminant exactly 0) hits it
+    assert scan(LineScene(camera(pixels=1), balls=(ball([5, 1], 1),))).index[0] == 0
+
+
+def test_samples_sit_at_the_centres_of_equal_parts_of_the_pixel():
+    # n samples of pixel i: x = -1 + (i + (k + 0.5)/n)·2/N, no jitter, the centre kept for odd n
+    assert pixel_x(2, 2).tolist() == [-0.75, -0.25, 0.25, 0.75]
+    assert pixel_x(1, 3).tolist() == pytest.approx([-2 / 3, 0, 2 / 3])
+
+
+def test_strip_column_0_is_pixel_0_on_the_viewers_right(tmp_path):
+    from raykit.cli import main
+
+    # looking along +x, a red ball on the right (-y) and a blue one on the left (+y)
+    data = {
+        "camera": {"e": [0, 0], "w": [1, 0], "fov_angle": 90, "pixels": 4},
+        "balls": [
+            {"center": [5, -3], "radius": 1, "color": [1, 0, 0]},
+            {"center": [5, 3], "radius": 1, "color": [0, 0, 1]},
+        ],
+    }
+    path = tmp_path / "two.json"
+    path.write_text(json.dumps(data))
+    assert main(["scan", str(path), "-o", str(tmp_path / "strip.png")]) == 0
+    strip = np.asarray(Image.open(tmp_path / "strip.png"))[0]
+    assert strip[0].tolist() == [255, 0, 0] and strip[-1].tolist() == [0, 0, 255]

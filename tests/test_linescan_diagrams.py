@@ -88,4 +88,13 @@ def test_pixel_formulas_draws_the_centres_and_the_slides_positions_one_row_per_c
     marks = [(line.get_marker(), len(line.get_xdata())) for line in ax.lines if line.get_marker()]
     assert ("o", 8) in marks and ("x", 9) in marks  # N = 8: one slide position too many
     assert ("o", 7) in marks and ("x", 7) in marks
+
+
+@pytest.mark.parametrize("name", ["passing_car", "conveyor"])
+def test_sweep_diagram_panels_share_one_frame(name):
+    # a frame per panel made the (moving) camera seem to jump between them
+    figure = sweep_diagram(load_line_scene(SCENES / f"linescan/{name}.json"), scans=40)
+    worlds = figure.axes[:3]
+    assert len({ax.get_xlim() for ax in worlds}) == 1
+    assert len({ax.get_ylim() for ax in worlds}) == 1
     plt.close(figure)

@@ -406,3 +406,72 @@ def test_float32_changes_no_object_and_little_colour_on_the_lit_scenes():
         assert np.array_equal(wide.object_index, single.object_index), name
         changed = np.any(quantize(wide.rgb) != quantize(single.rgb), axis=-1)
         assert changed.mean() <= 0.002, (name, changed.sum())
+
+
+# -- rules the format docs settle (docs/scene-format.md, "Settled details") -------------------
+
+
+def test_an_empty_lights_list_is_unlit_and_black_ambient_is_lit():
+    plain = render(scene_from_dict(scene_dict(background=[0, 0, 0.5]))).rgb
+    no_lights = scene_from_dict(scene_dict(background=[0, 0, 0.5], lights=[]))
+    assert not no_lights.lit
+    assert np.array_equal(render(no_lights).rgb, plain)  # flat colours, as with no field
+    black = scene_from_dict(scene_dict(background=[0, 0, 0.5], ambient=[0, 0, 0]))
+    assert black.lit  # ambient counts as lit, even black: L = ka·0 = 0 on every object
+    image = render(black)
+    hit = image.object_index >= 0
+    assert hit.any() and (image.rgb[hit] == 0).all()
+    assert (image.rgb[~hit] == [0, 0, 0.5]).all()  # the background is never shaded
+
+
+def _inside_a_sphere(light: dict, **sphere) -> np.ndarray:
+    """The camera at a big sphere's centre, looking along -z; its one light ``light``."""
+    scene = scene_dict(
+        camera={"eye": [0, 0, 0], "lookat": [0, 0, -1], "up": [0, 1, 0], "fov_angle": 90}
+        | {"width": 5, "height": 5},
+        spheres=[{"center": [0, 0, 0], "radius": 3, "color": [0.5, 0.5, 0.5], **sphere}],
+        lights=[light],
+    )
+    return render(scene_from_dict(scene)).rgb
+
+
+def test_inside_a_sphere_the_normal_still_points_out():
+    # a light outside lights the inside wherever the outward normal faces it: n·l > 0 with
+    # n = (p - c)/r, as if the wall let the light through
+    outside = _inside_a_sphere({"type": "directional", "direction": [0, 0, 1]})
+    assert outside[2, 2].tolist() == [0.5, 0.5, 0.5]  # n = (0, 0, -1) = l: kd·I·1
+    assert (outside[:, :, 0] > 0).all()  # every pixel sees the lit far wall
+    # a light inside lights none of it: n·l < 0 at every point of the wall
+    inside = _inside_a_sphere({"type": "point", "position": [0.5, 0.2, 0.1]})
+    assert (inside == 0).all()
+
+
+def test_no_highlight_where_the_half_vector_is_undefined():
+    # seen from inside, the centre pixel's ray runs straight toward the light: l = -v, l + v = 0
+    image = _inside_a_sphere(
+        {"type": "directional", "direction": [0, 0, 1]}, specular=[1, 1, 1], shininess=8
+    )
+    assert np.isfinite(image).all()
+    assert image[2, 2].tolist() == [0.5, 0.5, 0.5]  # diffuse only, no NaN
+
+
+def test_a_lamp_on_a_wall_is_not_shadowed_by_that_wall():
+    # the shadow ray's reach is measured from its offset start and shortened by the offset at
+    # the light's end, so the surface the lamp sits on never blocks it (it used to speckle)
+    floor = {"upper_left": [-4, -1, -6], "lower_left": [-4, -1, 4], "upper_right": [4, -1, -6]}
+    wall = {"upper_left": [-4, 3, -2], "lower_left": [-4, -1, -2], "upper_right": [4, 3, -2]}
+    camera = {"eye": [0, 1, 6], "lookat": [0, 0, -2], "up": [0, 1, 0], "fov_angle": 60}
+    for position in ([0.3, 1.7, -2], [0.1, 0.2, -2], [1 / 3, 2 / 3, -2]):
+        scene = scene_dict(
+            camera=camera | {"width": 160, "height": 120},
+            spheres=[],
+            billboards=[{**floor, "color": [0.6, 0.6, 0.6]}, {**wall, "color": [0.3, 0.3, 0.8]}],
+            lights=[{"type": "point", "position": position}],
+        )
+        shadowed = render(scene_from_dict(scene)).rgb
+        unshadowed = render(scene_from_dict(scene | {"shadows": False})).rgb
+        assert np.array_equal(shadowed, unshadowed), position
+        # a ball just in front of the lamp still casts a shadow on the floor
+        ball = {"center": [position[0], position[1], -1.9], "radius": 0.05, "color": [1, 1, 1]}
+        blocked = render(scene_from_dict(scene | {"spheres": [ball]})).rgb
+        assert (blocked.sum(axis=-1) < unshadowed.sum(axis=-1) - 1e-9).any(), position

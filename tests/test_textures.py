@@ -13,6 +13,37 @@ def test_16_bit_grey_is_scaled_not_clipped():
     assert to_rgba8(image)[0, :, 0].tolist() == [0, 1, 128, 255]
 
 
+def test_16_bit_to_8_bits_keeps_the_high_byte_not_the_rounded_scale(tmp_path):
+    # v >> 8, not round(v·255/65535): 255 -> 0 (not 1), 65280 -> 255 (not 254)
+    grey = Image.fromarray(np.array([[0, 255, 256, 32767, 32768, 65280, 65535]], np.uint16))
+    assert to_rgba8(grey)[0, :, 0].tolist() == [0, 0, 1, 127, 128, 255, 255]
+    # 16-bit RGB, which Pillow decodes itself, follows the same rule
+    row = [(255, 65280, 32768), (65535, 256, 127)]
+    path = tmp_path / "rgb16.png"
+    path.write_bytes(_png_16_bit_rgb(row))
+    with Image.open(path) as image:
+        assert to_rgba8(image)[0].tolist() == [[0, 255, 128, 255], [255, 1, 0, 255]]
+
+
+def _png_16_bit_rgb(row: list[tuple[int, int, int]]) -> bytes:
+    """A one-row 16-bit RGB PNG, written by hand (Pillow writes no such file)."""
+    import struct
+    import zlib
+
+    def chunk(kind: bytes, data: bytes) -> bytes:
+        crc = zlib.crc32(kind + data) & 0xFFFFFFFF
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", crc)
+
+    header = struct.pack(">IIBBBBB", len(row), 1, 16, 2, 0, 0, 0)
+    pixels = b"\x00" + b"".join(struct.pack(">HHH", *texel) for texel in row)
+    return (
+        b"\x89PNG\r\n\x1a\n"
+        + chunk(b"IHDR", header)
+        + chunk(b"IDAT", zlib.compress(pixels))
+        + chunk(b"IEND", b"")
+    )
+
+
 def test_palette_transparency_becomes_alpha():
     image = Image.fromarray(np.array([[0, 1]], np.uint8), "P")
     image.putpalette([10, 20, 30, 200, 100, 50])

@@ -56,30 +56,37 @@ def camera_diagram(camera: Camera, *, ax: Axes | None = None) -> Figure:
         starts = np.broadcast_to(eye, corners.shape)
     draw_lines(ax, view, np.stack([starts, corners], axis=1), colors="0.5", linewidths=0.8)
 
-    # the frame at the eye, up, and d along -w to lookat
-    size = 0.35 * d
-    for vector, label, color in (
-        (u, "u", "tab:red"),
-        (v, "v", "tab:green"),
-        (w, "w", "tab:blue"),
-        (normalize(np.asarray(camera.up, float)), "up", "0.4"),
+    # the frame at the eye, up, and d along -w to lookat. Labels sit beside their anchors, not
+    # on them: v and up nearly coincide, so v goes to the left of its tip and up to the right;
+    # point labels get a white ground so the lines they cross do not strike them through
+    # (arrows at least 0.15 of the drawing: at a wide fov_angle the plane dwarfs d)
+    extent = np.ptp(np.vstack([eye[None], corners, starts]), axis=0).max()
+    size = max(0.35 * d, 0.15 * extent)
+    for vector, label, color, at, align in (
+        (u, "u", "tab:red", 1.08, ("left", "top")),
+        (v, "v ", "tab:green", 1.08, ("right", "bottom")),
+        (w, "w", "tab:blue", 1.08, ("left", "bottom")),
+        # up often coincides with v: its label goes right of its tip and below, v's left and above
+        (normalize(np.asarray(camera.up, float)), " up", "0.4", 1.08, ("left", "top")),
     ):
         tip = eye + size * vector
         draw_lines(ax, view, np.stack([eye, tip])[None], colors=color, linewidths=2)
         ax.text(
-            *view.project(tip + 0.08 * size * vector),
+            *view.project(eye + at * size * vector),
             label,
             color=color,
             fontsize=11,
             fontweight="bold",
+            ha=align[0],
+            va=align[1],
         )
     draw_lines(
         ax, view, np.stack([eye, lookat])[None], colors="black", linewidths=1, linestyles="dotted"
     )
-    ax.text(*view.project((eye + lookat) / 2), "  d", fontsize=11, style="italic")
     ax.scatter(*view.project(np.stack([eye, lookat])).T, color="black", s=18, depthshade=False)
-    ax.text(*view.project(eye), "  e", fontsize=11)
-    ax.text(*view.project(lookat), "  lookat", fontsize=9)
+    _label(ax, view.project(eye), " e", fontsize=11, ha="left", va="bottom")
+    _label(ax, view.project(lookat), "lookat ", fontsize=9, ha="right", va="top")
+    _label(ax, view.project((eye + lookat) / 2), " d", fontsize=11, style="italic", va="top")
 
     if camera.projection == "perspective":  # fov_angle: from the top edge to the bottom edge
         Hp = camera.plane_size[1]
@@ -89,7 +96,7 @@ def camera_diagram(camera: Camera, *, ax: Axes | None = None) -> Figure:
             np.cos(np.radians(angles))[:, None] * -w + np.sin(np.radians(angles))[:, None] * v
         )
         ax.plot(*view.project(arc).T, color="black", lw=1)
-        ax.text(*view.project(arc[-1]), " fov_angle", fontsize=9)
+        _label(ax, view.project(arc[-1]), "fov_angle ", fontsize=9, ha="right", va="bottom")
         edge = lookat + Hp / 2 * v
         draw_lines(ax, view, np.stack([eye, edge])[None], colors="black", linewidths=0.8)
 
@@ -109,6 +116,21 @@ def camera_diagram(camera: Camera, *, ax: Axes | None = None) -> Figure:
     for label, axis in zip((ax.set_xlabel, ax.set_ylabel, ax.set_zlabel), view.axes, strict=True):
         label("xyz"[axis])
     return ax.figure
+
+
+def _label(ax: Axes, where, text: str, **style) -> None:
+    """A point's label on a white ground, so lines under it do not strike it through."""
+    ax.text(
+        *where,
+        text,
+        bbox={
+            "boxstyle": "round,pad=0.1",
+            "facecolor": "white",
+            "edgecolor": "none",
+            "alpha": 0.85,
+        },
+        **style,
+    )
 
 
 def camera_diagrams(camera: Camera) -> Figure:

@@ -37,7 +37,7 @@ def edge_pixels(rgb: np.ndarray, object_index: np.ndarray) -> np.ndarray:
     return edge
 
 
-def refine(regions, colors, rgb: np.ndarray, edge: np.ndarray, samples: int) -> int:
+def refine(regions, colors, rgb: np.ndarray, edge: np.ndarray, samples: int, progress=None) -> int:
     """Replace the colour of every edge pixel by the mean of its n x n samples, in place.
 
     ``regions`` are the renderer's (:mod:`raykit.engine.tiles`), so each tile's edge pixels are
@@ -45,20 +45,28 @@ def refine(regions, colors, rgb: np.ndarray, edge: np.ndarray, samples: int) -> 
     colours ``(N, 3)`` of the rays through image points (x, y) ``(N,)``. It is called with many
     samples of a tile's edge pixels at once, up to ``POINTS_PER_CALL``, so the renderer's fixed
     cost per call is not paid n² times. Returns how many pixels were supersampled.
+    ``progress``, if given, is called with each tile's pixel count as the tile is done.
     """
     a, b = sample_offsets(samples).T
     for region in regions:
         rows, cols = np.nonzero(edge[region.pixels])
-        if len(rows) == 0:
-            continue
-        rows, cols = rows + region.rows.start, cols + region.cols.start
-        total = np.zeros((len(rows), 3))
-        per_call = max(1, POINTS_PER_CALL // len(rows))  # sample offsets per call
-        for start in range(0, len(a), per_call):
-            offsets = slice(start, start + per_call)
-            x = (cols + a[offsets, None]).ravel()  # (offsets, M) flattened, offset by offset
-            y = (rows + b[offsets, None]).ravel()
-            for colors_at_offset in colors(region, x, y).reshape(-1, len(rows), 3):
-                total += colors_at_offset  # in offset order, as the full render sums
-        rgb[rows, cols] = total / len(a)
+        if len(rows):
+            _refine_tile(
+                region, rows + region.rows.start, cols + region.cols.start, colors, rgb, a, b
+            )
+        if progress is not None:
+            progress(len(region.rows) * len(region.cols))
     return int(edge.sum())
+
+
+def _refine_tile(region, rows, cols, colors, rgb, a, b) -> None:
+    """The edge pixels (rows, cols) of one tile: their n x n samples' mean, in place."""
+    total = np.zeros((len(rows), 3))
+    per_call = max(1, POINTS_PER_CALL // len(rows))  # sample offsets per call
+    for start in range(0, len(a), per_call):
+        offsets = slice(start, start + per_call)
+        x = (cols + a[offsets, None]).ravel()  # (offsets, M) flattened, offset by offset
+        y = (rows + b[offsets, None]).ravel()
+        for colors_at_offset in colors(region, x, y).reshape(-1, len(rows), 3):
+            total += colors_at_offset  # in offset order, as the full render sums
+    rgb[rows, cols] = total / len(a)

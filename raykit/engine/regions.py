@@ -89,6 +89,7 @@ class Batch:
     grid: tuple[float, float] | None
     centre: bool = False
     colour: bool = True
+    finishes: int = 0  # pixels of the region done once this batch is stored (its last batch)
 
 
 class Plan:
@@ -103,6 +104,7 @@ class Plan:
         *,
         skip_hidden: bool = True,
         dtype: type = np.float64,
+        progress: Callable[[int], object] | None = None,
     ) -> None:
         if samples < 1:
             raise ValueError(f"samples must be >= 1, got {samples}")
@@ -111,6 +113,7 @@ class Plan:
         self.samples = samples
         self.skip_hidden = skip_hidden
         self.dtype = dtype
+        self.progress = progress  # told each finished tile's pixel count
         self.arrays = SceneArrays.of(self.scene)
         shaded = needs_shading(self.scene)
         self.secondary = secondary_caster(self.scene, cast, self.arrays) if shaded else None
@@ -124,12 +127,14 @@ class Plan:
         n = self.samples
         centre = n // 2 * (n + 1) if n % 2 else None  # the offset (0.5, 0.5), if there is one
         for region in self.regions():
+            pixels = len(region.rows) * len(region.cols)
             for k, (a, b) in enumerate(offsets):
                 x, y = region_points(region.rows, region.cols, a, b)
-                yield Batch(region, x, y, (a, b), centre=k == centre)
+                last = k == len(offsets) - 1 and centre is not None
+                yield Batch(region, x, y, (a, b), centre=k == centre, finishes=pixels * last)
             if centre is None:  # even n: no sample sits at the centre, so cast one there
                 x, y = region_points(region.rows, region.cols)
-                yield Batch(region, x, y, (0.5, 0.5), centre=True, colour=False)
+                yield Batch(region, x, y, (0.5, 0.5), True, colour=False, finishes=pixels)
 
     def viewing_rays(self, batch: Batch) -> ViewingRays:
         """The rays through the batch's points that some object's screen rectangle holds; a
@@ -207,6 +212,8 @@ class Image:
         if batch.centre:
             self.object_index[region.pixels] = hits.index.reshape(shape)
             self.t[region.pixels] = hits.t.reshape(shape)
+        if batch.finishes and self.plan.progress is not None:
+            self.plan.progress(batch.finishes)
 
     def mean(self) -> np.ndarray:
         return self.rgb / len(sample_offsets(self.plan.samples))

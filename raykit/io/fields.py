@@ -197,3 +197,28 @@ class Field:
     def intensity(self) -> np.ndarray:
         """An [r, g, b] light intensity, each >= 0 (may exceed 1), ``(3,)``."""
         return self.vector(3, ge=0.0)
+
+
+# Fields only one of the two JSON formats has, at the top and in the camera: enough to tell a
+# 2D line-scan scene handed to the 3D loader (or the other way round) from a 3D scene with a typo
+_MARKS = {
+    "3d": ({"spheres", "lights", "ambient", "shadows", "max_depth"}, {"eye", "lookat", "up"}),
+    "linescan": ({"balls", "scans"}, {"e", "w", "pixels"}),
+}
+
+
+def scene_kind(data: Any) -> str | None:
+    """Which format parsed JSON ``data`` is: ``"3d"``, ``"linescan"``, or None when it has the
+    distinctive fields of neither or of both (then the loader's own checks say what is wrong).
+
+    A format's distinctive fields: for 3D, top-level ``spheres``, ``lights``, ``ambient``,
+    ``shadows`` or ``max_depth``, or ``camera.eye``/``lookat``/``up``; for the line-scan format,
+    top-level ``balls`` or ``scans``, or ``camera.e``/``w``/``pixels``."""
+    if not isinstance(data, dict):
+        return None
+    camera = data.get("camera")
+    keys = (set(data), set(camera) if isinstance(camera, dict) else set())
+    found = [
+        kind for kind, (top, in_camera) in _MARKS.items() if keys[0] & top or keys[1] & in_camera
+    ]
+    return found[0] if len(found) == 1 else None

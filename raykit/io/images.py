@@ -29,12 +29,61 @@ def save_image(pixels: np.ndarray, path: str | Path) -> None:
     whole new image or untouched. Raises ``OSError`` or ``ValueError`` (unknown suffix).
     """
     path = Path(path)
-    image_format = _image_format(path.suffix.lower())
-    if image_format is None:
-        raise ValueError(f"{path}: unknown image suffix {path.suffix!r}; use .png")
+    image_format = _image_format_of(path)
     if pixels.dtype != np.uint8:
         pixels = quantize(pixels)
     _write_whole(path, lambda stream: Image.fromarray(pixels).save(stream, format=image_format))
+
+
+def check_image_path(path: str | Path) -> None:
+    """Raise ``ValueError`` now, before any work, if :func:`save_image` could not write
+    ``path``: its folder is missing, not a folder or not writable, ``path`` is a folder, or
+    Pillow writes no format with its suffix. The message names ``path`` as the user gave it."""
+    path = Path(path)
+    _check_folder(path)
+    _image_format_of(path)
+
+
+def check_figure_path(path: str | Path) -> None:
+    """The same checks as :func:`check_image_path`, for a matplotlib figure (:func:`save_figure`):
+    the suffix must be one matplotlib writes (.png, .svg, .pdf, ...)."""
+    path = Path(path)
+    _check_folder(path)
+    _figure_kind(path, _figure_filetypes())
+
+
+def _check_folder(path: Path) -> None:
+    folder = path.parent if str(path.parent) else Path(".")
+    if not folder.exists():
+        raise ValueError(f"{path}: folder {folder} does not exist")
+    if not folder.is_dir():
+        raise ValueError(f"{path}: {folder} is a file, not a folder")
+    if path.is_dir():
+        raise ValueError(f"{path}: is a folder; give a file name such as {path / 'out.png'}")
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise ValueError(f"{path}: folder {folder} is not writable")
+
+
+def _image_format_of(path: Path) -> str:
+    image_format = _image_format(path.suffix.lower())
+    if image_format is None:
+        raise ValueError(f"{path}: unknown image suffix {path.suffix!r}; use .png")
+    return image_format
+
+
+def _figure_filetypes() -> dict[str, str]:
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    return FigureCanvasBase.get_supported_filetypes()
+
+
+def _figure_kind(path: Path, supported) -> str:
+    if not path.suffix:
+        raise ValueError(f"{path}: give the figure file a suffix such as .png, .svg or .pdf")
+    kind = path.suffix[1:].lower()
+    if kind not in supported:
+        raise ValueError(f"{path}: matplotlib cannot write {path.suffix!r} figures; use .png")
+    return kind
 
 
 def _image_format(suffix: str) -> str | None:
@@ -48,18 +97,17 @@ def _image_format(suffix: str) -> str | None:
 def save_figure(figure, path: str | Path, dpi: int = 120) -> None:
     """Write a matplotlib ``figure`` to ``path`` (format from the suffix), whole or not at all."""
     path = Path(path)
-    if not path.suffix:
-        raise ValueError(f"{path}: give the figure file a suffix such as .png, .svg or .pdf")
-    kind = path.suffix[1:].lower()
-    if kind not in figure.canvas.get_supported_filetypes():
-        raise ValueError(f"{path}: matplotlib cannot write {path.suffix!r} figures; use .png")
+    kind = _figure_kind(path, figure.canvas.get_supported_filetypes())
     _write_whole(path, lambda stream: figure.savefig(stream, format=kind, dpi=dpi))
 
 
 def _write_whole(path: Path, write: Callable[[BinaryIO], None]) -> None:
     """Call ``write`` on a temporary file beside ``path``, then rename it to ``path``."""
     folder = path.parent if str(path.parent) else Path(".")
-    handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=folder)
+    try:
+        handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=folder)
+    except OSError as exc:  # name the user's path, not the hidden temporary file's
+        raise OSError(exc.errno, exc.strerror, str(path)) from None
     try:
         with os.fdopen(handle, "wb") as stream:
             write(stream)

@@ -222,13 +222,15 @@ def ray_diagram(
     strip_ax: Axes | None = None,
     title: str | None = None,
     annotate: bool = True,
+    frame: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> Figure:
     """The slide's ray diagram of one scan of ``scene``, with the scan strip below it.
 
     ``every``: draw the ray of every k-th pixel (default: at most 24 rays). ``ax``: draw the
     world there; ``strip_ax``: draw the strip there (with ``ax`` given and no ``strip_ax``, the
     strip is left out). ``annotate=False`` leaves out the labels (u, w, D, fov_angle), for small
-    panels. Returns the figure.
+    panels. ``frame``: the (lower, upper) corners to show, instead of a frame fitted to this
+    scan (the sweep diagram gives all its panels one frame). Returns the figure.
     """
     taken = scan(scene)
     pixels = scene.camera.pixels
@@ -237,7 +239,7 @@ def ray_diagram(
         fig, (ax, strip_ax) = plt.subplots(
             2, 1, figsize=(7, 7.6), gridspec_kw={"height_ratios": [12, 1]}, layout="constrained"
         )
-    lower, upper = _frame_limits(scene, taken.hit_points)
+    lower, upper = _frame_limits(scene, taken.hit_points) if frame is None else frame
     _draw_rays(ax, scene, taken, every, lower, upper)
     _draw_objects(ax, scene)
     _draw_camera(ax, scene, taken, annotate)
@@ -270,8 +272,13 @@ def sweep_diagram(
         layout="constrained",
     )
     axes = np.asarray(axes).reshape(2, len(times))
+    # one frame for every panel, around all of them: the camera does not seem to jump
+    corners = [_frame_limits(scene.at(m), scan(scene.at(m)).hit_points) for m in times]
+    frame = (np.min([c[0] for c in corners], axis=0), np.max([c[1] for c in corners], axis=0))
     for column, m in enumerate(times):
-        ray_diagram(scene.at(m), ax=axes[0, column], title=f"scan m = {m}", annotate=False)
+        ray_diagram(
+            scene.at(m), ax=axes[0, column], title=f"scan m = {m}", annotate=False, frame=frame
+        )
         grown = image.copy()
         grown[m + 1 :] = 1.0  # not taken yet
         bottom = axes[1, column]

@@ -75,12 +75,17 @@ def scan(scene: LineScene, samples: int = 1) -> Scan:
     return Scan(colors, centre.index, centre.t, origins, directions)
 
 
-def sweep(scene: LineScene, scans: int | None = None, samples: int = 1) -> Sweep:
-    """``scans`` scans (default: the scene's ``scans``), scan m of ``scene.at(m)``."""
+def sweep(scene: LineScene, scans: int | None = None, samples: int = 1, progress=None) -> Sweep:
+    """``scans`` scans (default: the scene's ``scans``), scan m of ``scene.at(m)``.
+    ``progress``, if given, is called with 1 as each scan is taken (a progress bar's update)."""
     count = scene.scans if scans is None else scans
     if count < 1:
         raise ValueError(f"scans must be >= 1, got {count}")
-    taken = [scan(scene.at(m), samples) for m in range(count)]
+    taken = []
+    for m in range(count):
+        taken.append(scan(scene.at(m), samples))
+        if progress is not None:
+            progress(1)
     return Sweep(
         image=np.stack([s.colors for s in taken]),
         index=np.stack([s.index for s in taken]),
