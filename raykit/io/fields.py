@@ -222,3 +222,19 @@ def scene_kind(data: Any) -> str | None:
         kind for kind, (top, in_camera) in _MARKS.items() if keys[0] & top or keys[1] & in_camera
     ]
     return found[0] if len(found) == 1 else None
+
+
+_OTHER_FORMAT = {
+    "3d": "a 3D scene (camera eye, lookat, up; spheres), not a 2D line-scan one: "
+    "use raykit render or raykit diagram",
+    "linescan": "a 2D line-scan scene (camera e, w, pixels; balls), not a 3D one: "
+    "use raykit scan or raykit sweep",
+}
+
+
+def refuse_other_format(data: Any, source: str, expected: str) -> None:
+    """Raise a one-line :class:`SceneError` when ``data`` is plainly the other format than
+    ``expected`` ("3d" or "linescan"), naming the command that reads it."""
+    kind = scene_kind(data)
+    if kind is not None and kind != expected:
+        raise SceneError(source, "", _OTHER_FORMAT[kind])

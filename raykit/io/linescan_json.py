@@ -12,8 +12,7 @@ from typing import Any
 
 import numpy as np
 
-from raykit.io.errors import SceneError
-from raykit.io.fields import Field, read_json_file, scene_kind
+from raykit.io.fields import Field, read_json_file, refuse_other_format
 from raykit.io.textures import Texture
 from raykit.linescan.camera import PROJECTIONS, LineCamera
 from raykit.linescan.objects import Ball, Billboard
@@ -32,13 +31,7 @@ def load_line_scene(path: str | Path) -> LineScene:
 def line_scene_from_dict(data: Any, source: str = "<scene>", folder: str | Path = ".") -> LineScene:
     """Validate parsed JSON ``data`` as a line-scan scene; image paths are relative to
     ``folder``."""
-    if scene_kind(data) == "3d":
-        raise SceneError(
-            source,
-            "",
-            "a 3D scene (camera eye, lookat, up; spheres), not a 2D line-scan one: "
-            "use raykit render or raykit diagram",
-        )
+    refuse_other_format(data, source, "linescan")
     top = Field(data, source).object(
         required=("camera",),
         optional=("$schema", "background", "balls", "billboards", "scans"),

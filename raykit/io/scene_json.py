@@ -15,8 +15,7 @@ import numpy as np
 
 from raykit.billboards import Billboard, is_degenerate
 from raykit.camera import PROJECTIONS, Camera, DegenerateFrameError, camera_frame
-from raykit.io.errors import SceneError
-from raykit.io.fields import Field, read_json_file, scene_kind
+from raykit.io.fields import Field, read_json_file, refuse_other_format
 from raykit.io.textures import Texture
 from raykit.lights import LIGHT_TYPES, DirectionalLight, Light, PointLight
 from raykit.materials import DEFAULT_SHININESS, PLAIN, Material
@@ -36,13 +35,7 @@ def load_scene(path: str | Path) -> Scene:
 
 def scene_from_dict(data: Any, source: str = "<scene>", folder: str | Path = ".") -> Scene:
     """Validate parsed JSON ``data`` as a v1 scene; texture paths are relative to ``folder``."""
-    if scene_kind(data) == "linescan":
-        raise SceneError(
-            source,
-            "",
-            "a 2D line-scan scene (camera e, w, pixels; balls), not a 3D one: "
-            "use raykit scan or raykit sweep",
-        )
+    refuse_other_format(data, source, "3d")
     top = Field(data, source).object(
         required=("camera",),
         optional=(
