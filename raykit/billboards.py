@@ -36,7 +36,7 @@ import numpy as np
 from raykit.hits import ColorAt, solid
 from raykit.materials import PLAIN, Material
 from raykit.planes import hit_plane, hit_points_on_plane
-from raykit.rays import MISS, normalize
+from raykit.rays import MISS, dot, normalize
 
 OPAQUE_FROM = 128  # a texel whose alpha is below this is a hole
 
@@ -87,7 +87,7 @@ class Billboard:
     @cached_property
     def dual_axes(self) -> tuple[np.ndarray, np.ndarray]:
         """The dual vectors ((b × n)/|n|², (n × a)/|n|²) that turn a point into (alpha, beta)."""
-        n_squared = self.n @ self.n
+        n_squared = dot(self.n, self.n)
         return np.cross(self.b, self.n) / n_squared, np.cross(self.n, self.a) / n_squared
 
 
@@ -117,8 +117,8 @@ def hit_billboard(
     t = hit_plane(origins, directions, corner, billboard.n)
     q = hit_points_on_plane(origins, directions, t, corner)
     alpha_axis, beta_axis = billboard.dual_axes
-    alpha = q @ alpha_axis
-    beta = q @ beta_axis
+    alpha = dot(q, alpha_axis)
+    beta = dot(q, beta_axis)
     with np.errstate(invalid="ignore"):
         inside = (alpha >= 0) & (alpha <= 1) & (beta >= 0) & (beta <= 1)
     return np.where(inside, t, MISS), alpha, beta
@@ -130,7 +130,7 @@ def billboard_normals(billboard: Billboard, directions: np.ndarray) -> np.ndarra
     normalised, turned round where it points away from the ray's origin (n·d > 0). A billboard
     has two sides and each is lit from its own side."""
     n = normalize(billboard.n)
-    facing = np.where(directions @ n > 0, -1.0, 1.0)
+    facing = np.where(dot(directions, n) > 0, -1.0, 1.0)
     return facing[:, None] * n
 
 

@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from raykit.rays import MISS
+from raykit.rays import MISS, dot
 
 
 def hit_plane(
@@ -39,8 +39,8 @@ def hit_plane(
     """
     # BEGIN SOLUTION
     # hint: t = ((a - o)·n) / (d·n); rays parallel to the plane and hits with t <= 0 are MISS
-    d_dot_n = directions @ n
-    a_minus_o_dot_n = (a - origins) @ n
+    d_dot_n = dot(directions, n)
+    a_minus_o_dot_n = dot(a - origins, n)
     with np.errstate(divide="ignore", invalid="ignore"):
         t = a_minus_o_dot_n / d_dot_n
     return np.where((d_dot_n != 0) & (t > 0), t, MISS)
@@ -63,7 +63,7 @@ def plane_side(p: np.ndarray, a: np.ndarray, n: np.ndarray) -> np.ndarray:
     on, ``(N,)`` ints: +1 in front (p·n > a·n), 0 on the plane, -1 behind (p·n < a·n)."""
     # BEGIN SOLUTION
     # hint: p is in front when p·n > a·n, i.e. (p - a)·n > 0; np.sign of (p - a)·n, as integers
-    return np.sign((np.asarray(p, float) - a) @ n).astype(np.int64)
+    return np.sign(dot(np.asarray(p, float) - a, n)).astype(np.int64)
     # END SOLUTION
 
 

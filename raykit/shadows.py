@@ -28,6 +28,7 @@ import numpy as np
 
 from raykit.hits import Hits
 from raykit.lights import DirectionalLight, Light
+from raykit.rays import dot
 from raykit.surfaces import OFFSET_FACTOR, SurfacePoints
 
 # (origins (N, 3), unit directions (N, 3), optionally t_max (N,)) -> the nearest hits over the
@@ -61,6 +62,7 @@ def light_reach(surface: SurfacePoints, l: np.ndarray, light: Light) -> np.ndarr
     if isinstance(light, DirectionalLight):
         return np.full(len(l), np.inf)
     start = surface.start(l)
-    distance = np.linalg.norm(np.asarray(light.position) - start, axis=-1)
+    to_light = np.asarray(light.position) - start
+    distance = np.sqrt(dot(to_light, to_light))
     eps = np.finfo(start.dtype).eps
     return distance - OFFSET_FACTOR * eps * (np.abs(start).max(axis=1) + distance)

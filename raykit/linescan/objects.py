@@ -23,7 +23,7 @@ import numpy as np
 from raykit.billboards import Texels, colors_and_opacity
 from raykit.hits import ColorAt, solid
 from raykit.planes import hit_plane, hit_points_on_plane
-from raykit.rays import MISS
+from raykit.rays import MISS, dot
 from raykit.spheres import hit_sphere
 
 
@@ -77,7 +77,7 @@ def hit_segment(
     a = np.asarray(billboard.end, float) - start
     n = np.array([-a[1], a[0]])
     t = hit_plane(origins, directions, start, n)
-    s = hit_points_on_plane(origins, directions, t, start) @ a / (a @ a)
+    s = dot(hit_points_on_plane(origins, directions, t, start), a) / dot(a, a)
     with np.errstate(invalid="ignore"):
         on_segment = (s >= 0) & (s <= 1)
     return np.where(on_segment, t, MISS), s
