@@ -1,9 +1,12 @@
-"""docs/lecture-map.md cannot rot: each notebook cell, function, test and figure it names exists."""
+"""docs/lecture-map.md cannot rot: each notebook cell, function, test and figure it names exists,
+and the notebooks take the slide items in the lecture's order."""
 
 import ast
 import importlib
 import json
 import re
+from itertools import pairwise
+from pathlib import Path
 
 import pytest
 
@@ -25,12 +28,34 @@ def test_map_has_the_fifteen_slide_items_in_order():
     assert [int(row[0]) for row in _rows()] == list(range(1, 16))
 
 
+def _place(notebook: str) -> tuple[str, int]:
+    """(notebook path, index of the first cell holding the quoted words) of a map row's cell."""
+    path, words = re.fullmatch(r'`([^`]+)` "(.+)"', notebook).groups()
+    cells = json.loads((REPO / path).read_text())["cells"]
+    found = [k for k, cell in enumerate(cells) if words in "".join(cell["source"])]
+    assert found, (path, words)
+    return path, found[0]
+
+
+def test_the_notebooks_take_the_items_in_the_lectures_order():
+    # item by item: the notebook's file name never goes back, and within one notebook the
+    # item's cell never comes before the previous item's
+    places = [(int(row[0]), *_place(row[2])) for row in _rows()]
+    for (item, path, cell), (next_item, next_path, next_cell) in pairwise(places):
+        assert Path(next_path).name >= Path(path).name, (
+            f"item {next_item} is in {next_path}, before item {item}'s {path}"
+        )
+        if next_path == path:
+            assert next_cell >= cell, (
+                f"item {next_item} (cell {next_cell}) comes before item {item} (cell {cell}) "
+                f"in {path}"
+            )
+
+
 @pytest.mark.parametrize("row", _rows(), ids=lambda row: row[0])
 def test_every_name_in_the_map_exists(row):
     _, _, notebook, functions, tests, figures = row
-    path, words = re.fullmatch(r'`([^`]+)` "(.+)"', notebook).groups()
-    cells = json.loads((REPO / path).read_text())["cells"]
-    assert any(words in "".join(cell["source"]) for cell in cells), (path, words)
+    _place(notebook)
     for name in re.findall(r"`([^`]+)`", functions):
         module, attribute = name.rsplit(".", 1)
         assert hasattr(importlib.import_module(module), attribute), name

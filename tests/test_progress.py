@@ -85,7 +85,7 @@ def test_execute_refuses_without_ipywidgets(monkeypatch, capsys):
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     before = {p: p.stat().st_mtime_ns for p in (REPO / "notebooks").glob("*.ipynb")}
-    assert module.main([str(REPO / "notebooks/01_linescan_camera.ipynb")]) == 2
+    assert module.main([str(REPO / "notebooks/02_linescan_camera.ipynb")]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1
     assert err.startswith("notebooks/execute.py: error: ipywidgets is not installed")
