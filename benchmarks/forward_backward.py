@@ -43,7 +43,7 @@ def main() -> None:
     size = (40, 30) if args.quick else (160, 120)
     scene = replace(scene, camera=replace(scene.camera, width=size[0], height=size[1]))
     diffuse = diffuse_only(scene)
-    reference = render(diffuse, samples=16).rgb
+    reference = render(diffuse, samples=16, engine="numpy").rgb
 
     def rms(image: np.ndarray) -> float:
         return float(np.sqrt(np.mean((image - reference) ** 2)))
@@ -55,7 +55,7 @@ def main() -> None:
     print("|---|---|---|---|---|---|---|")
     backward = []
     for n in (1, 2) if args.quick else (1, 2, 4, 8):
-        image, elapsed = median_time(lambda n=n: render(diffuse, samples=n).rgb, args.repeats)
+        image, elapsed = median_time(lambda n=n: render(diffuse, samples=n, engine="numpy").rgb, args.repeats)
         backward.append((elapsed, rms(image)))
         print(
             f"| backward | {n} x {n} samples per pixel | {seconds(elapsed, 1)} "

@@ -62,10 +62,10 @@ def measure(name: str, scene: Scene, repeats: int, crop: tuple[int, int]) -> dic
     row = {"scene": name, "size": f"{camera.width}x{camera.height}", "objects": len(scene.objects)}
     row["loop"] = median_time(lambda: per_pixel_loop(scene, crop), 1)[1] * pixels / cropped
     if pixels * len(scene.objects) <= EVERY_OBJECT_LIMIT:
-        row["every"] = median_time(lambda: render(scene, skip_hidden=False), repeats)[1]
+        row["every"] = median_time(lambda: render(scene, skip_hidden=False, engine="numpy"), repeats)[1]
     else:
         row["every"] = None
-    row["tiles"] = median_time(lambda: render(scene), repeats)[1]
+    row["tiles"] = median_time(lambda: render(scene, engine="numpy"), repeats)[1]
     return row
 
 
@@ -146,7 +146,7 @@ def main() -> None:
     print("\n| scene | float64 | float32 | float32 / float64 | pixels whose object changes |")
     print("|---|---|---|---|---|")
     for name, scene in scenes(args.quick) + example_scenes(args.quick):
-        double, t64 = median_time(lambda s=scene: render(s), args.repeats)
+        double, t64 = median_time(lambda s=scene: render(s, engine="numpy"), args.repeats)
         single, t32 = median_time(lambda s=scene: render(s, dtype=np.float32), args.repeats)
         changed = int((double.object_index != single.object_index).sum())
         print(

@@ -131,10 +131,10 @@ def main() -> None:
     for name in ["classic", *EXAMPLES]:
         scene = sized(load_scene(scenes_folder / f"{name}.json"), width, height)
         flat_scene = unlit(scene)
-        _, flat = median_time(lambda s=flat_scene: render(s), args.repeats)
-        _, shaded = median_time(lambda s=scene: render(s), args.repeats)
+        _, flat = median_time(lambda s=flat_scene: render(s, engine="numpy"), args.repeats)
+        _, shaded = median_time(lambda s=scene: render(s, engine="numpy"), args.repeats)
         raykit.engine.regions.secondary_caster = every_object
-        _, unculled = median_time(lambda s=scene: render(s), args.repeats)
+        _, unculled = median_time(lambda s=scene: render(s, engine="numpy"), args.repeats)
         raykit.engine.regions.secondary_caster = original
         rays = secondary_rays(scene)
         rows.append(
@@ -154,9 +154,9 @@ def main() -> None:
     for level in levels:
         scene = lit_flake(level, size)
         raykit.engine.regions.secondary_caster = every_object
-        brute_image, brute = median_time(lambda s=scene: render(s), args.repeats)
+        brute_image, brute = median_time(lambda s=scene: render(s, engine="numpy"), args.repeats)
         raykit.engine.regions.secondary_caster = bvh_caster
-        bvh_image, through_bvh = median_time(lambda s=scene: render(s), args.repeats)
+        bvh_image, through_bvh = median_time(lambda s=scene: render(s, engine="numpy"), args.repeats)
         raykit.engine.regions.secondary_caster = original
         assert np.array_equal(brute_image.rgb, bvh_image.rgb)
         print(

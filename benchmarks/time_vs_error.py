@@ -36,14 +36,14 @@ def sized(scene: Scene, width: int, height: int) -> Scene:
 
 def measure(scene: Scene, repeats: int) -> list[tuple[str, int, float, float]]:
     """(mode, n, RMS error, median seconds) for every mode and n."""
-    reference = render(scene, 16).rgb
+    reference = render(scene, 16, engine="numpy").rgb
     rows = []
     for adaptive in (False, True):
         for n in (1, 2, 4, 8):
             if adaptive and n == 1:
                 continue
             image, seconds = median_time(
-                lambda n=n, a=adaptive: render(scene, n, adaptive=a), repeats
+                lambda n=n, a=adaptive: render(scene, n, adaptive=a, engine="numpy"), repeats
             )
             error = float(np.sqrt(np.mean((image.rgb - reference) ** 2)))
             rows.append(("adaptive" if adaptive else "everywhere", n, error, seconds))
@@ -68,7 +68,7 @@ def main() -> None:
         rows = measure(scene, args.repeats)
         base = next(r[3] for r in rows if r[0] == "everywhere" and r[1] == 4)
         camera = scene.camera
-        first = render(scene)
+        first = render(scene, engine="numpy")
         edges = edge_pixels(first.rgb, first.object_index).mean()
         print(
             f"{name} at {camera.width}x{camera.height}, {edges:.0%} of its pixels edges; "

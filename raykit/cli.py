@@ -1,6 +1,6 @@
 """The ``raykit`` command.
 
-    raykit render SCENE.json -o OUT.png [--samples N]            the 3D renderer
+    raykit render SCENE.json -o OUT.png [--samples N] [--engine auto|numpy|compiled]
     raykit scan SCENE2D.json -o strip.png [--diagram rays.png]   one line-scan
     raykit sweep SCENE2D.json -o sweep.png [--scans M]           M line-scans stacked
     raykit diagram SCENE.json -o rays.png [--view 3d|top|side|camera] [--rays K]
@@ -73,6 +73,7 @@ def build_parser() -> argparse.ArgumentParser:
         action="store_true",
         help="take the N x N samples only at edges, where neighbouring pixels differ",
     )
+    _engine_option(render, "which engine renders")
     render.set_defaults(run=_run_render)
 
     scan = _command(
@@ -157,8 +158,30 @@ def build_parser() -> argparse.ArgumentParser:
     bench.add_argument("--quick", action="store_true", help="small images, a short run")
     bench.add_argument("--repeats", type=_positive, default=3, help="runs per variant (median)")
     bench.add_argument("--plots", metavar="FOLDER", help="write the plots into this folder")
+    _engine_option(
+        bench,
+        "the engine of the raykit rows (mitsuba_compare.py times numpy and compiled side by side)",
+    )
     bench.set_defaults(run=_run_bench)
     return parser
+
+
+def _engine_option(parser: argparse.ArgumentParser, what: str) -> None:
+    parser.add_argument(
+        "--engine",
+        choices=("auto", "numpy", "compiled"),
+        default="auto",
+        help=f"{what}: numpy, compiled (the same picture, faster; needs "
+        "'pip install \"raykit[fast]\"'), or auto, compiled only where it pays (default)",
+    )
+
+
+def _check_engine(engine: str) -> None:
+    """Refuse ``--engine compiled`` without numba before any work, naming the fix."""
+    from raykit.engine.choice import FAST_EXTRA, compiled_available
+
+    if engine == "compiled" and not compiled_available():
+        raise ValueError(f"--engine compiled needs numba, which is not installed: {FAST_EXTRA}")
 
 
 def _version() -> str:
@@ -196,20 +219,25 @@ def _run_render(args: argparse.Namespace) -> None:
     from raykit.io.images import check_image_path, save_image
     from raykit.render import render
 
+    _check_engine(args.engine)
     check_image_path(args.output)  # before the render, not after it is thrown away
+    from raykit.engine.choice import choose
     from raykit.io.progress import progress_bar
 
     start = time.perf_counter()
     scene = _load_3d(args.scene)
     camera = scene.camera
+    engine = choose(args.engine, scene, args.samples)
     # on a terminal, a bar of pixels done, tile by tile, once the render has taken a second
     with progress_bar(camera.width * camera.height, "render", "px") as advance:
-        image = render(scene, samples=args.samples, adaptive=args.adaptive, progress=advance)
+        image = render(
+            scene, samples=args.samples, adaptive=args.adaptive, progress=advance, engine=engine
+        )
     save_image(image.rgb, args.output)
     seconds = time.perf_counter() - start
     print(
         f"wrote {args.output} ({camera.width}x{camera.height}, "
-        f"{args.samples}x{args.samples} samples per pixel) in {seconds:.2f} s"
+        f"{args.samples}x{args.samples} samples per pixel, {engine} engine) in {seconds:.2f} s"
     )
 
 
@@ -282,6 +310,7 @@ def _run_bench(args: argparse.Namespace) -> None:
     import subprocess
     from pathlib import Path
 
+    _check_engine(args.engine)
     folder = Path(__file__).resolve().parent.parent / "benchmarks"
     if not (folder / "render_speed.py").is_file():
         raise ValueError(
@@ -299,6 +328,7 @@ def _run_bench(args: argparse.Namespace) -> None:
     for number, (script, plot) in enumerate(scripts, 1):  # every script draws a plot
         command = [sys.executable, str(folder / script), "--repeats", str(args.repeats)]
         command += ["--quick"] if args.quick else []
+        command += ["--engine", args.engine]
         if args.plots:
             Path(args.plots).mkdir(parents=True, exist_ok=True)
             command += ["--plot", str(Path(args.plots) / plot)]

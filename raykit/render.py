@@ -34,6 +34,7 @@ from raykit.billboards import billboard_color_at, hit_billboard
 from raykit.camera import rays_through
 from raykit.engine import regions
 from raykit.engine.adaptive import edge_pixels, refine
+from raykit.engine.choice import choose
 from raykit.engine.regions import Image, Plan, ViewingRays
 from raykit.hits import Hits, solid
 from raykit.scene import Scene
@@ -61,6 +62,7 @@ def render(
     adaptive: bool = False,
     dtype: type = np.float64,
     progress: Callable[[int], object] | None = None,
+    engine: str = "auto",
 ) -> Render:
     """Render ``scene`` with ``samples`` x ``samples`` rays per pixel.
 
@@ -71,7 +73,14 @@ def render(
     (:mod:`raykit.engine.precision`); the default float64 uses the scene as it is.
     ``progress``: called with each tile's pixel count as the tile is finished (width x height
     in all; with ``adaptive``, as the tile's edge pixels are refined); a progress bar's update.
+    ``engine``: "numpy" runs the loop below; "compiled" runs the same loop as machine code, the
+    same bits (:mod:`raykit.engine.compiled`, needs ``pip install "raykit[fast]"``); "auto"
+    takes the compiled one only where that makes the whole run faster (:mod:`raykit.engine.choice`).
     """
+    if choose(engine, scene, samples, dtype) == "compiled":
+        from raykit.engine import compiled  # imports numba: only when it is used
+
+        return Render(*compiled.render(scene, samples, adaptive=adaptive, progress=progress))
     plan = Plan(scene, cast, samples, skip_hidden=skip_hidden, dtype=dtype, progress=progress)
     if adaptive and samples > 1:
         return _adaptive(scene, plan)
@@ -94,7 +103,7 @@ def illumination(plan: Plan, rays: ViewingRays, hits: Hits) -> np.ndarray:
 
 def _adaptive(scene: Scene, plan: Plan) -> Render:
     """One ray per pixel, then the n x n samples only at edges (:mod:`raykit.engine.adaptive`)."""
-    first = render(scene, 1, skip_hidden=plan.skip_hidden, dtype=plan.dtype)
+    first = render(scene, 1, skip_hidden=plan.skip_hidden, dtype=plan.dtype, engine="numpy")
     edge = edge_pixels(first.rgb, first.object_index)
     colors = lambda region, x, y: plan.colors_at(region, x, y, illumination)  # noqa: E731
     refine(plan.regions(), colors, first.rgb, edge, plan.samples, plan.progress)

@@ -129,6 +129,10 @@ def _lecture_order(function: str) -> int:
     )
 
 
+# the compiled engine repeats the solutions in machine code: students render with their own
+NOT_RELEASED = {REPO / "raykit/engine/compiled.py"}
+
+
 def build_release(out: Path) -> list[str]:
     """Build the release in ``out`` (which must not exist); returns the stubbed functions."""
     out = Path(out)
@@ -136,7 +140,7 @@ def build_release(out: Path) -> list[str]:
         raise FileExistsError(f"{out} exists; give a new folder")
     stubbed: list[str] = []
     for source in sorted((REPO / "raykit").rglob("*")):
-        if "__pycache__" in source.parts or source.is_dir():
+        if "__pycache__" in source.parts or source.is_dir() or source in NOT_RELEASED:
             continue
         target = out / source.relative_to(REPO)
         target.parent.mkdir(parents=True, exist_ok=True)

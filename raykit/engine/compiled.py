@@ -8,38 +8,36 @@ What it repeats, and how it is held to it. The lecture's numpy functions are the
 Each kernel below names the function it repeats and does *the same float64 operations in the
 same order* on one ray, so its answers agree with the reference bit for bit
 (``tests/test_compiled.py`` checks t values, object indices and colours on 10^5 seeded random
-rays per kernel, on the stability cases, and the PNG bytes of every example scene). Dot products
+rays per kernel, the stability cases, and the PNG bytes of every example scene). Dot products
 are summed left to right with no fused multiply-add, as :func:`raykit.rays.dot` sums them
-(numba, like numpy, does not contract a·b + c unless asked to with fastmath, which is off).
+(numba, like numpy, contracts a·b + c into an FMA only under fastmath, which is off).
 
-What it skips. Every ray walks a bounding volume hierarchy (the tree of
-:mod:`raykit.engine.bvh`, built by the same code), nearer child first, and leaves a box as soon
-as the box starts beyond the nearest hit found so far: a ray tests the handful of objects near
-its path, not all K. Ties keep the lower object index, whatever order the tree visits them in,
-and a cut-out texel (a hole) is no hit, so the answer is :func:`raykit.render.cast`'s.
+What it skips. Primary rays: the image is cut into TILE x TILE tiles, and each tile keeps the
+objects whose screen rectangle (:mod:`raykit.engine.screen_bounds`) meets it, nearest first; a
+viewing ray tests only those whose rectangle holds its image point, and stops at the first
+object that cannot come nearer than the hit it has (:func:`screen_tiles`). Shadow and mirror
+rays: they walk a bounding volume hierarchy (the tree of :mod:`raykit.engine.bvh`, built by
+the same code), nearer child first, leaving every box that starts beyond the nearest hit found.
+Either way a tie keeps the lower object index, whatever order objects come in, and a cut-out
+texel is no hit: the answer is :func:`raykit.render.cast`'s.
 
 Lit scenes. Lights, shadows and mirrors are shaded by the reference itself
-(:func:`raykit.shading.shade`), with this engine finding the nearest hits of the primary rays
-and of every shadow and mirror ray (:func:`caster`): the shading terms are computed once per hit
-and cost little next to the searches.
+(:func:`raykit.shading.shade`), this engine finding the nearest hits of the primary rays and of
+every shadow and mirror ray (:func:`caster`).
 
-Compiling. The kernels compile on first use (``compiling raykit's fast kernels, once: ...`` on
-standard error) and are cached on disk (:func:`cache_folder`), in a folder named after a hash
-of this file's source: editing a kernel makes a new folder, so the cache never serves kernels
-compiled from older source (numba's own check, the file's time and size, would miss an edit
-that keeps both). Only float64 is compiled; ``dtype=np.float32`` renders with the numpy engine.
+Compiling. The kernels compile on first use, which says so on standard error, and are cached
+on disk in a folder named after a hash of this file's source
+(:func:`raykit.engine.choice.cache_folder`): editing a kernel makes a new folder, so the cache
+never serves kernels compiled from older source (numba's own check, the file's time and size,
+would miss an edit that keeps both). Only float64 is compiled.
 """
 
 from __future__ import annotations
 
-import hashlib
 import math
-import os
 import sys
-import tempfile
 import time
 from collections.abc import Callable
-from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
@@ -47,9 +45,9 @@ import numpy as np
 from raykit.camera import sample_offsets
 from raykit.engine.adaptive import edge_pixels
 from raykit.engine.bvh import BVH
+from raykit.engine.choice import cache_folder
 from raykit.engine.screen_bounds import object_bounds
 from raykit.hits import Hits
-from raykit.rays import MISS
 from raykit.scene import Scene
 
 COMPILE_SECONDS = 40  # how long the first compile took on the 2-core machine (measured)
@@ -58,43 +56,15 @@ TILE = 16  # pixels a side of the tiles that primary rays take their objects fro
 ROWS_PER_CALL = 32  # rows of pixels per kernel call: a progress bar moves, memory stays small
 
 
-def cache_folder(source: str | None = None) -> Path | None:
-    """Where numba keeps the compiled kernels: ``$NUMBA_CACHE_DIR``, else ``$XDG_CACHE_HOME``
-    or ``~/.cache``, else the temporary folder, under ``raykit/numba-<hash of this file's
-    source>``; the first of them that can be written (a read-only install still caches).
-    None when none can be written: the kernels then compile in every process."""
-    if source is None:
-        source = Path(__file__).read_text()
-    key = hashlib.sha256(source.encode()).hexdigest()[:16]
-    bases = [
-        os.environ.get("NUMBA_CACHE_DIR"),
-        os.environ.get("XDG_CACHE_HOME"),
-        os.path.join(os.path.expanduser("~"), ".cache"),
-        os.path.join(tempfile.gettempdir(), f"raykit-{os.getuid()}"),
-    ]
-    for base in filter(None, bases):
-        folder = Path(base) / "raykit" / f"numba-{key}"
-        try:
-            folder.mkdir(parents=True, exist_ok=True)
-            with tempfile.TemporaryFile(dir=folder):
-                pass
-        except OSError:
-            continue
-        return folder
-    return None
-
-
-_CACHE = cache_folder()
-if _CACHE is not None:
-    os.environ["NUMBA_CACHE_DIR"] = str(_CACHE)  # read when numba is imported, just below
+_CACHE = cache_folder()  # keyed on this file's source
 _FIRST_USE = _CACHE is None or not (_CACHE / "compiled.ok").exists()
 if _FIRST_USE:
     print(f"compiling raykit's fast kernels, once: ~{COMPILE_SECONDS} s", file=sys.stderr)
 
-import numba  # noqa: E402  (after NUMBA_CACHE_DIR is set)
+import numba  # noqa: E402  (after the message: importing numba takes a while too)
 from numba import njit, prange  # noqa: E402
 
-numba.config.CACHE_DIR = str(_CACHE) if _CACHE is not None else ""
+numba.config.CACHE_DIR = str(_CACHE) if _CACHE is not None else ""  # read as kernels are made
 _jit = dict(cache=_CACHE is not None, error_model="numpy", nogil=True)
 # one ray's kernels are inlined into the loops: a call would pass the scene's arrays by value,
 # with a reference count per array, which cost more than the ray's arithmetic (measured)
@@ -131,10 +101,11 @@ class Arrays(NamedTuple):
     background: np.ndarray
 
 
-def scene_arrays(scene: Scene) -> Arrays:
+def scene_arrays(scene: Scene, tree: bool = True) -> Arrays:
     """The scene's :class:`Arrays`, each number computed by the reference's own code (the
     billboards' cached edges and dual axes, the BVH builder), so the kernels start from the
-    same bits. A texture is decoded here only if it is on a billboard."""
+    same bits. ``tree``: build the BVH (only shadow and mirror rays walk it; without it, its
+    arrays are empty). A texture is decoded here only if it is on a billboard."""
     boards = scene.billboards
     f3 = lambda rows: np.array(rows, dtype=float).reshape(-1, 3)  # noqa: E731
     starts, widths, heights, texels, used = [], [], [], [], 0
@@ -146,11 +117,16 @@ def scene_arrays(scene: Scene) -> Arrays:
         starts.append(used), widths.append(rgba.shape[1]), heights.append(rgba.shape[0])
         texels.append(rgba.reshape(-1, 4))
         used += rgba.shape[0] * rgba.shape[1]
-    bvh = BVH.build(scene)
+    if tree:
+        bvh = BVH.build(scene)
+        nodes = (bvh.lower, bvh.upper, bvh.children, bvh.first, bvh.count, bvh.order)
+    else:
+        nodes = (np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 2)), *[np.zeros(0)] * 3)
+    lower, upper, children, first, count, order = nodes
     return Arrays(
-        bvh.arrays.centers.astype(float).reshape(-1, 3),
-        bvh.arrays.radii.astype(float),
-        bvh.arrays.sphere_colors.reshape(-1, 3),
+        f3([s.center for s in scene.spheres]),
+        np.array([s.radius for s in scene.spheres], dtype=float),
+        f3([s.color for s in scene.spheres]),
         f3([np.asarray(b.upper_left, float) for b in boards]),
         f3([b.n for b in boards]),
         f3([b.dual_axes[0] for b in boards]),
@@ -160,12 +136,12 @@ def scene_arrays(scene: Scene) -> Arrays:
         np.array(widths, dtype=np.int64),
         np.array(heights, dtype=np.int64),
         np.concatenate(texels) if texels else np.zeros((0, 4), np.uint8),
-        bvh.lower.astype(float).reshape(-1, 3),
-        bvh.upper.astype(float).reshape(-1, 3),
-        bvh.children.astype(np.int64).reshape(-1, 2),
-        bvh.first.astype(np.int64),
-        bvh.count.astype(np.int64),
-        bvh.order.astype(np.int64),
+        lower.astype(float).reshape(-1, 3),
+        upper.astype(float).reshape(-1, 3),
+        children.astype(np.int64).reshape(-1, 2),
+        first.astype(np.int64),
+        count.astype(np.int64),
+        order.astype(np.int64),
         np.asarray(scene.background, dtype=float),
     )
 
@@ -224,7 +200,9 @@ def hit_billboard(o0, o1, o2, d0, d1, d2, arrays, board):
     a = (arrays.corners[board, 0], arrays.corners[board, 1], arrays.corners[board, 2])
     n = (arrays.n[board, 0], arrays.n[board, 1], arrays.n[board, 2])
     alpha_axis = (
-        arrays.alpha_axes[board, 0], arrays.alpha_axes[board, 1], arrays.alpha_axes[board, 2]
+        arrays.alpha_axes[board, 0],
+        arrays.alpha_axes[board, 1],
+        arrays.alpha_axes[board, 2],
     )
     beta_axis = (arrays.beta_axes[board, 0], arrays.beta_axes[board, 1], arrays.beta_axes[board, 2])
     d_dot_n = d0 * n[0] + d1 * n[1] + d2 * n[2]
@@ -246,8 +224,9 @@ def hit_billboard(o0, o1, o2, d0, d1, d2, arrays, board):
 
 @njit(**_one_ray)
 def billboard_color(arrays, board, alpha, beta):
-    """Repeats :func:`raykit.billboards.billboard_color_at` (:func:`~raykit.billboards.texel_indices`,
-    :func:`~raykit.billboards.colors_and_opacity`) for one hit: ``(r, g, b, opaque)``."""
+    """Repeats :func:`raykit.billboards.billboard_color_at` (with
+    :func:`~raykit.billboards.texel_indices` and :func:`~raykit.billboards.colors_and_opacity`)
+    for one hit: ``(r, g, b, opaque)``."""
     start = arrays.texture_start[board]
     if start < 0:
         colors = arrays.board_colors
@@ -419,8 +398,15 @@ def nearest_in_tile(arrays, tiles, x, y, o0, o1, o2, d0, d1, d2):
         obj = objects[k]
         if closest[obj] > best_t:
             break  # every object from here on is farther than the hit
-        if bounds[obj, 0] <= x and x <= bounds[obj, 1] and bounds[obj, 2] <= y and y <= bounds[obj, 3]:
-            best, best_t, r, g, b = offer(arrays, obj, o0, o1, o2, d0, d1, d2, best, best_t, r, g, b)
+        if (
+            bounds[obj, 0] <= x
+            and x <= bounds[obj, 1]
+            and bounds[obj, 2] <= y
+            and y <= bounds[obj, 3]
+        ):
+            best, best_t, r, g, b = offer(
+                arrays, obj, o0, o1, o2, d0, d1, d2, best, best_t, r, g, b
+            )
     return best, best_t, r, g, b
 
 
@@ -561,7 +547,7 @@ def render(scene: Scene, samples: int = 1, *, adaptive: bool = False, progress=N
     started = time.perf_counter()
     if samples < 1:
         raise ValueError(f"samples must be >= 1, got {samples}")
-    arrays = scene_arrays(scene)
+    arrays = scene_arrays(scene, tree=needs_shading(scene))
     camera = camera_tuple(scene)
     tiles = screen_tiles(scene)
     offsets = sample_offsets(1 if adaptive else samples)
@@ -653,4 +639,4 @@ def _compiled_once(started: float) -> None:
     _FIRST_USE = False
 
 
-__all__ = ["MISS", "render", "caster", "cast_rays", "scene_arrays", "cache_folder"]
+__all__ = ["render", "caster", "cast_rays", "scene_arrays", "screen_tiles"]

@@ -1,0 +1,99 @@
+"""Which engine renders: the numpy one, or the compiled one (:mod:`raykit.engine.compiled`).
+
+``engine="numpy"`` is the lecture's loop over numpy arrays (:func:`raykit.render.render`), and
+always there. ``engine="compiled"`` needs numba (``pip install "raykit[fast]"``) and renders the
+same bits in machine code. ``engine="auto"`` (the default) takes the compiled engine only when
+the whole process is faster with it: numba is installed, its kernels are already compiled and
+cached (a first compile takes longer than most renders), the render is float64, and the numpy
+engine would take longer than loading numba and the kernels costs (``AUTO_FROM``, measured by
+``raykit bench``). So a small render never pays for numba, and nothing here imports it.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib.util
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from raykit.scene import Scene
+from raykit.shading import needs_shading
+
+ENGINES = ("auto", "numpy", "compiled")
+FAST_EXTRA = 'pip install "raykit[fast]"'
+COMPILED_SOURCE = Path(__file__).with_name("compiled.py")
+# The numpy engine's time per ray, flat and shaded, and what loading numba and the cached
+# kernels costs a process: measured on the 2-core machine by benchmarks/engines.py
+# (`raykit bench` prints them again on yours)
+NUMPY_SECONDS_PER_RAY = {"flat": 2.5e-7, "lit": 1.0e-6}
+AUTO_FROM = 0.5  # seconds of numpy rendering from which the compiled engine wins, load included
+
+
+class EngineUnavailable(RuntimeError):
+    """The compiled engine was asked for where it cannot run; the message says what to do."""
+
+
+def compiled_available() -> bool:
+    """Whether the compiled engine can run here: numba is installed (found, not imported) and
+    this copy of raykit has the engine (a student's starter kit does not)."""
+    return COMPILED_SOURCE.exists() and importlib.util.find_spec("numba") is not None
+
+
+def cache_folder() -> Path | None:
+    """Where numba keeps the compiled kernels: ``$NUMBA_CACHE_DIR``, else ``$XDG_CACHE_HOME``
+    or ``~/.cache``, else the temporary folder, under ``raykit/numba-<hash of the compiled
+    engine's source>``: the first of them that can be written, so a read-only install still
+    caches. Editing a kernel makes a new folder, so no kernel compiled from older source is
+    ever loaded. None when no folder can be written (the kernels then compile in every process)."""
+    key = hashlib.sha256(COMPILED_SOURCE.read_bytes()).hexdigest()[:16]
+    bases = [
+        os.environ.get("RAYKIT_CACHE_DIR"),
+        os.environ.get("XDG_CACHE_HOME"),
+        os.path.join(os.path.expanduser("~"), ".cache"),
+        os.path.join(tempfile.gettempdir(), f"raykit-{os.getuid()}"),
+    ]
+    for base in filter(None, bases):
+        folder = Path(base) / "raykit" / f"numba-{key}"
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+            with tempfile.TemporaryFile(dir=folder):
+                pass
+        except OSError:
+            continue
+        return folder
+    return None
+
+
+def compiled_once() -> bool:
+    """Whether the kernels of this source are compiled and cached (a marker the compiled engine
+    writes after its first render)."""
+    folder = cache_folder()
+    return folder is not None and (folder / "compiled.ok").exists()
+
+
+def numpy_seconds(scene: Scene, samples: int) -> float:
+    """About how long the numpy engine takes to render ``scene`` with n x n samples."""
+    camera = scene.camera
+    rays = camera.width * camera.height * samples * samples
+    return rays * NUMPY_SECONDS_PER_RAY["lit" if needs_shading(scene) else "flat"]
+
+
+def choose(engine: str, scene: Scene, samples: int = 1, dtype: type = np.float64) -> str:
+    """``"numpy"`` or ``"compiled"``: the engine that renders, for ``engine`` in
+    :data:`ENGINES` (see the module page). ValueError for an unknown name or a float32
+    compiled render; :class:`EngineUnavailable` for ``"compiled"`` without numba."""
+    if engine not in ENGINES:
+        raise ValueError(f"engine must be one of {', '.join(ENGINES)}; got {engine!r}")
+    if engine == "numpy":
+        return "numpy"
+    if engine == "compiled":
+        if not compiled_available():
+            raise EngineUnavailable(f"the compiled engine needs numba: {FAST_EXTRA}")
+        if dtype != np.float64:
+            raise ValueError("the compiled engine renders in float64 only; use engine='numpy'")
+        return "compiled"
+    fast = compiled_available() and dtype == np.float64 and compiled_once()
+    return "compiled" if fast and numpy_seconds(scene, samples) >= AUTO_FROM else "numpy"
