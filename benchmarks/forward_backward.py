@@ -55,7 +55,9 @@ def main() -> None:
     print("|---|---|---|---|---|---|---|")
     backward = []
     for n in (1, 2) if args.quick else (1, 2, 4, 8):
-        image, elapsed = median_time(lambda n=n: render(diffuse, samples=n, engine="numpy").rgb, args.repeats)
+        image, elapsed = median_time(
+            lambda n=n: render(diffuse, samples=n, engine="numpy").rgb, args.repeats
+        )
         backward.append((elapsed, rms(image)))
         print(
             f"| backward | {n} x {n} samples per pixel | {seconds(elapsed, 1)} "

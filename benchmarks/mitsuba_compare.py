@@ -183,6 +183,15 @@ def mitsuba_in_child(variant: str, data: dict, repeats: int) -> dict | str:
     return json.loads(run.stdout)
 
 
+def _engines(engine: str) -> list[str]:
+    """The raykit engines to time: both for ``auto`` (compiled only where numba is installed)."""
+    from raykit.engine.choice import compiled_available
+
+    if engine == "auto":
+        return ["numpy", "compiled"] if compiled_available() else ["numpy"]
+    return [engine]
+
+
 def plot(path: Path, rows: list[dict]) -> None:
     """The render medians as bars: a group per scene, a bar per renderer. ``rows``:
     ``{"scene", "renderer", "render"}`` (seconds, or None for a variant that failed)."""
@@ -202,6 +211,12 @@ def main() -> None:
     parser = arguments(__doc__, "small scenes")
     parser.add_argument("--plot", type=Path, help="write the render medians as bars here")
     parser.add_argument("--child", help=argparse.SUPPRESS)
+    parser.add_argument(
+        "--engine",
+        choices=("auto", "numpy", "compiled"),
+        default="auto",
+        help="raykit's engine: numpy, compiled, or auto: both side by side (default)",
+    )
     args = parser.parse_args()
     if args.child:
         print(json.dumps(run_mitsuba(args.child, json.loads(sys.stdin.read()), args.repeats)))
@@ -214,42 +229,44 @@ def main() -> None:
     except ImportError:
         print("Mitsuba 3 is not installed (pip install mitsuba): raykit alone is timed.\n")
         version = None
+    engines = _engines(args.engine)
     print(
         "| scene | renderer | load | first render | render (median) | load + render "
-        "| hit masks agree |"
+        "| render / Mitsuba llvm | hit masks agree |"
     )
-    print("|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|")
     rows = []
     for name, scene in benchmark_scenes(args.quick).items():
         data = scene_data(scene)
-        start = time.perf_counter()
-        loaded = scene_from_dict(data)
-        load = time.perf_counter() - start
-        start = time.perf_counter()
-        first_image = render(loaded)
-        first = time.perf_counter() - start
-        _, render_time = median_time(lambda s=loaded: render(s), args.repeats)
-        ours = first_image.object_index >= 0
-        rows.append({"scene": name, "renderer": "raykit", "render": render_time})
-        print(
-            f"| {name} | raykit | {seconds(load, 1)} | {seconds(first, 1)} "
-            f"| {seconds(render_time, 1)} | {seconds(load + render_time, 1)} | - |"
-        )
-        if version is None:
-            continue
-        for variant in VARIANTS:
+        table, ours = [], None
+        for engine in engines:
+            start = time.perf_counter()
+            loaded = scene_from_dict(data)
+            load = time.perf_counter() - start
+            start = time.perf_counter()
+            first_image = render(loaded, engine=engine)
+            first = time.perf_counter() - start
+            _, took = median_time(lambda s=loaded, e=engine: render(s, engine=e), args.repeats)
+            ours = first_image.object_index >= 0
+            table.append((f"raykit {engine}", load, first, took, "-"))
+        for variant in VARIANTS if version is not None else ():
             result = mitsuba_in_child(variant, data, args.repeats)
             renderer = f"Mitsuba {version} {variant}"
             if isinstance(result, str):
-                print(f"| {name} | {renderer} | {result} | | | | |")
-                rows.append({"scene": name, "renderer": renderer, "render": None})
+                table.append((renderer, result, None, None, ""))
                 continue
-            rows.append({"scene": name, "renderer": renderer, "render": result["render"]})
-            agree = np.mean(np.array(result["hit"]) == ours)
+            agree = f"{np.mean(np.array(result['hit']) == ours):.1%}"
+            table.append((renderer, result["load"], result["first"], result["render"], agree))
+        llvm = next((r[3] for r in table if r[0].endswith("llvm_ad_rgb") and r[3]), None)
+        for renderer, load, first, took, agree in table:
+            rows.append({"scene": name, "renderer": renderer, "render": took})
+            if isinstance(load, str):
+                print(f"| {name} | {renderer} | {load} | | | | | |")
+                continue
+            ratio = f"{took / llvm:.2f}" if llvm else "-"
             print(
-                f"| {name} | Mitsuba {version} {variant} | {seconds(result['load'], 1)} "
-                f"| {seconds(result['first'], 1)} | {seconds(result['render'], 1)} "
-                f"| {seconds(result['load'] + result['render'], 1)} | {agree:.1%} |"
+                f"| {name} | {renderer} | {seconds(load, 1)} | {seconds(first, 1)} "
+                f"| {seconds(took, 1)} | {seconds(load + took, 1)} | {ratio} | {agree} |"
             )
     print(
         f"\nMedians of {args.repeats} renders after a warm-up; load and render in one process each."

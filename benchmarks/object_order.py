@@ -8,7 +8,7 @@ The slide's two loops on the same random spheres (``scenes.many_spheres``, 640x3
 
 * image order, tiles: ``raykit.render.render`` (for each pixel, the objects that can be seen
   in its tile);
-* image order, every object: ``render(scene, skip_hidden=False, engine="numpy")`` (for each pixel, every
+* image order, every object: ``render(scene, skip_hidden=False)`` (for each pixel, every
   object), not run beyond ``EVERY_OBJECT_LIMIT`` ray-object tests;
 * object order: ``raykit.object_order.render_object_order`` (for each object, the pixels its
   screen rectangle covers, a depth buffer).
@@ -56,7 +56,9 @@ def measure(count: int, size: tuple[int, int], repeats: int) -> dict:
     assert (traced.object_index == drawn.object_index).all(), "the loops disagree"
     row["every"] = None
     if pixels * count <= EVERY_OBJECT_LIMIT:
-        row["every"] = median_time(lambda: render(scene, skip_hidden=False, engine="numpy"), repeats)[1]
+        row["every"] = median_time(
+            lambda: render(scene, skip_hidden=False, engine="numpy"), repeats
+        )[1]
     row["pairs object"] = object_order_tests(scene)
     return row
 

@@ -62,7 +62,9 @@ def measure(name: str, scene: Scene, repeats: int, crop: tuple[int, int]) -> dic
     row = {"scene": name, "size": f"{camera.width}x{camera.height}", "objects": len(scene.objects)}
     row["loop"] = median_time(lambda: per_pixel_loop(scene, crop), 1)[1] * pixels / cropped
     if pixels * len(scene.objects) <= EVERY_OBJECT_LIMIT:
-        row["every"] = median_time(lambda: render(scene, skip_hidden=False, engine="numpy"), repeats)[1]
+        row["every"] = median_time(
+            lambda: render(scene, skip_hidden=False, engine="numpy"), repeats
+        )[1]
     else:
         row["every"] = None
     row["tiles"] = median_time(lambda: render(scene, engine="numpy"), repeats)[1]

@@ -156,7 +156,9 @@ def main() -> None:
         raykit.engine.regions.secondary_caster = every_object
         brute_image, brute = median_time(lambda s=scene: render(s, engine="numpy"), args.repeats)
         raykit.engine.regions.secondary_caster = bvh_caster
-        bvh_image, through_bvh = median_time(lambda s=scene: render(s, engine="numpy"), args.repeats)
+        bvh_image, through_bvh = median_time(
+            lambda s=scene: render(s, engine="numpy"), args.repeats
+        )
         raykit.engine.regions.secondary_caster = original
         assert np.array_equal(brute_image.rgb, bvh_image.rgb)
         print(

@@ -328,7 +328,8 @@ def _run_bench(args: argparse.Namespace) -> None:
     for number, (script, plot) in enumerate(scripts, 1):  # every script draws a plot
         command = [sys.executable, str(folder / script), "--repeats", str(args.repeats)]
         command += ["--quick"] if args.quick else []
-        command += ["--engine", args.engine]
+        if script == "mitsuba_compare.py":  # the others time the numpy engine's own skips
+            command += ["--engine", args.engine]
         if args.plots:
             Path(args.plots).mkdir(parents=True, exist_ok=True)
             command += ["--plot", str(Path(args.plots) / plot)]

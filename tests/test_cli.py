@@ -17,7 +17,7 @@ def test_render_writes_the_png_and_says_what_it_wrote(tmp_path, capsys):
     out = tmp_path / "classic.png"
     assert main(["render", str(SCENES / "classic.json"), "-o", str(out)]) == 0
     said = capsys.readouterr().out
-    assert said.startswith(f"wrote {out} (640x480, 1x1 samples per pixel) in ")
+    assert said.startswith(f"wrote {out} (640x480, 1x1 samples per pixel, numpy engine) in ")
     assert said.rstrip().endswith(" s")
     image = np.asarray(Image.open(out))
     assert image.shape == (480, 640, 3)
