@@ -105,9 +105,17 @@ def camera_frame(
 def sample_offsets(samples: int) -> np.ndarray:
     """The n x n sample offsets (a, b) inside a pixel, ``(n*n, 2)``: a regular grid of sub-pixel
     centres, so n = 1 gives the pixel centre (0.5, 0.5) and odd n always includes it."""
+    if samples < 1:
+        raise ValueError(f"samples must be >= 1, got {samples}")
     centres = (np.arange(samples) + 0.5) / samples
     a, b = np.meshgrid(centres, centres, indexing="xy")
     return np.column_stack([a.ravel(), b.ravel()])
+
+
+def centre_sample(samples: int) -> int | None:
+    """Which of the n x n :func:`sample_offsets` is the pixel centre (0.5, 0.5): the middle one
+    for odd n, none for even n."""
+    return samples // 2 * (samples + 1) if samples % 2 else None
 
 
 def image_plane_points(camera: Camera, x: np.ndarray, y: np.ndarray) -> np.ndarray:

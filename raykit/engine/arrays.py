@@ -2,13 +2,15 @@
 
 :class:`SceneArrays` holds what :class:`raykit.scene.Scene` (plain data) does not: the spheres'
 centres, radii and colours stacked in object index order, and every object's padded bounding
-box (:mod:`raykit.engine.boxes`). The renderer makes it once (:func:`SceneArrays.of`) and hands
-it to the tiles, the (object, ray) pairs, the BVH and the culling of shadow rays.
+box (:mod:`raykit.engine.boxes`), made on first use. The renderer makes it once
+(:func:`SceneArrays.of`) and hands it to the tiles, the (object, ray) pairs, the BVH and the
+culling of shadow rays.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
@@ -19,12 +21,13 @@ from raykit.scene import Scene
 @dataclass(frozen=True)
 class SceneArrays:
     """``centers (S, 3)``, ``radii (S,)``, ``sphere_colors (S, 3)`` of the spheres; ``boxes``:
-    every object's box, ``lower`` and ``upper (K, 3)``; all in object index order."""
+    every object's box, ``lower`` and ``upper (K, 3)``, made when first asked for (a render of
+    flat colours by the compiled engine never needs them); all in object index order."""
 
     centers: np.ndarray
     radii: np.ndarray
     sphere_colors: np.ndarray
-    boxes: tuple[np.ndarray, np.ndarray]
+    scene: Scene = field(repr=False)
 
     @classmethod
     def of(cls, scene: Scene) -> SceneArrays:
@@ -34,4 +37,8 @@ class SceneArrays:
         else:
             centers, radii = np.zeros((0, 3)), np.zeros(0)
         colors = np.array([s.color for s in scene.spheres], dtype=float).reshape(-1, 3)
-        return cls(centers, radii, colors, object_boxes(scene.spheres, scene.billboards))
+        return cls(centers, radii, colors, scene)
+
+    @cached_property
+    def boxes(self) -> tuple[np.ndarray, np.ndarray]:
+        return object_boxes(self.scene.spheres, self.scene.billboards)

@@ -38,17 +38,21 @@ import math
 import sys
 import time
 from collections.abc import Callable
+from functools import partial
 from typing import NamedTuple
 
 import numpy as np
 
-from raykit.camera import sample_offsets
-from raykit.engine.adaptive import edge_pixels
+from raykit.camera import centre_sample, region_points, sample_offsets
+from raykit.engine.adaptive import edge_pixels, refine
+from raykit.engine.arrays import SceneArrays
 from raykit.engine.bvh import BVH
 from raykit.engine.choice import cache_folder
 from raykit.engine.screen_bounds import object_bounds
+from raykit.engine.tiles import regions
 from raykit.hits import Hits
 from raykit.scene import Scene
+from raykit.shading import needs_shading, shade
 
 COMPILE_SECONDS = 20  # how long the first compile took on the 2-core machine (measured: 10-18 s)
 STACK = 128  # nodes a ray may have still to visit: a median-split tree of 2^63 objects is 63 deep
@@ -71,14 +75,25 @@ _jit = dict(cache=_CACHE is not None, error_model="numpy", nogil=True)
 _one_ray = dict(_jit, inline="always")
 
 
+class Tree(NamedTuple):
+    """A BVH (:class:`raykit.engine.bvh.BVH`, :func:`scene_tree`) as the kernels walk it."""
+
+    lower: np.ndarray
+    upper: np.ndarray
+    children: np.ndarray
+    first: np.ndarray
+    count: np.ndarray
+    order: np.ndarray
+
+
 class Arrays(NamedTuple):
     """A scene as flat arrays for the kernels, in object index order (:mod:`raykit.scene`):
-    spheres ``centers (S, 3)``, ``radii (S,)``, ``sphere_colors (S, 3)``; billboards'
-    ``corners (B, 3)`` (upper_left), normals ``n (B, 3)`` (a × b), ``alpha_axes``,
-    ``beta_axes (B, 3)`` (:attr:`raykit.billboards.Billboard.dual_axes`), flat ``board_colors
-    (B, 3)``, and textures: ``texture_start (B,)`` (-1: none) into the texels of all textures
-    ``texels (T, 4)`` uint8, row by row, ``texture_width``, ``texture_height (B,)``; the BVH's
-    ``lower``, ``upper (M, 3)``, ``children (M, 2)``, ``first``, ``count (M,)``, ``order``."""
+    spheres ``centers (S, 3)``, ``radii (S,)``, ``sphere_colors (S, 3)``
+    (:class:`raykit.engine.arrays.SceneArrays`); billboards' ``corners (B, 3)`` (upper_left),
+    normals ``n (B, 3)`` (a × b), ``alpha_axes``, ``beta_axes (B, 3)``
+    (:attr:`raykit.billboards.Billboard.dual_axes`), flat ``board_colors (B, 3)``, and textures:
+    ``texture_start (B,)`` (-1: none) into the texels of all textures ``texels (T, 4)`` uint8,
+    row by row, ``texture_width``, ``texture_height (B,)``; the ``background (3,)``."""
 
     centers: np.ndarray
     radii: np.ndarray
@@ -92,20 +107,15 @@ class Arrays(NamedTuple):
     texture_width: np.ndarray
     texture_height: np.ndarray
     texels: np.ndarray
-    lower: np.ndarray
-    upper: np.ndarray
-    children: np.ndarray
-    first: np.ndarray
-    count: np.ndarray
-    order: np.ndarray
     background: np.ndarray
 
 
-def scene_arrays(scene: Scene, tree: bool = True) -> Arrays:
+def scene_arrays(scene: Scene) -> Arrays:
     """The scene's :class:`Arrays`, each number computed by the reference's own code (the
-    billboards' cached edges and dual axes, the BVH builder), so the kernels start from the
-    same bits. ``tree``: build the BVH (only shadow and mirror rays walk it; without it, its
-    arrays are empty). A texture is decoded here only if it is on a billboard."""
+    spheres' :class:`~raykit.engine.arrays.SceneArrays`, the billboards' cached edges and dual
+    axes), so the kernels start from the same bits. A texture is decoded here only if it is on
+    a billboard."""
+    spheres = SceneArrays.of(scene)
     boards = scene.billboards
     f3 = lambda rows: np.array(rows, dtype=float).reshape(-1, 3)  # noqa: E731
     starts, widths, heights, texels, used = [], [], [], [], 0
@@ -117,16 +127,10 @@ def scene_arrays(scene: Scene, tree: bool = True) -> Arrays:
         starts.append(used), widths.append(rgba.shape[1]), heights.append(rgba.shape[0])
         texels.append(rgba.reshape(-1, 4))
         used += rgba.shape[0] * rgba.shape[1]
-    if tree:
-        bvh = BVH.build(scene)
-        nodes = (bvh.lower, bvh.upper, bvh.children, bvh.first, bvh.count, bvh.order)
-    else:
-        nodes = (np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 2)), *[np.zeros(0)] * 3)
-    lower, upper, children, first, count, order = nodes
     return Arrays(
-        f3([s.center for s in scene.spheres]),
-        np.array([s.radius for s in scene.spheres], dtype=float),
-        f3([s.color for s in scene.spheres]),
+        spheres.centers.astype(float).reshape(-1, 3),
+        spheres.radii.astype(float),
+        spheres.sphere_colors,
         f3([np.asarray(b.upper_left, float) for b in boards]),
         f3([b.n for b in boards]),
         f3([b.dual_axes[0] for b in boards]),
@@ -136,13 +140,18 @@ def scene_arrays(scene: Scene, tree: bool = True) -> Arrays:
         np.array(widths, dtype=np.int64),
         np.array(heights, dtype=np.int64),
         np.concatenate(texels) if texels else np.zeros((0, 4), np.uint8),
-        lower.astype(float).reshape(-1, 3),
-        upper.astype(float).reshape(-1, 3),
-        children.astype(np.int64).reshape(-1, 2),
-        first.astype(np.int64),
-        count.astype(np.int64),
-        order.astype(np.int64),
         np.asarray(scene.background, dtype=float),
+    )
+
+
+def scene_tree(scene: Scene) -> Tree:
+    """The scene's BVH, built by the numpy engine's own builder, as a :class:`Tree`."""
+    bvh = BVH.build(scene)
+    return Tree(
+        bvh.lower.astype(float).reshape(-1, 3),
+        bvh.upper.astype(float).reshape(-1, 3),
+        bvh.children.astype(np.int64).reshape(-1, 2),
+        *(part.astype(np.int64) for part in (bvh.first, bvh.count, bvh.order)),
     )
 
 
@@ -288,7 +297,7 @@ def offer(arrays, obj, o0, o1, o2, d0, d1, d2, best, best_t, r, g, b):
 
 
 @njit(**_one_ray)
-def nearest_hit(arrays, stack, o0, o1, o2, d0, d1, d2, t_max):
+def nearest_hit(arrays, tree, stack, o0, o1, o2, d0, d1, d2, t_max):
     """Repeats :func:`raykit.render.cast` for one ray, through the BVH: ``(index, t, r, g, b)``,
     the nearest opaque hit with t > 0 (the lower index on a tie), or (-1, inf, background).
     Hits at t > t_max may be left out (shadow rays). ``stack``: room for the nodes still to
@@ -296,10 +305,10 @@ def nearest_hit(arrays, stack, o0, o1, o2, d0, d1, d2, t_max):
     background = arrays.background
     best, best_t = -1, np.inf
     r, g, b = background[0], background[1], background[2]
-    if len(arrays.order) == 0:
+    if len(tree.order) == 0:
         return best, best_t, r, g, b
     i0, i1, i2 = 1.0 / d0, 1.0 / d1, 1.0 / d2  # ±inf along an axis the ray does not move
-    lower, upper = arrays.lower, arrays.upper
+    lower, upper = tree.lower, tree.upper
     stack[0] = 0
     top = 1
     while top > 0:
@@ -309,9 +318,9 @@ def nearest_hit(arrays, stack, o0, o1, o2, d0, d1, d2, t_max):
         entered, _ = enters(o0, o1, o2, i0, i1, i2, lower, upper, node, reach)
         if not entered:
             continue
-        left = arrays.children[node, 0]
+        left = tree.children[node, 0]
         if left >= 0:
-            right = arrays.children[node, 1]
+            right = tree.children[node, 1]
             _, near_left = enters(o0, o1, o2, i0, i1, i2, lower, upper, left, reach)
             _, near_right = enters(o0, o1, o2, i0, i1, i2, lower, upper, right, reach)
             if near_left <= near_right:  # the nearer child is searched first: pushed last
@@ -322,9 +331,9 @@ def nearest_hit(arrays, stack, o0, o1, o2, d0, d1, d2, t_max):
                 stack[top + 1] = right
             top += 2
             continue
-        for k in range(arrays.first[node], arrays.first[node] + arrays.count[node]):
+        for k in range(tree.first[node], tree.first[node] + tree.count[node]):
             best, best_t, r, g, b = offer(
-                arrays, arrays.order[k], o0, o1, o2, d0, d1, d2, best, best_t, r, g, b
+                arrays, tree.order[k], o0, o1, o2, d0, d1, d2, best, best_t, r, g, b
             )
     return best, best_t, r, g, b
 
@@ -414,7 +423,7 @@ def nearest_in_tile(arrays, tiles, x, y, o0, o1, o2, d0, d1, d2):
 
 
 @njit(parallel=True, **_jit)
-def cast_rays(arrays, origins, directions, t_max):
+def cast_rays(arrays, tree, origins, directions, t_max):
     """:func:`nearest_hit` for each ray ``(N, 3)``: ``index (N,)``, ``t (N,)``, ``color (N, 3)``."""
     count = len(origins)
     index = np.empty(count, dtype=np.int64)
@@ -425,7 +434,7 @@ def cast_rays(arrays, origins, directions, t_max):
         for i in range(chunk * 256, min(count, chunk * 256 + 256)):
             o, d = origins[i], directions[i]
             index[i], t[i], color[i, 0], color[i, 1], color[i, 2] = nearest_hit(
-                arrays, stack, o[0], o[1], o[2], d[0], d[1], d[2], t_max[i]
+                arrays, tree, stack, o[0], o[1], o[2], d[0], d[1], d[2], t_max[i]
             )
     return index, t, color
 
@@ -497,7 +506,7 @@ def camera_tuple(scene: Scene) -> tuple:
     return eye, *(np.asarray(x, dtype=float) for x in (u, v, w)), plane
 
 
-def screen_tiles(scene: Scene) -> tuple:
+def screen_tiles(scene: Scene, arrays: Arrays) -> tuple:
     """The primary rays' skip: every object's screen rectangle
     (:func:`raykit.engine.screen_bounds.object_bounds`, conservative), a lower bound on the t
     at which a viewing ray can meet it (``closest (K,)``: a sphere's distance from the eye less
@@ -508,8 +517,7 @@ def screen_tiles(scene: Scene) -> tuple:
     bounds = object_bounds(camera, scene.objects).reshape(-1, 4)
     closest = np.zeros(len(scene.objects))
     if scene.spheres:
-        centers = np.array([s.center for s in scene.spheres], dtype=float)
-        radii = np.array([s.radius for s in scene.spheres], dtype=float)
+        centers, radii = arrays.centers, arrays.radii
         eye = np.asarray(camera.eye, dtype=float)
         if camera.projection == "orthographic":
             distance = (centers - eye) @ -camera.frame[2]
@@ -528,12 +536,13 @@ def caster(scene: Scene, arrays: Arrays | None = None) -> Callable[..., Hits]:
     """A :data:`raykit.shadows.Caster` over the whole scene: the nearest hits of any rays, as
     :func:`raykit.render.secondary_caster` gives them, found by :func:`cast_rays`."""
     arrays = arrays or scene_arrays(scene)
+    tree = scene_tree(scene)
 
     def cast(origins, directions, t_max=None) -> Hits:
         origins = np.ascontiguousarray(origins, dtype=float)
         directions = np.ascontiguousarray(directions, dtype=float)
         t_max = np.full(len(origins), np.inf) if t_max is None else np.asarray(t_max, float)
-        return Hits(*cast_rays(arrays, origins, directions, t_max))
+        return Hits(*cast_rays(arrays, tree, origins, directions, t_max))
 
     return cast
 
@@ -542,25 +551,39 @@ def render(scene: Scene, samples: int = 1, *, adaptive: bool = False, progress=N
     """What :func:`raykit.render.render` renders, the same bits, with the kernels above:
     ``(rgb (H, W, 3), object_index (H, W), t (H, W))``. ``progress`` is told each band of
     finished pixels, as the numpy engine tells it each tile."""
-    from raykit.shading import needs_shading
-
     started = time.perf_counter()
-    if samples < 1:
-        raise ValueError(f"samples must be >= 1, got {samples}")
-    arrays = scene_arrays(scene, tree=needs_shading(scene))
+    sample_offsets(samples)  # refuses n < 1 before any work
+    n = 1 if adaptive else samples  # adaptive: one ray per pixel first, as the numpy engine
+    lit = needs_shading(scene)
+    arrays = scene_arrays(scene)
+    tiles = screen_tiles(scene, arrays)
     camera = camera_tuple(scene)
-    tiles = screen_tiles(scene)
-    offsets = sample_offsets(1 if adaptive else samples)
-    if needs_shading(scene):
-        image = _render_lit(scene, arrays, tiles, camera, offsets, progress)
+    if lit:
+        colors = partial(_shaded, scene, arrays, tiles, camera, caster(scene, arrays))
+        rgb, index, t = _render_lit(scene, colors, n, progress)
     else:
-        image = _render_flat(scene, arrays, tiles, camera, offsets, progress)
-    rgb, index, t = image
-    if adaptive and samples > 1:
+        colors = partial(_flat, arrays, tiles, camera)
+        rgb, index, t = _render_flat(scene, arrays, tiles, camera, n, progress)
+    if adaptive and samples > 1:  # the numpy engine's refinement, with these colours
         edge = edge_pixels(rgb, index)
-        _refine(scene, arrays, tiles, camera, rgb, edge, samples)
+        refine(
+            regions(scene, skip_hidden=False), lambda _, x, y: colors(x, y)[0], rgb, edge, samples
+        )
     _compiled_once(started)
     return rgb, index, t
+
+
+def _flat(arrays, tiles, camera, x, y):
+    """The flat colours ``(N, 3)``, object indices and t ``(N,)`` of the viewing rays through
+    image points (x, y) ``(N,)``."""
+    _, _, index, t, color = trace_points(arrays, tiles, camera, x, y)
+    return color, index, t
+
+
+def _shaded(scene, arrays, tiles, camera, cast, x, y):
+    """As :func:`_flat`, the colours shaded by the reference (:func:`raykit.shading.shade`)."""
+    origins, directions, index, t, color = trace_points(arrays, tiles, camera, x, y)
+    return shade(scene, cast, origins, directions, Hits(index, t, color)), index, t
 
 
 def _bands(height: int):
@@ -568,67 +591,44 @@ def _bands(height: int):
         yield np.arange(start, min(start + ROWS_PER_CALL, height), dtype=np.int64)
 
 
-def _centre(offsets: np.ndarray) -> int:
-    n = math.isqrt(len(offsets))
-    return n // 2 * (n + 1) if n % 2 else -1
-
-
-def _render_flat(scene, arrays, tiles, camera, offsets, progress):
+def _render_flat(scene, arrays, tiles, camera, samples, progress):
+    """Whole rows at a time, the n x n samples of each pixel summed inside the kernel."""
     width, height = scene.camera.width, scene.camera.height
+    offsets = sample_offsets(samples)
+    centre = centre_sample(samples)
     rgb = np.empty((height, width, 3))
     index = np.empty((height, width), dtype=np.int64)
     t = np.empty((height, width))
     for rows in _bands(height):
-        band = trace_rows(arrays, tiles, camera, rows, width, offsets, _centre(offsets))
+        band = trace_rows(
+            arrays, tiles, camera, rows, width, offsets, -1 if centre is None else centre
+        )
         rgb[rows], index[rows], t[rows] = band[0] / len(offsets), band[1], band[2]
         if progress is not None:
             progress(len(rows) * width)
     return rgb, index, t
 
 
-def _render_lit(scene, arrays, tiles, camera, offsets, progress):
-    from raykit.shading import shade
-
+def _render_lit(scene, colors, samples, progress):
+    """Band by band and offset by offset, as the numpy engine's batches go, each sample
+    offset's ``colors(x, y)`` added in order."""
     width, height = scene.camera.width, scene.camera.height
-    cast = caster(scene, arrays)
+    offsets = sample_offsets(samples)
+    centre = centre_sample(samples)
     rgb = np.zeros((height, width, 3))
     index = np.empty((height, width), dtype=np.int64)
     t = np.empty((height, width))
-    centre = _centre(offsets)
     for rows in _bands(height):
-        for k, (a, b) in enumerate([*offsets, (0.5, 0.5)] if centre < 0 else offsets):
-            x = np.tile(np.arange(width) + a, len(rows))
-            y = np.repeat(rows + b, width)
-            origins, directions, hit, t_hit, color = trace_points(arrays, tiles, camera, x, y)
-            if k < len(offsets):
-                colors = shade(scene, cast, origins, directions, Hits(hit, t_hit, color))
-                rgb[rows] += colors.reshape(len(rows), width, 3)
-            if k == centre or k == len(offsets):
+        for k, (a, b) in enumerate([*offsets, (0.5, 0.5)] if centre is None else offsets):
+            x, y = region_points(rows, range(width), a, b)
+            color, hit, t_hit = colors(x, y)
+            if k < len(offsets):  # else the centre ray of an even n, cast for its hits only
+                rgb[rows] += color.reshape(len(rows), width, 3)
+            if k == (len(offsets) if centre is None else centre):
                 index[rows], t[rows] = hit.reshape(-1, width), t_hit.reshape(-1, width)
         if progress is not None:
             progress(len(rows) * width)
     return rgb / len(offsets), index, t
-
-
-def _refine(scene, arrays, tiles, camera, rgb, edge, samples) -> None:
-    """Repeats :func:`raykit.engine.adaptive.refine`: each edge pixel's colour becomes the mean
-    of its n x n samples, summed in offset order."""
-    from raykit.shading import needs_shading, shade
-
-    rows, cols = np.nonzero(edge)
-    if not len(rows):
-        return
-    a, b = sample_offsets(samples).T
-    total = np.zeros((len(rows), 3))
-    lit = needs_shading(scene)
-    cast = caster(scene, arrays) if lit else None
-    for offset in range(len(a)):
-        x, y = cols + a[offset], rows + b[offset]
-        origins, directions, hit, t_hit, color = trace_points(arrays, tiles, camera, x, y)
-        if lit:
-            color = shade(scene, cast, origins, directions, Hits(hit, t_hit, color))
-        total += color
-    rgb[rows, cols] = total / len(a)
 
 
 def _compiled_once(started: float) -> None:

@@ -26,7 +26,7 @@ from functools import partial
 
 import numpy as np
 
-from raykit.camera import rays_through, region_points, sample_offsets
+from raykit.camera import centre_sample, rays_through, region_points, sample_offsets
 from raykit.engine.arrays import SceneArrays
 from raykit.engine.boxes import objects_near_segments
 from raykit.engine.bvh import BVH
@@ -106,11 +106,10 @@ class Plan:
         dtype: type = np.float64,
         progress: Callable[[int], object] | None = None,
     ) -> None:
-        if samples < 1:
-            raise ValueError(f"samples must be >= 1, got {samples}")
         self.scene = eye_relative(scene, dtype) if dtype != np.float64 else scene
         self.cast = cast
         self.samples = samples
+        self.offsets = sample_offsets(samples)  # (n*n, 2); refuses n < 1 before any work
         self.skip_hidden = skip_hidden
         self.dtype = dtype
         self.progress = progress  # told each finished tile's pixel count
@@ -123,9 +122,8 @@ class Plan:
 
     def batches(self) -> Iterator[Batch]:
         """Every region's pixels at every sample offset, in the order their colours are summed."""
-        offsets = sample_offsets(self.samples)
-        n = self.samples
-        centre = n // 2 * (n + 1) if n % 2 else None  # the offset (0.5, 0.5), if there is one
+        offsets = self.offsets
+        centre = centre_sample(self.samples)
         for region in self.regions():
             pixels = len(region.rows) * len(region.cols)
             for k, (a, b) in enumerate(offsets):
@@ -216,7 +214,7 @@ class Image:
             self.plan.progress(batch.finishes)
 
     def mean(self) -> np.ndarray:
-        return self.rgb / len(sample_offsets(self.plan.samples))
+        return self.rgb / len(self.plan.offsets)
 
 
 def cast_region(
