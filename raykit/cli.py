@@ -151,8 +151,9 @@ def build_parser() -> argparse.ArgumentParser:
         "bench",
         help="run the benchmarks (from a clone of the repository)",
         description="Run benchmarks/render_speed.py, time_vs_error.py, shading_cost.py, "
-        "mitsuba_compare.py (Mitsuba 3 when installed), object_order.py and "
-        "forward_backward.py: tables of medians side by side, and with --plots, the plots.",
+        "mitsuba_compare.py (Mitsuba 3 when installed), object_order.py, "
+        "forward_backward.py and engines.py (numpy against compiled, and what auto "
+        "chooses): tables of medians side by side, and with --plots, the plots.",
         allow_abbrev=False,
     )
     bench.add_argument("--quick", action="store_true", help="small images, a short run")
@@ -324,6 +325,7 @@ def _run_bench(args: argparse.Namespace) -> None:
         ("mitsuba_compare.py", "mitsuba_compare.png"),
         ("object_order.py", "object_order.png"),
         ("forward_backward.py", "forward_backward.png"),
+        ("engines.py", "engines.png"),
     )
     for number, (script, plot) in enumerate(scripts, 1):  # every script draws a plot
         command = [sys.executable, str(folder / script), "--repeats", str(args.repeats)]

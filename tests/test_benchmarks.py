@@ -68,9 +68,10 @@ def test_raykit_bench_runs_every_benchmark_and_writes_the_plots(tmp_path):
         timeout=300,
     )
     assert run.returncode == 0, run.stderr
-    assert run.stdout.count("$ python benchmarks/") == 6
+    assert run.stdout.count("$ python benchmarks/") == 7
     assert "| mirror_balls |" in run.stdout and "| level 2 |" in run.stdout
     assert sorted(p.name for p in tmp_path.iterdir()) == [
+        "engines.png",
         "forward_backward.png",
         "mitsuba_compare.png",
         "object_order.png",
@@ -81,12 +82,12 @@ def test_raykit_bench_runs_every_benchmark_and_writes_the_plots(tmp_path):
     # a line on stderr as each script starts and ends, never inside the tables on stdout
     said = [line for line in run.stderr.splitlines() if line.startswith("raykit bench: ")]
     scripts = ["render_speed", "time_vs_error", "shading_cost", "mitsuba_compare"]
-    scripts += ["object_order", "forward_backward"]
+    scripts += ["object_order", "forward_backward", "engines"]
     assert [line.split()[3] for line in said] == [
         f"benchmarks/{name}.py{end}" for name in scripts for end in ("", ":")
     ]
-    assert said[0] == "raykit bench: [1/6] benchmarks/render_speed.py ..."
-    assert said[-1].startswith("raykit bench: [6/6] benchmarks/forward_backward.py: done in ")
+    assert said[0] == "raykit bench: [1/7] benchmarks/render_speed.py ..."
+    assert said[-1].startswith("raykit bench: [7/7] benchmarks/engines.py: done in ")
     assert "raykit bench" not in run.stdout
 
 
@@ -197,3 +198,16 @@ def test_shading_cost_plot_draws_flat_shaded_and_unculled_per_scene(tmp_path, mo
     assert bars == {"flat (v1)": [80, 67], "shaded": [80, 350], "shaded, no culling": [76, 340]}
     assert (tmp_path / "shading.png").stat().st_size > 1000
     plt.close("all")
+
+
+def test_engines_benchmark_times_both_engines_on_every_example_scene():
+    rows = _table_rows("engines.py")
+    assert [row.split(" | ")[0][2:] for row in rows] == sorted(
+        p.stem for p in (REPO / "scenes").glob("*.json")
+    )
+    try:
+        import numba  # noqa: F401
+    except ImportError:  # the numpy engine alone: no compiled column filled
+        assert all(row.split(" | ")[4] == "not run" for row in rows)
+        return
+    assert all(row.split(" | ")[4].endswith("ms") for row in rows)  # a compiled time each

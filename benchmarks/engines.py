@@ -1,0 +1,189 @@
+"""The numpy engine against the compiled one (raykit[fast]), and what engine="auto" chooses.
+
+    python benchmarks/engines.py [--quick] [--repeats N] [--plot engines.png]
+
+1. Render medians of both engines, side by side in this process (kernels loaded first), on
+   every example scene and on the benchmark scenes; each lit scene also as a ratio to the
+   compiled flat classic render. The numpy engine's time per ray, flat and lit, is what
+   raykit.engine.choice.NUMPY_SECONDS_PER_RAY estimates.
+2. What the compiled engine costs a process before it renders: importing numba and loading
+   the cached kernels (whole processes rendering a tiny lit scene with 3 x 3 adaptive samples,
+   median, compiled against numpy), and one first compile into an empty cache.
+   With 1., that gives the numpy render time from which the compiled engine wins, the
+   threshold raykit.engine.choice.AUTO_FROM holds.
+3. Whole processes, `raykit render SCENE -o OUT.png --engine E` for numpy, compiled and auto:
+   auto against the better of the other two.
+
+Needs numba (`pip install -e ".[fast]"`); without it, says so and times the numpy engine only.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+
+from common import arguments, bar_plot, median_time, seconds  # noqa: E402
+
+from raykit.engine import choice  # noqa: E402
+from raykit.io.scene_json import load_scene  # noqa: E402
+from raykit.render import render  # noqa: E402
+from raykit.shading import needs_shading  # noqa: E402
+from scenes import many_spheres, sphereflake  # noqa: E402
+
+SCENES = HERE.parent / "scenes"
+
+
+def benchmark_scenes(quick: bool) -> dict:
+    scenes = {p.stem: load_scene(p) for p in sorted(SCENES.glob("*.json"))}
+    if not quick:
+        scenes["sphereflake 4"] = sphereflake(4)
+        scenes["1,000 spheres 1080p"] = many_spheres(1000)
+    return scenes
+
+
+def _process(arguments: list[str], repeats: int, **env) -> float:
+    """The median wall time of ``repeats`` runs of a Python process with these arguments."""
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        subprocess.run(
+            [sys.executable, *arguments],
+            check=True,
+            capture_output=True,
+            env={**os.environ, **env},
+        )
+        times.append(time.perf_counter() - start)
+    return statistics.median(times)
+
+
+def main() -> None:
+    parser = arguments(__doc__, "the example scenes only, fewer whole processes", repeats=5)
+    parser.add_argument("--plot", type=Path, help="write the render medians as bars here")
+    args = parser.parse_args()
+    print("$ python benchmarks/engines.py " + " ".join(sys.argv[1:]) + "\n")
+    engines = ["numpy", "compiled"] if choice.compiled_available() else ["numpy"]
+    if len(engines) == 1:
+        print('numba is not installed (pip install -e ".[fast]"): the numpy engine alone.\n')
+    scenes = benchmark_scenes(args.quick)
+
+    print("1. render medians in one process, kernels loaded first\n")
+    print(
+        "| scene | pixels | lit | numpy | compiled | numpy / compiled | / compiled flat classic |"
+    )
+    print("|---|---|---|---|---|---|---|")
+    times: dict[str, dict[str, float]] = {}
+    per_ray = {"flat": [], "lit": []}
+    for name, scene in scenes.items():
+        times[name] = {}
+        for engine in engines:
+            render(scene, engine=engine)  # warm-up: loads (or compiles) the kernels
+            times[name][engine] = median_time(
+                lambda s=scene, e=engine: render(s, engine=e), args.repeats
+            )[1]
+        pixels = scene.camera.width * scene.camera.height
+        lit = needs_shading(scene)
+        per_ray["lit" if lit else "flat"].append(times[name]["numpy"] / pixels)
+        fast = times[name].get("compiled")
+        classic = times.get("classic", {}).get("compiled")
+        ratio = f"{times[name]['numpy'] / fast:.1f}x" if fast else "-"
+        to_classic = f"{fast / classic:.1f}x" if fast and classic and lit else "-"
+        print(
+            f"| {name} | {pixels:,} | {'yes' if lit else 'no'} "
+            f"| {seconds(times[name]['numpy'], 1)} | {seconds(fast, 1)} | {ratio} | {to_classic} |"
+        )
+    flat, lit = (statistics.median(per_ray[k]) for k in ("flat", "lit"))
+    print(
+        f"\nThe numpy engine per pixel, median over the scenes: {flat * 1e9:.0f} ns flat, "
+        f"{lit * 1e9:.0f} ns lit (raykit.engine.choice.NUMPY_SECONDS_PER_RAY: "
+        f"{choice.NUMPY_SECONDS_PER_RAY['flat'] * 1e9:.0f} and "
+        f"{choice.NUMPY_SECONDS_PER_RAY['lit'] * 1e9:.0f} ns)."
+    )
+    if len(engines) == 1:
+        return _plot(args.plot, times, engines)
+
+    print("\n2. what the compiled engine costs a process before it renders (whole processes)\n")
+    tiny = (
+        "import dataclasses, raykit.io.scene_json as j, raykit.render as r\n"
+        f"s = j.load_scene({str(SCENES / 'classic_lit.json')!r})\n"
+        "s = dataclasses.replace(s, camera=dataclasses.replace(s.camera, width=8, height=6))\n"
+        "r.render(s, 3, adaptive=True, engine={!r})\n"
+    )  # a render too small to time: what is left is the process and the engine's loading
+    base = _process(["-c", tiny.format("numpy")], args.repeats)
+    load = _process(["-c", tiny.format("compiled")], args.repeats)
+    compile_time = "not run (--quick)"
+    if not args.quick:
+        with tempfile.TemporaryDirectory() as empty:
+            start = time.perf_counter()
+            _process(["-c", tiny.format("compiled")], 1, RAYKIT_CACHE_DIR=empty)
+            compile_time = f"{time.perf_counter() - start:.1f} s"
+    overhead = load - base
+    print("| a tiny render, numpy | compiled: + numba and the cached kernels | first compile |")
+    print("|---|---|---|")
+    print(f"| {seconds(base, 0)} | +{seconds(overhead, 0)} | {compile_time} |")
+    saved = statistics.median(
+        (t["numpy"] - t["compiled"]) / t["numpy"] for t in times.values() if t["numpy"] > 0
+    )
+    threshold = overhead / saved
+    print(
+        f"\nThe compiled engine saves a median {saved:.0%} of the numpy render time, so it wins "
+        f"from numpy renders of about {overhead:.2f} / {saved:.2f} = {threshold:.2f} s "
+        f"(raykit.engine.choice.AUTO_FROM: {choice.AUTO_FROM} s)."
+    )
+
+    print("\n3. whole processes: raykit render SCENE -o OUT.png --engine E (median)\n")
+    print("| scene | numpy | compiled | auto | auto chose | auto / the better |")
+    print("|---|---|---|---|---|---|")
+    with tempfile.TemporaryDirectory() as folder:
+        for name, scene in scenes.items():
+            path = _scene_file(name, scene, Path(folder))
+            out = str(Path(folder) / "out.png")
+            whole = {
+                engine: _process(
+                    ["-m", "raykit", "render", str(path), "-o", out, "--engine", engine],
+                    args.repeats,
+                )
+                for engine in ("numpy", "compiled", "auto")
+            }
+            chose = choice.choose("auto", load_scene(path))
+            better = min(whole["numpy"], whole["compiled"])
+            print(
+                f"| {name} | {seconds(whole['numpy'], 0)} | {seconds(whole['compiled'], 0)} "
+                f"| {seconds(whole['auto'], 0)} | {chose} | {whole['auto'] / better:.2f} |"
+            )
+    _plot(args.plot, times, engines)
+
+
+def _scene_file(name: str, scene, folder: Path) -> Path:
+    """An example scene's own file, or the benchmark scene written as JSON."""
+    if (SCENES / f"{name}.json").exists():
+        return SCENES / f"{name}.json"
+    from mitsuba_compare import scene_data
+
+    path = folder / f"{len(list(folder.glob('*.json')))}.json"
+    path.write_text(json.dumps(scene_data(scene)))
+    return path
+
+
+def _plot(path: Path | None, times: dict, engines: list[str]) -> None:
+    if path:
+        names = list(times)
+        bar_plot(
+            path,
+            names,
+            {engine: [times[n][engine] for n in names] for engine in engines},
+            "render time, median (ms)",
+            "raykit's numpy and compiled engines, 1 sample per pixel",
+        )
+
+
+if __name__ == "__main__":
+    main()
