@@ -23,6 +23,7 @@ import numpy as np
 
 from raykit.io.images import quantize, save_image
 from raykit_grading import child
+from raykit_grading.cases import located
 from raykit_grading.catalog import REPO, TESTS, VISIBLE
 from raykit_grading.markers import strip_solutions
 
@@ -38,6 +39,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _grading.cases import read_case
 from _grading.child import TASKS
 from _grading.compare import check_arrays, compare_images
 
@@ -55,15 +57,8 @@ def _what(case: str) -> str:
 @pytest.mark.parametrize("case", CASES, ids=[_what(case) for case in CASES])
 def test_visible(case):
     folder = EXPECTED / case
-    order = json.loads((folder / "task.json").read_text())
-    spec = order["spec"]
-    if "folder" in spec:
-        spec["folder"] = str(folder / spec["folder"])
-    with np.load(folder / "inputs.npz") as data:
-        arrays = {k: data[k] for k in data.files}
-    with np.load(folder / "expected.npz") as data:
-        want = {k: data[k] for k in data.files}
-    got = {k: np.asarray(v) for k, v in TASKS[order["task"]](spec, arrays).items()}
+    order, arrays, want = read_case(folder)
+    got = {k: np.asarray(v) for k, v in TASKS[order["task"]](order["spec"], arrays).items()}
     if order["kind"] == "image":
         mine, reference = quantize(got["rgb"]), quantize(want["rgb"])
         assert mine.shape == reference.shape, f"shape {mine.shape}, expected {reference.shape}"
@@ -210,7 +205,7 @@ def _visible_tests(tests: Path) -> None:
     helpers = tests / "_grading"
     helpers.mkdir(parents=True)
     (helpers / "__init__.py").write_text("")
-    for name in ("child.py", "compare.py"):
+    for name in ("cases.py", "child.py", "compare.py"):
         shutil.copy(Path(__file__).with_name(name), helpers / name)
     (tests / "test_visible.py").write_text(VISIBLE_TESTS)
     (tests / "conftest.py").write_text(
@@ -228,10 +223,7 @@ def _visible_tests(tests: Path) -> None:
         order = {"task": test.task, "kind": test.kind, "name": test.name, "spec": spec}
         (folder / "task.json").write_text(json.dumps(order, indent=1))
         np.savez(folder / "inputs.npz", **arrays)
-        reference = dict(spec)
-        if "folder" in reference:
-            reference["folder"] = str(folder / reference["folder"])
-        want = child.TASKS[test.task](reference, arrays)
+        want = child.TASKS[test.task](located(spec, folder), arrays)
         np.savez(folder / "expected.npz", **{k: np.asarray(v) for k, v in want.items()})
         if test.kind == "image":
             save_image(quantize(want["rgb"]), folder / "reference.png")

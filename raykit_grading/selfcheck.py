@@ -25,6 +25,7 @@ HERE = Path(__file__).resolve().parent
 sys.path[:0] = [str(HERE), str(HERE / "tests")]
 
 import numpy as np  # noqa: E402
+from _grading.cases import read_case  # noqa: E402
 from _grading.child import TASKS  # noqa: E402
 from _grading.compare import check_arrays, judge_image  # noqa: E402
 from PIL import Image  # noqa: E402
@@ -40,16 +41,9 @@ def _number(case: Path) -> tuple[int, ...]:
 
 def run_case(case: Path, out: Path) -> tuple[str, bool, str, str | None]:
     """(test name, passed, what to say, picture file or None) for one practice test."""
-    order = json.loads((case / "task.json").read_text())
-    spec = order["spec"]
-    if "folder" in spec:
-        spec["folder"] = str(case / spec["folder"])
-    with np.load(case / "inputs.npz") as data:
-        arrays = {k: data[k] for k in data.files}
-    with np.load(case / "expected.npz") as data:
-        want = {k: data[k] for k in data.files}
+    order, arrays, want = read_case(case)
     try:
-        got = {k: np.asarray(v) for k, v in TASKS[order["task"]](spec, arrays).items()}
+        got = {k: np.asarray(v) for k, v in TASKS[order["task"]](order["spec"], arrays).items()}
     except NotImplementedError as exc:
         return order["name"], False, f"not written yet: {exc}", None
     except Exception:  # noqa: BLE001 - whatever the student's code raised, say it

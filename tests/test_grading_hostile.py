@@ -126,6 +126,17 @@ def submission_with(release: Path, tmp_path: Path, edits: dict[str, str], **fmt)
     return folder
 
 
+def submission_wrapping(tmp_path: Path, wrappers: dict[str, tuple[str, str]]) -> Path:
+    """The solution with functions wrapped, ``{module: (function, code)}``: the original is
+    renamed ``_function`` and ``code`` defines ``function`` anew (calling the original)."""
+    folder = make_submission(tmp_path / "submission")
+    for name, (function, code) in wrappers.items():
+        path = folder / "raykit" / name
+        text = path.read_text().replace(f"def {function}(", f"def _{function}(", 1)
+        path.write_text(text + "\n" + code)
+    return folder
+
+
 def scores(results: dict) -> dict[str, float]:
     return {t["number"]: t["score"] for t in results["tests"]}
 
@@ -384,11 +395,9 @@ def test_5_a_hidden_test_cannot_leave_its_inputs_for_a_visible_one(release, auto
         "    print('uid', os.getuid())\n"
         "    return _hit_plane(origins, directions, a, n)\n"
     )
-    submission = make_submission(tmp_path / "submission")
-    for name, old, new in (("spheres.py", "hit_sphere", code), ("planes.py", "hit_plane", peek)):
-        path = submission / "raykit" / name
-        text = path.read_text().replace(f"def {old}(", f"def _{old}(", 1)
-        path.write_text(text + "\n" + new)
+    submission = submission_wrapping(
+        tmp_path, {"spheres.py": ("hit_sphere", code), "planes.py": ("hit_plane", peek)}
+    )
     results, run = grade_as_deployed(autograder, submission, ["2.4", "2.5", "2.1"], tmp_path)
     assert scores(results) == {"2.4": 1, "2.5": 2, "2.1": 2}, results
     visible = next(t for t in results["tests"] if t["number"] == "2.1")["output"]
@@ -420,11 +429,9 @@ def test_5_kernel_keyrings_carry_nothing_from_a_hidden_test(release, autograder,
         "        print('keyring', ring, key, got, ctypes.get_errno(), buffer.value[:200])\n"
         "    return _hit_plane(origins, directions, a, n)\n"
     )
-    submission = make_submission(tmp_path / "submission")
-    for name, old, new in (("spheres.py", "hit_sphere", keep), ("planes.py", "hit_plane", fetch)):
-        path = submission / "raykit" / name
-        text = path.read_text().replace(f"def {old}(", f"def _{old}(", 1)
-        path.write_text(text + "\n" + new)
+    submission = submission_wrapping(
+        tmp_path, {"spheres.py": ("hit_sphere", keep), "planes.py": ("hit_plane", fetch)}
+    )
     results, run = grade_as_deployed(autograder, submission, ["2.4", "2.5", "2.1"], tmp_path)
     assert scores(results) == {"2.4": 1, "2.5": 2, "2.1": 2}, results
     visible = next(t for t in results["tests"] if t["number"] == "2.1")["output"]
