@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import statistics
+import sys
 import textwrap
 import time
 from pathlib import Path
@@ -16,6 +17,14 @@ def arguments(doc: str, quick: str, repeats: int = 5) -> argparse.ArgumentParser
     parser.add_argument("--quick", action="store_true", help=quick)
     parser.add_argument("--repeats", type=int, default=repeats, help="runs per variant (median)")
     return parser
+
+
+def parse(parser: argparse.ArgumentParser) -> argparse.Namespace:
+    """Parse the command line and print it first, as ``$ python benchmarks/NAME ARGS``, so a
+    saved run says how to repeat it."""
+    args = parser.parse_args()
+    print(" ".join(["$ python", f"benchmarks/{Path(sys.argv[0]).name}", *sys.argv[1:]]) + "\n")
+    return args
 
 
 def seconds(value: float | None, decimals: int = 0) -> str:

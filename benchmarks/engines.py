@@ -31,7 +31,7 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-from common import arguments, bar_plot, median_time, seconds  # noqa: E402
+from common import arguments, bar_plot, median_time, parse, seconds  # noqa: E402
 
 from raykit.engine import choice  # noqa: E402
 from raykit.io.scene_json import load_scene  # noqa: E402
@@ -68,8 +68,7 @@ def _process(arguments: list[str], repeats: int, **env) -> float:
 def main() -> None:
     parser = arguments(__doc__, "the example scenes only, fewer whole processes", repeats=5)
     parser.add_argument("--plot", type=Path, help="write the render medians as bars here")
-    args = parser.parse_args()
-    print("$ python benchmarks/engines.py " + " ".join(sys.argv[1:]) + "\n")
+    args = parse(parser)
     engines = ["numpy", "compiled"] if choice.compiled_available() else ["numpy"]
     if len(engines) == 1:
         print('numba is not installed (pip install -e ".[fast]"): the numpy engine alone.\n')

@@ -27,7 +27,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-from common import arguments, loglog_plot, median_time, seconds  # noqa: E402
+from common import arguments, loglog_plot, median_time, parse, seconds  # noqa: E402
 
 from raykit.forward import diffuse_only, forward_render  # noqa: E402
 from raykit.io.scene_json import load_scene  # noqa: E402
@@ -37,8 +37,7 @@ from raykit.render import render  # noqa: E402
 def main() -> None:
     parser = arguments(__doc__, "a small image and few photons, for CI")
     parser.add_argument("--plot", type=Path, help="write error against time here")
-    args = parser.parse_args()
-    print("$ python benchmarks/forward_backward.py " + " ".join(sys.argv[1:]) + "\n")
+    args = parse(parser)
     scene = load_scene(HERE.parent / "scenes" / "shadow_on_billboard.json")
     size = (40, 30) if args.quick else (160, 120)
     scene = replace(scene, camera=replace(scene.camera, width=size[0], height=size[1]))

@@ -38,7 +38,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-from common import arguments, bar_plot, median_time, seconds  # noqa: E402
+from common import arguments, bar_plot, median_time, parse, seconds  # noqa: E402
 
 from raykit.io.scene_json import load_scene, scene_from_dict  # noqa: E402
 from raykit.render import render  # noqa: E402
@@ -217,11 +217,11 @@ def main() -> None:
         default="auto",
         help="raykit's engine: numpy, compiled, or auto: both side by side (default)",
     )
-    args = parser.parse_args()
-    if args.child:
+    if "--child" in sys.argv:  # one Mitsuba variant, for the parent: JSON only on stdout
+        args = parser.parse_args()
         print(json.dumps(run_mitsuba(args.child, json.loads(sys.stdin.read()), args.repeats)))
         return
-    print("$ python benchmarks/mitsuba_compare.py " + " ".join(sys.argv[1:]) + "\n")
+    args = parse(parser)
     try:
         import mitsuba
 

@@ -27,7 +27,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-from common import arguments, loglog_plot, median_time, seconds  # noqa: E402
+from common import arguments, loglog_plot, median_time, parse, seconds  # noqa: E402
 
 from raykit.engine.screen_bounds import object_bounds  # noqa: E402
 from raykit.object_order import covered_pixels, render_object_order  # noqa: E402
@@ -66,8 +66,7 @@ def measure(count: int, size: tuple[int, int], repeats: int) -> dict:
 def main() -> None:
     parser = arguments(__doc__, "small images and few objects, for CI")
     parser.add_argument("--plot", type=Path, help="write time against number of objects here")
-    args = parser.parse_args()
-    print("$ python benchmarks/object_order.py " + " ".join(sys.argv[1:]) + "\n")
+    args = parse(parser)
     size = (160, 90) if args.quick else (640, 360)
     counts = (1, 10, 100) if args.quick else (1, 3, 10, 30, 100, 300, 1000, 3000, 10000)
     rows = [measure(count, size, args.repeats) for count in counts]

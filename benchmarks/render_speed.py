@@ -33,7 +33,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-from common import arguments, loglog_plot, median_time, seconds  # noqa: E402
+from common import arguments, loglog_plot, median_time, parse, seconds  # noqa: E402
 
 from raykit.camera import rays_through  # noqa: E402
 from raykit.io.scene_json import load_scene  # noqa: E402
@@ -121,8 +121,7 @@ def example_scenes(quick: bool) -> list[tuple[str, Scene]]:
 def main() -> None:
     parser = arguments(__doc__, "small images, for CI")
     parser.add_argument("--plot", type=Path, help="write time against number of objects here")
-    args = parser.parse_args()
-    print("$ python benchmarks/render_speed.py " + " ".join(sys.argv[1:]) + "\n")
+    args = parse(parser)
     crop = (8, 6) if args.quick else CROP
     rows = [measure(name, scene, args.repeats, crop) for name, scene in scenes(args.quick)]
 

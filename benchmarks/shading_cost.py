@@ -27,7 +27,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-from common import arguments, bar_plot, median_time, seconds  # noqa: E402
+from common import arguments, bar_plot, median_time, parse, seconds  # noqa: E402
 
 import raykit.engine.regions  # noqa: E402
 import raykit.render  # noqa: E402
@@ -116,8 +116,7 @@ def plot(path: Path, rows: list[dict]) -> None:
 def main() -> None:
     parser = arguments(__doc__, "small images, for CI")
     parser.add_argument("--plot", type=Path, help="write table 1's times as bars here")
-    args = parser.parse_args()
-    print("$ python benchmarks/shading_cost.py " + " ".join(sys.argv[1:]) + "\n")
+    args = parse(parser)
     width, height = (160, 120) if args.quick else (640, 480)
     scenes_folder = HERE.parent / "scenes"
 

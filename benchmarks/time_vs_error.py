@@ -25,7 +25,7 @@ from raykit.scene import Scene
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-from common import arguments, loglog_plot, median_time  # noqa: E402
+from common import arguments, loglog_plot, median_time, parse  # noqa: E402
 
 from scenes import sphereflake  # noqa: E402
 
@@ -53,8 +53,7 @@ def measure(scene: Scene, repeats: int) -> list[tuple[str, int, float, float]]:
 def main() -> None:
     parser = arguments(__doc__, "small images, for CI", repeats=3)
     parser.add_argument("--plot", type=Path, help="write time against error here")
-    args = parser.parse_args()
-    print("$ python benchmarks/time_vs_error.py " + " ".join(sys.argv[1:]) + "\n")
+    args = parse(parser)
     cutouts = load_scene(HERE.parent / "scenes" / "cutouts.json")
     if args.quick:
         scenes = {
