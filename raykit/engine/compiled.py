@@ -6,11 +6,11 @@ Install with ``pip install "raykit[fast]"``; :func:`raykit.render.render` takes 
 
 What it repeats, and how it is held to it. The lecture's numpy functions are the reference.
 Each kernel below names the function it repeats and does *the same float64 operations in the
-same order* on one ray, so its answers agree with the reference bit for bit
-(``tests/test_compiled.py`` checks t values, object indices and colours on 10^5 seeded random
-rays per kernel, the stability cases, and the PNG bytes of every example scene). Dot products
-are summed left to right with no fused multiply-add, as :func:`raykit.rays.dot` sums them
-(numba, like numpy, contracts a·b + c into an FMA only under fastmath, which is off).
+same order* on one ray, so its answers agree with the reference bit for bit, but for one pow
+(below): ``tests/test_compiled.py`` checks t values, object indices and colours on 10^5
+seeded random rays per kernel, the stability cases, and the PNG bytes of every example scene.
+Dot products are summed left to right with no fused multiply-add, as :func:`raykit.rays.dot`
+sums them (numba, like numpy, contracts a·b + c into an FMA only under fastmath, which is off).
 
 What it skips. Primary rays: the image is cut into TILE x TILE tiles, and each tile keeps the
 objects whose screen rectangle (:mod:`raykit.engine.screen_bounds`) meets it, nearest first; a
@@ -21,9 +21,13 @@ the same code), nearer child first, leaving every box that starts beyond the nea
 Either way a tie keeps the lower object index, whatever order objects come in, and a cut-out
 texel is no hit: the answer is :func:`raykit.render.cast`'s.
 
-Lit scenes. Lights, shadows and mirrors are shaded by the reference itself
-(:func:`raykit.shading.shade`), this engine finding the nearest hits of the primary rays and of
-every shadow and mirror ray (:func:`caster`).
+Lit scenes. :func:`shade_ray` and :func:`surface_color` repeat :mod:`raykit.shading` for one
+ray: ambient, Lambert and Blinn-Phong per light, shadow rays (:mod:`raykit.shadows`, through the
+BVH) and mirror bounces (:mod:`raykit.mirrors`), with the surface points and offsets of
+:mod:`raykit.surfaces`. One operation differs: the highlight's power is the C library's pow
+here and numpy's vectorised power in the reference, which disagree by one unit in the last
+place on a few per cent of points; with the reference given the same pow, the two engines agree
+bit for bit, and as they stand, within 4 units in the last place and to the PNG byte (tests).
 
 Compiling. The kernels compile on first use, which says so on standard error, and are cached
 on disk in a folder named after a hash of this file's source
@@ -38,12 +42,11 @@ import math
 import sys
 import time
 from collections.abc import Callable
-from functools import partial
 from typing import NamedTuple
 
 import numpy as np
 
-from raykit.camera import centre_sample, region_points, sample_offsets
+from raykit.camera import centre_sample, sample_offsets
 from raykit.engine.adaptive import edge_pixels, refine
 from raykit.engine.arrays import SceneArrays
 from raykit.engine.bvh import BVH
@@ -51,10 +54,14 @@ from raykit.engine.choice import cache_folder
 from raykit.engine.screen_bounds import object_bounds
 from raykit.engine.tiles import regions
 from raykit.hits import Hits
+from raykit.lights import PointLight, toward_light
+from raykit.rays import normalize
 from raykit.scene import Scene
-from raykit.shading import needs_shading, shade
+from raykit.shading import casts_shadows, needs_shading
+from raykit.surfaces import OFFSET_FACTOR
 
 COMPILE_SECONDS = 20  # how long the first compile took on the 2-core machine (measured: 10-18 s)
+EPS = float(np.finfo(np.float64).eps)  # the rounding unit of raykit.surfaces' error bound
 STACK = 128  # nodes a ray may have still to visit: a median-split tree of 2^63 objects is 63 deep
 TILE = 16  # pixels a side of the tiles that primary rays take their objects from
 ROWS_PER_CALL = 32  # rows of pixels per kernel call: a progress bar moves, memory stays small
@@ -142,6 +149,67 @@ def scene_arrays(scene: Scene) -> Arrays:
         np.concatenate(texels) if texels else np.zeros((0, 4), np.uint8),
         np.asarray(scene.background, dtype=float),
     )
+
+
+class Lights(NamedTuple):
+    """What shading needs (:mod:`raykit.shading`), as arrays: ``shaded`` (anything beyond flat
+    colours: :func:`raykit.shading.needs_shading`), ``lit`` (lights or ambient), ``shadows``
+    (:func:`raykit.shading.casts_shadows`), ``max_depth``; per light ``point (L,)`` (False:
+    directional), ``vectors (L, 3)`` (a point light's position, or a directional light's l, made
+    by :func:`raykit.lights.toward_light`), intensity ``colors (L, 3)``; ``ambient (3,)``; per
+    object the material table (:class:`raykit.materials.MaterialTable`) and whether it is
+    ``shiny`` or a ``mirror (K,)``; the billboards' unit ``board_normals (B, 3)``."""
+
+    shaded: bool
+    lit: bool
+    shadows: bool
+    max_depth: int
+    point: np.ndarray
+    vectors: np.ndarray
+    colors: np.ndarray
+    ambient: np.ndarray
+    diffuse: np.ndarray
+    has_diffuse: np.ndarray
+    specular: np.ndarray
+    shininess: np.ndarray
+    mirror: np.ndarray
+    shiny: np.ndarray
+    mirrors: np.ndarray
+    board_normals: np.ndarray
+
+
+def scene_lights(scene: Scene) -> Lights:
+    """The scene's :class:`Lights`, from the reference's own functions and tables."""
+    table = scene.materials
+    point = np.array([isinstance(light, PointLight) for light in scene.lights], dtype=np.bool_)
+    origin = np.zeros((1, 3))
+    vectors = [
+        np.asarray(light.position, float) if isinstance(light, PointLight)
+        else toward_light(light, origin)[0][0]
+        for light in scene.lights
+    ]  # fmt: skip
+    return Lights(
+        needs_shading(scene),
+        scene.lit,
+        casts_shadows(scene),
+        scene.max_depth,
+        point,
+        np.array(vectors, dtype=float).reshape(-1, 3),
+        np.array([light.color for light in scene.lights], dtype=float).reshape(-1, 3),
+        np.asarray(scene.ambient if scene.ambient is not None else np.zeros(3), dtype=float),
+        table.diffuse.astype(float).reshape(-1, 3),
+        table.has_diffuse,
+        table.specular.reshape(-1, 3),
+        table.shininess,
+        table.mirror.reshape(-1, 3),
+        table.specular.reshape(-1, 3).any(axis=1),
+        table.mirror.reshape(-1, 3).any(axis=1),
+        np.array([normalize(b.n) for b in scene.billboards], dtype=float).reshape(-1, 3),
+    )
+
+
+_NO_TREE = Tree(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 2), np.int64),
+                *[np.zeros(0, np.int64)] * 3)  # fmt: skip
 
 
 def scene_tree(scene: Scene) -> Tree:
@@ -359,6 +427,117 @@ def viewing_ray(camera, x, y):
     return eye[0], eye[1], eye[2], x0 / length, x1 / length, x2 / length
 
 
+@njit(**_one_ray)
+def surface_color(
+    arrays, tree, lights, stack, hit, p0, p1, p2, n0, n1, n2, d0, d1, d2, error, r, g, b
+):
+    """Repeats :func:`raykit.shading.surface_color` for one hit: object ``hit`` at point p
+    with unit normal n, seen along d, its flat colour (r, g, b); ``error`` is the point's
+    rounding bound (:func:`raykit.surfaces.surface_points`). Shadow rays (:mod:`raykit.shadows`)
+    walk the tree. The one operation that may differ from the reference: the highlight's power
+    max(0, n·h)^p is the C library's pow here and numpy's own (vectorised) power there; they
+    differ by at most one unit in the last place, on a few per cent of highlight points
+    (measured), which no 8-bit pixel shows (tests/test_compiled.py bounds it)."""
+    if not lights.lit:
+        return r, g, b
+    if lights.has_diffuse[hit]:
+        k0, k1, k2 = lights.diffuse[hit, 0], lights.diffuse[hit, 1], lights.diffuse[hit, 2]
+    else:
+        k0, k1, k2 = r, g, b
+    ambient = lights.ambient
+    total0, total1, total2 = k0 * ambient[0], k1 * ambient[1], k2 * ambient[2]
+    v0, v1, v2 = -d0, -d1, -d2
+    epsilon = OFFSET_FACTOR * error  # SurfacePoints.start's offset
+    vectors, intensity = lights.vectors, lights.colors
+    for j in range(len(lights.point)):
+        if lights.point[j]:  # raykit.lights.toward_light
+            to0, to1, to2 = vectors[j, 0] - p0, vectors[j, 1] - p1, vectors[j, 2] - p2
+            distance = math.sqrt(to0 * to0 + to1 * to1 + to2 * to2)
+            l0, l1, l2 = to0 / distance, to1 / distance, to2 / distance
+        else:
+            l0, l1, l2 = vectors[j, 0], vectors[j, 1], vectors[j, 2]
+        n_dot_l = n0 * l0 + n1 * l1 + n2 * l2
+        if not n_dot_l > 0:
+            continue
+        if lights.shadows:  # raykit.shadows.light_reach and in_shadow
+            s0, s1, s2 = p0 + epsilon * n0, p1 + epsilon * n1, p2 + epsilon * n2
+            reach = np.inf
+            if lights.point[j]:
+                to0, to1, to2 = vectors[j, 0] - s0, vectors[j, 1] - s1, vectors[j, 2] - s2
+                distance = math.sqrt(to0 * to0 + to1 * to1 + to2 * to2)
+                largest = max(abs(s0), abs(s1), abs(s2))
+                reach = distance - OFFSET_FACTOR * EPS * (largest + distance)
+            _, blocker, _, _, _ = nearest_hit(arrays, tree, stack, s0, s1, s2, l0, l1, l2, reach)
+            if blocker < reach:
+                continue
+        total0 += k0 * intensity[j, 0] * n_dot_l  # raykit.shading.lambert
+        total1 += k1 * intensity[j, 1] * n_dot_l
+        total2 += k2 * intensity[j, 2] * n_dot_l
+        if lights.shiny[hit] and (l0 + v0 != 0 or l1 + v1 != 0 or l2 + v2 != 0):
+            h0, h1, h2 = l0 + v0, l1 + v1, l2 + v2  # raykit.shading.blinn_phong
+            length = math.sqrt(h0 * h0 + h1 * h1 + h2 * h2)
+            n_dot_h = n0 * (h0 / length) + n1 * (h1 / length) + n2 * (h2 / length)
+            power = (n_dot_h if n_dot_h > 0 else 0.0) ** lights.shininess[hit]
+            ks = lights.specular
+            total0 += ks[hit, 0] * intensity[j, 0] * power
+            total1 += ks[hit, 1] * intensity[j, 1] * power
+            total2 += ks[hit, 2] * intensity[j, 2] * power
+    return total0, total1, total2
+
+
+@njit(**_one_ray)
+def shade_ray(arrays, tree, lights, stack, o0, o1, o2, d0, d1, d2, hit, t, r, g, b):
+    """Repeats :func:`raykit.shading.shade` for one viewing ray and its nearest hit: the surface
+    point (:func:`raykit.surfaces.surface_points`), its colour (:func:`surface_color`), and
+    mirror rays (:func:`raykit.mirrors.reflect`, started off the surface) up to max_depth."""
+    c0, c1, c2 = 0.0, 0.0, 0.0
+    w0, w1, w2 = 1.0, 1.0, 1.0  # what one unit of light along the ray adds to the pixel
+    spheres = len(arrays.radii)
+    for depth in range(lights.max_depth + 1):
+        if hit < 0:
+            c0, c1, c2 = c0 + w0 * r, c1 + w1 * g, c2 + w2 * b  # the background
+            break
+        p0, p1, p2 = o0 + t * d0, o1 + t * d1, o2 + t * d2
+        if hit < spheres:  # raykit.spheres.sphere_normals
+            R = arrays.radii[hit]
+            centers = arrays.centers
+            n0 = (p0 - centers[hit, 0]) / R
+            n1 = (p1 - centers[hit, 1]) / R
+            n2 = (p2 - centers[hit, 2]) / R
+        else:  # raykit.billboards.billboard_normals: the side the ray arrives at
+            normals, board = lights.board_normals, hit - spheres
+            m0, m1, m2 = normals[board, 0], normals[board, 1], normals[board, 2]
+            facing = -1.0 if d0 * m0 + d1 * m1 + d2 * m2 > 0 else 1.0
+            n0, n1, n2 = facing * m0, facing * m1, facing * m2
+        error = EPS * (max(abs(o0), abs(o1), abs(o2)) + t)
+        s0, s1, s2 = surface_color(
+            arrays, tree, lights, stack, hit, p0, p1, p2, n0, n1, n2, d0, d1, d2, error, r, g, b
+        )
+        c0, c1, c2 = c0 + w0 * s0, c1 + w1 * s1, c2 + w2 * s2
+        if depth == lights.max_depth or not lights.mirrors[hit]:
+            break
+        twice = 2.0 * (d0 * n0 + d1 * n1 + d2 * n2)
+        d0, d1, d2 = d0 - twice * n0, d1 - twice * n1, d2 - twice * n2
+        side = 1.0 if n0 * d0 + n1 * d1 + n2 * d2 >= 0 else -1.0
+        offset = side * (OFFSET_FACTOR * error)
+        o0, o1, o2 = p0 + offset * n0, p1 + offset * n1, p2 + offset * n2
+        km = lights.mirror
+        w0, w1, w2 = w0 * km[hit, 0], w1 * km[hit, 1], w2 * km[hit, 2]
+        hit, t, r, g, b = nearest_hit(arrays, tree, stack, o0, o1, o2, d0, d1, d2, np.inf)
+    return c0, c1, c2
+
+
+@njit(**_one_ray)
+def pixel_sample(arrays, tiles, tree, lights, stack, camera, x, y):
+    """One sample of the picture: the viewing ray through image point (x, y), its nearest hit,
+    and its colour (flat, or shaded): ``(index, t, r, g, b)``."""
+    o0, o1, o2, d0, d1, d2 = viewing_ray(camera, x, y)
+    hit, t, r, g, b = nearest_in_tile(arrays, tiles, x, y, o0, o1, o2, d0, d1, d2)
+    if lights.shaded:
+        r, g, b = shade_ray(arrays, tree, lights, stack, o0, o1, o2, d0, d1, d2, hit, t, r, g, b)
+    return hit, t, r, g, b
+
+
 @njit(**_jit)
 def bin_by_tile(bounds, by_distance, tiles_x, tiles_y):
     """Each tile's objects, for primary rays: the objects ``by_distance (K,)`` (nearest first)
@@ -440,22 +619,22 @@ def cast_rays(arrays, tree, origins, directions, t_max):
 
 
 @njit(parallel=True, **_jit)
-def trace_rows(arrays, tiles, camera, rows, width, offsets, centre):
-    """The flat-colour render of whole image rows ``rows (R,)``: per pixel, the sum of its
-    samples' colours at ``offsets (S, 2)`` in order (as :class:`raykit.engine.regions.Image`
-    sums them), and the object index and t of the ray through the pixel centre, which is
-    sample ``centre`` (-1: cast one more ray there). Returns ``rgb (R, W, 3)``, ``index``,
-    ``t (R, W)``."""
+def trace_rows(arrays, tiles, tree, lights, camera, rows, width, offsets, centre):
+    """The render of whole image rows ``rows (R,)``, the lecture's loop for each pixel: per
+    sample offset ``offsets (S, 2)``, in order, the viewing ray, its nearest hit and its colour
+    (:func:`pixel_sample`), summed as :class:`raykit.engine.regions.Image` sums them; and the
+    object index and t of the ray through the pixel centre, which is sample ``centre`` (-1: cast
+    one more ray there). Returns ``rgb (R, W, 3)`` (sums), ``index``, ``t (R, W)``."""
     rgb = np.zeros((len(rows), width, 3))
     index = np.empty((len(rows), width), dtype=np.int64)
     t = np.empty((len(rows), width))
     for i in prange(len(rows)):
+        stack = np.empty(STACK, dtype=np.int64)
         row = rows[i]
         for col in range(width):
             for sample in range(len(offsets)):
                 x, y = col + offsets[sample, 0], row + offsets[sample, 1]
-                o0, o1, o2, d0, d1, d2 = viewing_ray(camera, x, y)
-                hit, t_hit, r, g, b = nearest_in_tile(arrays, tiles, x, y, o0, o1, o2, d0, d1, d2)
+                hit, t_hit, r, g, b = pixel_sample(arrays, tiles, tree, lights, stack, camera, x, y)
                 rgb[i, col, 0] += r
                 rgb[i, col, 1] += g
                 rgb[i, col, 2] += b
@@ -464,33 +643,23 @@ def trace_rows(arrays, tiles, camera, rows, width, offsets, centre):
             if centre < 0:
                 x, y = col + 0.5, row + 0.5
                 o0, o1, o2, d0, d1, d2 = viewing_ray(camera, x, y)
-                hit, t_hit, r, g, b = nearest_in_tile(arrays, tiles, x, y, o0, o1, o2, d0, d1, d2)
+                hit, t_hit, _, _, _ = nearest_in_tile(arrays, tiles, x, y, o0, o1, o2, d0, d1, d2)
                 index[i, col], t[i, col] = hit, t_hit
     return rgb, index, t
 
 
 @njit(parallel=True, **_jit)
-def trace_points(arrays, tiles, camera, x, y):
-    """Origins, directions ``(N, 3)`` and nearest hits of the rays through image points (x, y)
-    ``(N,)``: the viewing rays of :func:`raykit.camera.rays_through`, cast."""
+def trace_points(arrays, tiles, tree, lights, camera, x, y):
+    """:func:`pixel_sample` at image points (x, y) ``(N,)``: ``colors (N, 3)``."""
     count = len(x)
-    origins = np.empty((count, 3))
-    directions = np.empty((count, 3))
-    index = np.empty(count, dtype=np.int64)
-    t = np.empty(count)
-    color = np.empty((count, 3))
+    colors = np.empty((count, 3))
     for chunk in prange((count + 255) // 256):
+        stack = np.empty(STACK, dtype=np.int64)
         for i in range(chunk * 256, min(count, chunk * 256 + 256)):
-            o0, o1, o2, d0, d1, d2 = viewing_ray(camera, x[i], y[i])
-            origins[i, 0], origins[i, 1], origins[i, 2] = o0, o1, o2
-            directions[i, 0], directions[i, 1], directions[i, 2] = d0, d1, d2
-            index[i], t[i], color[i, 0], color[i, 1], color[i, 2] = nearest_in_tile(
-                arrays, tiles, x[i], y[i], o0, o1, o2, d0, d1, d2
+            _, _, colors[i, 0], colors[i, 1], colors[i, 2] = pixel_sample(
+                arrays, tiles, tree, lights, stack, camera, x[i], y[i]
             )
-    return origins, directions, index, t, color
-
-
-# ---- the renderer ----------------------------------------------------------------------------
+    return colors
 
 
 def camera_tuple(scene: Scene) -> tuple:
@@ -548,87 +717,34 @@ def caster(scene: Scene, arrays: Arrays | None = None) -> Callable[..., Hits]:
 
 
 def render(scene: Scene, samples: int = 1, *, adaptive: bool = False, progress=None):
-    """What :func:`raykit.render.render` renders, the same bits, with the kernels above:
+    """What :func:`raykit.render.render` renders, with the kernels above:
     ``(rgb (H, W, 3), object_index (H, W), t (H, W))``. ``progress`` is told each band of
     finished pixels, as the numpy engine tells it each tile."""
     started = time.perf_counter()
     sample_offsets(samples)  # refuses n < 1 before any work
     n = 1 if adaptive else samples  # adaptive: one ray per pixel first, as the numpy engine
-    lit = needs_shading(scene)
     arrays = scene_arrays(scene)
-    tiles = screen_tiles(scene, arrays)
-    camera = camera_tuple(scene)
-    if lit:
-        colors = partial(_shaded, scene, arrays, tiles, camera, caster(scene, arrays))
-        rgb, index, t = _render_lit(scene, colors, n, progress)
-    else:
-        colors = partial(_flat, arrays, tiles, camera)
-        rgb, index, t = _render_flat(scene, arrays, tiles, camera, n, progress)
-    if adaptive and samples > 1:  # the numpy engine's refinement, with these colours
-        edge = edge_pixels(rgb, index)
-        refine(
-            regions(scene, skip_hidden=False), lambda _, x, y: colors(x, y)[0], rgb, edge, samples
-        )
-    _compiled_once(started)
-    return rgb, index, t
-
-
-def _flat(arrays, tiles, camera, x, y):
-    """The flat colours ``(N, 3)``, object indices and t ``(N,)`` of the viewing rays through
-    image points (x, y) ``(N,)``."""
-    _, _, index, t, color = trace_points(arrays, tiles, camera, x, y)
-    return color, index, t
-
-
-def _shaded(scene, arrays, tiles, camera, cast, x, y):
-    """As :func:`_flat`, the colours shaded by the reference (:func:`raykit.shading.shade`)."""
-    origins, directions, index, t, color = trace_points(arrays, tiles, camera, x, y)
-    return shade(scene, cast, origins, directions, Hits(index, t, color)), index, t
-
-
-def _bands(height: int):
-    for start in range(0, height, ROWS_PER_CALL):
-        yield np.arange(start, min(start + ROWS_PER_CALL, height), dtype=np.int64)
-
-
-def _render_flat(scene, arrays, tiles, camera, samples, progress):
-    """Whole rows at a time, the n x n samples of each pixel summed inside the kernel."""
+    lights = scene_lights(scene)
+    tree = scene_tree(scene) if lights.shaded else _NO_TREE
+    kernels = (arrays, screen_tiles(scene, arrays), tree, lights, camera_tuple(scene))
     width, height = scene.camera.width, scene.camera.height
-    offsets = sample_offsets(samples)
-    centre = centre_sample(samples)
+    offsets = sample_offsets(n)
+    centre = centre_sample(n)
     rgb = np.empty((height, width, 3))
     index = np.empty((height, width), dtype=np.int64)
     t = np.empty((height, width))
-    for rows in _bands(height):
-        band = trace_rows(
-            arrays, tiles, camera, rows, width, offsets, -1 if centre is None else centre
-        )
+    for start in range(0, height, ROWS_PER_CALL):
+        rows = np.arange(start, min(start + ROWS_PER_CALL, height), dtype=np.int64)
+        band = trace_rows(*kernels, rows, width, offsets, -1 if centre is None else centre)
         rgb[rows], index[rows], t[rows] = band[0] / len(offsets), band[1], band[2]
         if progress is not None:
             progress(len(rows) * width)
+    if adaptive and samples > 1:  # the numpy engine's refinement, with these colours
+        edge = edge_pixels(rgb, index)
+        colors = lambda _, x, y: trace_points(*kernels, x, y)  # noqa: E731
+        refine(regions(scene, skip_hidden=False), colors, rgb, edge, samples)
+    _compiled_once(started)
     return rgb, index, t
-
-
-def _render_lit(scene, colors, samples, progress):
-    """Band by band and offset by offset, as the numpy engine's batches go, each sample
-    offset's ``colors(x, y)`` added in order."""
-    width, height = scene.camera.width, scene.camera.height
-    offsets = sample_offsets(samples)
-    centre = centre_sample(samples)
-    rgb = np.zeros((height, width, 3))
-    index = np.empty((height, width), dtype=np.int64)
-    t = np.empty((height, width))
-    for rows in _bands(height):
-        for k, (a, b) in enumerate([*offsets, (0.5, 0.5)] if centre is None else offsets):
-            x, y = region_points(rows, range(width), a, b)
-            color, hit, t_hit = colors(x, y)
-            if k < len(offsets):  # else the centre ray of an even n, cast for its hits only
-                rgb[rows] += color.reshape(len(rows), width, 3)
-            if k == (len(offsets) if centre is None else centre):
-                index[rows], t[rows] = hit.reshape(-1, width), t_hit.reshape(-1, width)
-        if progress is not None:
-            progress(len(rows) * width)
-    return rgb / len(offsets), index, t
 
 
 def _compiled_once(started: float) -> None:
