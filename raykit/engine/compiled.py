@@ -60,7 +60,7 @@ from raykit.scene import Scene
 from raykit.shading import casts_shadows, needs_shading
 from raykit.surfaces import OFFSET_FACTOR
 
-COMPILE_SECONDS = 20  # how long the first compile took on the 2-core machine (measured: 10-18 s)
+COMPILE_SECONDS = 60  # the first compile on the 2-core machine (benchmarks/engines.py: 50-60 s)
 EPS = float(np.finfo(np.float64).eps)  # the rounding unit of raykit.surfaces' error bound
 STACK = 128  # nodes a ray may have still to visit: a median-split tree of 2^63 objects is 63 deep
 TILE = 16  # pixels a side of the tiles that primary rays take their objects from
@@ -601,6 +601,9 @@ def nearest_in_tile(arrays, tiles, x, y, o0, o1, o2, d0, d1, d2):
 # ---- the loops: many rays, both cores --------------------------------------------------------
 
 
+CHUNK = 256  # rays or pixels per parallel step: many per core, and one stack each
+
+
 @njit(parallel=True, **_jit)
 def cast_rays(arrays, tree, origins, directions, t_max):
     """:func:`nearest_hit` for each ray ``(N, 3)``: ``index (N,)``, ``t (N,)``, ``color (N, 3)``."""
@@ -608,9 +611,9 @@ def cast_rays(arrays, tree, origins, directions, t_max):
     index = np.empty(count, dtype=np.int64)
     t = np.empty(count)
     color = np.empty((count, 3))
-    for chunk in prange((count + 255) // 256):
+    for chunk in prange((count + CHUNK - 1) // CHUNK):
         stack = np.empty(STACK, dtype=np.int64)
-        for i in range(chunk * 256, min(count, chunk * 256 + 256)):
+        for i in range(chunk * CHUNK, min(count, (chunk + 1) * CHUNK)):
             o, d = origins[i], directions[i]
             index[i], t[i], color[i, 0], color[i, 1], color[i, 2] = nearest_hit(
                 arrays, tree, stack, o[0], o[1], o[2], d[0], d[1], d[2], t_max[i]
@@ -619,47 +622,33 @@ def cast_rays(arrays, tree, origins, directions, t_max):
 
 
 @njit(parallel=True, **_jit)
-def trace_rows(arrays, tiles, tree, lights, camera, rows, width, offsets, centre):
-    """The render of whole image rows ``rows (R,)``, the lecture's loop for each pixel: per
+def trace(arrays, tiles, tree, lights, camera, xs, ys, offsets, centre):
+    """The lecture's loop for P pixels at (xs, ys) ``(P,)`` (their upper-left corners): per
     sample offset ``offsets (S, 2)``, in order, the viewing ray, its nearest hit and its colour
     (:func:`pixel_sample`), summed as :class:`raykit.engine.regions.Image` sums them; and the
-    object index and t of the ray through the pixel centre, which is sample ``centre`` (-1: cast
-    one more ray there). Returns ``rgb (R, W, 3)`` (sums), ``index``, ``t (R, W)``."""
-    rgb = np.zeros((len(rows), width, 3))
-    index = np.empty((len(rows), width), dtype=np.int64)
-    t = np.empty((len(rows), width))
-    for i in prange(len(rows)):
+    object index and t of the ray through the pixel centre, which is sample ``centre`` (-1:
+    cast one more ray there). Returns the sums ``rgb (P, 3)``, ``index``, ``t (P,)``."""
+    count = len(xs)
+    rgb = np.zeros((count, 3))
+    index = np.empty(count, dtype=np.int64)
+    t = np.empty(count)
+    for chunk in prange((count + CHUNK - 1) // CHUNK):
         stack = np.empty(STACK, dtype=np.int64)
-        row = rows[i]
-        for col in range(width):
+        for p in range(chunk * CHUNK, min(count, (chunk + 1) * CHUNK)):
             for sample in range(len(offsets)):
-                x, y = col + offsets[sample, 0], row + offsets[sample, 1]
+                x, y = xs[p] + offsets[sample, 0], ys[p] + offsets[sample, 1]
                 hit, t_hit, r, g, b = pixel_sample(arrays, tiles, tree, lights, stack, camera, x, y)
-                rgb[i, col, 0] += r
-                rgb[i, col, 1] += g
-                rgb[i, col, 2] += b
+                rgb[p, 0] += r
+                rgb[p, 1] += g
+                rgb[p, 2] += b
                 if sample == centre:
-                    index[i, col], t[i, col] = hit, t_hit
+                    index[p], t[p] = hit, t_hit
             if centre < 0:
-                x, y = col + 0.5, row + 0.5
+                x, y = xs[p] + 0.5, ys[p] + 0.5
                 o0, o1, o2, d0, d1, d2 = viewing_ray(camera, x, y)
                 hit, t_hit, _, _, _ = nearest_in_tile(arrays, tiles, x, y, o0, o1, o2, d0, d1, d2)
-                index[i, col], t[i, col] = hit, t_hit
+                index[p], t[p] = hit, t_hit
     return rgb, index, t
-
-
-@njit(parallel=True, **_jit)
-def trace_points(arrays, tiles, tree, lights, camera, x, y):
-    """:func:`pixel_sample` at image points (x, y) ``(N,)``: ``colors (N, 3)``."""
-    count = len(x)
-    colors = np.empty((count, 3))
-    for chunk in prange((count + 255) // 256):
-        stack = np.empty(STACK, dtype=np.int64)
-        for i in range(chunk * 256, min(count, chunk * 256 + 256)):
-            _, _, colors[i, 0], colors[i, 1], colors[i, 2] = pixel_sample(
-                arrays, tiles, tree, lights, stack, camera, x[i], y[i]
-            )
-    return colors
 
 
 def camera_tuple(scene: Scene) -> tuple:
@@ -733,15 +722,22 @@ def render(scene: Scene, samples: int = 1, *, adaptive: bool = False, progress=N
     rgb = np.empty((height, width, 3))
     index = np.empty((height, width), dtype=np.int64)
     t = np.empty((height, width))
+    columns = np.arange(width, dtype=float)
     for start in range(0, height, ROWS_PER_CALL):
-        rows = np.arange(start, min(start + ROWS_PER_CALL, height), dtype=np.int64)
-        band = trace_rows(*kernels, rows, width, offsets, -1 if centre is None else centre)
-        rgb[rows], index[rows], t[rows] = band[0] / len(offsets), band[1], band[2]
+        rows = np.arange(start, min(start + ROWS_PER_CALL, height))
+        xs, ys = np.tile(columns, len(rows)), np.repeat(rows.astype(float), width)
+        sums, hit, t_hit = trace(*kernels, xs, ys, offsets, -1 if centre is None else centre)
+        rgb[rows] = (sums / len(offsets)).reshape(len(rows), width, 3)
+        index[rows], t[rows] = hit.reshape(len(rows), width), t_hit.reshape(len(rows), width)
         if progress is not None:
             progress(len(rows) * width)
     if adaptive and samples > 1:  # the numpy engine's refinement, with these colours
         edge = edge_pixels(rgb, index)
-        colors = lambda _, x, y: trace_points(*kernels, x, y)  # noqa: E731
+        at_the_point = np.zeros((1, 2))  # each point its own one sample
+
+        def colors(region, x, y):
+            return trace(*kernels, np.asarray(x, float), np.asarray(y, float), at_the_point, 0)[0]
+
         refine(regions(scene, skip_hidden=False), colors, rgb, edge, samples)
     _compiled_once(started)
     return rgb, index, t
