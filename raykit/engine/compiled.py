@@ -531,6 +531,9 @@ def shade_ray(arrays, tree, lights, stack, o0, o1, o2, d0, d1, d2, hit, t, r, g,
 def pixel_sample(arrays, tiles, tree, lights, stack, camera, x, y):
     """One sample of the picture: the viewing ray through image point (x, y), its nearest hit,
     and its colour (flat, or shaded): ``(index, t, r, g, b)``."""
+    if not held(tiles, x, y):
+        background = arrays.background
+        return -1, np.inf, background[0], background[1], background[2]
     o0, o1, o2, d0, d1, d2 = viewing_ray(camera, x, y)
     hit, t, r, g, b = nearest_in_tile(arrays, tiles, x, y, o0, o1, o2, d0, d1, d2)
     if lights.shaded:
@@ -570,6 +573,20 @@ def bin_by_tile(bounds, by_distance, tiles_x, tiles_y):
                     else:
                         count[tile + 1] += 1
     return start, objects
+
+
+@njit(**_one_ray)
+def held(tiles, x, y) -> bool:
+    """Whether some object's screen rectangle holds image point (x, y): if none does, its
+    viewing ray sees the background, and is not even made (as in
+    :meth:`raykit.engine.regions.Plan.viewing_rays`)."""
+    start, objects, bounds, _, tiles_x = tiles
+    tile = (int(y) // TILE) * tiles_x + int(x) // TILE
+    for k in range(start[tile], start[tile + 1]):
+        obj = objects[k]
+        if bounds[obj, 0] <= x <= bounds[obj, 1] and bounds[obj, 2] <= y <= bounds[obj, 3]:
+            return True
+    return False
 
 
 @njit(**_one_ray)
