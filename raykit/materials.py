@@ -76,6 +76,27 @@ class MaterialTable:
             mirror=np.array([m.mirror for m in materials], dtype=float).reshape(-1, 3),
         )
 
+    @classmethod
+    def plain(cls, count: int) -> MaterialTable:
+        """``count`` objects of the plain material (:data:`PLAIN`), without listing them."""
+        return cls(
+            diffuse=np.zeros((count, 3)),
+            has_diffuse=np.zeros(count, dtype=bool),
+            specular=np.zeros((count, 3)),
+            shininess=np.full(count, PLAIN.shininess),
+            mirror=np.zeros((count, 3)),
+        )
+
+    @classmethod
+    def stack(cls, *tables: MaterialTable) -> MaterialTable:
+        """One table of the objects of ``tables``, in order."""
+        return cls(
+            *(
+                np.concatenate([getattr(t, name) for t in tables])
+                for name in ("diffuse", "has_diffuse", "specular", "shininess", "mirror")
+            )
+        )
+
     @property
     def any_mirror(self) -> bool:
         return bool(np.any(self.mirror > 0))

@@ -17,6 +17,7 @@ order breaks ties: of two objects hit at exactly the same t, the lower index win
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from functools import cached_property
 
@@ -26,7 +27,7 @@ from raykit.billboards import Billboard
 from raykit.camera import Camera
 from raykit.lights import Light
 from raykit.materials import MaterialTable
-from raykit.spheres import Sphere
+from raykit.spheres import Sphere, SphereTable
 
 DEFAULT_MAX_DEPTH = 3
 
@@ -36,7 +37,7 @@ class Scene:
     """Everything the renderer needs; ``source`` names where it came from, for messages."""
 
     camera: Camera
-    spheres: tuple[Sphere, ...] = ()
+    spheres: Sequence[Sphere] = ()  # a tuple, or the loader's columns (raykit.spheres.SphereTable)
     billboards: tuple[Billboard, ...] = ()
     background: np.ndarray = field(default_factory=lambda: np.zeros(3))
     source: str = "<scene>"
@@ -48,7 +49,12 @@ class Scene:
     @property
     def objects(self) -> tuple[Sphere | Billboard, ...]:
         """All objects in index order (spheres, then billboards); see the module docstring."""
-        return self.spheres + self.billboards
+        return tuple(self.spheres) + tuple(self.billboards)
+
+    @property
+    def object_count(self) -> int:
+        """K = S + B, the number of objects (without making :attr:`objects`)."""
+        return len(self.spheres) + len(self.billboards)
 
     def only(self, ids: np.ndarray) -> Scene:
         """The scene with only the objects ``ids`` (scene indices, ascending), kept in index
@@ -68,4 +74,7 @@ class Scene:
     @cached_property
     def materials(self) -> MaterialTable:
         """Every object's material as arrays, in object index order."""
+        if isinstance(self.spheres, SphereTable):  # plain spheres all
+            plain = MaterialTable.plain(len(self.spheres))
+            return MaterialTable.stack(plain, MaterialTable.of(self.billboards))
         return MaterialTable.of(self.objects)

@@ -69,7 +69,7 @@ def blinn_phong(
 
 def casts_shadows(scene: Scene) -> bool:
     """Whether shadow rays are needed: shadows on, lights, and two objects or more."""
-    return scene.shadows and bool(scene.lights) and len(scene.objects) > 1
+    return scene.shadows and bool(scene.lights) and scene.object_count > 1
 
 
 def needs_shading(scene: Scene) -> bool:

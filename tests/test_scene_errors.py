@@ -424,6 +424,11 @@ def test_plain_spheres_load_in_bulk_exactly_as_field_by_field():
         ({"center": [0, 0]}, "spheres[1].center"),
         ({"center": [0, 0, float("nan")]}, "spheres[1].center[2]"),
         ({"center": "abc"}, "spheres[1].center"),
+        ({"center": [0, 0, "1"]}, "spheres[1].center[2]"),  # numpy would take "1" as 1.0
+        ({"color": [0, 0, None]}, "spheres[1].color[2]"),
+        ({"center": [0, 0, [1]]}, "spheres[1].center[2]"),
+        ({"center": {"x": 0, "y": 0, "z": 0}}, "spheres[1].center"),
+        ({"radius": 10**400}, "spheres[1].radius"),
     ):
         broken = [dict(s) for s in spheres[:3]]
         broken[1].update(bad)
@@ -431,6 +436,7 @@ def test_plain_spheres_load_in_bulk_exactly_as_field_by_field():
         with pytest.raises(SceneError) as info:
             scene_from_dict(scene_dict(spheres=broken))
         assert info.value.field == field
+    assert _plain_spheres([spheres[0], 5]) is None
     named = [dict(s) for s in spheres[:3]]
     named[0]["name"] = "first"
     assert _plain_spheres(named) is None

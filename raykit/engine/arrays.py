@@ -16,6 +16,7 @@ import numpy as np
 
 from raykit.engine.boxes import object_boxes
 from raykit.scene import Scene
+from raykit.spheres import SphereTable
 
 
 @dataclass(frozen=True)
@@ -31,14 +32,17 @@ class SceneArrays:
 
     @classmethod
     def of(cls, scene: Scene) -> SceneArrays:
-        if scene.spheres:
-            centers = np.stack([np.asarray(s.center) for s in scene.spheres])
-            radii = np.array([s.radius for s in scene.spheres])
+        spheres = scene.spheres
+        if isinstance(spheres, SphereTable):  # the loader's columns, as they are
+            return cls(spheres.centers, spheres.radii, spheres.colors, scene)
+        if spheres:
+            centers = np.stack([np.asarray(s.center) for s in spheres])
+            radii = np.array([s.radius for s in spheres])
         else:
             centers, radii = np.zeros((0, 3)), np.zeros(0)
-        colors = np.array([s.color for s in scene.spheres], dtype=float).reshape(-1, 3)
+        colors = np.array([s.color for s in spheres], dtype=float).reshape(-1, 3)
         return cls(centers, radii, colors, scene)
 
     @cached_property
     def boxes(self) -> tuple[np.ndarray, np.ndarray]:
-        return object_boxes(self.scene.spheres, self.scene.billboards)
+        return object_boxes(self.centers, self.radii, self.scene.billboards)

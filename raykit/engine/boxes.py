@@ -14,23 +14,25 @@ import numpy as np
 BOX_PADDING = 1e-9  # relative to the box's size and distance from the origin
 
 
-def object_boxes(spheres, billboards) -> tuple[np.ndarray, np.ndarray]:
-    """Padded axis-aligned boxes of K objects (the spheres, then the billboards): ``lower``,
-    ``upper (K, 3)``."""
-    boxes = []
-    for sphere in spheres:
-        center = np.asarray(sphere.center, float)
-        boxes.append((center - sphere.radius, center + sphere.radius))
+def object_boxes(
+    centers: np.ndarray, radii: np.ndarray, billboards
+) -> tuple[np.ndarray, np.ndarray]:
+    """Padded axis-aligned boxes of K objects, the spheres (``centers (S, 3)``, ``radii (S,)``)
+    then the billboards: ``lower``, ``upper (K, 3)``."""
+    centers = np.asarray(centers, float).reshape(-1, 3)
+    radii = np.asarray(radii, float).reshape(-1, 1)
+    lower, upper = [centers - radii], [centers + radii]
     for board in billboards:
         ul = np.asarray(board.upper_left, float)
         a, b = np.asarray(board.a, float), np.asarray(board.b, float)
         corners = np.stack([ul, ul + a, ul + b, ul + a + b])
-        boxes.append((corners.min(axis=0), corners.max(axis=0)))
-    if not boxes:
-        return np.zeros((0, 3)), np.zeros((0, 3))
-    lower, upper = np.array([box[0] for box in boxes]), np.array([box[1] for box in boxes])
+        lower.append(corners.min(axis=0)[None])
+        upper.append(corners.max(axis=0)[None])
+    lower, upper = np.concatenate(lower), np.concatenate(upper)
     pad = BOX_PADDING * (
-        (upper - lower).max(axis=1) + np.abs(lower).max(axis=1) + np.abs(upper).max(axis=1)
+        (upper - lower).max(axis=1, initial=0.0)
+        + np.abs(lower).max(axis=1, initial=0.0)
+        + np.abs(upper).max(axis=1, initial=0.0)
     )
     return lower - pad[:, None], upper + pad[:, None]
 

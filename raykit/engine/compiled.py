@@ -51,7 +51,7 @@ from raykit.engine.adaptive import edge_pixels, refine
 from raykit.engine.arrays import SceneArrays
 from raykit.engine.bvh import BVH
 from raykit.engine.choice import cache_folder
-from raykit.engine.screen_bounds import object_bounds
+from raykit.engine.screen_bounds import scene_bounds
 from raykit.engine.tiles import regions
 from raykit.hits import Hits
 from raykit.lights import PointLight, toward_light
@@ -545,7 +545,7 @@ def pixel_sample(arrays, tiles, tree, lights, stack, camera, x, y):
 def bin_by_tile(bounds, by_distance, tiles_x, tiles_y):
     """Each tile's objects, for primary rays: the objects ``by_distance (K,)`` (nearest first)
     whose screen rectangle ``bounds (K, 4)`` (x0, x1, y0, y1; NaN: never seen,
-    :func:`raykit.engine.screen_bounds.object_bounds`) meets the tile of TILE x TILE pixels.
+    :func:`raykit.engine.screen_bounds.scene_bounds`) meets the tile of TILE x TILE pixels.
     Returns ``start (tiles + 1,)`` and ``objects``: tile k's are objects[start[k]:start[k+1]],
     nearest first."""
     count = np.zeros(tiles_x * tiles_y + 1, dtype=np.int64)
@@ -683,14 +683,14 @@ def camera_tuple(scene: Scene) -> tuple:
 
 def screen_tiles(scene: Scene, arrays: Arrays) -> tuple:
     """The primary rays' skip: every object's screen rectangle
-    (:func:`raykit.engine.screen_bounds.object_bounds`, conservative), a lower bound on the t
+    (:func:`raykit.engine.screen_bounds.scene_bounds`, conservative), a lower bound on the t
     at which a viewing ray can meet it (``closest (K,)``: a sphere's distance from the eye less
     its radius, or in front of the image plane for orthographic rays, less a rounding margin; 0
     for a billboard), and each TILE x TILE tile's objects nearest first
     (:func:`bin_by_tile`): ``(start, objects, bounds, closest, tiles_x)``."""
     camera = scene.camera
-    bounds = object_bounds(camera, scene.objects).reshape(-1, 4)
-    closest = np.zeros(len(scene.objects))
+    bounds = scene_bounds(camera, arrays.centers, arrays.radii, scene.billboards)
+    closest = np.zeros(scene.object_count)
     if scene.spheres:
         centers, radii = arrays.centers, arrays.radii
         eye = np.asarray(camera.eye, dtype=float)

@@ -50,7 +50,7 @@ def secondary_caster(scene: Scene, cast: SceneCaster, arrays: SceneArrays | None
     the objects the rays can reach, or a BVH's for scenes of ``BVH_FROM`` objects or more (the
     same answers)."""
     arrays = arrays or SceneArrays.of(scene)
-    if len(scene.objects) < BVH_FROM:
+    if scene.object_count < BVH_FROM:
         return partial(cast_nearby, scene, arrays, cast)
     return BVH.build(scene, arrays).cast
 
@@ -69,7 +69,7 @@ def cast_nearby(
     if t_max is None:
         t_max = np.full(len(origins), np.inf)
     near = objects_near_segments(arrays.boxes, origins, directions, t_max)
-    if len(near) == len(scene.objects):
+    if len(near) == scene.object_count:
         return cast(scene, origins, directions)
     hits = cast(scene.only(near), origins, directions)
     hits.index = np.append(near, -1)[hits.index]
@@ -118,7 +118,7 @@ class Plan:
         self.secondary = secondary_caster(self.scene, cast, self.arrays) if shaded else None
 
     def regions(self) -> Iterator[Region]:
-        return regions(self.scene, self.skip_hidden)
+        return regions(self.scene, self.skip_hidden, self.arrays)
 
     def batches(self) -> Iterator[Batch]:
         """Every region's pixels at every sample offset, in the order their colours are summed."""

@@ -123,18 +123,30 @@ def billboard_bounds(camera: Camera, billboard: Billboard) -> Bounds | None:
     return _to_image(camera, camera.d * x / depth, camera.d * y / depth)
 
 
+def scene_bounds(camera: Camera, centers: np.ndarray, radii: np.ndarray, billboards) -> np.ndarray:
+    """Bounds of a scene's K objects in index order, the spheres (``centers (S, 3)``, ``radii
+    (S,)``, all at once, :func:`spheres_bounds`) then the billboards (one by one): ``(K, 4)``
+    rows (x0, x1, y0, y1); NaN rows for never visible."""
+    bounds = np.full((len(radii) + len(billboards), 4), np.nan)
+    if len(radii):
+        bounds[: len(radii)] = spheres_bounds(camera, centers, radii)
+    for i, board in enumerate(billboards, start=len(radii)):
+        found = billboard_bounds(camera, board)
+        if found is not None:
+            bounds[i] = found
+    return bounds
+
+
 def object_bounds(camera: Camera, objects) -> np.ndarray:
-    """Bounds of every object, ``(K, 4)`` rows (x0, x1, y0, y1); NaN rows for never visible.
-    The spheres are bounded all at once (:func:`spheres_bounds`), the billboards one by one."""
-    bounds = np.full((len(objects), 4), np.nan)
-    spheres = [i for i, obj in enumerate(objects) if isinstance(obj, Sphere)]
-    if spheres:
-        centers = np.array([objects[i].center for i in spheres], dtype=float)
-        radii = np.array([objects[i].radius for i in spheres], dtype=float)
-        bounds[spheres] = spheres_bounds(camera, centers, radii)
-    for i, obj in enumerate(objects):
-        if not isinstance(obj, Sphere):
-            found = billboard_bounds(camera, obj)
-            if found is not None:
-                bounds[i] = found
+    """Bounds of every object of ``objects`` (spheres and billboards in any order): ``(K, 4)``
+    rows as :func:`scene_bounds` gives them."""
+    spheres = [obj for obj in objects if isinstance(obj, Sphere)]
+    boards = [obj for obj in objects if not isinstance(obj, Sphere)]
+    centers = np.array([s.center for s in spheres], dtype=float).reshape(-1, 3)
+    radii = np.array([s.radius for s in spheres], dtype=float)
+    found = scene_bounds(camera, centers, radii, boards)
+    is_sphere = np.array([isinstance(obj, Sphere) for obj in objects], dtype=bool)
+    bounds = np.empty((len(objects), 4))
+    bounds[is_sphere] = found[: len(spheres)]
+    bounds[~is_sphere] = found[len(spheres) :]
     return bounds

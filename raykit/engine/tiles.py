@@ -28,7 +28,8 @@ from functools import cached_property
 
 import numpy as np
 
-from raykit.engine.screen_bounds import object_bounds
+from raykit.engine.arrays import SceneArrays
+from raykit.engine.screen_bounds import scene_bounds
 from raykit.scene import Scene
 
 TILE = 128  # pixels a side: among 64, 96, 128, 192 and 256, the best or within 10% of it on
@@ -146,18 +147,22 @@ def _counting_within(counts: np.ndarray) -> np.ndarray:
     return np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
 
 
-def regions(scene: Scene, skip_hidden: bool = True) -> Iterator[Region]:
-    """The regions that cover the image, each with the objects it must test."""
+def regions(
+    scene: Scene, skip_hidden: bool = True, arrays: SceneArrays | None = None
+) -> Iterator[Region]:
+    """The regions that cover the image, each with the objects it must test (``arrays``: the
+    scene's, if made already)."""
     camera = scene.camera
     width, height = camera.width, camera.height
-    everything = np.append(np.arange(len(scene.objects)), -1)
+    everything = np.append(np.arange(scene.object_count), -1)
     if not skip_hidden:
         rows_per_band = max(1, RAYS_PER_BAND // width)
         for top in range(0, height, rows_per_band):
             rows = range(top, min(top + rows_per_band, height))
             yield Region(rows, range(width), scene, everything, scene)
         return
-    bounds = object_bounds(camera, scene.objects)  # (K, 4): x0, x1, y0, y1
+    arrays = arrays or SceneArrays.of(scene)
+    bounds = scene_bounds(camera, arrays.centers, arrays.radii, scene.billboards)  # (K, 4)
     for top in range(0, height, TILE):
         for left in range(0, width, TILE):
             rows = range(top, min(top + TILE, height))
