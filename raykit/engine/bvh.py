@@ -57,36 +57,7 @@ class BVH:
     def build(cls, scene: Scene, arrays: SceneArrays | None = None) -> BVH:
         arrays = arrays or SceneArrays.of(scene)
         lower, upper = arrays.boxes
-        centres = (lower + upper) / 2
-        nodes: list[list] = []  # [lower, upper, left, right, first, count]
-        order: list[int] = []
-
-        def make(ids: np.ndarray) -> int:
-            node = len(nodes)
-            nodes.append([lower[ids].min(axis=0), upper[ids].max(axis=0), -1, -1, 0, 0])
-            if len(ids) <= LEAF_SIZE:
-                nodes[node][4:] = [len(order), len(ids)]
-                order.extend(ids.tolist())
-                return node
-            spread = np.ptp(centres[ids], axis=0)
-            ids = ids[np.argsort(centres[ids, int(np.argmax(spread))], kind="stable")]
-            half = len(ids) // 2
-            nodes[node][2] = make(ids[:half])
-            nodes[node][3] = make(ids[half:])
-            return node
-
-        if len(lower):
-            make(np.arange(len(lower)))
-        return cls(
-            scene,
-            arrays,
-            np.array([n[0] for n in nodes]).reshape(-1, 3),
-            np.array([n[1] for n in nodes]).reshape(-1, 3),
-            np.array([n[2:4] for n in nodes], dtype=np.intp).reshape(-1, 2),
-            np.array([n[4] for n in nodes], dtype=np.intp),
-            np.array([n[5] for n in nodes], dtype=np.intp),
-            np.array(order, dtype=np.intp),
-        )
+        return cls(scene, arrays, *_median_split_tree(lower, upper))
 
     def candidates(
         self, origins: np.ndarray, directions: np.ndarray, t_max: np.ndarray | None = None
@@ -148,3 +119,54 @@ def _enters(origins, inverse, lower, upper, t_max) -> np.ndarray:
         near = np.where(np.isnan(t1) | np.isnan(t2), -np.inf, np.minimum(t1, t2)).max(axis=1)
         far = np.where(np.isnan(t1) | np.isnan(t2), np.inf, np.maximum(t1, t2)).min(axis=1)
     return (far >= near) & (far >= 0) & (near <= t_max)
+
+
+def _median_split_tree(lower: np.ndarray, upper: np.ndarray) -> tuple[np.ndarray, ...]:
+    """The tree over K boxes ``lower``, ``upper (K, 3)``, built a level at a time: each node
+    not yet a leaf (more than LEAF_SIZE objects) is split at the median of its objects' centres
+    along the axis where they spread most (ties in order of object index). Every node of a level
+    is split at once with numpy, so a scene of 600,000 objects builds in a fraction of a second
+    (one node at a time took seconds). Returns :class:`BVH`'s arrays, nodes numbered level by
+    level from the root (0): ``lower``, ``upper``, ``children``, ``first``, ``count``, ``order``."""
+    K = len(lower)
+    if K == 0:
+        return (np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 2), np.intp),
+                np.zeros(0, np.intp), np.zeros(0, np.intp), np.zeros(0, np.intp))  # fmt: skip
+    centres = (lower + upper) / 2
+    rank = np.empty((3, K), dtype=np.intp)  # each object's place along each axis, ties by index
+    for axis in range(3):
+        rank[axis, np.argsort(centres[:, axis], kind="stable")] = np.arange(K)
+    most = 2 * K  # a binary tree with K or fewer leaves
+    node_lower, node_upper = np.empty((most, 3)), np.empty((most, 3))
+    children = np.full((most, 2), -1, dtype=np.intp)
+    first, count = np.zeros(most, np.intp), np.zeros(most, np.intp)
+    order = np.arange(K)  # each node's objects are order[start:start + size]
+    nodes, starts, sizes = np.array([0]), np.array([0]), np.array([K])  # this level's
+    made = 1
+    while len(nodes):
+        offsets = np.cumsum(sizes) - sizes  # each node's place among this level's objects
+        node_of = np.repeat(np.arange(len(nodes)), sizes)
+        positions = np.repeat(starts - offsets, sizes) + np.arange(sizes.sum())
+        objects = order[positions]
+        node_lower[nodes] = np.minimum.reduceat(lower[objects], offsets)
+        node_upper[nodes] = np.maximum.reduceat(upper[objects], offsets)
+        first[nodes], count[nodes] = starts, sizes
+        split = sizes > LEAF_SIZE
+        spread = np.maximum.reduceat(centres[objects], offsets) - np.minimum.reduceat(
+            centres[objects], offsets
+        )
+        axis = np.argmax(spread, axis=1)  # the first of equal spreads, as np.argmax picks
+        inner = split[node_of]
+        key = node_of[inner] * K + rank[axis[node_of[inner]], objects[inner]]
+        order[positions[inner]] = objects[inner][np.argsort(key, kind="stable")]
+        count[nodes[split]] = 0
+        half = sizes[split] // 2
+        left = made + 2 * np.arange(len(half))
+        children[nodes[split]] = np.column_stack([left, left + 1])
+        made += 2 * len(half)
+        nodes = np.column_stack([left, left + 1]).ravel()
+        starts = np.column_stack([starts[split], starts[split] + half]).ravel()
+        sizes = np.column_stack([half, sizes[split] - half]).ravel()
+    first[:made][children[:made, 0] >= 0] = 0  # an inner node holds no objects itself
+    return (node_lower[:made], node_upper[:made], children[:made], first[:made],
+            count[:made], order)  # fmt: skip
