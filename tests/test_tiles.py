@@ -188,3 +188,49 @@ def test_a_sphere_bound_is_tight_to_a_pixel():
     rows, cols = np.nonzero(index == 0)
     x0, x1, y0, y1 = sphere_bounds(camera, sphere)
     assert cols.min() - x0 < 2.5 and x1 - cols.max() < 3.5
+
+
+@pytest.mark.parametrize("projection", ["perspective", "orthographic"])
+def test_no_ray_beyond_a_sphere_bound_hits_it_even_a_hair_beyond_the_silhouette(projection):
+    """The margin is a thousandth of a pixel (raykit.engine.screen_bounds.MARGIN): every image
+    point just outside a rectangle, from a hair to half a pixel beyond it, has a ray that misses
+    the sphere, for spheres near and far, large and far smaller than a pixel, at 1e6 too."""
+    from dataclasses import replace
+
+    from raykit.camera import rays_through
+    from raykit.engine.screen_bounds import MARGIN
+    from raykit.spheres import hit_sphere
+
+    rng = np.random.default_rng(21)
+    camera = load_scene(SCENES / "classic.json").camera
+    checked = 0
+    for trial in range(60):
+        shift = 1e6 if trial % 3 == 0 else 0.0
+        view = replace(
+            camera,
+            projection=projection,
+            eye=camera.eye + shift,
+            lookat=camera.lookat + shift,
+        )
+        distance = 10 ** rng.uniform(0, 4)
+        radius = distance * 10 ** rng.uniform(-5, -0.5)  # from a hundredth of a pixel up
+        u, v, w = view.frame
+        across = rng.uniform(-0.3, 0.3, 2) * distance
+        center = view.eye - distance * w + across[0] * u + across[1] * v
+        bound = sphere_bounds(view, Sphere(center, radius, np.ones(3)))
+        if bound is None:
+            continue
+        x0, x1, y0, y1 = bound
+        # points beyond each edge, from 1e-9 px to half a pixel out, and along the whole edge
+        beyond = 10 ** rng.uniform(-9, np.log10(0.5), 4000)
+        along = rng.uniform(0, 1, 4000)
+        xs = np.concatenate([x0 - beyond[:1000], x1 + beyond[1000:2000],
+                             x0 + along[2000:] * (x1 - x0)])  # fmt: skip
+        ys = np.concatenate([y0 + along[:2000] * (y1 - y0), y0 - beyond[2000:3000],
+                             y1 + beyond[3000:]])  # fmt: skip
+        inside = (xs > 0) & (xs < view.width) & (ys > 0) & (ys < view.height)
+        origins, directions = rays_through(view, xs[inside], ys[inside])
+        hits = hit_sphere(origins, directions, np.asarray(center), radius)
+        assert not np.isfinite(hits).any(), (trial, MARGIN)
+        checked += inside.sum()
+    assert checked > 50_000
