@@ -14,6 +14,10 @@
 3. Whole processes, `raykit render SCENE -o OUT.png --engine E` for numpy, compiled and auto:
    auto against the better of the other two.
 
+With ``--tile-sides``, instead: the compiled engine's render of each prepared scene (sphereflakes
+5 and 6 too) with tiles of 2 to 32 pixels a side, and the side raykit.engine.compiled.tile_side
+chooses.
+
 Needs numba (`pip install -e ".[fast]"`); without it, says so and times the numpy engine only.
 """
 
@@ -68,7 +72,12 @@ def _process(arguments: list[str], repeats: int, **env) -> float:
 def main() -> None:
     parser = arguments(__doc__, "the example scenes only, fewer whole processes", repeats=5)
     parser.add_argument("--plot", type=Path, help="write the render medians as bars here")
+    parser.add_argument(
+        "--tile-sides", action="store_true", help="time the compiled engine's tile sides instead"
+    )
     args = parse(parser)
+    if args.tile_sides:
+        return tile_sides(args)
     engines = ["numpy", "compiled"] if choice.compiled_available() else ["numpy"]
     if len(engines) == 1:
         print('numba is not installed (pip install -e ".[fast]"): the numpy engine alone.\n')
@@ -159,6 +168,33 @@ def main() -> None:
                 f"| {seconds(whole['auto'], 0)} | {chose} | {whole['auto'] / better:.2f} |"
             )
     _plot(args.plot, times, engines)
+
+
+def tile_sides(args) -> None:
+    """The compiled render of each prepared scene per tile side (see the module page)."""
+    if not choice.compiled_available():
+        print('numba is not installed (pip install -e ".[fast]"): nothing to time.')
+        return
+    from raykit.engine import compiled
+
+    scenes = benchmark_scenes(args.quick)
+    if not args.quick:
+        scenes |= {"sphereflake 5": sphereflake(5), "sphereflake 6": sphereflake(6)}
+    sides = (2, 4, 8, 16, 32)
+    print("compiled render of the prepared scene, median; * marks the side tile_side chooses\n")
+    print("| scene | " + " | ".join(f"{side} px" for side in sides) + " |")
+    print("|---|" + "---|" * len(sides))
+    for name, scene in scenes.items():
+        prepared = compiled.prepare(scene)
+        cells = []
+        for side in sides:
+            tiles = compiled.screen_tiles(scene, prepared.arrays, side)
+            with_side = prepared._replace(tiles=tiles)
+            compiled.render(with_side)  # warm-up
+            took = median_time(lambda p=with_side: compiled.render(p), args.repeats)[1]
+            mark = "*" if side == prepared.tiles[5] else ""
+            cells.append(f"{seconds(took, 1)}{mark}")
+        print(f"| {name} | " + " | ".join(cells) + " |")
 
 
 def _scene_file(name: str, scene, folder: Path) -> Path:

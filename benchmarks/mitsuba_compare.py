@@ -17,10 +17,15 @@ lookups); raykit renders its flat colours, textures included. Mitsuba's sampler 
 pixel's one sample, raykit takes the pixel centre, so their hit masks differ at silhouettes:
 the table gives the share of pixels on which both agree whether anything is hit.
 
-Load: raykit from its JSON data (validation included), Mitsuba ``load_dict``. Render: the
-median of ``--repeats`` renders after one warm-up render (for ``llvm_ad_rgb`` the warm-up
-compiles its kernels; that first render is shown too). ``--plot`` draws the render medians as
-bars per scene, one per renderer (raykit's alone when Mitsuba is not installed).
+Load: raykit from its JSON data (validation included), Mitsuba ``load_dict`` (which builds
+its BVH). Prepare, raykit's compiled engine only: ``raykit.engine.compiled.prepare``, the
+scene's arrays, screen tiles and (lit scenes) BVH, made once per scene; its render renders the
+prepared scene, as Mitsuba's renders its loaded one (``raykit.render.render`` does both). Render:
+the median of ``--repeats`` renders after one warm-up render (for ``llvm_ad_rgb`` the warm-up
+compiles its kernels; that first render is shown too). The last line checks the growth goals:
+sphereflake 4 to 6 in at most 3x the render time, level 6 loaded, prepared and rendered in 2 s.
+``--plot`` draws the render medians as bars per scene, one per renderer (raykit's alone when
+Mitsuba is not installed).
 """
 
 from __future__ import annotations
@@ -59,6 +64,7 @@ def benchmark_scenes(quick: bool) -> dict[str, Scene]:
         "classic 640x480": load_scene(HERE.parent / "scenes/classic.json"),
         "sphereflake 4 512x512": sphereflake(4),
         "1,000 spheres 1920x1080": many_spheres(1000),
+        "sphereflake 6 512x512": sphereflake(6),
     }
 
 
@@ -231,48 +237,88 @@ def main() -> None:
         version = None
     engines = _engines(args.engine)
     print(
-        "| scene | renderer | load | first render | render (median) | load + render "
-        "| render / Mitsuba llvm | hit masks agree |"
+        "| scene | renderer | load | prepare | first render | render (median) "
+        "| load + prepare + render | render / Mitsuba llvm | hit masks agree |"
     )
-    print("|---|---|---|---|---|---|---|---|")
-    rows = []
+    print("|---|---|---|---|---|---|---|---|---|")
+    rows, compiled_renders = [], {}
     for name, scene in benchmark_scenes(args.quick).items():
         data = scene_data(scene)
         table, ours = [], None
         for engine in engines:
-            start = time.perf_counter()
-            loaded = scene_from_dict(data)
-            load = time.perf_counter() - start
-            start = time.perf_counter()
-            first_image = render(loaded, engine=engine)
-            first = time.perf_counter() - start
-            _, took = median_time(lambda s=loaded, e=engine: render(s, engine=e), args.repeats)
-            ours = first_image.object_index >= 0
-            table.append((f"raykit {engine}", load, first, took, "-"))
+            load, prepare, first, took, ours = time_raykit(engine, data, args.repeats)
+            table.append((f"raykit {engine}", load, prepare, first, took, "-"))
+            if engine == "compiled":
+                compiled_renders[name] = (load + prepare, took)
         for variant in VARIANTS if version is not None else ():
             result = mitsuba_in_child(variant, data, args.repeats)
             renderer = f"Mitsuba {version} {variant}"
             if isinstance(result, str):
-                table.append((renderer, result, None, None, ""))
+                table.append((renderer, result, None, None, None, ""))
                 continue
             agree = f"{np.mean(np.array(result['hit']) == ours):.1%}"
-            table.append((renderer, result["load"], result["first"], result["render"], agree))
-        llvm = next((r[3] for r in table if r[0].endswith("llvm_ad_rgb") and r[3]), None)
-        for renderer, load, first, took, agree in table:
+            table.append((renderer, result["load"], 0.0, result["first"], result["render"], agree))
+        llvm = next((r[4] for r in table if r[0].endswith("llvm_ad_rgb") and r[4]), None)
+        for renderer, load, prepare, first, took, agree in table:
             rows.append({"scene": name, "renderer": renderer, "render": took})
             if isinstance(load, str):
-                print(f"| {name} | {renderer} | {load} | | | | | |")
+                print(f"| {name} | {renderer} | {load} | | | | | | |")
                 continue
             ratio = f"{took / llvm:.2f}" if llvm else "-"
             print(
-                f"| {name} | {renderer} | {seconds(load, 1)} | {seconds(first, 1)} "
-                f"| {seconds(took, 1)} | {seconds(load + took, 1)} | {ratio} | {agree} |"
+                f"| {name} | {renderer} | {seconds(load, 1)} "
+                f"| {seconds(prepare, 1) if prepare else '-'} | {seconds(first, 1)} "
+                f"| {seconds(took, 1)} | {seconds(load + prepare + took, 1)} | {ratio} | {agree} |"
             )
     print(
         f"\nMedians of {args.repeats} renders after a warm-up; load and render in one process each."
+        " raykit compiled: prepare is raykit.engine.compiled.prepare (arrays, screen tiles, BVH"
+        " for lit scenes), made once per scene as Mitsuba builds its BVH in load_dict; render"
+        " renders the prepared scene. raykit.render.render(scene) does both; the numpy engine"
+        " prepares inside its render."
     )
+    growth(compiled_renders)
     if args.plot:
         plot(args.plot, rows)
+
+
+def time_raykit(engine: str, data: dict, repeats: int) -> tuple:
+    """raykit's times on one scene: ``(load, prepare, first render, render median, hit mask)``;
+    prepare is 0 for the numpy engine, which prepares inside its render."""
+    start = time.perf_counter()
+    loaded = scene_from_dict(data)
+    load = time.perf_counter() - start
+    if engine != "compiled":
+        start = time.perf_counter()
+        first_image = render(loaded, engine=engine)
+        first = time.perf_counter() - start
+        _, took = median_time(lambda: render(loaded, engine=engine), repeats)
+        return load, 0.0, first, took, first_image.object_index >= 0
+    from raykit.engine import compiled
+
+    start = time.perf_counter()
+    prepared = compiled.prepare(loaded)
+    prepare = time.perf_counter() - start
+    start = time.perf_counter()
+    _, index, _ = compiled.render(prepared)
+    first = time.perf_counter() - start
+    _, took = median_time(lambda: compiled.render(prepared), repeats)
+    return load, prepare, first, took, index >= 0
+
+
+def growth(compiled_renders: dict) -> None:
+    """The issue's growth goals, from the compiled rows: sphereflake 4 to 6 (81x the spheres)
+    at most 3x the render time, and level 6 loaded, prepared and rendered within 2 s."""
+    level4, level6 = (
+        next((v for k, v in compiled_renders.items() if k.startswith(f"sphereflake {n}")), None)
+        for n in (4, 6)
+    )
+    if level4 and level6:
+        print(
+            f"\nGrowth, raykit compiled: sphereflake 6 renders in {level6[1] / level4[1]:.1f}x "
+            f"the time of sphereflake 4 (goal: 3x or less); level 6 loads, prepares and renders "
+            f"in {level6[0] + level6[1]:.2f} s (goal: 2 s or less)."
+        )
 
 
 if __name__ == "__main__":

@@ -9,9 +9,9 @@ import pytest
 from conftest import REPO
 
 
-def _table_rows(script: str) -> list[str]:
+def _table_rows(script: str, *extra: str) -> list[str]:
     run = subprocess.run(
-        [sys.executable, str(REPO / "benchmarks" / script), "--quick", "--repeats", "1"],
+        [sys.executable, str(REPO / "benchmarks" / script), "--quick", "--repeats", "1", *extra],
         capture_output=True,
         text=True,
         timeout=300,
@@ -211,3 +211,15 @@ def test_engines_benchmark_times_both_engines_on_every_example_scene():
         assert all(row.split(" | ")[4] == "not run" for row in rows)
         return
     assert all(row.split(" | ")[4].endswith("ms") for row in rows)  # a compiled time each
+
+
+def test_tile_sides_benchmark_marks_the_side_the_compiled_engine_chooses():
+    pytest.importorskip("numba")
+    rows = _table_rows("engines.py", "--tile-sides")
+    assert [row.split(" | ")[0][2:] for row in rows] == sorted(
+        p.stem for p in (REPO / "scenes").glob("*.json")
+    )
+    for row in rows:
+        cells = row.strip("| ").split(" | ")[1:]
+        assert len(cells) == 5 and all("ms" in cell for cell in cells)
+        assert sum(cell.endswith("*") for cell in cells) == 1  # the chosen side, once

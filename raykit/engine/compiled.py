@@ -410,7 +410,7 @@ def nearest_hit(arrays, tree, stack, o0, o1, o2, d0, d1, d2, t_max):
 def viewing_ray(camera, x, y):
     """Repeats :func:`raykit.camera.rays_through` for one image point (x, y): ``(o0, o1, o2,
     d0, d1, d2)``. ``camera`` is (eye (3,), u, v, w, (-Wp/2, Wp/width, Hp/2, Hp/height, d,
-    orthographic))."""
+    orthographic)): :func:`camera_tuple`."""
     eye, u, v, w, plane = camera
     s = plane[0] + x * plane[1]
     t = plane[2] - y * plane[3]
@@ -542,7 +542,7 @@ def pixel_sample(arrays, tiles, tree, lights, stack, camera, x, y):
 
 
 @njit(**_jit)
-def bin_by_tile(bounds, by_distance, tiles_x, tiles_y):
+def bin_by_tile(bounds, by_distance, tiles_x, tiles_y, size):
     """Each tile's objects, for primary rays: the objects ``by_distance (K,)`` (nearest first)
     whose screen rectangle ``bounds (K, 4)`` (x0, x1, y0, y1; NaN: never seen,
     :func:`raykit.engine.screen_bounds.scene_bounds`) meets the tile of TILE x TILE pixels.
@@ -562,8 +562,8 @@ def bin_by_tile(bounds, by_distance, tiles_x, tiles_y):
             x0, x1, y0, y1 = bounds[obj, 0], bounds[obj, 1], bounds[obj, 2], bounds[obj, 3]
             if not (x0 <= x1 and y0 <= y1):
                 continue
-            left, right = max(0, int(x0 // TILE)), min(tiles_x - 1, int(x1 // TILE))
-            top, bottom = max(0, int(y0 // TILE)), min(tiles_y - 1, int(y1 // TILE))
+            left, right = max(0, int(x0 // size)), min(tiles_x - 1, int(x1 // size))
+            top, bottom = max(0, int(y0 // size)), min(tiles_y - 1, int(y1 // size))
             for ty in range(top, bottom + 1):
                 for tx in range(left, right + 1):
                     tile = ty * tiles_x + tx
@@ -580,8 +580,8 @@ def held(tiles, x, y) -> bool:
     """Whether some object's screen rectangle holds image point (x, y): if none does, its
     viewing ray sees the background, and is not even made (as in
     :meth:`raykit.engine.regions.Plan.viewing_rays`)."""
-    start, objects, bounds, _, tiles_x = tiles
-    tile = (int(y) // TILE) * tiles_x + int(x) // TILE
+    start, objects, bounds, _, tiles_x, size = tiles
+    tile = (int(y) // size) * tiles_x + int(x) // size
     for k in range(start[tile], start[tile + 1]):
         obj = objects[k]
         if bounds[obj, 0] <= x <= bounds[obj, 1] and bounds[obj, 2] <= y <= bounds[obj, 3]:
@@ -594,11 +594,11 @@ def nearest_in_tile(arrays, tiles, x, y, o0, o1, o2, d0, d1, d2):
     """:func:`nearest_hit` for the viewing ray through image point (x, y): only the objects of
     its tile whose screen rectangle holds the point (as :meth:`raykit.engine.tiles.Region.holding`
     decides), nearest first, until the next can only be farther than the hit found."""
-    start, objects, bounds, closest, tiles_x = tiles
+    start, objects, bounds, closest, tiles_x, size = tiles
     background = arrays.background
     best, best_t = -1, np.inf
     r, g, b = background[0], background[1], background[2]
-    tile = (int(y) // TILE) * tiles_x + int(x) // TILE
+    tile = (int(y) // size) * tiles_x + int(x) // size
     for k in range(start[tile], start[tile + 1]):
         obj = objects[k]
         if closest[obj] > best_t:
@@ -639,33 +639,73 @@ def cast_rays(arrays, tree, origins, directions, t_max):
 
 
 @njit(parallel=True, **_jit)
-def trace(arrays, tiles, tree, lights, camera, xs, ys, offsets, centre):
-    """The lecture's loop for P pixels at (xs, ys) ``(P,)`` (their upper-left corners): per
-    sample offset ``offsets (S, 2)``, in order, the viewing ray, its nearest hit and its colour
-    (:func:`pixel_sample`), summed as :class:`raykit.engine.regions.Image` sums them; and the
-    object index and t of the ray through the pixel centre, which is sample ``centre`` (-1:
-    cast one more ray there). Returns the sums ``rgb (P, 3)``, ``index``, ``t (P,)``."""
-    count = len(xs)
-    rgb = np.zeros((count, 3))
-    index = np.empty(count, dtype=np.int64)
-    t = np.empty(count)
-    for chunk in prange((count + CHUNK - 1) // CHUNK):
+def trace(arrays, tiles, tree, lights, camera, width, height, jobs, xs, ys, offsets, centre,
+          empty, rgb, index, t):  # fmt: skip
+    """The lecture's loop: for each pixel, per sample offset ``offsets (S, 2)`` in order, the
+    viewing ray, its nearest hit and its colour (:func:`pixel_sample`), summed and divided by S
+    as :class:`raykit.engine.regions.Image` takes the mean; and the object index and t of the
+    ray through the pixel centre, which is sample ``centre`` (-1: cast one more ray there).
+    Results go to ``rgb (P, 3)``, ``index``, ``t (P,)``. Which pixels, either way:
+
+    * whole tiles (``xs`` empty): ``jobs (J,)`` are tile numbers (:func:`screen_tiles`), and
+      their pixels are the image's, row by row (P = ``height`` x ``width``) with their upper-left
+      corners at (column, row). A tile that no object's screen rectangle meets sees only the
+      background: its pixels are given ``empty (3,)`` (the background's mean over the samples,
+      :func:`_mean_of_samples`), index -1 and t = inf, and no ray;
+    * points (``xs``, ``ys (P,)``, the upper-left corners): ``jobs`` are CHUNKs of them.
+
+    Each job runs on one core, whole (so does a tile's list of objects)."""
+    start, objects, bounds, closest, tiles_x, size = tiles
+    points = len(xs)
+    # (one name per value in the loop below: numba's parallel loop mishandles a tuple of ints
+    # assigned in two branches)
+    for j in prange(len(jobs)):
         stack = np.empty(STACK, dtype=np.int64)
-        for p in range(chunk * CHUNK, min(count, (chunk + 1) * CHUNK)):
+        if points:
+            first = jobs[j] * CHUNK
+            count = min(CHUNK, points - first)
+            top = 0
+            left = 0
+            across = 1
+        else:
+            top = (jobs[j] // tiles_x) * size
+            left = (jobs[j] % tiles_x) * size
+            across = min(size, width - left)
+            count = across * min(size, height - top)
+            first = 0
+        seen = points or start[jobs[j]] < start[jobs[j] + 1]
+        for q in range(count):
+            if points:
+                p = first + q
+                px = xs[p]
+                py = ys[p]
+            else:
+                row = top + q // across
+                col = left + q % across
+                p = row * width + col
+                px = float(col)
+                py = float(row)
+            if not seen:
+                rgb[p, 0], rgb[p, 1], rgb[p, 2] = empty[0], empty[1], empty[2]
+                index[p], t[p] = -1, np.inf
+                continue
+            r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
             for sample in range(len(offsets)):
-                x, y = xs[p] + offsets[sample, 0], ys[p] + offsets[sample, 1]
+                x, y = px + offsets[sample, 0], py + offsets[sample, 1]
                 hit, t_hit, r, g, b = pixel_sample(arrays, tiles, tree, lights, stack, camera, x, y)
-                rgb[p, 0] += r
-                rgb[p, 1] += g
-                rgb[p, 2] += b
+                r_sum += r
+                g_sum += g
+                b_sum += b
                 if sample == centre:
                     index[p], t[p] = hit, t_hit
+            rgb[p, 0] = r_sum / len(offsets)
+            rgb[p, 1] = g_sum / len(offsets)
+            rgb[p, 2] = b_sum / len(offsets)
             if centre < 0:
-                x, y = xs[p] + 0.5, ys[p] + 0.5
+                x, y = px + 0.5, py + 0.5
                 o0, o1, o2, d0, d1, d2 = viewing_ray(camera, x, y)
                 hit, t_hit, _, _, _ = nearest_in_tile(arrays, tiles, x, y, o0, o1, o2, d0, d1, d2)
                 index[p], t[p] = hit, t_hit
-    return rgb, index, t
 
 
 def camera_tuple(scene: Scene) -> tuple:
@@ -681,15 +721,17 @@ def camera_tuple(scene: Scene) -> tuple:
     return eye, *(np.asarray(x, dtype=float) for x in (u, v, w)), plane
 
 
-def screen_tiles(scene: Scene, arrays: Arrays) -> tuple:
+def screen_tiles(scene: Scene, arrays: Arrays, size: int | None = None) -> tuple:
     """The primary rays' skip: every object's screen rectangle
     (:func:`raykit.engine.screen_bounds.scene_bounds`, conservative), a lower bound on the t
     at which a viewing ray can meet it (``closest (K,)``: a sphere's distance from the eye less
     its radius, or in front of the image plane for orthographic rays, less a rounding margin; 0
-    for a billboard), and each TILE x TILE tile's objects nearest first
-    (:func:`bin_by_tile`): ``(start, objects, bounds, closest, tiles_x)``."""
+    for a billboard), and each ``size`` x ``size`` tile's objects nearest first
+    (:func:`bin_by_tile`; the size by :func:`tile_side` if not given):
+    ``(start, objects, bounds, closest, tiles_x, size)``."""
     camera = scene.camera
     bounds = scene_bounds(camera, arrays.centers, arrays.radii, scene.billboards)
+    size = size or tile_side(bounds, camera.width, camera.height)
     closest = np.zeros(scene.object_count)
     if scene.spheres:
         centers, radii = arrays.centers, arrays.radii
@@ -700,11 +742,28 @@ def screen_tiles(scene: Scene, arrays: Arrays) -> tuple:
             distance = np.linalg.norm(centers - eye, axis=1)
         margin = 1e-9 * (np.abs(distance) + radii + np.abs(eye).max() + np.abs(centers).max(axis=1))
         closest[: len(radii)] = np.maximum(0.0, distance - radii - margin)
-    tiles_x = -(-camera.width // TILE)
-    tiles_y = -(-camera.height // TILE)
+    tiles_x = -(-camera.width // size)
+    tiles_y = -(-camera.height // size)
     by_distance = np.argsort(closest, kind="stable")
-    start, objects = bin_by_tile(bounds, by_distance, tiles_x, tiles_y)
-    return start, objects, bounds, closest, tiles_x
+    start, objects = bin_by_tile(bounds, by_distance, tiles_x, tiles_y, size)
+    return start, objects, bounds, closest, tiles_x, size
+
+
+CROWDED_OBJECTS = 4  # objects in an average TILE x TILE tile from which tiles are CROWDED_TILE
+CROWDED_TILE = 4  # pixels a side
+
+
+def tile_side(bounds: np.ndarray, width: int, height: int) -> int:
+    """TILE, or CROWDED_TILE when the objects' screen rectangles ``bounds (K, 4)`` would put
+    more than CROWDED_OBJECTS objects in an average TILE x TILE tile. A pixel tests every object
+    of its tile whose rectangle holds it, nearest first, so in a crowded picture smaller tiles
+    save more tests than their longer lists cost (``python benchmarks/engines.py --tile-sides``:
+    the sphereflakes render fastest with 4, the example scenes and 1,000 spheres with 16)."""
+    seen = bounds[~np.isnan(bounds).any(axis=1)]
+    across = np.floor(seen[:, 1] / TILE) - np.floor(seen[:, 0] / TILE) + 1
+    down = np.floor(seen[:, 3] / TILE) - np.floor(seen[:, 2] / TILE) + 1
+    tiles = -(-width // TILE) * -(-height // TILE)
+    return CROWDED_TILE if (across * down).sum() > CROWDED_OBJECTS * tiles else TILE
 
 
 def caster(scene: Scene, arrays: Arrays | None = None) -> Callable[..., Hits]:
@@ -722,42 +781,95 @@ def caster(scene: Scene, arrays: Arrays | None = None) -> Callable[..., Hits]:
     return cast
 
 
-def render(scene: Scene, samples: int = 1, *, adaptive: bool = False, progress=None):
-    """What :func:`raykit.render.render` renders, with the kernels above:
-    ``(rgb (H, W, 3), object_index (H, W), t (H, W))``. ``progress`` is told each band of
-    finished pixels, as the numpy engine tells it each tile."""
-    started = time.perf_counter()
-    sample_offsets(samples)  # refuses n < 1 before any work
-    n = 1 if adaptive else samples  # adaptive: one ray per pixel first, as the numpy engine
+class Prepared(NamedTuple):
+    """A scene made ready for the kernels (:func:`prepare`): its :class:`Arrays`, screen tiles
+    (:func:`screen_tiles`), BVH (:class:`Tree`, for shadow and mirror rays; empty when the
+    scene has none), :class:`Lights` and camera (:func:`camera_tuple`)."""
+
+    scene: Scene
+    arrays: Arrays
+    tiles: tuple
+    tree: Tree
+    lights: Lights
+    camera: tuple
+
+
+def prepare(scene: Scene) -> Prepared:
+    """Everything the kernels need of ``scene`` that does not depend on the samples: made once,
+    it can be rendered many times (:func:`render`). It is what Mitsuba's ``load_dict`` does when
+    it builds its BVH, and the camera's screen tiles besides (a raykit scene holds its camera)."""
     arrays = scene_arrays(scene)
     lights = scene_lights(scene)
     tree = scene_tree(scene) if lights.shaded else _NO_TREE
-    kernels = (arrays, screen_tiles(scene, arrays), tree, lights, camera_tuple(scene))
+    return Prepared(scene, arrays, screen_tiles(scene, arrays), tree, lights, camera_tuple(scene))
+
+
+def render(scene: Scene | Prepared, samples: int = 1, *, adaptive: bool = False, progress=None):
+    """What :func:`raykit.render.render` renders, with the kernels above:
+    ``(rgb (H, W, 3), object_index (H, W), t (H, W))``, of a scene or of a :class:`Prepared`
+    one. ``progress`` is told each band of finished pixels, as the numpy engine tells it each
+    tile."""
+    started = time.perf_counter()
+    sample_offsets(samples)  # refuses n < 1 before any work
+    n = 1 if adaptive else samples  # adaptive: one ray per pixel first, as the numpy engine
+    prepared = scene if isinstance(scene, Prepared) else prepare(scene)
+    scene, arrays, tiles = prepared.scene, prepared.arrays, prepared.tiles
+    kernels = prepared[1:]
     width, height = scene.camera.width, scene.camera.height
     offsets = sample_offsets(n)
     centre = centre_sample(n)
-    rgb = np.empty((height, width, 3))
-    index = np.empty((height, width), dtype=np.int64)
-    t = np.empty((height, width))
-    columns = np.arange(width, dtype=float)
-    for start in range(0, height, ROWS_PER_CALL):
-        rows = np.arange(start, min(start + ROWS_PER_CALL, height))
-        xs, ys = np.tile(columns, len(rows)), np.repeat(rows.astype(float), width)
-        sums, hit, t_hit = trace(*kernels, xs, ys, offsets, -1 if centre is None else centre)
-        rgb[rows] = (sums / len(offsets)).reshape(len(rows), width, 3)
-        index[rows], t[rows] = hit.reshape(len(rows), width), t_hit.reshape(len(rows), width)
+    empty = _mean_of_samples(arrays.background, len(offsets))
+    rgb = np.empty((height * width, 3))  # first written by both cores: faster than by numpy
+    index = np.empty(height * width, dtype=np.int64)
+    t = np.empty(height * width)
+    tiles_x, size = tiles[4], tiles[5]
+    band = max(1, ROWS_PER_CALL // size) * tiles_x  # tiles per kernel call
+    tile_count = -(-height // size) * tiles_x
+    nothing = np.zeros(0)
+    for first in range(0, tile_count, band):
+        jobs = _shared_out(np.arange(first, min(first + band, tile_count)))
+        trace(*kernels, width, height, jobs, nothing, nothing, offsets,
+              -1 if centre is None else centre, empty, rgb, index, t)  # fmt: skip
         if progress is not None:
-            progress(len(rows) * width)
+            rows = min(height, (first + band) // tiles_x * size) - first // tiles_x * size
+            progress(rows * width)
+    rgb, index, t = (
+        rgb.reshape(height, width, 3),
+        index.reshape(height, width),
+        t.reshape(height, width),
+    )
     if adaptive and samples > 1:  # the numpy engine's refinement, with these colours
         edge = edge_pixels(rgb, index)
         at_the_point = np.zeros((1, 2))  # each point its own one sample
 
         def colors(region, x, y):
-            return trace(*kernels, np.asarray(x, float), np.asarray(y, float), at_the_point, 0)[0]
+            x, y = np.asarray(x, float), np.asarray(y, float)
+            out = np.empty((len(x), 3))
+            jobs = np.arange(-(-len(x) // CHUNK))
+            trace(*kernels, width, height, jobs, x, y, at_the_point, 0, empty, out,
+                  np.empty(len(x), np.int64),
+                  np.empty(len(x)))  # fmt: skip
+            return out
 
         refine(regions(scene, skip_hidden=False), colors, rgb, edge, samples)
     _compiled_once(started)
     return rgb, index, t
+
+
+def _mean_of_samples(color: np.ndarray, count: int) -> np.ndarray:
+    """``color (3,)`` summed ``count`` times and divided by it, as :func:`trace` takes the mean
+    of a pixel's samples (the result may differ from ``color`` in its last bit)."""
+    total = np.zeros(3)
+    for _ in range(count):
+        total = total + color
+    return total / count
+
+
+def _shared_out(jobs: np.ndarray) -> np.ndarray:
+    """The jobs dealt out in turn, so that each core's block of them (prange gives each core
+    one block) takes in every part of the band: neighbouring tiles cost alike."""
+    cores = numba.get_num_threads()
+    return np.concatenate([jobs[k::cores] for k in range(cores)])
 
 
 def _compiled_once(started: float) -> None:
@@ -768,4 +880,4 @@ def _compiled_once(started: float) -> None:
     _FIRST_USE = False
 
 
-__all__ = ["render", "caster", "cast_rays", "scene_arrays", "screen_tiles"]
+__all__ = ["render", "prepare", "Prepared", "caster", "cast_rays", "scene_arrays", "screen_tiles"]
