@@ -192,7 +192,7 @@ def tile_sides(args) -> None:
             with_side = prepared._replace(tiles=tiles)
             compiled.render(with_side)  # warm-up
             took = median_time(lambda p=with_side: compiled.render(p), args.repeats)[1]
-            mark = "*" if side == prepared.tiles[5] else ""
+            mark = "*" if side == prepared.tiles.size else ""
             cells.append(f"{seconds(took, 1)}{mark}")
         print(f"| {name} | " + " | ".join(cells) + " |")
 

@@ -252,7 +252,7 @@ def test_bvh_caster_answers_what_cast_answers_with_ties_and_holes(objects):
 @numba.njit
 def _shade(arrays, tree, lights, origins, directions, index, t, color):
     out = np.empty((len(origins), 3))
-    stack = np.empty(compiled.STACK, dtype=np.int64)
+    stack = compiled.new_stack()
     for i in range(len(origins)):
         o, d, c = origins[i], directions[i], color[i]
         out[i, 0], out[i, 1], out[i, 2] = compiled.shade_ray(

@@ -365,11 +365,17 @@ def offer(arrays, obj, o0, o1, o2, d0, d1, d2, best, best_t, r, g, b):
 
 
 @njit(**_one_ray)
-def nearest_hit(arrays, tree, stack, o0, o1, o2, d0, d1, d2, t_max):
+def nearest_hit(arrays, tree, stack, o0, o1, o2, d0, d1, d2, t_max, any_blocker=False):
     """Repeats :func:`raykit.render.cast` for one ray, through the BVH: ``(index, t, r, g, b)``,
     the nearest opaque hit with t > 0 (the lower index on a tie), or (-1, inf, background).
-    Hits at t > t_max may be left out (shadow rays). ``stack``: room for the nodes still to
-    visit, (STACK,) ints, reused from ray to ray."""
+    Hits at t > t_max may be left out (shadow rays). ``any_blocker``: a shadow ray asks only
+    whether some opaque hit lies before t_max (:func:`raykit.shadows.in_shadow` compares the
+    nearest hit's t with it), so the walk stops at the first such hit, whose t < t_max answers
+    as the nearest's would. ``stack``: room for the nodes still to visit and where the ray
+    enters them, ``(STACK,)`` ints and floats (:func:`new_stack`), reused from ray to ray. A
+    child's box is tested once, when its parent is left, and skipped when taken from the stack
+    if the nearest hit found meanwhile lies before it: the nodes visited are those a test at
+    each visit would visit, with one slab test fewer per node."""
     background = arrays.background
     best, best_t = -1, np.inf
     r, g, b = background[0], background[1], background[2]
@@ -377,33 +383,51 @@ def nearest_hit(arrays, tree, stack, o0, o1, o2, d0, d1, d2, t_max):
         return best, best_t, r, g, b
     i0, i1, i2 = 1.0 / d0, 1.0 / d1, 1.0 / d2  # ±inf along an axis the ray does not move
     lower, upper = tree.lower, tree.upper
-    stack[0] = 0
+    nodes, nears = stack
+    entered, near = enters(o0, o1, o2, i0, i1, i2, lower, upper, 0, t_max)
+    if not entered:
+        return best, best_t, r, g, b
+    nodes[0], nears[0] = 0, near
     top = 1
-    while top > 0:
+    while top > 0:  # each node on the stack was entered, at nears[top]
         top -= 1
-        node = stack[top]
-        reach = min(best_t, t_max)  # a box that starts beyond the nearest hit holds no nearer one
-        entered, _ = enters(o0, o1, o2, i0, i1, i2, lower, upper, node, reach)
-        if not entered:
-            continue
+        node = nodes[top]
+        reach = min(best_t, t_max)
+        if nears[top] > reach:
+            continue  # a box that starts beyond the nearest hit holds no nearer one
         left = tree.children[node, 0]
         if left >= 0:
             right = tree.children[node, 1]
-            _, near_left = enters(o0, o1, o2, i0, i1, i2, lower, upper, left, reach)
-            _, near_right = enters(o0, o1, o2, i0, i1, i2, lower, upper, right, reach)
-            if near_left <= near_right:  # the nearer child is searched first: pushed last
-                stack[top] = right
-                stack[top + 1] = left
-            else:
-                stack[top] = left
-                stack[top + 1] = right
-            top += 2
+            in_left, near_left = enters(o0, o1, o2, i0, i1, i2, lower, upper, left, reach)
+            in_right, near_right = enters(o0, o1, o2, i0, i1, i2, lower, upper, right, reach)
+            if in_left and in_right:  # the nearer child is searched first: pushed last
+                if near_left <= near_right:
+                    nodes[top], nears[top] = right, near_right
+                    nodes[top + 1], nears[top + 1] = left, near_left
+                else:
+                    nodes[top], nears[top] = left, near_left
+                    nodes[top + 1], nears[top + 1] = right, near_right
+                top += 2
+            elif in_left:
+                nodes[top], nears[top] = left, near_left
+                top += 1
+            elif in_right:
+                nodes[top], nears[top] = right, near_right
+                top += 1
             continue
         for k in range(tree.first[node], tree.first[node] + tree.count[node]):
             best, best_t, r, g, b = offer(
                 arrays, tree.order[k], o0, o1, o2, d0, d1, d2, best, best_t, r, g, b
             )
+        if any_blocker and best_t < t_max:
+            break
     return best, best_t, r, g, b
+
+
+@njit(**_one_ray)
+def new_stack():
+    """Room for :func:`nearest_hit`'s nodes still to visit: ``(nodes (STACK,), nears (STACK,))``."""
+    return np.empty(STACK, dtype=np.int64), np.empty(STACK)
 
 
 @njit(**_one_ray)
@@ -467,7 +491,9 @@ def surface_color(
                 distance = math.sqrt(to0 * to0 + to1 * to1 + to2 * to2)
                 largest = max(abs(s0), abs(s1), abs(s2))
                 reach = distance - OFFSET_FACTOR * EPS * (largest + distance)
-            _, blocker, _, _, _ = nearest_hit(arrays, tree, stack, s0, s1, s2, l0, l1, l2, reach)
+            _, blocker, _, _, _ = nearest_hit(
+                arrays, tree, stack, s0, s1, s2, l0, l1, l2, reach, True
+            )
             if blocker < reach:
                 continue
         total0 += k0 * intensity[j, 0] * n_dot_l  # raykit.shading.lambert
@@ -542,22 +568,26 @@ def pixel_sample(arrays, tiles, tree, lights, stack, camera, x, y):
 
 
 @njit(**_jit)
-def bin_by_tile(bounds, by_distance, tiles_x, tiles_y, size):
+def bin_by_tile(bounds, closest, by_distance, tiles_x, tiles_y, size):
     """Each tile's objects, for primary rays: the objects ``by_distance (K,)`` (nearest first)
     whose screen rectangle ``bounds (K, 4)`` (x0, x1, y0, y1; NaN: never seen,
-    :func:`raykit.engine.screen_bounds.scene_bounds`) meets the tile of TILE x TILE pixels.
-    Returns ``start (tiles + 1,)`` and ``objects``: tile k's are objects[start[k]:start[k+1]],
-    nearest first."""
+    :func:`raykit.engine.screen_bounds.scene_bounds`) meets the tile of ``size`` x ``size``
+    pixels. Returns ``start (tiles + 1,)``, ``objects (E,)``: tile k's are
+    objects[start[k]:start[k+1]], nearest first; and each of those entries' rectangle and
+    ``closest`` t, ``entries (E, 5)``, kept beside it so that a pixel reads its tile's list
+    straight through."""
     count = np.zeros(tiles_x * tiles_y + 1, dtype=np.int64)
     for fill in (False, True):  # count, then fill
         if fill:
             start = np.cumsum(count)
             cursor = start[:-1].copy()
             objects = np.empty(start[-1], dtype=np.int64)
+            entries = np.empty((start[-1], 5))
         else:
             start = count
             cursor = count[:0]
             objects = np.empty(0, dtype=np.int64)
+            entries = np.empty((0, 5))
         for obj in by_distance:
             x0, x1, y0, y1 = bounds[obj, 0], bounds[obj, 1], bounds[obj, 2], bounds[obj, 3]
             if not (x0 <= x1 and y0 <= y1):
@@ -568,11 +598,27 @@ def bin_by_tile(bounds, by_distance, tiles_x, tiles_y, size):
                 for tx in range(left, right + 1):
                     tile = ty * tiles_x + tx
                     if fill:
-                        objects[cursor[tile]] = obj
+                        k = cursor[tile]
+                        objects[k] = obj
+                        entries[k, 0], entries[k, 1], entries[k, 2], entries[k, 3] = x0, x1, y0, y1
+                        entries[k, 4] = closest[obj]
                         cursor[tile] += 1
                     else:
                         count[tile + 1] += 1
-    return start, objects
+    return start, objects, entries
+
+
+class Tiles(NamedTuple):
+    """The primary rays' skip (:func:`screen_tiles`): tile k (``size`` x ``size`` pixels,
+    ``tiles_x`` to a row) lists the objects ``objects[start[k]:start[k + 1]]``, nearest first,
+    each with its screen rectangle and closest t in ``entries (E, 5)``: (x0, x1, y0, y1,
+    closest)."""
+
+    start: np.ndarray
+    objects: np.ndarray
+    entries: np.ndarray
+    tiles_x: int
+    size: int
 
 
 @njit(**_one_ray)
@@ -580,11 +626,10 @@ def held(tiles, x, y) -> bool:
     """Whether some object's screen rectangle holds image point (x, y): if none does, its
     viewing ray sees the background, and is not even made (as in
     :meth:`raykit.engine.regions.Plan.viewing_rays`)."""
-    start, objects, bounds, _, tiles_x, size = tiles
-    tile = (int(y) // size) * tiles_x + int(x) // size
-    for k in range(start[tile], start[tile + 1]):
-        obj = objects[k]
-        if bounds[obj, 0] <= x <= bounds[obj, 1] and bounds[obj, 2] <= y <= bounds[obj, 3]:
+    size, entries = tiles.size, tiles.entries
+    tile = (int(y) // size) * tiles.tiles_x + int(x) // size
+    for k in range(tiles.start[tile], tiles.start[tile + 1]):
+        if entries[k, 0] <= x <= entries[k, 1] and entries[k, 2] <= y <= entries[k, 3]:
             return True
     return False
 
@@ -594,23 +639,17 @@ def nearest_in_tile(arrays, tiles, x, y, o0, o1, o2, d0, d1, d2):
     """:func:`nearest_hit` for the viewing ray through image point (x, y): only the objects of
     its tile whose screen rectangle holds the point (as :meth:`raykit.engine.tiles.Region.holding`
     decides), nearest first, until the next can only be farther than the hit found."""
-    start, objects, bounds, closest, tiles_x, size = tiles
+    size, entries = tiles.size, tiles.entries
     background = arrays.background
     best, best_t = -1, np.inf
     r, g, b = background[0], background[1], background[2]
-    tile = (int(y) // size) * tiles_x + int(x) // size
-    for k in range(start[tile], start[tile + 1]):
-        obj = objects[k]
-        if closest[obj] > best_t:
+    tile = (int(y) // size) * tiles.tiles_x + int(x) // size
+    for k in range(tiles.start[tile], tiles.start[tile + 1]):
+        if entries[k, 4] > best_t:
             break  # every object from here on is farther than the hit
-        if (
-            bounds[obj, 0] <= x
-            and x <= bounds[obj, 1]
-            and bounds[obj, 2] <= y
-            and y <= bounds[obj, 3]
-        ):
+        if entries[k, 0] <= x and x <= entries[k, 1] and entries[k, 2] <= y and y <= entries[k, 3]:
             best, best_t, r, g, b = offer(
-                arrays, obj, o0, o1, o2, d0, d1, d2, best, best_t, r, g, b
+                arrays, tiles.objects[k], o0, o1, o2, d0, d1, d2, best, best_t, r, g, b
             )
     return best, best_t, r, g, b
 
@@ -629,7 +668,7 @@ def cast_rays(arrays, tree, origins, directions, t_max):
     t = np.empty(count)
     color = np.empty((count, 3))
     for chunk in prange((count + CHUNK - 1) // CHUNK):
-        stack = np.empty(STACK, dtype=np.int64)
+        stack = new_stack()
         for i in range(chunk * CHUNK, min(count, (chunk + 1) * CHUNK)):
             o, d = origins[i], directions[i]
             index[i], t[i], color[i, 0], color[i, 1], color[i, 2] = nearest_hit(
@@ -655,12 +694,12 @@ def trace(arrays, tiles, tree, lights, camera, width, height, jobs, xs, ys, offs
     * points (``xs``, ``ys (P,)``, the upper-left corners): ``jobs`` are CHUNKs of them.
 
     Each job runs on one core, whole (so does a tile's list of objects)."""
-    start, objects, bounds, closest, tiles_x, size = tiles
+    start, tiles_x, size = tiles.start, tiles.tiles_x, tiles.size
     points = len(xs)
     # (one name per value in the loop below: numba's parallel loop mishandles a tuple of ints
     # assigned in two branches)
     for j in prange(len(jobs)):
-        stack = np.empty(STACK, dtype=np.int64)
+        stack = new_stack()
         if points:
             first = jobs[j] * CHUNK
             count = min(CHUNK, points - first)
@@ -721,14 +760,13 @@ def camera_tuple(scene: Scene) -> tuple:
     return eye, *(np.asarray(x, dtype=float) for x in (u, v, w)), plane
 
 
-def screen_tiles(scene: Scene, arrays: Arrays, size: int | None = None) -> tuple:
+def screen_tiles(scene: Scene, arrays: Arrays, size: int | None = None) -> Tiles:
     """The primary rays' skip: every object's screen rectangle
     (:func:`raykit.engine.screen_bounds.scene_bounds`, conservative), a lower bound on the t
     at which a viewing ray can meet it (``closest (K,)``: a sphere's distance from the eye less
     its radius, or in front of the image plane for orthographic rays, less a rounding margin; 0
     for a billboard), and each ``size`` x ``size`` tile's objects nearest first
-    (:func:`bin_by_tile`; the size by :func:`tile_side` if not given):
-    ``(start, objects, bounds, closest, tiles_x, size)``."""
+    (:func:`bin_by_tile`; the size by :func:`tile_side` if not given), as :class:`Tiles`."""
     camera = scene.camera
     bounds = scene_bounds(camera, arrays.centers, arrays.radii, scene.billboards)
     size = size or tile_side(bounds, camera.width, camera.height)
@@ -745,8 +783,8 @@ def screen_tiles(scene: Scene, arrays: Arrays, size: int | None = None) -> tuple
     tiles_x = -(-camera.width // size)
     tiles_y = -(-camera.height // size)
     by_distance = np.argsort(closest, kind="stable")
-    start, objects = bin_by_tile(bounds, by_distance, tiles_x, tiles_y, size)
-    return start, objects, bounds, closest, tiles_x, size
+    start, objects, entries = bin_by_tile(bounds, closest, by_distance, tiles_x, tiles_y, size)
+    return Tiles(start, objects, entries, tiles_x, size)
 
 
 CROWDED_OBJECTS = 4  # objects in an average TILE x TILE tile from which tiles are CROWDED_TILE
@@ -788,7 +826,7 @@ class Prepared(NamedTuple):
 
     scene: Scene
     arrays: Arrays
-    tiles: tuple
+    tiles: Tiles
     tree: Tree
     lights: Lights
     camera: tuple
@@ -822,7 +860,7 @@ def render(scene: Scene | Prepared, samples: int = 1, *, adaptive: bool = False,
     rgb = np.empty((height * width, 3))  # first written by both cores: faster than by numpy
     index = np.empty(height * width, dtype=np.int64)
     t = np.empty(height * width)
-    tiles_x, size = tiles[4], tiles[5]
+    tiles_x, size = tiles.tiles_x, tiles.size
     band = max(1, ROWS_PER_CALL // size) * tiles_x  # tiles per kernel call
     tile_count = -(-height // size) * tiles_x
     nothing = np.zeros(0)
