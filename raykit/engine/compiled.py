@@ -12,14 +12,17 @@ seeded random rays per kernel, the stability cases, and the PNG bytes of every e
 Dot products are summed left to right with no fused multiply-add, as :func:`raykit.rays.dot`
 sums them (numba, like numpy, contracts a·b + c into an FMA only under fastmath, which is off).
 
-What it skips. Primary rays: the image is cut into TILE x TILE tiles, and each tile keeps the
-objects whose screen rectangle (:mod:`raykit.engine.screen_bounds`) meets it, nearest first; a
-viewing ray tests only those whose rectangle holds its image point, and stops at the first
-object that cannot come nearer than the hit it has (:func:`screen_tiles`). Shadow and mirror
-rays: they walk a bounding volume hierarchy (the tree of :mod:`raykit.engine.bvh`, built by
-the same code), nearer child first, leaving every box that starts beyond the nearest hit found.
-Either way a tie keeps the lower object index, whatever order objects come in, and a cut-out
-texel is no hit: the answer is :func:`raykit.render.cast`'s.
+What it skips. Primary rays: the image is cut into square tiles (8 pixels a side, 4 in a
+crowded picture: :func:`tile_side`), and each tile keeps the objects whose screen rectangle
+(:mod:`raykit.engine.screen_bounds`) meets it, nearest first (:func:`screen_tiles`). A tile no
+object is seen in gets the background and no ray; elsewhere a viewing ray is made only if some
+rectangle holds its image point, tests only those objects, and stops at the first that cannot
+come nearer than the hit it has. Shadow and mirror rays walk a bounding volume hierarchy (the
+tree of :mod:`raykit.engine.bvh`, built by the same code), nearer child first, leaving every box
+that starts beyond the nearest hit found; a shadow ray stops at its first blocker. Either way a
+tie keeps the lower object index, whatever order objects come in, and a cut-out texel is no
+hit: the answer is :func:`raykit.render.cast`'s. All of it is made once per scene by
+:func:`prepare`, which a caller may keep and render many times.
 
 Lit scenes. :func:`shade_ray` and :func:`surface_color` repeat :mod:`raykit.shading` for one
 ray: ambient, Lambert and Blinn-Phong per light, shadow rays (:mod:`raykit.shadows`, through the
@@ -63,7 +66,7 @@ from raykit.surfaces import OFFSET_FACTOR
 COMPILE_SECONDS = 60  # the first compile on the 2-core machine (benchmarks/engines.py: 50-60 s)
 EPS = float(np.finfo(np.float64).eps)  # the rounding unit of raykit.surfaces' error bound
 STACK = 128  # nodes a ray may have still to visit: a median-split tree of 2^63 objects is 63 deep
-TILE = 16  # pixels a side of the tiles that primary rays take their objects from
+TILE = 8  # pixels a side of the tiles that primary rays take their objects from (tile_side)
 ROWS_PER_CALL = 32  # rows of pixels per kernel call: a progress bar moves, memory stays small
 
 
@@ -795,8 +798,10 @@ def tile_side(bounds: np.ndarray, width: int, height: int) -> int:
     """TILE, or CROWDED_TILE when the objects' screen rectangles ``bounds (K, 4)`` would put
     more than CROWDED_OBJECTS objects in an average TILE x TILE tile. A pixel tests every object
     of its tile whose rectangle holds it, nearest first, so in a crowded picture smaller tiles
-    save more tests than their longer lists cost (``python benchmarks/engines.py --tile-sides``:
-    the sphereflakes render fastest with 4, the example scenes and 1,000 spheres with 16)."""
+    save more tests than their longer lists cost. ``python benchmarks/engines.py --tile-sides``
+    times sides of 2 to 32 pixels on the example and benchmark scenes: 8 is the best or close
+    to it on the example scenes and 1,000 spheres, 4 on sphereflakes 4 and 5 (sphereflake 6,
+    600,000 spheres on 512 x 512 pixels, is faster still with 2)."""
     seen = bounds[~np.isnan(bounds).any(axis=1)]
     across = np.floor(seen[:, 1] / TILE) - np.floor(seen[:, 0] / TILE) + 1
     down = np.floor(seen[:, 3] / TILE) - np.floor(seen[:, 2] / TILE) + 1
