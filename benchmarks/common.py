@@ -67,10 +67,16 @@ def loglog_plot(
 
 
 def bar_plot(
-    path: Path, groups: list[str], series: dict[str, list], ylabel: str, title: str = ""
+    path: Path,
+    groups: list[str],
+    series: dict[str, list],
+    ylabel: str,
+    title: str = "",
+    log: bool = False,
 ) -> None:
     """Bars side by side per group, one colour per ``label: values`` in seconds (None: no
-    bar), drawn in milliseconds from zero with each bar's value on it, written to ``path``."""
+    bar), drawn in milliseconds from zero (``log``: on a log scale, for times that span
+    decades) with each bar's value on it, written to ``path``."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -94,6 +100,8 @@ def bar_plot(
         np.arange(len(groups)), [textwrap.fill(g, 14, break_long_words=False) for g in groups]
     )
     ax.set_ylabel(ylabel)
+    if log:
+        ax.set_yscale("log")
     ax.margins(y=0.12)  # room for the labels on the tallest bars
     if title:
         ax.set_title(title, fontsize=9)

@@ -208,8 +208,9 @@ def plot(path: Path, rows: list[dict]) -> None:
         path,
         scenes,
         {r: [times.get((s, r)) for s in scenes] for r in renderers},
-        "render time, median (ms)",
+        "render time, median (ms, log scale)",
         "raykit against Mitsuba 3, 1 sample per pixel",
+        log=True,
     )
 
 

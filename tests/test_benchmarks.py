@@ -177,6 +177,7 @@ def test_mitsuba_plot_draws_a_bar_per_scene_and_renderer(tmp_path, monkeypatch):
         "Mitsuba 3.6 llvm_ad_rgb": [18],  # the failed variant has no bar
     }
     assert [t.get_text() for t in ax.get_xticklabels()] == ["classic", "sphereflake 4"]
+    assert ax.get_yscale() == "log"  # from a few ms to seconds: a linear scale hides the fast
     assert (tmp_path / "mitsuba.png").stat().st_size > 1000
     plt.close("all")
 

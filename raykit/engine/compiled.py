@@ -799,9 +799,10 @@ def tile_side(bounds: np.ndarray, width: int, height: int) -> int:
     more than CROWDED_OBJECTS objects in an average TILE x TILE tile. A pixel tests every object
     of its tile whose rectangle holds it, nearest first, so in a crowded picture smaller tiles
     save more tests than their longer lists cost. ``python benchmarks/engines.py --tile-sides``
-    times sides of 2 to 32 pixels on the example and benchmark scenes: 8 is the best or close
-    to it on the example scenes and 1,000 spheres, 4 on sphereflakes 4 and 5 (sphereflake 6,
-    600,000 spheres on 512 x 512 pixels, is faster still with 2)."""
+    times sides of 2 to 32 pixels (docs/benchmarks/tile_sides.md): on the example scenes and
+    1,000 spheres, 8 and 16 are within the machine's noise of each other and of the best; on
+    sphereflakes 4 and 5, 4 and 8 are; on sphereflake 6 (600,000 spheres on 512 x 512 pixels) 4
+    beats 8 by a fifth and 16 by more than half."""
     seen = bounds[~np.isnan(bounds).any(axis=1)]
     across = np.floor(seen[:, 1] / TILE) - np.floor(seen[:, 0] / TILE) + 1
     down = np.floor(seen[:, 3] / TILE) - np.floor(seen[:, 2] / TILE) + 1
