@@ -69,10 +69,10 @@ class Sphere:
 class SphereTable(Sequence[Sphere]):
     """Many plain spheres (no name, the plain material) kept as columns: ``centers (S, 3)``,
     ``radii (S,)``, ``colors (S, 3)``, read-only. It reads as the tuple of :class:`Sphere` it
-    stands for (``len``, indexing, iterating, ``+``), each Sphere made when asked for; the scene
-    loader keeps big scenes of plain spheres this way, so that a scene of 600,000 spheres loads
-    without making 600,000 objects (:mod:`raykit.io.scene_json`), and the engine takes the
-    columns as they are (:mod:`raykit.engine.arrays`)."""
+    stands for (``len``, indexing, iterating, ``+``), each Sphere made when asked for. The scene
+    loader keeps a file's spheres this way when all are plain (:mod:`raykit.io.scene_json`), so
+    that a scene of 600,000 spheres loads without making 600,000 objects, and the engine takes
+    the columns as they are (:mod:`raykit.engine.arrays`)."""
 
     def __init__(self, centers: np.ndarray, radii: np.ndarray, colors: np.ndarray) -> None:
         self.centers, self.radii, self.colors = (
