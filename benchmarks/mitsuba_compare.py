@@ -45,6 +45,7 @@ sys.path.insert(0, str(HERE))
 
 from common import arguments, bar_plot, median_time, parse, seconds  # noqa: E402
 
+from raykit.engine.choice import ENGINES  # noqa: E402
 from raykit.io.scene_json import load_scene, scene_from_dict  # noqa: E402
 from raykit.render import render  # noqa: E402
 from raykit.scene import Scene  # noqa: E402
@@ -220,7 +221,7 @@ def main() -> None:
     parser.add_argument("--child", help=argparse.SUPPRESS)
     parser.add_argument(
         "--engine",
-        choices=("auto", "numpy", "compiled"),
+        choices=ENGINES,
         default="auto",
         help="raykit's engine: numpy, compiled, or auto: both side by side (default)",
     )

@@ -170,7 +170,7 @@ def build_parser() -> argparse.ArgumentParser:
 def _engine_option(parser: argparse.ArgumentParser, what: str) -> None:
     parser.add_argument(
         "--engine",
-        choices=("auto", "numpy", "compiled"),
+        choices=("auto", "numpy", "compiled"),  # raykit.engine.choice.ENGINES, which imports numpy
         default="auto",
         help=f"{what}: numpy, compiled (the same picture, faster; needs "
         "'pip install \"raykit[fast]\"'), or auto, compiled only where it pays (default)",

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import copy
+import json
 from pathlib import Path
 
 import numpy as np
@@ -53,6 +54,28 @@ def delete_field(path: str):
         del node[last]
 
     return mutate
+
+
+def shifted_scene(scene: dict, offset) -> dict:
+    """A copy of scene data with every point (eye, lookat, centres, corners, point lights)
+    moved by ``offset (3,)``: the same picture, far from the origin."""
+    scene = json.loads(json.dumps(scene))
+    offset = np.asarray(offset, float)
+
+    def move(point):
+        return (np.asarray(point) + offset).tolist()
+
+    camera = scene["camera"]
+    camera["eye"], camera["lookat"] = move(camera["eye"]), move(camera["lookat"])
+    for sphere in scene.get("spheres", []):
+        sphere["center"] = move(sphere["center"])
+    for board in scene.get("billboards", []):
+        for key in ("upper_left", "lower_left", "upper_right"):
+            board[key] = move(board[key])
+    for light in scene.get("lights", []):
+        if "position" in light:
+            light["position"] = move(light["position"])
+    return scene
 
 
 def write_texture(folder: Path, name: str, rgba) -> str:

@@ -200,3 +200,15 @@ def test_a_3d_scene_with_a_typo_still_gets_the_field_error(tmp_path, capsys):
     assert main(["render", str(path), "-o", str(tmp_path / "o.png")]) == 2
     err = capsys.readouterr().err
     assert "balls" in err and "line-scan" not in err
+
+
+def test_the_engine_option_offers_exactly_the_engines_render_knows():
+    # the parser keeps its own copy, so that `raykit --help` imports no numpy
+    from raykit.cli import build_parser
+    from raykit.engine.choice import ENGINES
+
+    parser = build_parser()
+    for command in ("render", "bench"):
+        sub = next(a for a in parser._subparsers._group_actions[0].choices[command]._actions
+                   if a.dest == "engine")  # fmt: skip
+        assert tuple(sub.choices) == ENGINES

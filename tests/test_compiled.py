@@ -17,7 +17,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from conftest import REPO, SCENES
+from conftest import REPO, SCENES, shifted_scene
 from raykit import shading
 from raykit.billboards import Billboard, billboard_color_at, hit_billboard
 from raykit.camera import Camera, rays_through
@@ -382,18 +382,7 @@ def test_far_tiny_sphere_and_a_scene_at_1e6_render_the_same_with_both_engines():
     _same_render(scene_from_dict(far))
     data = json.loads((SCENES / "classic_lit.json").read_text())
     data.pop("$schema", None)
-    move = lambda p: [c + 1e6 for c in p]  # noqa: E731
-    for key in ("eye", "lookat"):
-        data["camera"][key] = move(data["camera"][key])
-    for sphere in data["spheres"]:
-        sphere["center"] = move(sphere["center"])
-    for board in data.get("billboards", []):
-        for corner in ("upper_left", "lower_left", "upper_right"):
-            board[corner] = move(board[corner])
-    for light in data.get("lights", []):
-        if "position" in light:
-            light["position"] = move(light["position"])
-    moved = scene_from_dict(data, folder=SCENES)
+    moved = scene_from_dict(shifted_scene(data, [1e6, 1e6, 1e6]), folder=SCENES)
     _same_render(replace(moved, camera=replace(moved.camera, width=120, height=90)))
 
 

@@ -8,7 +8,7 @@ import pytest
 import raykit.render
 import raykit.shading
 import raykit.surfaces
-from conftest import SCENES, random_scene, scene_dict, write_texture
+from conftest import SCENES, random_scene, scene_dict, shifted_scene, write_texture
 from independent_tracer import trace_shaded
 from raykit.io.images import quantize
 from raykit.io.scene_json import scene_from_dict
@@ -196,26 +196,6 @@ def test_random_lit_scenes_agree_with_an_independent_renderer(tmp_path):
 # -- robust secondary rays --------------------------------------------------------------------
 
 
-def _shift(scene: dict, offset) -> dict:
-    scene = json.loads(json.dumps(scene))
-    offset = np.asarray(offset, float)
-
-    def move(point):
-        return (np.asarray(point) + offset).tolist()
-
-    camera = scene["camera"]
-    camera["eye"], camera["lookat"] = move(camera["eye"]), move(camera["lookat"])
-    for sphere in scene.get("spheres", []):
-        sphere["center"] = move(sphere["center"])
-    for board in scene.get("billboards", []):
-        for key in ("upper_left", "lower_left", "upper_right"):
-            board[key] = move(board[key])
-    for light in scene.get("lights", []):
-        if "position" in light:
-            light["position"] = move(light["position"])
-    return scene
-
-
 def _no_shadow_scene() -> dict:
     """A ball and a floor lit from the camera's side: no point that faces the light is in
     shadow, so each of them must be lit fully; grazing light on the floor's far part."""
@@ -267,13 +247,13 @@ def _acne(scene: dict, dtype) -> int:
 @pytest.mark.parametrize("dtype", [np.float64, np.float32])
 @pytest.mark.parametrize("offset", [0.0, 1e6, 1e7])
 def test_no_shadow_acne_at_large_coordinates(dtype, offset):
-    assert _acne(_shift(_no_shadow_scene(), [offset, -offset, offset]), dtype) == 0
+    assert _acne(shifted_scene(_no_shadow_scene(), [offset, -offset, offset]), dtype) == 0
 
 
 def test_without_the_offset_there_is_acne(monkeypatch):
     """The acne test can fail: with secondary rays started on the surface it does."""
     monkeypatch.setattr(raykit.surfaces, "OFFSET_FACTOR", 0)
-    assert _acne(_shift(_no_shadow_scene(), [1e6, 1e6, 1e6]), np.float64) > 50
+    assert _acne(shifted_scene(_no_shadow_scene(), [1e6, 1e6, 1e6]), np.float64) > 50
 
 
 def test_no_light_leaks_under_a_wall_standing_on_the_floor():
@@ -306,7 +286,7 @@ def test_no_light_leaks_under_a_wall_standing_on_the_floor():
         },
     )
     for offset in (0.0, 1e6):
-        out = render(scene_from_dict(_shift(scene, [offset, offset, offset])))
+        out = render(scene_from_dict(shifted_scene(scene, [offset, offset, offset])))
         floor_seen = out.object_index == 0
         assert floor_seen.sum() > 1000
         assert np.all(out.rgb[floor_seen] == 0), "light leaked under the wall"

@@ -869,7 +869,7 @@ def render(scene: Scene | Prepared, samples: int = 1, *, adaptive: bool = False,
     tiles_x, size = tiles.tiles_x, tiles.size
     tile_count = -(-height // size) * tiles_x
     # tiles per kernel call: bands of rows for a progress bar, else all at once (each call
-    # starts both cores anew: one call was 4-10% faster on the benchmark scenes)
+    # starts both cores anew, and waits for the slower)
     band = max(1, ROWS_PER_CALL // size) * tiles_x if progress is not None else tile_count
     nothing = np.zeros(0)
     for first in range(0, tile_count, band):
