@@ -17,11 +17,15 @@ crowded picture: :func:`tile_side`), and each tile keeps the objects whose scree
 (:mod:`raykit.engine.screen_bounds`) meets it, nearest first (:func:`screen_tiles`). A tile no
 object is seen in gets the background and no ray; elsewhere a viewing ray is made only if some
 rectangle holds its image point, tests only those objects, and stops at the first that cannot
-come nearer than the hit it has. Shadow and mirror rays walk a bounding volume hierarchy (the
-tree of :mod:`raykit.engine.bvh`, built by the same code), nearer child first, leaving every box
-that starts beyond the nearest hit found; a shadow ray stops at its first blocker. Either way a
-tie keeps the lower object index, whatever order objects come in, and a cut-out texel is no
-hit: the answer is :func:`raykit.render.cast`'s. All of it is made once per scene by
+come nearer than the hit it has. Shadow rays from what a tile sees test only the objects that
+may lie between it and each light: the tile's viewing rays are all traced first, then each
+light's volume of shadow rays from the box of their surface points picks its candidates from
+the scene (:func:`shadow_lists`; with too many, the rays walk the tree). Other shadow rays and
+mirror rays walk a bounding volume hierarchy (the tree of :mod:`raykit.engine.bvh`, built by
+the same code), nearer child first, leaving every box that starts beyond the nearest hit found;
+a shadow ray stops at its first blocker. Either way a tie keeps the lower object index, whatever
+order objects come in, and a cut-out texel is no hit: the answer is
+:func:`raykit.render.cast`'s. All of it is made once per scene by
 :func:`prepare`, which a caller may keep and render many times.
 
 Lit scenes. :func:`shade_ray` and :func:`surface_color` repeat :mod:`raykit.shading` for one
@@ -49,6 +53,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from raykit.billboards import colors_and_opacity
 from raykit.camera import centre_sample, sample_offsets
 from raykit.engine.adaptive import edge_pixels, refine
 from raykit.engine.arrays import SceneArrays
@@ -86,7 +91,8 @@ _one_ray = dict(_jit, inline="always")
 
 
 class Tree(NamedTuple):
-    """A BVH (:class:`raykit.engine.bvh.BVH`, :func:`scene_tree`) as the kernels walk it."""
+    """A BVH (:class:`raykit.engine.bvh.BVH`, :func:`scene_tree`) as the kernels walk it, with
+    the objects' own boxes it was built from, ``object_lower``, ``object_upper (K, 3)``."""
 
     lower: np.ndarray
     upper: np.ndarray
@@ -94,6 +100,8 @@ class Tree(NamedTuple):
     first: np.ndarray
     count: np.ndarray
     order: np.ndarray
+    object_lower: np.ndarray
+    object_upper: np.ndarray
 
 
 class Arrays(NamedTuple):
@@ -102,8 +110,9 @@ class Arrays(NamedTuple):
     (:class:`raykit.engine.arrays.SceneArrays`); billboards' ``corners (B, 3)`` (upper_left),
     normals ``n (B, 3)`` (a × b), ``alpha_axes``, ``beta_axes (B, 3)``
     (:attr:`raykit.billboards.Billboard.dual_axes`), flat ``board_colors (B, 3)``, and textures:
-    ``texture_start (B,)`` (-1: none) into the texels of all textures ``texels (T, 4)`` uint8,
-    row by row, ``texture_width``, ``texture_height (B,)``; the ``background (3,)``."""
+    ``texture_start (B,)`` (-1: none) into the texels of all textures, row by row, as
+    :func:`raykit.billboards.colors_and_opacity` reads them: ``texel_colors (T, 3)``,
+    ``texel_opaque (T,)``; ``texture_width``, ``texture_height (B,)``; the ``background (3,)``."""
 
     centers: np.ndarray
     radii: np.ndarray
@@ -116,7 +125,8 @@ class Arrays(NamedTuple):
     texture_start: np.ndarray
     texture_width: np.ndarray
     texture_height: np.ndarray
-    texels: np.ndarray
+    texel_colors: np.ndarray
+    texel_opaque: np.ndarray
     background: np.ndarray
 
 
@@ -149,7 +159,7 @@ def scene_arrays(scene: Scene) -> Arrays:
         np.array(starts, dtype=np.int64),
         np.array(widths, dtype=np.int64),
         np.array(heights, dtype=np.int64),
-        np.concatenate(texels) if texels else np.zeros((0, 4), np.uint8),
+        *colors_and_opacity(np.concatenate(texels) if texels else np.zeros((0, 4), np.uint8)),
         np.asarray(scene.background, dtype=float),
     )
 
@@ -212,17 +222,20 @@ def scene_lights(scene: Scene) -> Lights:
 
 
 _NO_TREE = Tree(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 2), np.int64),
-                *[np.zeros(0, np.int64)] * 3)  # fmt: skip
+                *[np.zeros(0, np.int64)] * 3, np.zeros((0, 3)), np.zeros((0, 3)))  # fmt: skip
 
 
 def scene_tree(scene: Scene) -> Tree:
     """The scene's BVH, built by the numpy engine's own builder, as a :class:`Tree`."""
     bvh = BVH.build(scene)
+    object_lower, object_upper = bvh.arrays.boxes
     return Tree(
         bvh.lower.astype(float).reshape(-1, 3),
         bvh.upper.astype(float).reshape(-1, 3),
         bvh.children.astype(np.int64).reshape(-1, 2),
         *(part.astype(np.int64) for part in (bvh.first, bvh.count, bvh.order)),
+        object_lower.astype(float).reshape(-1, 3),
+        object_upper.astype(float).reshape(-1, 3),
     )
 
 
@@ -305,8 +318,9 @@ def hit_billboard(o0, o1, o2, d0, d1, d2, arrays, board):
 @njit(**_one_ray)
 def billboard_color(arrays, board, alpha, beta):
     """Repeats :func:`raykit.billboards.billboard_color_at` (with
-    :func:`~raykit.billboards.texel_indices` and :func:`~raykit.billboards.colors_and_opacity`)
-    for one hit: ``(r, g, b, opaque)``."""
+    :func:`~raykit.billboards.texel_indices`) for one hit: ``(r, g, b, opaque)``, the texel's
+    colour and opacity as :func:`~raykit.billboards.colors_and_opacity` gave them
+    (:func:`scene_arrays`)."""
     start = arrays.texture_start[board]
     if start < 0:
         colors = arrays.board_colors
@@ -316,13 +330,8 @@ def billboard_color(arrays, board, alpha, beta):
     column = min(math.floor(alpha * width), width - 1)
     row = min(math.floor(beta * height), height - 1)
     texel = start + int(row) * width + int(column)
-    texels = arrays.texels
-    return (
-        texels[texel, 0] / 255.0,
-        texels[texel, 1] / 255.0,
-        texels[texel, 2] / 255.0,
-        texels[texel, 3] >= 128,
-    )
+    colors = arrays.texel_colors
+    return colors[texel, 0], colors[texel, 1], colors[texel, 2], arrays.texel_opaque[texel]
 
 
 @njit(**_one_ray)
@@ -456,15 +465,18 @@ def viewing_ray(camera, x, y):
 
 @njit(**_one_ray)
 def surface_color(
-    arrays, tree, lights, stack, hit, p0, p1, p2, n0, n1, n2, d0, d1, d2, error, r, g, b
-):
+    arrays, tree, lights, stack, hit, p0, p1, p2, n0, n1, n2, d0, d1, d2, error, r, g, b,
+    candidates, counts, listed,
+):  # fmt: skip
     """Repeats :func:`raykit.shading.surface_color` for one hit: object ``hit`` at point p
     with unit normal n, seen along d, its flat colour (r, g, b); ``error`` is the point's
     rounding bound (:func:`raykit.surfaces.surface_points`). Shadow rays (:mod:`raykit.shadows`)
-    walk the tree. The one operation that may differ from the reference: the highlight's power
-    max(0, n·h)^p is the C library's pow here and numpy's own (vectorised) power there; they
-    differ by at most one unit in the last place, on a few per cent of highlight points
-    (measured), which no 8-bit pixel shows (tests/test_compiled.py bounds it)."""
+    walk the tree, or if ``listed``, test light j's ``candidates[j, :counts[j]]`` where
+    counts[j] >= 0 (:func:`shadow_candidates`: no other object can block them). The one
+    operation that may differ from the reference: the highlight's power max(0, n·h)^p is the C
+    library's pow here and numpy's own (vectorised) power there; they differ by at most one unit
+    in the last place, on a few per cent of highlight points (measured), which no 8-bit pixel
+    shows (tests/test_compiled.py bounds it)."""
     if not lights.lit:
         return r, g, b
     if lights.has_diffuse[hit]:
@@ -494,9 +506,18 @@ def surface_color(
                 distance = math.sqrt(to0 * to0 + to1 * to1 + to2 * to2)
                 largest = max(abs(s0), abs(s1), abs(s2))
                 reach = distance - OFFSET_FACTOR * EPS * (largest + distance)
-            _, blocker, _, _, _ = nearest_hit(
-                arrays, tree, stack, s0, s1, s2, l0, l1, l2, reach, True
-            )
+            if listed and counts[j] >= 0:
+                blocker = np.inf
+                for k in range(counts[j]):
+                    _, blocker, _, _, _ = offer(
+                        arrays, candidates[j, k], s0, s1, s2, l0, l1, l2, -1, blocker, r, g, b
+                    )
+                    if blocker < reach:
+                        break
+            else:
+                _, blocker, _, _, _ = nearest_hit(
+                    arrays, tree, stack, s0, s1, s2, l0, l1, l2, reach, True
+                )
             if blocker < reach:
                 continue
         total0 += k0 * intensity[j, 0] * n_dot_l  # raykit.shading.lambert
@@ -515,10 +536,14 @@ def surface_color(
 
 
 @njit(**_one_ray)
-def shade_ray(arrays, tree, lights, stack, o0, o1, o2, d0, d1, d2, hit, t, r, g, b):
+def shade_ray(
+    arrays, tree, lights, stack, o0, o1, o2, d0, d1, d2, hit, t, r, g, b, candidates, counts
+):
     """Repeats :func:`raykit.shading.shade` for one viewing ray and its nearest hit: the surface
     point (:func:`raykit.surfaces.surface_points`), its colour (:func:`surface_color`), and
-    mirror rays (:func:`raykit.mirrors.reflect`, started off the surface) up to max_depth."""
+    mirror rays (:func:`raykit.mirrors.reflect`, started off the surface) up to max_depth. The
+    first surface's shadow rays may take their objects from ``candidates``, ``counts``
+    (:func:`shadow_candidates`, or :func:`no_candidates`); a mirror's walk the tree."""
     c0, c1, c2 = 0.0, 0.0, 0.0
     w0, w1, w2 = 1.0, 1.0, 1.0  # what one unit of light along the ray adds to the pixel
     spheres = len(arrays.radii)
@@ -540,8 +565,9 @@ def shade_ray(arrays, tree, lights, stack, o0, o1, o2, d0, d1, d2, hit, t, r, g,
             n0, n1, n2 = facing * m0, facing * m1, facing * m2
         error = EPS * (max(abs(o0), abs(o1), abs(o2)) + t)
         s0, s1, s2 = surface_color(
-            arrays, tree, lights, stack, hit, p0, p1, p2, n0, n1, n2, d0, d1, d2, error, r, g, b
-        )
+            arrays, tree, lights, stack, hit, p0, p1, p2, n0, n1, n2, d0, d1, d2, error, r, g, b,
+            candidates, counts, depth == 0,
+        )  # fmt: skip
         c0, c1, c2 = c0 + w0 * s0, c1 + w1 * s1, c2 + w2 * s2
         if depth == lights.max_depth or not lights.mirrors[hit]:
             break
@@ -554,20 +580,6 @@ def shade_ray(arrays, tree, lights, stack, o0, o1, o2, d0, d1, d2, hit, t, r, g,
         w0, w1, w2 = w0 * km[hit, 0], w1 * km[hit, 1], w2 * km[hit, 2]
         hit, t, r, g, b = nearest_hit(arrays, tree, stack, o0, o1, o2, d0, d1, d2, np.inf)
     return c0, c1, c2
-
-
-@njit(**_one_ray)
-def pixel_sample(arrays, tiles, tree, lights, stack, camera, x, y):
-    """One sample of the picture: the viewing ray through image point (x, y), its nearest hit,
-    and its colour (flat, or shaded): ``(index, t, r, g, b)``."""
-    if not held(tiles, x, y):
-        background = arrays.background
-        return -1, np.inf, background[0], background[1], background[2]
-    o0, o1, o2, d0, d1, d2 = viewing_ray(camera, x, y)
-    hit, t, r, g, b = nearest_in_tile(arrays, tiles, x, y, o0, o1, o2, d0, d1, d2)
-    if lights.shaded:
-        r, g, b = shade_ray(arrays, tree, lights, stack, o0, o1, o2, d0, d1, d2, hit, t, r, g, b)
-    return hit, t, r, g, b
 
 
 @njit(**_jit)
@@ -625,36 +637,204 @@ class Tiles(NamedTuple):
 
 
 @njit(**_one_ray)
-def held(tiles, x, y) -> bool:
-    """Whether some object's screen rectangle holds image point (x, y): if none does, its
-    viewing ray sees the background, and is not even made (as in
-    :meth:`raykit.engine.regions.Plan.viewing_rays`)."""
-    size, entries = tiles.size, tiles.entries
-    tile = (int(y) // size) * tiles.tiles_x + int(x) // size
-    for k in range(tiles.start[tile], tiles.start[tile + 1]):
-        if entries[k, 0] <= x <= entries[k, 1] and entries[k, 2] <= y <= entries[k, 3]:
-            return True
-    return False
-
-
-@njit(**_one_ray)
-def nearest_in_tile(arrays, tiles, x, y, o0, o1, o2, d0, d1, d2):
-    """:func:`nearest_hit` for the viewing ray through image point (x, y): only the objects of
-    its tile whose screen rectangle holds the point (as :meth:`raykit.engine.tiles.Region.holding`
-    decides), nearest first, until the next can only be farther than the hit found."""
-    size, entries = tiles.size, tiles.entries
+def primary_ray(arrays, tiles, camera, x, y):
+    """:func:`nearest_hit` for the viewing ray through image point (x, y), from its tile's list
+    (:func:`screen_tiles`): only the objects whose screen rectangle holds the point (as
+    :meth:`raykit.engine.tiles.Region.holding` decides), nearest first, until the next can only
+    be farther than the hit found. The ray is made at the first rectangle that holds the point:
+    if none does, it would see the background, and is not made at all (as in
+    :meth:`raykit.engine.regions.Plan.viewing_rays`). Returns ``(made, index, t, r, g, b, o0,
+    o1, o2, d0, d1, d2)`` (the ray 0 if not made)."""
+    size, entries, objects = tiles.size, tiles.entries, tiles.objects
     background = arrays.background
     best, best_t = -1, np.inf
     r, g, b = background[0], background[1], background[2]
+    made = False
+    o0, o1, o2, d0, d1, d2 = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     tile = (int(y) // size) * tiles.tiles_x + int(x) // size
     for k in range(tiles.start[tile], tiles.start[tile + 1]):
         if entries[k, 4] > best_t:
             break  # every object from here on is farther than the hit
         if entries[k, 0] <= x and x <= entries[k, 1] and entries[k, 2] <= y and y <= entries[k, 3]:
+            if not made:
+                o0, o1, o2, d0, d1, d2 = viewing_ray(camera, x, y)
+                made = True
             best, best_t, r, g, b = offer(
-                arrays, tiles.objects[k], o0, o1, o2, d0, d1, d2, best, best_t, r, g, b
+                arrays, objects[k], o0, o1, o2, d0, d1, d2, best, best_t, r, g, b
             )
-    return best, best_t, r, g, b
+    return made, best, best_t, r, g, b, o0, o1, o2, d0, d1, d2
+
+
+# ---- shadow rays' skip: each tile's objects that may cast a shadow on what it sees -------------
+
+
+SHADOW_CANDIDATES = 16  # objects a tile lists per light; with more, its shadow rays walk the BVH
+CULL_MARGIN = 1e-9  # of the scene's largest coordinate: rounding that the cull leaves room for
+
+
+@njit(**_one_ray)
+def extent(lo0, lo1, lo2, hi0, hi1, hi2, e0, e1, e2):
+    """``(lowest, highest)``: where the points of the box lo..hi lie along axis e."""
+    x0, x1, y0, y1, z0, z1 = lo0 * e0, hi0 * e0, lo1 * e1, hi1 * e1, lo2 * e2, hi2 * e2
+    return min(x0, x1) + min(y0, y1) + min(z0, z1), max(x0, x1) + max(y0, y1) + max(z0, z1)
+
+
+@njit(**_one_ray)
+def box_extent(lower, upper, i, e0, e1, e2):
+    """:func:`extent` of box i of ``lower``, ``upper (M, 3)``."""
+    return extent(
+        lower[i, 0], lower[i, 1], lower[i, 2], upper[i, 0], upper[i, 1], upper[i, 2], e0, e1, e2
+    )
+
+
+@njit(**_one_ray)
+def box_apart(volume, lower, upper, i) -> bool:
+    """Whether box i (of ``lower``, ``upper (M, 3)``) lies wholly beyond the shadow volume
+    along one of its axes (:func:`shadow_volume`): x, y and z first, where a box's extent is
+    its own sides."""
+    for k in range(3):
+        if upper[i, k] < volume[k, 3] or lower[i, k] > volume[k, 4]:
+            return True
+    for row in range(3, 6):
+        low, high = box_extent(lower, upper, i, volume[row, 0], volume[row, 1], volume[row, 2])
+        if high < volume[row, 3] or low > volume[row, 4]:
+            return True
+    return False
+
+
+@njit(**_one_ray)
+def sphere_apart(volume, centers, radii, i) -> bool:
+    """Whether sphere i lies wholly beyond the shadow volume along one of its axes."""
+    R = radii[i]
+    for k in range(3):
+        if centers[i, k] + R < volume[k, 3] or centers[i, k] - R > volume[k, 4]:
+            return True
+    for row in range(3, 6):
+        c = centers[i, 0] * volume[row, 0] + centers[i, 1] * volume[row, 1]
+        c += centers[i, 2] * volume[row, 2]
+        if c + R < volume[row, 3] or c - R > volume[row, 4]:
+            return True
+    return False
+
+
+@njit(**_one_ray)
+def shadow_volume(lights, j, box, pad, scale, volume):
+    """Fills ``volume (6, 5)``, rows (e0, e1, e2, lowest, highest): six axes e, and along each
+    the interval that holds every shadow ray toward light j from a point of the box ``box (2,
+    3)`` (lower and upper corners) widened by ``pad``: a directional light's rays sweep the box
+    along l to infinity; a point light's lie in the hull of the box and the light, the light
+    too widened by ``pad`` (a ray from s = p + ε·n takes the direction from p, so it passes the
+    light at ε from it). The axes: x, y and z
+    (in rows 0, 1, 2, as :func:`box_apart` reads them), two across the direction to the light,
+    and that direction. The box and each interval are
+    widened by CULL_MARGIN x the largest coordinate of the scene (``scale``), the box or the
+    light."""
+    point = lights.point[j]
+    v0, v1, v2 = lights.vectors[j, 0], lights.vectors[j, 1], lights.vectors[j, 2]
+    largest = scale
+    for k in range(3):  # (scalars: an array expression here would allocate, once per tile)
+        largest = max(largest, abs(box[0, k]), abs(box[1, k]))
+    if point:
+        largest = max(largest, abs(v0), abs(v1), abs(v2))
+    margin = CULL_MARGIN * largest
+    lo0, lo1, lo2 = box[0, 0] - pad - margin, box[0, 1] - pad - margin, box[0, 2] - pad - margin
+    hi0, hi1, hi2 = box[1, 0] + pad + margin, box[1, 1] + pad + margin, box[1, 2] + pad + margin
+    if point:  # from the box's centre toward the light
+        m0, m1, m2 = v0 - (lo0 + hi0) / 2, v1 - (lo1 + hi1) / 2, v2 - (lo2 + hi2) / 2
+    else:
+        m0, m1, m2 = v0, v1, v2
+    length = math.sqrt(m0 * m0 + m1 * m1 + m2 * m2)
+    if not length > 0:  # any axis separates as truly; this one only less tightly
+        m0, m1, m2, length = 1.0, 0.0, 0.0, 1.0
+    m0, m1, m2 = m0 / length, m1 / length, m2 / length
+    if abs(m0) < 0.6:  # a, b across m: m x (1, 0, 0), or m x (0, 1, 0) if m is near x; m x a
+        a0, a1, a2 = 0.0, m2, -m1
+    else:
+        a0, a1, a2 = -m2, 0.0, m0
+    length = math.sqrt(a0 * a0 + a1 * a1 + a2 * a2)
+    a0, a1, a2 = a0 / length, a1 / length, a2 / length
+    b0, b1, b2 = m1 * a2 - m2 * a1, m2 * a0 - m0 * a2, m0 * a1 - m1 * a0
+    axes = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0), (a0, a1, a2), (b0, b1, b2),
+            (m0, m1, m2))  # fmt: skip
+    for row in range(6):
+        e0, e1, e2 = axes[row]
+        low, high = extent(lo0, lo1, lo2, hi0, hi1, hi2, e0, e1, e2)
+        toward = v0 * e0 + v1 * e1 + v2 * e2
+        if point:
+            low, high = min(low, toward - pad), max(high, toward + pad)
+        elif row != 3 and row != 4 and toward > 0:  # along l the rays go on for ever
+            high = np.inf
+        elif row != 3 and row != 4 and toward < 0:
+            low = -np.inf
+        volume[row, 0], volume[row, 1], volume[row, 2] = e0, e1, e2
+        volume[row, 3], volume[row, 4] = low - margin, high + margin
+
+
+@njit(**_one_ray)
+def shadow_candidates(arrays, tree, volume, nodes, candidates, j) -> int:
+    """Light j's candidates: the objects whose boxes (a sphere: itself) are not apart from the
+    shadow volume (:func:`shadow_volume`), found by walking the tree and leaving every node
+    whose box is apart, into ``candidates[j]``; returns how many, or -1 if more than
+    SHADOW_CANDIDATES (then the shadow rays walk the tree themselves). ``nodes (STACK,)``."""
+    if len(tree.order) == 0:
+        return 0
+    spheres = len(arrays.radii)
+    count = 0
+    nodes[0] = 0
+    top = 1
+    while top > 0:
+        top -= 1
+        node = nodes[top]
+        if box_apart(volume, tree.lower, tree.upper, node):
+            continue
+        if tree.children[node, 0] >= 0:
+            nodes[top], nodes[top + 1] = tree.children[node, 1], tree.children[node, 0]
+            top += 2
+            continue
+        for k in range(tree.first[node], tree.first[node] + tree.count[node]):
+            obj = tree.order[k]
+            if obj < spheres:
+                apart = sphere_apart(volume, arrays.centers, arrays.radii, obj)
+            else:
+                apart = box_apart(volume, tree.object_lower, tree.object_upper, obj)
+            if not apart:
+                if count == SHADOW_CANDIDATES:
+                    return -1
+                candidates[j, count] = obj
+                count += 1
+    return count
+
+
+@njit(**_one_ray)
+def shadow_lists(arrays, tree, lights, stack, box, pad, volume, candidates, counts):
+    """Each light j's :func:`shadow_candidates` for the shadow rays from the surface points in
+    ``box (2, 3)`` (lower, upper corners; empty if lower > upper), which start within ``pad``
+    of them, into ``candidates[j]`` (L x
+    SHADOW_CANDIDATES) and ``counts (L,)``, with room for a shadow volume ``volume (6, 5)``.
+
+    Why the answers stay the reference's. A point is in shadow if some opaque hit lies before
+    the light (:func:`raykit.shadows.in_shadow`): whichever object gives it, the answer is the
+    same, so an object may be left out if no shadow ray can hit it. A ray from a point of the
+    box toward light j lies in its volume (:func:`shadow_volume`), and where the reference finds
+    a hit is a point of the ray and, up to rounding, of the object: that rounding, a few units
+    in the last place of the scene's coordinates, is a millionth of the margin the volume is
+    widened by, so an object the volume is apart from is never hit."""
+    counts[:] = -1
+    if not box[0, 0] <= box[1, 0] or len(tree.order) == 0:
+        return
+    scale = 0.0  # the largest coordinate of the root box
+    for k in range(3):
+        scale = max(scale, abs(tree.lower[0, k]), abs(tree.upper[0, k]))
+    nodes, _ = stack
+    for j in range(len(counts)):
+        shadow_volume(lights, j, box, pad, scale, volume)
+        counts[j] = shadow_candidates(arrays, tree, volume, nodes, candidates, j)
+
+
+@njit(**_one_ray)
+def no_candidates(lights):
+    """For :func:`shade_ray` where no shadow lists are made: every light's rays walk the tree."""
+    return np.empty((len(lights.point), 0), dtype=np.int64), np.full(len(lights.point), -1)
 
 
 # ---- the loops: many rays, both cores --------------------------------------------------------
@@ -680,14 +860,26 @@ def cast_rays(arrays, tree, origins, directions, t_max):
     return index, t, color
 
 
+@njit(**_one_ray)
+def job_pixel(q, points, first, top, left, across, width, xs, ys):
+    """The q-th pixel of a job of :func:`trace`: ``(p, x, y)``, where its results go and its
+    upper-left corner."""
+    if points:
+        return first + q, xs[first + q], ys[first + q]
+    row = top + q // across
+    col = left + q % across
+    return row * width + col, float(col), float(row)
+
+
 @njit(parallel=True, **_jit)
-def trace(arrays, tiles, tree, lights, camera, width, height, jobs, xs, ys, offsets, centre,
-          empty, rgb, index, t):  # fmt: skip
+def trace(arrays, tiles, tree, lights, camera, width, height, jobs, workers, xs, ys, offsets,
+          centre, empty, rgb, index, t):  # fmt: skip
     """The lecture's loop: for each pixel, per sample offset ``offsets (S, 2)`` in order, the
-    viewing ray, its nearest hit and its colour (:func:`pixel_sample`), summed and divided by S
-    as :class:`raykit.engine.regions.Image` takes the mean; and the object index and t of the
-    ray through the pixel centre, which is sample ``centre`` (-1: cast one more ray there).
-    Results go to ``rgb (P, 3)``, ``index``, ``t (P,)``. Which pixels, either way:
+    viewing ray and its nearest hit (:func:`primary_ray`), and its colour, flat or shaded
+    (:func:`shade_ray`), summed and divided by S as :class:`raykit.engine.regions.Image` takes
+    the mean; and the object index and t of the ray through the pixel centre, which is sample
+    ``centre`` (-1: cast one more ray there). Results go to ``rgb (P, 3)``, ``index``, ``t
+    (P,)``. Which pixels, either way:
 
     * whole tiles (``xs`` empty): ``jobs (J,)`` are tile numbers (:func:`screen_tiles`), and
       their pixels are the image's, row by row (P = ``height`` x ``width``) with their upper-left
@@ -696,58 +888,123 @@ def trace(arrays, tiles, tree, lights, camera, width, height, jobs, xs, ys, offs
       :func:`_mean_of_samples`), index -1 and t = inf, and no ray;
     * points (``xs``, ``ys (P,)``, the upper-left corners): ``jobs`` are CHUNKs of them.
 
-    Each job runs on one core, whole (so does a tile's list of objects)."""
+    Each job runs on one core, whole (so does a tile's list of objects). In a lit scene a job
+    finds all its viewing rays' hits first, then each light's :func:`shadow_lists` for the box
+    they lie in, then shades them."""
     start, tiles_x, size = tiles.start, tiles.tiles_x, tiles.size
     points = len(xs)
-    # (one name per value in the loop below: numba's parallel loop mishandles a tuple of ints
-    # assigned in two branches)
-    for j in prange(len(jobs)):
-        stack = new_stack()
-        if points:
-            first = jobs[j] * CHUNK
-            count = min(CHUNK, points - first)
-            top = 0
-            left = 0
-            across = 1
-        else:
-            top = (jobs[j] // tiles_x) * size
-            left = (jobs[j] % tiles_x) * size
-            across = min(size, width - left)
-            count = across * min(size, height - top)
-            first = 0
-        seen = points or start[jobs[j]] < start[jobs[j] + 1]
-        for q in range(count):
+    samples = len(offsets)
+    share = -(-len(jobs) // workers)
+    # one worker per core (``workers``: numba.get_num_threads()), each with its own room for a
+    # job's rays (making it for each job cost more than a small tile's rays), takes a block of
+    # the jobs, as prange would deal them
+    for worker in prange(workers):
+        kept = (CHUNK if points else size * size) * samples if lights.shaded else 0
+        lists = len(lights.point) if lights.shadows else 0
+        room = (
+            new_stack(),
+            np.empty((kept, 6)),  # each sample's viewing ray, to shade once all are found
+            np.empty((kept, 4)),  # and its hit's t, r, g, b
+            np.empty(kept, dtype=np.int64),  # object index
+            np.empty(kept, dtype=np.bool_),  # whether the ray was made (primary_ray)
+            np.empty((2, 3)),  # the box of the surface points (shadow_lists)
+            np.empty((lists, SHADOW_CANDIDATES), dtype=np.int64),
+            np.full(len(lights.point), -1, dtype=np.int64),  # without lists: walk the tree
+            np.empty((6, 5)),  # a shadow volume
+        )
+        for j in range(worker * share, min(len(jobs), (worker + 1) * share)):
             if points:
-                p = first + q
-                px = xs[p]
-                py = ys[p]
+                first = jobs[j] * CHUNK
+                count = min(CHUNK, points - first)
+                top = 0
+                left = 0
+                across = 1
             else:
-                row = top + q // across
-                col = left + q % across
-                p = row * width + col
-                px = float(col)
-                py = float(row)
-            if not seen:
+                top = (jobs[j] // tiles_x) * size
+                left = (jobs[j] % tiles_x) * size
+                across = min(size, width - left)
+                count = across * min(size, height - top)
+                first = 0
+            if points or start[jobs[j]] < start[jobs[j] + 1]:
+                trace_job(arrays, tiles, tree, lights, camera, width, xs, ys, offsets, centre,
+                          rgb, index, t, first, count, top, left, across, room)  # fmt: skip
+                continue
+            for q in range(count):
+                p, _, _ = job_pixel(q, points, first, top, left, across, width, xs, ys)
                 rgb[p, 0], rgb[p, 1], rgb[p, 2] = empty[0], empty[1], empty[2]
                 index[p], t[p] = -1, np.inf
-                continue
-            r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
-            for sample in range(len(offsets)):
-                x, y = px + offsets[sample, 0], py + offsets[sample, 1]
-                hit, t_hit, r, g, b = pixel_sample(arrays, tiles, tree, lights, stack, camera, x, y)
+
+
+@njit(**_one_ray)
+def trace_job(arrays, tiles, tree, lights, camera, width, xs, ys, offsets, centre, rgb, index, t,
+              first, count, top, left, across, room):  # fmt: skip
+    """One job of :func:`trace`: its ``count`` pixels (:func:`job_pixel`), with the worker's
+    ``room`` for the rays of a lit scene, as :func:`trace` makes it."""
+    stack, rays, found, hits, made, box, candidates, counts, volume = room
+    points = len(xs)
+    samples = len(offsets)
+    shaded = lights.shaded
+    box[0, :], box[1, :] = np.inf, -np.inf
+    error = 0.0
+    for q in range(count):
+        p, px, py = job_pixel(q, points, first, top, left, across, width, xs, ys)
+        r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
+        for sample in range(samples):
+            x, y = px + offsets[sample, 0], py + offsets[sample, 1]
+            ray_made, hit, t_hit, r, g, b, o0, o1, o2, d0, d1, d2 = primary_ray(
+                arrays, tiles, camera, x, y
+            )
+            if sample == centre:
+                index[p], t[p] = hit, t_hit
+            if not shaded:
                 r_sum += r
                 g_sum += g
                 b_sum += b
-                if sample == centre:
-                    index[p], t[p] = hit, t_hit
-            rgb[p, 0] = r_sum / len(offsets)
-            rgb[p, 1] = g_sum / len(offsets)
-            rgb[p, 2] = b_sum / len(offsets)
-            if centre < 0:
-                x, y = px + 0.5, py + 0.5
-                o0, o1, o2, d0, d1, d2 = viewing_ray(camera, x, y)
-                hit, t_hit, _, _, _ = nearest_in_tile(arrays, tiles, x, y, o0, o1, o2, d0, d1, d2)
-                index[p], t[p] = hit, t_hit
+                continue
+            i = q * samples + sample
+            made[i], hits[i] = ray_made, hit
+            rays[i, 0], rays[i, 1], rays[i, 2] = o0, o1, o2
+            rays[i, 3], rays[i, 4], rays[i, 5] = d0, d1, d2
+            found[i, 0], found[i, 1], found[i, 2], found[i, 3] = t_hit, r, g, b
+            if hit >= 0 and lights.shadows:  # the surface point, as shade_ray makes it
+                p0, p1, p2 = o0 + t_hit * d0, o1 + t_hit * d1, o2 + t_hit * d2
+                box[0, 0], box[1, 0] = min(box[0, 0], p0), max(box[1, 0], p0)
+                box[0, 1], box[1, 1] = min(box[0, 1], p1), max(box[1, 1], p1)
+                box[0, 2], box[1, 2] = min(box[0, 2], p2), max(box[1, 2], p2)
+                error = max(error, EPS * (max(abs(o0), abs(o1), abs(o2)) + t_hit))
+        if not shaded:
+            rgb[p, 0] = r_sum / samples
+            rgb[p, 1] = g_sum / samples
+            rgb[p, 2] = b_sum / samples
+        if centre < 0:
+            _, hit, t_hit, _, _, _, _, _, _, _, _, _ = primary_ray(
+                arrays, tiles, camera, px + 0.5, py + 0.5
+            )
+            index[p], t[p] = hit, t_hit
+    if not shaded:
+        return
+    if lights.shadows:  # shadow rays start off the surface by OFFSET_FACTOR x error x |n|, and
+        # |n| < 2 but for a sphere smaller than its own rounding
+        pad = 2.0 * OFFSET_FACTOR * error
+        shadow_lists(arrays, tree, lights, stack, box, pad, volume, candidates, counts)
+    for q in range(count):
+        p, _, _ = job_pixel(q, points, first, top, left, across, width, xs, ys)
+        r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
+        for sample in range(samples):
+            i = q * samples + sample
+            r, g, b = found[i, 1], found[i, 2], found[i, 3]
+            if made[i]:
+                r, g, b = shade_ray(
+                    arrays, tree, lights, stack, rays[i, 0], rays[i, 1], rays[i, 2],
+                    rays[i, 3], rays[i, 4], rays[i, 5], hits[i], found[i, 0], r, g, b,
+                    candidates, counts,
+                )  # fmt: skip
+            r_sum += r
+            g_sum += g
+            b_sum += b
+        rgb[p, 0] = r_sum / samples
+        rgb[p, 1] = g_sum / samples
+        rgb[p, 2] = b_sum / samples
 
 
 def camera_tuple(scene: Scene) -> tuple:
@@ -874,7 +1131,7 @@ def render(scene: Scene | Prepared, samples: int = 1, *, adaptive: bool = False,
     nothing = np.zeros(0)
     for first in range(0, tile_count, band):
         jobs = _shared_out(np.arange(first, min(first + band, tile_count)))
-        trace(*kernels, width, height, jobs, nothing, nothing, offsets,
+        trace(*kernels, width, height, jobs, _workers(jobs), nothing, nothing, offsets,
               -1 if centre is None else centre, empty, rgb, index, t)  # fmt: skip
         if progress is not None:
             rows = min(height, (first + band) // tiles_x * size) - first // tiles_x * size
@@ -892,7 +1149,7 @@ def render(scene: Scene | Prepared, samples: int = 1, *, adaptive: bool = False,
             x, y = np.asarray(x, float), np.asarray(y, float)
             out = np.empty((len(x), 3))
             jobs = np.arange(-(-len(x) // CHUNK))
-            trace(*kernels, width, height, jobs, x, y, at_the_point, 0, empty, out,
+            trace(*kernels, width, height, jobs, _workers(jobs), x, y, at_the_point, 0, empty, out,
                   np.empty(len(x), np.int64),
                   np.empty(len(x)))  # fmt: skip
             return out
@@ -909,6 +1166,11 @@ def _mean_of_samples(color: np.ndarray, count: int) -> np.ndarray:
     for _ in range(count):
         total = total + color
     return total / count
+
+
+def _workers(jobs: np.ndarray) -> int:
+    """How many cores :func:`trace` shares ``jobs`` among (one at least)."""
+    return max(1, min(numba.get_num_threads(), len(jobs)))
 
 
 def _shared_out(jobs: np.ndarray) -> np.ndarray:
