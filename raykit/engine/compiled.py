@@ -637,21 +637,22 @@ class Tiles(NamedTuple):
 
 
 @njit(**_one_ray)
-def primary_ray(arrays, tiles, camera, x, y):
-    """:func:`nearest_hit` for the viewing ray through image point (x, y), from its tile's list
-    (:func:`screen_tiles`): only the objects whose screen rectangle holds the point (as
-    :meth:`raykit.engine.tiles.Region.holding` decides), nearest first, until the next can only
-    be farther than the hit found. The ray is made at the first rectangle that holds the point:
-    if none does, it would see the background, and is not made at all (as in
-    :meth:`raykit.engine.regions.Plan.viewing_rays`). Returns ``(made, index, t, r, g, b, o0,
-    o1, o2, d0, d1, d2)`` (the ray 0 if not made)."""
+def primary_ray(arrays, tiles, camera, x, y, tile):
+    """:func:`nearest_hit` for the viewing ray through image point (x, y), from the list of its
+    tile (:func:`screen_tiles`; -1: the tile is found from x and y): only the objects whose
+    screen rectangle holds the point (as :meth:`raykit.engine.tiles.Region.holding` decides),
+    nearest first, until the next can only be farther than the hit found. The ray is made at
+    the first rectangle that holds the point: if none does, it would see the background, and is
+    not made at all (as in :meth:`raykit.engine.regions.Plan.viewing_rays`). Returns ``(made,
+    index, t, r, g, b, o0, o1, o2, d0, d1, d2)`` (the ray 0 if not made)."""
     size, entries, objects = tiles.size, tiles.entries, tiles.objects
     background = arrays.background
     best, best_t = -1, np.inf
     r, g, b = background[0], background[1], background[2]
     made = False
     o0, o1, o2, d0, d1, d2 = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
-    tile = (int(y) // size) * tiles.tiles_x + int(x) // size
+    if tile < 0:
+        tile = (int(y) // size) * tiles.tiles_x + int(x) // size
     for k in range(tiles.start[tile], tiles.start[tile + 1]):
         if entries[k, 4] > best_t:
             break  # every object from here on is farther than the hit
@@ -861,14 +862,14 @@ def cast_rays(arrays, tree, origins, directions, t_max):
 
 
 @njit(**_one_ray)
-def job_pixel(q, points, first, top, left, across, width, xs, ys):
-    """The q-th pixel of a job of :func:`trace`: ``(p, x, y)``, where its results go and its
-    upper-left corner."""
+def job_pixel(down, along, points, first, top, left, across, width, xs, ys):
+    """The pixel ``down`` rows and ``along`` columns into a job of :func:`trace` (``across``
+    columns wide): ``(p, x, y)``, where its results go and its upper-left corner. (Rows and
+    columns, not a running count: an integer division per pixel cost more than its ray.)"""
     if points:
-        return first + q, xs[first + q], ys[first + q]
-    row = top + q // across
-    col = left + q % across
-    return row * width + col, float(col), float(row)
+        q = first + down * across + along
+        return q, xs[q], ys[q]
+    return (top + down) * width + left + along, float(left + along), float(top + down)
 
 
 @njit(parallel=True, **_jit)
@@ -913,98 +914,106 @@ def trace(arrays, tiles, tree, lights, camera, width, height, jobs, workers, xs,
             np.empty((6, 5)),  # a shadow volume
         )
         for j in range(worker * share, min(len(jobs), (worker + 1) * share)):
-            if points:
+            if points:  # a row of points, each in whichever tile holds it
                 first = jobs[j] * CHUNK
-                count = min(CHUNK, points - first)
+                rows = 1
+                across = min(CHUNK, points - first)
                 top = 0
                 left = 0
-                across = 1
+                tile = -1
             else:
-                top = (jobs[j] // tiles_x) * size
-                left = (jobs[j] % tiles_x) * size
-                across = min(size, width - left)
-                count = across * min(size, height - top)
                 first = 0
-            if points or start[jobs[j]] < start[jobs[j] + 1]:
+                tile = jobs[j]
+                top = (tile // tiles_x) * size
+                left = (tile % tiles_x) * size
+                rows = min(size, height - top)
+                across = min(size, width - left)
+            if points or start[tile] < start[tile + 1]:
                 trace_job(arrays, tiles, tree, lights, camera, width, xs, ys, offsets, centre,
-                          rgb, index, t, first, count, top, left, across, room)  # fmt: skip
+                          rgb, index, t, first, rows, top, left, across, tile, room)  # fmt: skip
                 continue
-            for q in range(count):
-                p, _, _ = job_pixel(q, points, first, top, left, across, width, xs, ys)
-                rgb[p, 0], rgb[p, 1], rgb[p, 2] = empty[0], empty[1], empty[2]
-                index[p], t[p] = -1, np.inf
+            for down in range(rows):
+                for along in range(across):
+                    p = (top + down) * width + left + along
+                    rgb[p, 0], rgb[p, 1], rgb[p, 2] = empty[0], empty[1], empty[2]
+                    index[p], t[p] = -1, np.inf
 
 
 @njit(**_one_ray)
 def trace_job(arrays, tiles, tree, lights, camera, width, xs, ys, offsets, centre, rgb, index, t,
-              first, count, top, left, across, room):  # fmt: skip
-    """One job of :func:`trace`: its ``count`` pixels (:func:`job_pixel`), with the worker's
-    ``room`` for the rays of a lit scene, as :func:`trace` makes it."""
+              first, rows, top, left, across, tile, room):  # fmt: skip
+    """One job of :func:`trace`: its ``rows`` x ``across`` pixels (:func:`job_pixel`), all in
+    ``tile`` (-1: points, each in its own), with the worker's ``room`` for the rays of a lit
+    scene, as :func:`trace` makes it."""
     stack, rays, found, hits, made, box, candidates, counts, volume = room
     points = len(xs)
     samples = len(offsets)
     shaded = lights.shaded
     box[0, :], box[1, :] = np.inf, -np.inf
     error = 0.0
-    for q in range(count):
-        p, px, py = job_pixel(q, points, first, top, left, across, width, xs, ys)
-        r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
-        for sample in range(samples):
-            x, y = px + offsets[sample, 0], py + offsets[sample, 1]
-            ray_made, hit, t_hit, r, g, b, o0, o1, o2, d0, d1, d2 = primary_ray(
-                arrays, tiles, camera, x, y
-            )
-            if sample == centre:
-                index[p], t[p] = hit, t_hit
+    for down in range(rows):
+        for along in range(across):
+            q = down * across + along
+            p, px, py = job_pixel(down, along, points, first, top, left, across, width, xs, ys)
+            r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
+            for sample in range(samples):  # offsets in [0, 1): the point stays in its tile
+                x, y = px + offsets[sample, 0], py + offsets[sample, 1]
+                ray_made, hit, t_hit, r, g, b, o0, o1, o2, d0, d1, d2 = primary_ray(
+                    arrays, tiles, camera, x, y, tile
+                )
+                if sample == centre:
+                    index[p], t[p] = hit, t_hit
+                if not shaded:
+                    r_sum += r
+                    g_sum += g
+                    b_sum += b
+                    continue
+                i = q * samples + sample
+                made[i], hits[i] = ray_made, hit
+                rays[i, 0], rays[i, 1], rays[i, 2] = o0, o1, o2
+                rays[i, 3], rays[i, 4], rays[i, 5] = d0, d1, d2
+                found[i, 0], found[i, 1], found[i, 2], found[i, 3] = t_hit, r, g, b
+                if hit >= 0 and lights.shadows:  # the surface point, as shade_ray makes it
+                    p0, p1, p2 = o0 + t_hit * d0, o1 + t_hit * d1, o2 + t_hit * d2
+                    box[0, 0], box[1, 0] = min(box[0, 0], p0), max(box[1, 0], p0)
+                    box[0, 1], box[1, 1] = min(box[0, 1], p1), max(box[1, 1], p1)
+                    box[0, 2], box[1, 2] = min(box[0, 2], p2), max(box[1, 2], p2)
+                    error = max(error, EPS * (max(abs(o0), abs(o1), abs(o2)) + t_hit))
             if not shaded:
-                r_sum += r
-                g_sum += g
-                b_sum += b
-                continue
-            i = q * samples + sample
-            made[i], hits[i] = ray_made, hit
-            rays[i, 0], rays[i, 1], rays[i, 2] = o0, o1, o2
-            rays[i, 3], rays[i, 4], rays[i, 5] = d0, d1, d2
-            found[i, 0], found[i, 1], found[i, 2], found[i, 3] = t_hit, r, g, b
-            if hit >= 0 and lights.shadows:  # the surface point, as shade_ray makes it
-                p0, p1, p2 = o0 + t_hit * d0, o1 + t_hit * d1, o2 + t_hit * d2
-                box[0, 0], box[1, 0] = min(box[0, 0], p0), max(box[1, 0], p0)
-                box[0, 1], box[1, 1] = min(box[0, 1], p1), max(box[1, 1], p1)
-                box[0, 2], box[1, 2] = min(box[0, 2], p2), max(box[1, 2], p2)
-                error = max(error, EPS * (max(abs(o0), abs(o1), abs(o2)) + t_hit))
-        if not shaded:
-            rgb[p, 0] = r_sum / samples
-            rgb[p, 1] = g_sum / samples
-            rgb[p, 2] = b_sum / samples
-        if centre < 0:
-            _, hit, t_hit, _, _, _, _, _, _, _, _, _ = primary_ray(
-                arrays, tiles, camera, px + 0.5, py + 0.5
-            )
-            index[p], t[p] = hit, t_hit
+                rgb[p, 0] = r_sum / samples
+                rgb[p, 1] = g_sum / samples
+                rgb[p, 2] = b_sum / samples
+            if centre < 0:
+                _, hit, t_hit, _, _, _, _, _, _, _, _, _ = primary_ray(
+                    arrays, tiles, camera, px + 0.5, py + 0.5, tile
+                )
+                index[p], t[p] = hit, t_hit
     if not shaded:
         return
     if lights.shadows:  # shadow rays start off the surface by OFFSET_FACTOR x error x |n|, and
         # |n| < 2 but for a sphere smaller than its own rounding
         pad = 2.0 * OFFSET_FACTOR * error
         shadow_lists(arrays, tree, lights, stack, box, pad, volume, candidates, counts)
-    for q in range(count):
-        p, _, _ = job_pixel(q, points, first, top, left, across, width, xs, ys)
-        r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
-        for sample in range(samples):
-            i = q * samples + sample
-            r, g, b = found[i, 1], found[i, 2], found[i, 3]
-            if made[i]:
-                r, g, b = shade_ray(
-                    arrays, tree, lights, stack, rays[i, 0], rays[i, 1], rays[i, 2],
-                    rays[i, 3], rays[i, 4], rays[i, 5], hits[i], found[i, 0], r, g, b,
-                    candidates, counts,
-                )  # fmt: skip
-            r_sum += r
-            g_sum += g
-            b_sum += b
-        rgb[p, 0] = r_sum / samples
-        rgb[p, 1] = g_sum / samples
-        rgb[p, 2] = b_sum / samples
+    for down in range(rows):
+        for along in range(across):
+            q = down * across + along
+            p, _, _ = job_pixel(down, along, points, first, top, left, across, width, xs, ys)
+            r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
+            for sample in range(samples):
+                i = q * samples + sample
+                r, g, b = found[i, 1], found[i, 2], found[i, 3]
+                if made[i]:
+                    r, g, b = shade_ray(
+                        arrays, tree, lights, stack, rays[i, 0], rays[i, 1], rays[i, 2],
+                        rays[i, 3], rays[i, 4], rays[i, 5], hits[i], found[i, 0], r, g, b,
+                        candidates, counts,
+                    )  # fmt: skip
+                r_sum += r
+                g_sum += g
+                b_sum += b
+            rgb[p, 0] = r_sum / samples
+            rgb[p, 1] = g_sum / samples
+            rgb[p, 2] = b_sum / samples
 
 
 def camera_tuple(scene: Scene) -> tuple:
