@@ -44,6 +44,19 @@ def median_time(function, repeats: int):
     return result, statistics.median(times)
 
 
+def interleaved_medians(calls: dict, repeats: int) -> dict:
+    """The median wall time in seconds of each of ``calls`` (key: function), taken in turns:
+    each round calls every function once, so a burst of load from the machine's neighbours
+    falls on all of them alike, and their ratios hold better than their times."""
+    times: dict = {key: [] for key in calls}
+    for _ in range(repeats):
+        for key, function in calls.items():
+            start = time.perf_counter()
+            function()
+            times[key].append(time.perf_counter() - start)
+    return {key: statistics.median(values) for key, values in times.items()}
+
+
 def loglog_plot(
     path: Path, series: dict[str, tuple[list, list, str]], xlabel: str, ylabel: str
 ) -> None:

@@ -35,7 +35,14 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-from common import arguments, bar_plot, median_time, parse, seconds  # noqa: E402
+from common import (  # noqa: E402
+    arguments,
+    bar_plot,
+    interleaved_medians,
+    median_time,
+    parse,
+    seconds,
+)
 
 from raykit.engine import choice  # noqa: E402
 from raykit.io.scene_json import load_scene  # noqa: E402
@@ -83,20 +90,22 @@ def main() -> None:
         print('numba is not installed (pip install -e ".[fast]"): the numpy engine alone.\n')
     scenes = benchmark_scenes(args.quick)
 
-    print("1. render medians in one process, kernels loaded first\n")
+    print("1. render medians in one process, kernels loaded first, each engine's scenes in turns\n")
     print(
         "| scene | pixels | lit | numpy | compiled | numpy / compiled | / compiled flat classic |"
     )
     print("|---|---|---|---|---|---|---|")
-    times: dict[str, dict[str, float]] = {}
+    times: dict[str, dict[str, float]] = {name: {} for name in scenes}
+    for engine in engines:  # one engine at a time (the other's renders would cool its caches)
+        calls = {
+            name: lambda s=scene, e=engine: render(s, engine=e) for name, scene in scenes.items()
+        }
+        for call in calls.values():
+            call()  # warm-up: loads (or compiles) the kernels
+        for name, took in interleaved_medians(calls, args.repeats).items():
+            times[name][engine] = took
     per_ray = {"flat": [], "lit": []}
     for name, scene in scenes.items():
-        times[name] = {}
-        for engine in engines:
-            render(scene, engine=engine)  # warm-up: loads (or compiles) the kernels
-            times[name][engine] = median_time(
-                lambda s=scene, e=engine: render(s, engine=e), args.repeats
-            )[1]
         pixels = scene.camera.width * scene.camera.height
         lit = needs_shading(scene)
         per_ray["lit" if lit else "flat"].append(times[name]["numpy"] / pixels)
