@@ -56,11 +56,31 @@ def delete_field(path: str):
     return mutate
 
 
-def shifted_scene(scene: dict, offset) -> dict:
-    """A copy of scene data with every point (eye, lookat, centres, corners, point lights)
-    moved by ``offset (3,)``: the same picture, far from the origin."""
-    scene = json.loads(json.dumps(scene))
+def shifted_scene(scene, offset):
+    """A copy of a scene, as data (dict) or as a :class:`raykit.scene.Scene`, with every point
+    (eye, lookat, centres, corners, point lights) moved by ``offset (3,)``: the same picture,
+    far from the origin."""
     offset = np.asarray(offset, float)
+    if not isinstance(scene, dict):
+        from dataclasses import replace
+
+        from raykit.lights import PointLight
+
+        def moved(thing, *fields):
+            return replace(thing, **{f: getattr(thing, f) + offset for f in fields})
+
+        corners = ("upper_left", "lower_left", "upper_right")
+        return replace(
+            scene,
+            camera=moved(scene.camera, "eye", "lookat"),
+            spheres=tuple(moved(sphere, "center") for sphere in scene.spheres),
+            billboards=tuple(moved(board, *corners) for board in scene.billboards),
+            lights=tuple(
+                moved(light, "position") if isinstance(light, PointLight) else light
+                for light in scene.lights
+            ),
+        )
+    scene = json.loads(json.dumps(scene))
 
     def move(point):
         return (np.asarray(point) + offset).tolist()

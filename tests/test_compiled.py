@@ -253,7 +253,9 @@ def test_bvh_caster_answers_what_cast_answers_with_ties_and_holes(objects):
 def _shade(arrays, tree, lights, origins, directions, index, t, color):
     out = np.empty((len(origins), 3))
     stack = compiled.new_stack()
-    candidates, counts = compiled.no_candidates(lights)
+    # no shadow lists: every light's rays walk the tree (count -1)
+    candidates = np.empty((len(lights.point), 0), dtype=np.int64)
+    counts = np.full(len(lights.point), -1, dtype=np.int64)
     for i in range(len(origins)):
         o, d, c = origins[i], directions[i], color[i]
         out[i, 0], out[i, 1], out[i, 2] = compiled.shade_ray(
@@ -306,26 +308,6 @@ def test_shading_kernel_repeats_shade_bit_for_bit_with_the_same_pow():
     assert (hits.index >= 0).mean() > 0.3
     reference = shading.shade(scene, secondary_caster(scene), origins, directions, hits)
     np.testing.assert_allclose(got, reference, rtol=4 * EPS, atol=0)
-
-
-def _moved(scene, offset):
-    """The same scene moved by ``offset (3,)``: spheres, billboards, camera and point lights."""
-    offset = np.asarray(offset, float)
-    boards = tuple(
-        replace(b, upper_left=b.upper_left + offset, lower_left=b.lower_left + offset,
-                upper_right=b.upper_right + offset)
-        for b in scene.billboards
-    )  # fmt: skip
-    lights = tuple(
-        replace(light, position=light.position + offset) if isinstance(light, PointLight)
-        else light
-        for light in scene.lights
-    )  # fmt: skip
-    camera = replace(
-        scene.camera, eye=scene.camera.eye + offset, lookat=scene.camera.lookat + offset
-    )
-    spheres = tuple(replace(sphere, center=sphere.center + offset) for sphere in scene.spheres)
-    return replace(scene, camera=camera, spheres=spheres, billboards=boards, lights=lights)
 
 
 def _awkward_lights(rng, scene):
@@ -400,7 +382,7 @@ def _grazing_tiles(rng, scene, lights, tiles, count):
 def test_shadow_lists_give_every_surface_point_the_colour_the_tree_walk_gives(offset):
     rng = np.random.default_rng(77)
     crowd = _lit_crowd(rng, 60)
-    scene = _moved(replace(crowd, lights=_awkward_lights(rng, crowd)), [offset] * 3)
+    scene = shifted_scene(replace(crowd, lights=_awkward_lights(rng, crowd)), [offset] * 3)
     arrays, lights = compiled.scene_arrays(scene), compiled.scene_lights(scene)
     tiles, count = 1600, 64  # 102,400 points, four shadow rays each
     p = _grazing_tiles(rng, scene, scene.lights, tiles, count)
@@ -426,7 +408,7 @@ def test_shadow_lists_give_every_surface_point_the_colour_the_tree_walk_gives(of
 def test_lit_crowds_with_awkward_lights_render_the_same_with_both_engines(samples, offset):
     rng = np.random.default_rng(int(samples + offset % 97))
     crowd = _lit_crowd(rng, 30)
-    scene = _moved(replace(crowd, lights=_awkward_lights(rng, crowd)), [offset] * 3)
+    scene = shifted_scene(replace(crowd, lights=_awkward_lights(rng, crowd)), [offset] * 3)
     _same_render(scene, samples=samples)
 
 

@@ -68,8 +68,7 @@ from raykit.scene import Scene
 from raykit.shading import casts_shadows, needs_shading
 from raykit.surfaces import OFFSET_FACTOR
 
-# the first compile on the 2-core machine (benchmarks/engines.py): 50-60 s on some days, 95-130 s
-# on others, for this source and the one before it alike
+# the first compile (benchmarks/engines.py): 56 s in one run, 126 s in the next
 COMPILE_SECONDS = 120
 EPS = float(np.finfo(np.float64).eps)  # the rounding unit of raykit.surfaces' error bound
 STACK = 128  # nodes a ray may have still to visit: a median-split tree of 2^63 objects is 63 deep
@@ -545,7 +544,7 @@ def shade_ray(
     point (:func:`raykit.surfaces.surface_points`), its colour (:func:`surface_color`), and
     mirror rays (:func:`raykit.mirrors.reflect`, started off the surface) up to max_depth. The
     first surface's shadow rays may take their objects from ``candidates``, ``counts``
-    (:func:`shadow_candidates`, or :func:`no_candidates`); a mirror's walk the tree."""
+    (:func:`shadow_lists`; a count of -1: walk the tree); a mirror's walk the tree."""
     c0, c1, c2 = 0.0, 0.0, 0.0
     w0, w1, w2 = 1.0, 1.0, 1.0  # what one unit of light along the ray adds to the pixel
     spheres = len(arrays.radii)
@@ -832,12 +831,6 @@ def shadow_lists(arrays, tree, lights, stack, box, pad, volume, candidates, coun
     for j in range(len(counts)):
         shadow_volume(lights, j, box, pad, scale, volume)
         counts[j] = shadow_candidates(arrays, tree, volume, nodes, candidates, j)
-
-
-@njit(**_one_ray)
-def no_candidates(lights):
-    """For :func:`shade_ray` where no shadow lists are made: every light's rays walk the tree."""
-    return np.empty((len(lights.point), 0), dtype=np.int64), np.full(len(lights.point), -1)
 
 
 # ---- the loops: many rays, both cores --------------------------------------------------------
