@@ -15,8 +15,8 @@
    auto against the better of the other two.
 
 With ``--tile-sides``, instead: the compiled engine's render of each prepared scene (sphereflakes
-5 and 6 too) with tiles of 2 to 32 pixels a side, and the side raykit.engine.compiled.tile_side
-chooses.
+5 and 6 too) with tiles of 2 to 16 pixels a side whose rays go one at a time, and of 4 to 32
+whose rays go in packets, and the choice raykit.engine.compiled.tile_side makes.
 
 Needs numba (`pip install -e ".[fast]"`); without it, says so and times the numpy engine only.
 """
@@ -39,7 +39,6 @@ from common import (  # noqa: E402
     arguments,
     bar_plot,
     interleaved_medians,
-    median_time,
     parse,
     seconds,
 )
@@ -189,20 +188,29 @@ def tile_sides(args) -> None:
     scenes = benchmark_scenes(args.quick)
     if not args.quick:
         scenes |= {"sphereflake 5": sphereflake(5), "sphereflake 6": sphereflake(6)}
-    sides = (2, 4, 8, 16, 32)
-    print("compiled render of the prepared scene, median; * marks the side tile_side chooses\n")
-    print("| scene | " + " | ".join(f"{side} px" for side in sides) + " |")
-    print("|---|" + "---|" * len(sides))
+    choices = [(side, False) for side in (2, 4, 8, 16)] + [(side, True) for side in (4, 8, 16, 32)]
+    print("compiled render of the prepared scene, median; * marks tile_side's choice\n")
+    print(
+        "| scene | "
+        + " | ".join(f"{side} px{', packets' if packets else ''}" for side, packets in choices)
+        + " |"
+    )
+    print("|---|" + "---|" * len(choices))
     for name, scene in scenes.items():
         prepared = compiled.prepare(scene)
-        cells = []
-        for side in sides:
-            tiles = compiled.screen_tiles(scene, prepared.arrays, side)
-            with_side = prepared._replace(tiles=tiles)
-            compiled.render(with_side)  # warm-up
-            took = median_time(lambda p=with_side: compiled.render(p), args.repeats)[1]
-            mark = "*" if side == prepared.tiles.size else ""
-            cells.append(f"{seconds(took, 1)}{mark}")
+        chosen = (prepared.tiles.size, prepared.tiles.packets)
+        with_tiles = {
+            choice: prepared._replace(tiles=compiled.screen_tiles(scene, prepared.arrays, *choice))
+            for choice in choices
+        }
+        for each in with_tiles.values():
+            compiled.render(each)  # warm-up
+        # in turns, so that a burst of load from the machine's neighbours falls on every choice
+        took = interleaved_medians(
+            {choice: (lambda p=each: compiled.render(p)) for choice, each in with_tiles.items()},
+            args.repeats,
+        )
+        cells = [seconds(took[choice], 1) + ("*" if choice == chosen else "") for choice in choices]
         print(f"| {name} | " + " | ".join(cells) + " |")
 
 

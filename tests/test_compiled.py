@@ -491,6 +491,72 @@ def test_far_tiny_sphere_and_a_scene_at_1e6_render_the_same_with_both_engines():
     _same_render(replace(moved, camera=replace(moved.camera, width=120, height=90)))
 
 
+# every way of casting the viewing rays: tiles of each side, their rays in packets or one at a
+# time (raykit.engine.compiled.tile_side picks one per scene); 4-pixel packets are too small to
+# fill the vector loop, so they take its one-lane remainder, and 32 pixels its full vectors
+TILINGS = [(4, False), (8, False), (4, True), (8, True), (16, True), (32, True)]
+
+
+def _packet_scenes():
+    rng = np.random.default_rng(7)
+    data = json.loads((SCENES / "classic_lit.json").read_text())
+    data.pop("$schema", None)
+    moved = scene_from_dict(shifted_scene(data, [1e6, 1e6, 1e6]), folder=SCENES)
+    small = lambda scene: replace(scene, camera=replace(scene.camera, width=70, height=45))  # noqa: E731
+    return {
+        "cutouts": small(load_scene(SCENES / "cutouts.json")),  # texels and holes
+        "orthographic": small(load_scene(SCENES / "orthographic.json")),
+        "classic_lit_at_1e6": small(moved),  # shaded, with shadow lists
+        "crowd_with_ties": _crowd(rng, 200),
+    }
+
+
+@pytest.mark.parametrize("samples", [1, 2])
+@pytest.mark.parametrize(
+    "name", ["cutouts", "orthographic", "classic_lit_at_1e6", "crowd_with_ties"]
+)
+def test_packets_and_rays_one_at_a_time_render_what_the_numpy_engine_renders(name, samples):
+    scene = _packet_scenes()[name]
+    with _libm_power():
+        reference = render(scene, engine="numpy", samples=samples)
+    prepared = compiled.prepare(scene)
+    for side, packets in TILINGS:
+        tiles = compiled.screen_tiles(scene, prepared.arrays, side, packets)
+        assert (tiles.size, tiles.packets) == (side, packets)
+        reversed_ties = _ties_reversed(tiles)
+        if name == "crowd_with_ties":  # its repeated spheres are listed the other way round
+            assert not np.array_equal(reversed_ties.objects, tiles.objects)
+        for listed in (tiles, reversed_ties):
+            rgb, index, t = compiled.render(prepared._replace(tiles=listed), samples)
+            assert np.array_equal(index, reference.object_index), (side, packets)
+            _exactly(t, reference.t)
+            _exactly(rgb, reference.rgb)
+
+
+def _ties_reversed(tiles):
+    """The same tiles, with each tile's objects at the same closest t listed higher index
+    first: the answer must not depend on it (a tie keeps the lower index, whatever the order)."""
+    objects, entries = tiles.objects.copy(), tiles.entries.copy()
+    for k in range(len(tiles.start) - 1):
+        span = slice(tiles.start[k], tiles.start[k + 1])
+        order = np.lexsort((-objects[span], entries[span, 4]))
+        objects[span], entries[span] = objects[span][order], entries[span][order]
+    return tiles._replace(objects=objects, entries=entries)
+
+
+def test_tile_side_sends_rays_in_packets_unless_the_picture_is_crowded():
+    classic = load_scene(SCENES / "classic.json")
+    assert compiled.prepare(classic).tiles[-2:] == (compiled.WIDE_SIDE, True)
+    width = height = 64
+    rng = np.random.default_rng(3)
+    corners = rng.uniform(0, 48, size=(800, 2))  # 800 squares 16 pixels wide on 64 x 64
+    bounds = np.column_stack([corners[:, 0], corners[:, 0] + 16, corners[:, 1], corners[:, 1] + 16])
+    assert compiled.tile_side(bounds, width, height) == (compiled.CROWDED_SIDE, False)
+    few = bounds[:160] / 4  # 160 squares 4 pixels wide: 10 to a 16-pixel tile, 4 to an 8
+    assert compiled.tile_side(few, width, height) == (compiled.PACKET_SIDE, True)
+    assert compiled.tile_side(few[:40], width, height) == (compiled.WIDE_SIDE, True)
+
+
 # ---- the engine choice -----------------------------------------------------------------------
 
 

@@ -1,4 +1,4 @@
-"""The compiled engine: the renderer's loop as machine code (numba), one ray at a time.
+"""The compiled engine: the renderer's loop as machine code (numba), ray by ray or in packets.
 
 Install with ``pip install "raykit[fast]"``; :func:`raykit.render.render` takes it with
 ``engine="compiled"``, or by itself for large renders (``engine="auto"``,
@@ -12,21 +12,22 @@ seeded random rays per kernel, the stability cases, and the PNG bytes of every e
 Dot products are summed left to right with no fused multiply-add, as :func:`raykit.rays.dot`
 sums them (numba, like numpy, contracts a·b + c into an FMA only under fastmath, which is off).
 
-What it skips. Primary rays: the image is cut into square tiles (8 pixels a side, 4 in a
-crowded picture: :func:`tile_side`), and each tile keeps the objects whose screen rectangle
+What it skips. Primary rays: the image is cut into square tiles (:func:`tile_side`: 16 or 8
+pixels a side, 4 in a crowded picture), and each tile keeps the objects whose screen rectangle
 (:mod:`raykit.engine.screen_bounds`) meets it, nearest first (:func:`screen_tiles`). A tile no
-object is seen in gets the background and no ray; elsewhere a viewing ray is made only if some
-rectangle holds its image point, tests only those objects, and stops at the first that cannot
-come nearer than the hit it has. Shadow rays from what a tile sees test only the objects that
-may lie between it and each light: the tile's viewing rays are all traced first, then each
-light's volume of shadow rays from the box of their surface points picks its candidates from
-the scene (:func:`shadow_lists`; with too many, the rays walk the tree). Other shadow rays and
-mirror rays walk a bounding volume hierarchy (the tree of :mod:`raykit.engine.bvh`, built by
-the same code), nearer child first, leaving every box that starts beyond the nearest hit found;
-a shadow ray stops at its first blocker. Either way a tie keeps the lower object index, whatever
-order objects come in, and a cut-out texel is no hit: the answer is
-:func:`raykit.render.cast`'s. All of it is made once per scene by
-:func:`prepare`, which a caller may keep and render many times.
+object is seen in gets the background and no ray; elsewhere a viewing ray tests only the
+objects whose rectangle holds its image point, and stops at the first that cannot come nearer
+than the hit it has: one ray at a time in a crowded picture, else a whole tile's rays at once,
+in vectors, with masks for what each ray would skip (:func:`primary_rays`). Shadow rays from
+what a tile sees test only the objects that may lie between it and each light: the tile's
+viewing rays are all traced first, then each light's volume of shadow rays from the box of
+their surface points picks its candidates from the scene (:func:`shadow_lists`; with too many,
+the rays walk the tree). Other shadow rays and mirror rays walk a bounding volume hierarchy
+(the tree of :mod:`raykit.engine.bvh`, built by the same code), nearer child first, leaving
+every box that starts beyond the nearest hit found; a shadow ray stops at its first blocker.
+Either way a tie keeps the lower object index, whatever order objects come in, and a cut-out
+texel is no hit: the answer is :func:`raykit.render.cast`'s. All of it is made once per scene
+by :func:`prepare`, which a caller may keep and render many times.
 
 Lit scenes. :func:`shade_ray` and :func:`surface_color` repeat :mod:`raykit.shading` for one
 ray: ambient, Lambert and Blinn-Phong per light, shadow rays (:mod:`raykit.shadows`, through the
@@ -72,7 +73,6 @@ from raykit.surfaces import OFFSET_FACTOR
 COMPILE_SECONDS = 120
 EPS = float(np.finfo(np.float64).eps)  # the rounding unit of raykit.surfaces' error bound
 STACK = 128  # nodes a ray may have still to visit: a median-split tree of 2^63 objects is 63 deep
-TILE = 8  # pixels a side of the tiles that primary rays take their objects from (tile_side)
 ROWS_PER_CALL = 32  # rows of pixels per kernel call when a progress bar is to move
 
 
@@ -446,22 +446,21 @@ def new_stack():
 @njit(**_one_ray)
 def viewing_ray(camera, x, y):
     """Repeats :func:`raykit.camera.rays_through` for one image point (x, y): ``(o0, o1, o2,
-    d0, d1, d2)``. ``camera`` is (eye (3,), u, v, w, (-Wp/2, Wp/width, Hp/2, Hp/height, d,
-    orthographic)): :func:`camera_tuple`."""
-    eye, u, v, w, plane = camera
-    s = plane[0] + x * plane[1]
-    t = plane[2] - y * plane[3]
-    p0 = s * u[0] + t * v[0]
-    p1 = s * u[1] + t * v[1]
-    p2 = s * u[2] + t * v[2]
-    if plane[5] != 0:  # orthographic: origin eye + s·u + t·v, direction -w
-        return eye[0] + p0, eye[1] + p1, eye[2] + p2, -w[0], -w[1], -w[2]
-    d = plane[4]
-    x0 = p0 - d * w[0]
-    x1 = p1 - d * w[1]
-    x2 = p2 - d * w[2]
+    d0, d1, d2)``. ``camera`` is the eye e, u, v, w, then -Wp/2, Wp/width, Hp/2, Hp/height, d
+    and whether it is orthographic (1.0) or not (0.0), as 18 numbers: :func:`camera_tuple`."""
+    e0, e1, e2, u0, u1, u2, v0, v1, v2, w0, w1, w2, left, across, top, down, d, ortho = camera
+    s = left + x * across
+    t = top - y * down
+    p0 = s * u0 + t * v0
+    p1 = s * u1 + t * v1
+    p2 = s * u2 + t * v2
+    if ortho != 0:  # orthographic: origin e + s·u + t·v, direction -w
+        return e0 + p0, e1 + p1, e2 + p2, -w0, -w1, -w2
+    x0 = p0 - d * w0
+    x1 = p1 - d * w1
+    x2 = p2 - d * w2
     length = math.sqrt(x0 * x0 + x1 * x1 + x2 * x2)
-    return eye[0], eye[1], eye[2], x0 / length, x1 / length, x2 / length
+    return e0, e1, e2, x0 / length, x1 / length, x2 / length
 
 
 @njit(**_one_ray)
@@ -628,13 +627,14 @@ class Tiles(NamedTuple):
     """The primary rays' skip (:func:`screen_tiles`): tile k (``size`` x ``size`` pixels,
     ``tiles_x`` to a row) lists the objects ``objects[start[k]:start[k + 1]]``, nearest first,
     each with its screen rectangle and closest t in ``entries (E, 5)``: (x0, x1, y0, y1,
-    closest)."""
+    closest); a tile's rays go in ``packets`` (:func:`primary_rays`) or one at a time."""
 
     start: np.ndarray
     objects: np.ndarray
     entries: np.ndarray
     tiles_x: int
     size: int
+    packets: bool
 
 
 @njit(**_one_ray)
@@ -665,6 +665,75 @@ def primary_ray(arrays, tiles, camera, x, y, tile):
                 arrays, objects[k], o0, o1, o2, d0, d1, d2, best, best_t, r, g, b
             )
     return made, best, best_t, r, g, b, o0, o1, o2, d0, d1, d2
+
+
+@njit(**_one_ray)
+def primary_rays(arrays, tiles, camera, tile, n, xy, rays, best, best_t, colors, made, alive, ts):
+    """:func:`primary_ray` for the ``n`` image points of ``lanes`` at once, all in ``tile``: a
+    packet of rays, each a lane of arrays (as :func:`trace` makes them: points ``xy (2, L)`` in,
+    ``rays (6, L)``, ``best (L,)``, ``best_t``, ``colors (3, L)``, ``made`` out; ``alive``,
+    ``ts`` room). The tile's objects are taken in turn, and each is tested against
+    every lane with one loop of :func:`hit_sphere` that the compiler turns into vector
+    instructions (8 lanes at a time); masks then keep, for each lane, only what
+    :func:`primary_ray` would: a lane whose rectangle does not hold its point, or that has
+    stopped (its next object can only be farther than its hit), takes nothing from the test.
+    So each lane offers the same objects in the same order as :func:`primary_ray` and gets the
+    same bits; the other lanes' answers are computed and thrown away, which costs less than a
+    branch per ray when the tile's list is short. Billboards are offered lane by lane.
+    Every lane's ray is made (a lane that no rectangle holds is not ``made``, as in
+    :func:`primary_ray`, and its ray is not used)."""
+    background = arrays.background
+    for i in range(n):
+        rays[0, i], rays[1, i], rays[2, i], rays[3, i], rays[4, i], rays[5, i] = viewing_ray(
+            camera, xy[0, i], xy[1, i]
+        )
+    for i in range(n):
+        best[i], best_t[i] = -1, np.inf
+        colors[0, i], colors[1, i], colors[2, i] = background[0], background[1], background[2]
+        alive[i], made[i] = True, False
+    spheres = len(arrays.radii)
+    entries, objects = tiles.entries, tiles.objects
+    centers, radii, sphere_colors = arrays.centers, arrays.radii, arrays.sphere_colors
+    for k in range(tiles.start[tile], tiles.start[tile + 1]):
+        closest = entries[k, 4]
+        x0, x1, y0, y1 = entries[k, 0], entries[k, 1], entries[k, 2], entries[k, 3]
+        obj = objects[k]
+        alive_lanes = 0
+        if obj < spheres:
+            c0, c1, c2, R = centers[obj, 0], centers[obj, 1], centers[obj, 2], radii[obj]
+            r, g, b = sphere_colors[obj, 0], sphere_colors[obj, 1], sphere_colors[obj, 2]
+            for i in range(n):  # the vector loop: it writes one array only
+                ts[i] = hit_sphere(
+                    rays[0, i], rays[1, i], rays[2, i], rays[3, i], rays[4, i], rays[5, i],
+                    c0, c1, c2, R,
+                )  # fmt: skip
+            for i in range(n):  # offer's rule, with masks
+                nearest = best_t[i]
+                still = alive[i] & (closest <= nearest)
+                x, y = xy[0, i], xy[1, i]
+                holds = still & (x0 <= x) & (x <= x1) & (y0 <= y) & (y <= y1)
+                t = ts[i]
+                nearer = holds & ((t < nearest) | ((t == nearest) & (t < np.inf) & (obj < best[i])))
+                if nearer:
+                    best[i], best_t[i] = obj, t
+                    colors[0, i], colors[1, i], colors[2, i] = r, g, b
+                made[i] = made[i] | holds
+                alive[i] = still
+                alive_lanes += still
+        else:
+            for i in range(n):
+                still = alive[i] and closest <= best_t[i]
+                alive[i] = still
+                alive_lanes += still
+                x, y = xy[0, i], xy[1, i]
+                if still and x0 <= x and x <= x1 and y0 <= y and y <= y1:
+                    made[i] = True
+                    best[i], best_t[i], colors[0, i], colors[1, i], colors[2, i] = offer(
+                        arrays, obj, rays[0, i], rays[1, i], rays[2, i], rays[3, i], rays[4, i],
+                        rays[5, i], best[i], best_t[i], colors[0, i], colors[1, i], colors[2, i],
+                    )  # fmt: skip
+        if alive_lanes == 0:
+            break
 
 
 # ---- shadow rays' skip: each tile's objects that may cast a shadow on what it sees -------------
@@ -871,11 +940,11 @@ def job_pixel(down, along, points, first, top, left, across, width, xs, ys):
 def trace(arrays, tiles, tree, lights, camera, width, height, jobs, workers, xs, ys, offsets,
           centre, empty, rgb, index, t):  # fmt: skip
     """The lecture's loop: for each pixel, per sample offset ``offsets (S, 2)`` in order, the
-    viewing ray and its nearest hit (:func:`primary_ray`), and its colour, flat or shaded
-    (:func:`shade_ray`), summed and divided by S as :class:`raykit.engine.regions.Image` takes
-    the mean; and the object index and t of the ray through the pixel centre, which is sample
-    ``centre`` (-1: cast one more ray there). Results go to ``rgb (P, 3)``, ``index``, ``t
-    (P,)``. Which pixels, either way:
+    viewing ray and its nearest hit (:func:`primary_ray`, or a packet of them:
+    :func:`primary_rays`), and its colour, flat or shaded (:func:`shade_ray`), summed and
+    divided by S as :class:`raykit.engine.regions.Image` takes the mean; and the object index
+    and t of the ray through the pixel centre, which is sample ``centre`` (-1: cast one more
+    ray there). Results go to ``rgb (P, 3)``, ``index``, ``t (P,)``. Which pixels, either way:
 
     * whole tiles (``xs`` empty): ``jobs (J,)`` are tile numbers (:func:`screen_tiles`), and
       their pixels are the image's, row by row (P = ``height`` x ``width``) with their upper-left
@@ -884,9 +953,9 @@ def trace(arrays, tiles, tree, lights, camera, width, height, jobs, workers, xs,
       :func:`_mean_of_samples`), index -1 and t = inf, and no ray;
     * points (``xs``, ``ys (P,)``, the upper-left corners): ``jobs`` are CHUNKs of them.
 
-    Each job runs on one core, whole (so does a tile's list of objects). In a lit scene a job
-    finds all its viewing rays' hits first, then each light's :func:`shadow_lists` for the box
-    they lie in, then shades them."""
+    Each job runs on one core, whole (so does a tile's list of objects): it finds all its
+    viewing rays' hits first, then in a lit scene each light's :func:`shadow_lists` for the box
+    they lie in, then the colours."""
     start, tiles_x, size = tiles.start, tiles.tiles_x, tiles.size
     points = len(xs)
     samples = len(offsets)
@@ -895,14 +964,18 @@ def trace(arrays, tiles, tree, lights, camera, width, height, jobs, workers, xs,
     # job's rays (making it for each job cost more than a small tile's rays), takes a block of
     # the jobs, as prange would deal them
     for worker in prange(workers):
-        kept = (CHUNK if points else size * size) * samples if lights.shaded else 0
+        n = (CHUNK if points else size * size) * (samples + 1)  # rays a job may cast
         lists = len(lights.point) if lights.shadows else 0
         room = (
             new_stack(),
-            np.empty((kept, 6)),  # each sample's viewing ray, to shade once all are found
-            np.empty((kept, 4)),  # and its hit's t, r, g, b
-            np.empty(kept, dtype=np.int64),  # object index
-            np.empty(kept, dtype=np.bool_),  # whether the ray was made (primary_ray)
+            np.empty((2, n)),  # each ray's image point
+            np.empty((6, n)),  # its origin and direction
+            np.empty(n, dtype=np.int64),  # its hit's object index
+            np.empty(n),  # t
+            np.empty((3, n)),  # colour
+            np.empty(n, dtype=np.bool_),  # whether the ray was made (primary_ray)
+            np.empty(n, dtype=np.bool_),  # room for primary_rays
+            np.empty(n),
             np.empty((2, 3)),  # the box of the surface points (shadow_lists)
             np.empty((lists, SHADOW_CANDIDATES), dtype=np.int64),
             np.full(len(lights.point), -1, dtype=np.int64),  # without lists: walk the tree
@@ -938,57 +1011,87 @@ def trace(arrays, tiles, tree, lights, camera, width, height, jobs, workers, xs,
 def trace_job(arrays, tiles, tree, lights, camera, width, xs, ys, offsets, centre, rgb, index, t,
               first, rows, top, left, across, tile, room):  # fmt: skip
     """One job of :func:`trace`: its ``rows`` x ``across`` pixels (:func:`job_pixel`), all in
-    ``tile`` (-1: points, each in its own), with the worker's ``room`` for the rays of a lit
-    scene, as :func:`trace` makes it."""
-    stack, rays, found, hits, made, box, candidates, counts, volume = room
+    ``tile`` (-1: points, each in its own), with the worker's ``room`` for its rays, as
+    :func:`trace` makes it. Ray i is sample i % S of the job's pixel i // S; the rays through
+    the pixel centres, if cast apart (``centre`` -1), come after all those."""
+    stack, xy, rays, best, best_t, colors, made, alive, ts, box, candidates, counts, volume = room
     points = len(xs)
     samples = len(offsets)
-    shaded = lights.shaded
-    box[0, :], box[1, :] = np.inf, -np.inf
-    error = 0.0
-    for down in range(rows):
-        for along in range(across):
-            q = down * across + along
-            p, px, py = job_pixel(down, along, points, first, top, left, across, width, xs, ys)
-            r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
-            for sample in range(samples):  # offsets in [0, 1): the point stays in its tile
-                x, y = px + offsets[sample, 0], py + offsets[sample, 1]
-                ray_made, hit, t_hit, r, g, b, o0, o1, o2, d0, d1, d2 = primary_ray(
-                    arrays, tiles, camera, x, y, tile
-                )
-                if sample == centre:
-                    index[p], t[p] = hit, t_hit
-                if not shaded:
+    pixels = rows * across
+    if not lights.shaded and (tile < 0 or not tiles.packets):
+        # one ray at a time and nothing to shade: each colour goes straight into its pixel's
+        # sum (keeping every ray to sum later cost a crowded picture a fifth more)
+        for down in range(rows):
+            for along in range(across):
+                p, px, py = job_pixel(down, along, points, first, top, left, across, width, xs, ys)
+                r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
+                for sample in range(samples):
+                    x, y = px + offsets[sample, 0], py + offsets[sample, 1]
+                    _, hit, t_hit, r, g, b, _, _, _, _, _, _ = primary_ray(
+                        arrays, tiles, camera, x, y, tile
+                    )
+                    if sample == centre:
+                        index[p], t[p] = hit, t_hit
                     r_sum += r
                     g_sum += g
                     b_sum += b
-                    continue
-                i = q * samples + sample
-                made[i], hits[i] = ray_made, hit
-                rays[i, 0], rays[i, 1], rays[i, 2] = o0, o1, o2
-                rays[i, 3], rays[i, 4], rays[i, 5] = d0, d1, d2
-                found[i, 0], found[i, 1], found[i, 2], found[i, 3] = t_hit, r, g, b
-                if hit >= 0 and lights.shadows:  # the surface point, as shade_ray makes it
-                    p0, p1, p2 = o0 + t_hit * d0, o1 + t_hit * d1, o2 + t_hit * d2
-                    box[0, 0], box[1, 0] = min(box[0, 0], p0), max(box[1, 0], p0)
-                    box[0, 1], box[1, 1] = min(box[0, 1], p1), max(box[1, 1], p1)
-                    box[0, 2], box[1, 2] = min(box[0, 2], p2), max(box[1, 2], p2)
-                    error = max(error, EPS * (max(abs(o0), abs(o1), abs(o2)) + t_hit))
-            if not shaded:
                 rgb[p, 0] = r_sum / samples
                 rgb[p, 1] = g_sum / samples
                 rgb[p, 2] = b_sum / samples
-            if centre < 0:
-                _, hit, t_hit, _, _, _, _, _, _, _, _, _ = primary_ray(
-                    arrays, tiles, camera, px + 0.5, py + 0.5, tile
-                )
-                index[p], t[p] = hit, t_hit
-    if not shaded:
+                if centre < 0:
+                    _, hit, t_hit, _, _, _, _, _, _, _, _, _ = primary_ray(
+                        arrays, tiles, camera, px + 0.5, py + 0.5, tile
+                    )
+                    index[p], t[p] = hit, t_hit
         return
-    if lights.shadows:  # shadow rays start off the surface by OFFSET_FACTOR x error x |n|, and
-        # |n| < 2 but for a sphere smaller than its own rounding
-        pad = 2.0 * OFFSET_FACTOR * error
-        shadow_lists(arrays, tree, lights, stack, box, pad, volume, candidates, counts)
+    extra = 1 if centre < 0 else 0
+    n = pixels * (samples + extra)
+    for down in range(rows):
+        for along in range(across):
+            q = down * across + along
+            _, px, py = job_pixel(down, along, points, first, top, left, across, width, xs, ys)
+            for sample in range(samples):  # offsets in [0, 1): the point stays in its tile
+                i = q * samples + sample
+                xy[0, i], xy[1, i] = px + offsets[sample, 0], py + offsets[sample, 1]
+            if extra:
+                i = pixels * samples + q
+                xy[0, i], xy[1, i] = px + 0.5, py + 0.5
+    if tile >= 0 and tiles.packets:
+        primary_rays(
+            arrays, tiles, camera, tile, n, xy, rays, best, best_t, colors, made, alive, ts
+        )
+    else:
+        for i in range(n):
+            made[i], best[i], best_t[i], colors[0, i], colors[1, i], colors[2, i], rays[0, i], \
+                rays[1, i], rays[2, i], rays[3, i], rays[4, i], rays[5, i] = primary_ray(
+                    arrays, tiles, camera, xy[0, i], xy[1, i], tile
+                )  # fmt: skip
+    if lights.shaded:
+        if lights.shadows:
+            box[0, :], box[1, :] = np.inf, -np.inf
+            error = 0.0
+            for i in range(pixels * samples):
+                if best[i] < 0:
+                    continue
+                t_hit = best_t[i]  # the surface point, as shade_ray makes it
+                o0, o1, o2 = rays[0, i], rays[1, i], rays[2, i]
+                d0, d1, d2 = rays[3, i], rays[4, i], rays[5, i]
+                p0, p1, p2 = o0 + t_hit * d0, o1 + t_hit * d1, o2 + t_hit * d2
+                box[0, 0], box[1, 0] = min(box[0, 0], p0), max(box[1, 0], p0)
+                box[0, 1], box[1, 1] = min(box[0, 1], p1), max(box[1, 1], p1)
+                box[0, 2], box[1, 2] = min(box[0, 2], p2), max(box[1, 2], p2)
+                error = max(error, EPS * (max(abs(o0), abs(o1), abs(o2)) + t_hit))
+            # shadow rays start off the surface by OFFSET_FACTOR x error x |n|, and |n| < 2 but
+            # for a sphere smaller than its own rounding
+            pad = 2.0 * OFFSET_FACTOR * error
+            shadow_lists(arrays, tree, lights, stack, box, pad, volume, candidates, counts)
+        for i in range(pixels * samples):
+            if made[i]:
+                colors[0, i], colors[1, i], colors[2, i] = shade_ray(
+                    arrays, tree, lights, stack, rays[0, i], rays[1, i], rays[2, i],
+                    rays[3, i], rays[4, i], rays[5, i], best[i], best_t[i],
+                    colors[0, i], colors[1, i], colors[2, i], candidates, counts,
+                )  # fmt: skip
     for down in range(rows):
         for along in range(across):
             q = down * across + along
@@ -996,44 +1099,44 @@ def trace_job(arrays, tiles, tree, lights, camera, width, xs, ys, offsets, centr
             r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
             for sample in range(samples):
                 i = q * samples + sample
-                r, g, b = found[i, 1], found[i, 2], found[i, 3]
-                if made[i]:
-                    r, g, b = shade_ray(
-                        arrays, tree, lights, stack, rays[i, 0], rays[i, 1], rays[i, 2],
-                        rays[i, 3], rays[i, 4], rays[i, 5], hits[i], found[i, 0], r, g, b,
-                        candidates, counts,
-                    )  # fmt: skip
-                r_sum += r
-                g_sum += g
-                b_sum += b
+                r_sum += colors[0, i]
+                g_sum += colors[1, i]
+                b_sum += colors[2, i]
             rgb[p, 0] = r_sum / samples
             rgb[p, 1] = g_sum / samples
             rgb[p, 2] = b_sum / samples
+            i = pixels * samples + q if extra else q * samples + centre
+            index[p], t[p] = best[i], best_t[i]
 
 
 def camera_tuple(scene: Scene) -> tuple:
-    """The camera's numbers as :func:`rays_through` computes them (see :func:`viewing_ray`)."""
+    """The camera's numbers as :func:`rays_through` computes them, as plain floats (a tuple of
+    numbers, not arrays, so that a loop of :func:`viewing_ray` keeps them in registers)."""
     camera = scene.camera
     u, v, w = camera.frame
     Wp, Hp = camera.plane_size
-    plane = np.array(
-        [-Wp / 2, Wp / camera.width, Hp / 2, Hp / camera.height, camera.d,
-         float(camera.projection == "orthographic")]
-    )  # fmt: skip
-    eye = np.asarray(camera.eye, dtype=float)
-    return eye, *(np.asarray(x, dtype=float) for x in (u, v, w)), plane
+    plane = (-Wp / 2, Wp / camera.width, Hp / 2, Hp / camera.height, camera.d,
+             float(camera.projection == "orthographic"))  # fmt: skip
+    return tuple(float(x) for x in (*camera.eye, *u, *v, *w, *plane))
 
 
-def screen_tiles(scene: Scene, arrays: Arrays, size: int | None = None) -> Tiles:
+def screen_tiles(
+    scene: Scene, arrays: Arrays, size: int | None = None, packets: bool | None = None
+) -> Tiles:
     """The primary rays' skip: every object's screen rectangle
     (:func:`raykit.engine.screen_bounds.scene_bounds`, conservative), a lower bound on the t
     at which a viewing ray can meet it (``closest (K,)``: a sphere's distance from the eye less
     its radius, or in front of the image plane for orthographic rays, less a rounding margin; 0
     for a billboard), and each ``size`` x ``size`` tile's objects nearest first
-    (:func:`bin_by_tile`; the size by :func:`tile_side` if not given), as :class:`Tiles`."""
+    (:func:`bin_by_tile`), as :class:`Tiles`, whose rays go in ``packets``
+    (:func:`primary_rays`) or one at a time (:func:`primary_ray`). Not given, both are
+    :func:`tile_side`'s choice; a size given alone goes in packets from PACKET_SIDE up."""
     camera = scene.camera
     bounds = scene_bounds(camera, arrays.centers, arrays.radii, scene.billboards)
-    size = size or tile_side(bounds, camera.width, camera.height)
+    if size is None:
+        size, packets = tile_side(bounds, camera.width, camera.height)
+    elif packets is None:
+        packets = size >= PACKET_SIDE
     closest = np.zeros(scene.object_count)
     if scene.spheres:
         centers, radii = arrays.centers, arrays.radii
@@ -1048,27 +1151,40 @@ def screen_tiles(scene: Scene, arrays: Arrays, size: int | None = None) -> Tiles
     tiles_y = -(-camera.height // size)
     by_distance = np.argsort(closest, kind="stable")
     start, objects, entries = bin_by_tile(bounds, closest, by_distance, tiles_x, tiles_y, size)
-    return Tiles(start, objects, entries, tiles_x, size)
+    return Tiles(start, objects, entries, tiles_x, size, packets)
 
 
-CROWDED_OBJECTS = 4  # objects in an average TILE x TILE tile from which tiles are CROWDED_TILE
-CROWDED_TILE = 4  # pixels a side
+# which tiles primary rays take their objects from, and whether in packets (tile_side; timed by
+# python benchmarks/engines.py --tile-sides, docs/benchmarks/tile_sides.md):
+WIDE_SIDE = 16  # packets of 16 pixels a side where such tiles list on average
+SPARSE_OBJECTS = 4  # this many objects or fewer;
+PACKET_SIDE = 8  # else of 8 pixels a side (fewer than 64 rays fill too few vectors) where
+PACKET_OBJECTS = 12  # such tiles list this many or fewer;
+CROWDED_SIDE = 4  # else one ray at a time, in tiles of 4 pixels a side
 
 
-def tile_side(bounds: np.ndarray, width: int, height: int) -> int:
-    """TILE, or CROWDED_TILE when the objects' screen rectangles ``bounds (K, 4)`` would put
-    more than CROWDED_OBJECTS objects in an average TILE x TILE tile. A pixel tests every object
-    of its tile whose rectangle holds it, nearest first, so in a crowded picture smaller tiles
-    save more tests than their longer lists cost. ``python benchmarks/engines.py --tile-sides``
-    times sides of 2 to 32 pixels (docs/benchmarks/tile_sides.md): on the example scenes and
-    1,000 spheres, 8 and 16 are within the machine's noise of each other and of the best; on
-    sphereflakes 4 and 5, 4 and 8 are; on sphereflake 6 (600,000 spheres on 512 x 512 pixels) 4
-    beats 8 by a fifth and 16 by more than half."""
+def tile_side(bounds: np.ndarray, width: int, height: int) -> tuple[int, bool]:
+    """``(side, packets)`` for the objects' screen rectangles ``bounds (K, 4)`` on a ``width``
+    x ``height`` image. A packet (:func:`primary_rays`) tests each object of its tile against
+    all its rays, 8 to a vector instruction, where one ray at a time (:func:`primary_ray`)
+    tests only the objects whose rectangle holds the ray's point, with a branch each: packets
+    win while a tile's list is short, and the larger the packet the fewer tiles' overheads, as
+    long as the list stays short. So: WIDE_SIDE packets where those tiles list SPARSE_OBJECTS
+    or fewer on average, PACKET_SIDE packets where those list PACKET_OBJECTS or fewer, and
+    else one ray at a time in CROWDED_SIDE tiles. ``python benchmarks/engines.py
+    --tile-sides`` times each choice (docs/benchmarks/tile_sides.md)."""
     seen = bounds[~np.isnan(bounds).any(axis=1)]
-    across = np.floor(seen[:, 1] / TILE) - np.floor(seen[:, 0] / TILE) + 1
-    down = np.floor(seen[:, 3] / TILE) - np.floor(seen[:, 2] / TILE) + 1
-    tiles = -(-width // TILE) * -(-height // TILE)
-    return CROWDED_TILE if (across * down).sum() > CROWDED_OBJECTS * tiles else TILE
+
+    def listed(side: int) -> float:  # objects in an average tile of this side
+        across = np.floor(seen[:, 1] / side) - np.floor(seen[:, 0] / side) + 1
+        down = np.floor(seen[:, 3] / side) - np.floor(seen[:, 2] / side) + 1
+        return (across * down).sum() / (-(-width // side) * -(-height // side))
+
+    if listed(WIDE_SIDE) <= SPARSE_OBJECTS:
+        return WIDE_SIDE, True
+    if listed(PACKET_SIDE) <= PACKET_OBJECTS:
+        return PACKET_SIDE, True
+    return CROWDED_SIDE, False
 
 
 def caster(scene: Scene, arrays: Arrays | None = None) -> Callable[..., Hits]:
