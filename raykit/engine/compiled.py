@@ -674,7 +674,7 @@ def primary_rays(arrays, tiles, camera, tile, n, xy, rays, best, best_t, colors,
     ``rays (6, L)``, ``best (L,)``, ``best_t``, ``colors (3, L)``, ``made`` out; ``alive``,
     ``ts`` room). The tile's objects are taken in turn, and each is tested against
     every lane with one loop of :func:`hit_sphere` that the compiler turns into vector
-    instructions (8 lanes at a time); masks then keep, for each lane, only what
+    instructions (8 lanes at a time with AVX-512); masks then keep, for each lane, only what
     :func:`primary_ray` would: a lane whose rectangle does not hold its point, or that has
     stopped (its next object can only be farther than its hit), takes nothing from the test.
     So each lane offers the same objects in the same order as :func:`primary_ray` and gets the
@@ -1020,7 +1020,7 @@ def trace_job(arrays, tiles, tree, lights, camera, width, xs, ys, offsets, centr
     pixels = rows * across
     if not lights.shaded and (tile < 0 or not tiles.packets):
         # one ray at a time and nothing to shade: each colour goes straight into its pixel's
-        # sum (keeping every ray to sum later cost a crowded picture a fifth more)
+        # sum, and no ray is kept
         for down in range(rows):
             for along in range(across):
                 p, px, py = job_pixel(down, along, points, first, top, left, across, width, xs, ys)
