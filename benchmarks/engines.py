@@ -8,11 +8,11 @@
    raykit.engine.choice.NUMPY_SECONDS_PER_RAY estimates.
 2. What the compiled engine costs a process before it renders: importing numba and loading
    the cached kernels (whole processes rendering a tiny lit scene with 3 x 3 adaptive samples,
-   median, compiled against numpy), and one first compile into an empty cache.
+   median, compiled and numpy in turns), and one first compile into an empty cache.
    With 1., that gives the numpy render time from which the compiled engine wins, the
    threshold raykit.engine.choice.AUTO_FROM holds.
-3. Whole processes, `raykit render SCENE -o OUT.png --engine E` for numpy, compiled and auto:
-   auto against the better of the other two.
+3. Whole processes, `raykit render SCENE -o OUT.png --engine E` for numpy, compiled and auto,
+   taken in turns: auto against the better of the other two.
 
 With ``--tile-sides``, instead: the compiled engine's render of each prepared scene (sphereflakes
 5 and 6 too) with tiles of 2 to 16 pixels a side whose rays go one at a time, and of 4 to 32
@@ -60,19 +60,22 @@ def benchmark_scenes(quick: bool) -> dict:
     return scenes
 
 
-def _process(arguments: list[str], repeats: int, **env) -> float:
-    """The median wall time of ``repeats`` runs of a Python process with these arguments."""
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        subprocess.run(
+def _processes(variants: dict[str, list[str]], repeats: int, **env) -> dict[str, float]:
+    """The median wall time of each variant's Python process (key: its arguments), the variants
+    taken in turns (:func:`common.interleaved_medians`): whole processes vary the most, and a
+    burst of load must fall on all of them alike for their ratios to mean anything."""
+
+    def process(arguments: list[str]):
+        return lambda: subprocess.run(
             [sys.executable, *arguments],
             check=True,
             capture_output=True,
             env={**os.environ, **env},
         )
-        times.append(time.perf_counter() - start)
-    return statistics.median(times)
+
+    return interleaved_medians(
+        {key: process(arguments) for key, arguments in variants.items()}, repeats
+    )
 
 
 def main() -> None:
@@ -133,13 +136,15 @@ def main() -> None:
         "s = dataclasses.replace(s, camera=dataclasses.replace(s.camera, width=8, height=6))\n"
         "r.render(s, 3, adaptive=True, engine={!r})\n"
     )  # a render too small to time: what is left is the process and the engine's loading
-    base = _process(["-c", tiny.format("numpy")], args.repeats)
-    load = _process(["-c", tiny.format("compiled")], args.repeats)
+    tiny_processes = _processes(
+        {engine: ["-c", tiny.format(engine)] for engine in ("numpy", "compiled")}, args.repeats
+    )
+    base, load = tiny_processes["numpy"], tiny_processes["compiled"]
     compile_time = "not run (--quick)"
     if not args.quick:
         with tempfile.TemporaryDirectory() as empty:
             start = time.perf_counter()
-            _process(["-c", tiny.format("compiled")], 1, RAYKIT_CACHE_DIR=empty)
+            _processes({"first": ["-c", tiny.format("compiled")]}, 1, RAYKIT_CACHE_DIR=empty)
             compile_time = f"{time.perf_counter() - start:.1f} s"
     overhead = load - base
     print("| a tiny render, numpy | compiled: + numba and the cached kernels | first compile |")
@@ -155,20 +160,23 @@ def main() -> None:
         f"(raykit.engine.choice.AUTO_FROM: {choice.AUTO_FROM} s)."
     )
 
-    print("\n3. whole processes: raykit render SCENE -o OUT.png --engine E (median)\n")
+    print(
+        "\n3. whole processes: raykit render SCENE -o OUT.png --engine E "
+        "(median, the three in turns)\n"
+    )
     print("| scene | numpy | compiled | auto | auto chose | auto / the better |")
     print("|---|---|---|---|---|---|")
     with tempfile.TemporaryDirectory() as folder:
         for name, scene in scenes.items():
             path = _scene_file(name, scene, Path(folder))
             out = str(Path(folder) / "out.png")
-            whole = {
-                engine: _process(
-                    ["-m", "raykit", "render", str(path), "-o", out, "--engine", engine],
-                    args.repeats,
-                )
-                for engine in ("numpy", "compiled", "auto")
-            }
+            whole = _processes(
+                {
+                    engine: ["-m", "raykit", "render", str(path), "-o", out, "--engine", engine]
+                    for engine in ("numpy", "compiled", "auto")
+                },
+                args.repeats,
+            )
             chose = choice.choose("auto", load_scene(path))
             better = min(whole["numpy"], whole["compiled"])
             print(
