@@ -69,8 +69,9 @@ from raykit.scene import Scene
 from raykit.shading import casts_shadows, needs_shading
 from raykit.surfaces import OFFSET_FACTOR
 
-# the first compile (benchmarks/engines.py): 56 s in one run, 126 s in the next
-COMPILE_SECONDS = 120
+# the first compile (benchmarks/engines.py), since viewing rays go in packets: 196 s in one
+# run, 209 s in the next
+COMPILE_SECONDS = 200
 EPS = float(np.finfo(np.float64).eps)  # the rounding unit of raykit.surfaces' error bound
 STACK = 128  # nodes a ray may have still to visit: a median-split tree of 2^63 objects is 63 deep
 ROWS_PER_CALL = 32  # rows of pixels per kernel call when a progress bar is to move
