@@ -55,7 +55,7 @@ def build_parser() -> argparse.ArgumentParser:
         description="raykit: the ray-tracing lecture's renderer and figures.",
         allow_abbrev=False,
     )
-    parser.add_argument("--version", action="version", version=f"raykit {_version()}")
+    parser.add_argument("--version", action=_VersionAction)
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     render = _command(
@@ -183,6 +183,25 @@ def _check_engine(engine: str) -> None:
 
     if engine == "compiled" and not compiled_available():
         raise ValueError(f"--engine compiled needs numba, which is not installed: {FAST_EXTRA}")
+
+
+class _VersionAction(argparse.Action):
+    """``--version``: print the installed version and exit. The version is looked up only when
+    asked: importlib.metadata costs every process about 20 ms, which argparse's own version
+    action would pay at each ``raykit render``."""
+
+    def __init__(self, option_strings: Sequence[str], dest: str = argparse.SUPPRESS) -> None:
+        super().__init__(
+            option_strings,
+            dest,
+            default=argparse.SUPPRESS,
+            nargs=0,
+            help="show the version and exit",
+        )
+
+    def __call__(self, parser, namespace, values, option_string=None) -> None:
+        print(f"raykit {_version()}")
+        parser.exit()
 
 
 def _version() -> str:
