@@ -317,7 +317,7 @@ def growth(compiled_renders: dict) -> None:
     )
     if level4 and level6:
         print(
-            f"\nGrowth, raykit compiled: sphereflake 6 renders in {level6[1] / level4[1]:.1f}x "
+            f"\nGrowth, raykit compiled: sphereflake 6 renders in {level6[1] / level4[1]:.2f}x "
             f"the time of sphereflake 4 (goal: 3x or less); level 6 loads, prepares and renders "
             f"in {level6[0] + level6[1]:.2f} s (goal: 2 s or less)."
         )
