@@ -29,7 +29,6 @@ import statistics
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
@@ -143,9 +142,9 @@ def main() -> None:
     compile_time = "not run (--quick)"
     if not args.quick:
         with tempfile.TemporaryDirectory() as empty:
-            start = time.perf_counter()
-            _processes({"first": ["-c", tiny.format("compiled")]}, 1, RAYKIT_CACHE_DIR=empty)
-            compile_time = f"{time.perf_counter() - start:.1f} s"
+            first = ["-c", tiny.format("compiled")]
+            took = _processes({"first": first}, 1, RAYKIT_CACHE_DIR=empty)["first"]
+            compile_time = f"{took:.1f} s"
     overhead = load - base
     print("| a tiny render, numpy | compiled: + numba and the cached kernels | first compile |")
     print("|---|---|---|")
@@ -208,17 +207,17 @@ def tile_sides(args) -> None:
         prepared = compiled.prepare(scene)
         chosen = (prepared.tiles.size, prepared.tiles.packets)
         with_tiles = {
-            choice: prepared._replace(tiles=compiled.screen_tiles(scene, prepared.arrays, *choice))
-            for choice in choices
+            layout: prepared._replace(tiles=compiled.screen_tiles(scene, prepared.arrays, *layout))
+            for layout in choices
         }
         for each in with_tiles.values():
             compiled.render(each)  # warm-up
         # in turns, so that a burst of load from the machine's neighbours falls on every choice
         took = interleaved_medians(
-            {choice: (lambda p=each: compiled.render(p)) for choice, each in with_tiles.items()},
+            {layout: (lambda p=each: compiled.render(p)) for layout, each in with_tiles.items()},
             args.repeats,
         )
-        cells = [seconds(took[choice], 1) + ("*" if choice == chosen else "") for choice in choices]
+        cells = [seconds(took[layout], 1) + ("*" if layout == chosen else "") for layout in choices]
         print(f"| {name} | " + " | ".join(cells) + " |")
 
 
