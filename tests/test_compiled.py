@@ -533,6 +533,48 @@ def test_packets_and_rays_one_at_a_time_render_what_the_numpy_engine_renders(nam
             _exactly(rgb, reference.rgb)
 
 
+@numba.njit(parallel=True)
+def _times_taken(jobs, grain, workers):
+    """How often each of ``jobs`` is taken when ``workers`` cores take ``grain`` at a time from
+    one counter, as compiled.trace's workers do."""
+    taken = np.zeros(1, dtype=np.int64)
+    times = np.zeros(jobs, dtype=np.int64)
+    for _ in numba.prange(workers):
+        while True:
+            first = compiled.take(taken, grain)
+            if first >= jobs:
+                break
+            for j in range(first, min(jobs, first + grain)):
+                times[j] += 1
+    return times
+
+
+@pytest.mark.parametrize("grain", [1, 7])
+def test_cores_taking_jobs_from_one_counter_take_each_job_exactly_once(grain):
+    # a counter that is not atomic hands two cores the same job now and then in 10^6 takes
+    assert (_times_taken(1_000_000, grain, numba.get_num_threads()) == 1).all()
+
+
+def test_the_image_does_not_depend_on_which_core_takes_which_tile():
+    scenes = [_packet_scenes()["classic_lit_at_1e6"], _crowd(np.random.default_rng(11), 200)]
+    mirrors = load_scene(SCENES / "mirror_balls.json")
+    scenes.append(replace(mirrors, camera=replace(mirrors.camera, width=80, height=60)))
+    threads = numba.get_num_threads()
+    try:
+        for scene in scenes:
+            prepared = compiled.prepare(scene)
+            numba.set_num_threads(1)
+            rgb, index, t = compiled.render(prepared, 2)
+            numba.set_num_threads(threads)
+            for progress in (None, lambda rows: None) * 3:  # one call, or one per band of rows
+                again = compiled.render(prepared, 2, progress=progress)
+                assert np.array_equal(again[1], index)
+                _exactly(again[2], t)
+                _exactly(again[0], rgb)
+    finally:
+        numba.set_num_threads(threads)
+
+
 def _ties_reversed(tiles):
     """The same tiles, with each tile's objects at the same closest t listed higher index
     first: the answer must not depend on it (a tie keeps the lower index, whatever the order)."""

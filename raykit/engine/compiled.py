@@ -83,6 +83,8 @@ if _FIRST_USE:
 
 import numba  # noqa: E402  (after the message: importing numba takes a while too)
 from numba import njit, prange  # noqa: E402
+from numba.core import types  # noqa: E402
+from numba.extending import intrinsic  # noqa: E402
 
 numba.config.CACHE_DIR = str(_CACHE) if _CACHE is not None else ""  # read as kernels are made
 _jit = dict(cache=_CACHE is not None, error_model="numpy", nogil=True)
@@ -906,6 +908,20 @@ def shadow_lists(arrays, tree, lights, stack, box, pad, volume, candidates, coun
 
 
 CHUNK = 256  # rays or pixels per parallel step: many per core, and one stack each
+GRAINS_PER_WORKER = 16  # takes of jobs per core: few enough that taking costs nothing, and
+# many enough that a core slowed by other work leaves little for the other to wait on
+
+
+@intrinsic
+def take(typingctx, taken, count):
+    """Atomically add ``count`` to ``taken[0]`` and return its value before: the first of the
+    ``count`` jobs a worker takes (numba offers no atomic add on the CPU)."""
+
+    def codegen(context, builder, signature, args):
+        counter = context.make_array(signature.args[0])(context, builder, args[0])
+        return builder.atomic_rmw("add", counter.data, args[1], "monotonic")
+
+    return types.int64(taken, types.int64), codegen
 
 
 @njit(parallel=True, **_jit)
@@ -959,11 +975,12 @@ def trace(arrays, tiles, tree, lights, camera, width, height, jobs, workers, xs,
     start, tiles_x, size = tiles.start, tiles.tiles_x, tiles.size
     points = len(xs)
     samples = len(offsets)
-    share = -(-len(jobs) // workers)
     # one worker per core (``workers``: numba.get_num_threads()), each with its own room for a
-    # job's rays (making it for each job cost more than a small tile's rays), takes a block of
-    # the jobs, as prange would deal them
-    for worker in prange(workers):
+    # job's rays (making it for each job cost more than a small tile's rays), takes the next
+    # grain of jobs whenever it is free: a core slowed by other work takes fewer
+    grain = max(1, len(jobs) // (workers * GRAINS_PER_WORKER))
+    taken = np.zeros(1, dtype=np.int64)
+    for _ in prange(workers):
         n = (CHUNK if points else size * size) * (samples + 1)  # rays a job may cast
         lists = len(lights.point) if lights.shadows else 0
         room = (
@@ -981,30 +998,35 @@ def trace(arrays, tiles, tree, lights, camera, width, height, jobs, workers, xs,
             np.full(len(lights.point), -1, dtype=np.int64),  # without lists: walk the tree
             np.empty((6, 5)),  # a shadow volume
         )
-        for j in range(worker * share, min(len(jobs), (worker + 1) * share)):
-            if points:  # a row of points, each in whichever tile holds it
-                first = jobs[j] * CHUNK
-                rows = 1
-                across = min(CHUNK, points - first)
-                top = 0
-                left = 0
-                tile = -1
-            else:
-                first = 0
-                tile = jobs[j]
-                top = (tile // tiles_x) * size
-                left = (tile % tiles_x) * size
-                rows = min(size, height - top)
-                across = min(size, width - left)
-            if points or start[tile] < start[tile + 1]:
-                trace_job(arrays, tiles, tree, lights, camera, width, xs, ys, offsets, centre,
-                          rgb, index, t, first, rows, top, left, across, tile, room)  # fmt: skip
-                continue
-            for down in range(rows):
-                for along in range(across):
-                    p = (top + down) * width + left + along
-                    rgb[p, 0], rgb[p, 1], rgb[p, 2] = empty[0], empty[1], empty[2]
-                    index[p], t[p] = -1, np.inf
+        while True:
+            first_job = take(taken, grain)
+            if first_job >= len(jobs):
+                break
+            for j in range(first_job, min(len(jobs), first_job + grain)):
+                if points:  # a row of points, each in whichever tile holds it
+                    first = jobs[j] * CHUNK
+                    rows = 1
+                    across = min(CHUNK, points - first)
+                    top = 0
+                    left = 0
+                    tile = -1
+                else:
+                    first = 0
+                    tile = jobs[j]
+                    top = (tile // tiles_x) * size
+                    left = (tile % tiles_x) * size
+                    rows = min(size, height - top)
+                    across = min(size, width - left)
+                if points or start[tile] < start[tile + 1]:
+                    trace_job(arrays, tiles, tree, lights, camera, width, xs, ys, offsets,
+                              centre, rgb, index, t, first, rows, top, left, across, tile,
+                              room)  # fmt: skip
+                    continue
+                for down in range(rows):
+                    for along in range(across):
+                        p = (top + down) * width + left + along
+                        rgb[p, 0], rgb[p, 1], rgb[p, 2] = empty[0], empty[1], empty[2]
+                        index[p], t[p] = -1, np.inf
 
 
 @njit(**_one_ray)
@@ -1250,7 +1272,7 @@ def render(scene: Scene | Prepared, samples: int = 1, *, adaptive: bool = False,
     band = max(1, ROWS_PER_CALL // size) * tiles_x if progress is not None else tile_count
     nothing = np.zeros(0)
     for first in range(0, tile_count, band):
-        jobs = _shared_out(np.arange(first, min(first + band, tile_count)))
+        jobs = np.arange(first, min(first + band, tile_count))
         trace(*kernels, width, height, jobs, _workers(jobs), nothing, nothing, offsets,
               -1 if centre is None else centre, empty, rgb, index, t)  # fmt: skip
         if progress is not None:
@@ -1291,13 +1313,6 @@ def _mean_of_samples(color: np.ndarray, count: int) -> np.ndarray:
 def _workers(jobs: np.ndarray) -> int:
     """How many cores :func:`trace` shares ``jobs`` among (one at least)."""
     return max(1, min(numba.get_num_threads(), len(jobs)))
-
-
-def _shared_out(jobs: np.ndarray) -> np.ndarray:
-    """The jobs dealt out in turn, so that each core's block of them (prange gives each core
-    one block) takes in every part of the band: neighbouring tiles cost alike."""
-    cores = numba.get_num_threads()
-    return np.concatenate([jobs[k::cores] for k in range(cores)])
 
 
 def _compiled_once(started: float) -> None:
