@@ -682,6 +682,23 @@ def test_cache_folder_is_keyed_on_the_engines_source(tmp_path, monkeypatch):
     assert choice.cache_folder().parent == before.parent == tmp_path / "raykit"
 
 
+def test_a_second_copy_of_the_same_source_gets_its_own_cache_folder(tmp_path, monkeypatch):
+    # numba keeps each source folder's kernels apart, so a second copy (another checkout, a
+    # reinstall elsewhere) compiles again: it must say so, and auto must not count on a cache
+    monkeypatch.setenv("RAYKIT_CACHE_DIR", str(tmp_path / "cache"))
+    one, two = tmp_path / "one" / "compiled.py", tmp_path / "two" / "compiled.py"
+    for source in (one, two):
+        source.parent.mkdir()
+        source.write_bytes(choice.COMPILED_SOURCE.read_bytes())
+    monkeypatch.setattr(choice, "COMPILED_SOURCE", one)
+    first = choice.cache_folder()
+    (first / "compiled.ok").write_text("200.0 s\n")  # as the first copy's first render leaves it
+    assert choice.compiled_once()
+    monkeypatch.setattr(choice, "COMPILED_SOURCE", two)
+    assert choice.cache_folder() != first
+    assert not choice.compiled_once()
+
+
 def test_an_edited_kernel_is_compiled_again_not_served_from_the_cache(tmp_path):
     """The edit keeps the file's size and time, which numba's own cache check would miss."""
     import shutil

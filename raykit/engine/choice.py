@@ -43,12 +43,18 @@ def compiled_available() -> bool:
 
 
 def cache_folder() -> Path | None:
-    """Where numba keeps the compiled kernels: ``$NUMBA_CACHE_DIR``, else ``$XDG_CACHE_HOME``
+    """Where numba keeps the compiled kernels: ``$RAYKIT_CACHE_DIR``, else ``$XDG_CACHE_HOME``
     or ``~/.cache``, else the temporary folder, under ``raykit/numba-<hash of the compiled
-    engine's source>``: the first of them that can be written, so a read-only install still
-    caches. Editing a kernel makes a new folder, so no kernel compiled from older source is
-    ever loaded. None when no folder can be written (the kernels then compile in every process)."""
-    key = hashlib.sha256(COMPILED_SOURCE.read_bytes()).hexdigest()[:16]
+    engine's source and its folder>``: the first of them that can be written, so a read-only
+    install still caches. Editing a kernel makes a new folder, so no kernel compiled from older
+    source is ever loaded. The folder counts too because numba keeps the kernels of each source
+    folder apart: a second copy of raykit compiles its own, and must find no ``compiled.ok``
+    saying it need not (:func:`compiled_once`). None when no folder can be written (the kernels
+    then compile in every process)."""
+    source = (
+        COMPILED_SOURCE.read_bytes() + os.path.dirname(os.path.abspath(COMPILED_SOURCE)).encode()
+    )
+    key = hashlib.sha256(source).hexdigest()[:16]
     bases = [
         os.environ.get("RAYKIT_CACHE_DIR"),
         os.environ.get("XDG_CACHE_HOME"),
