@@ -586,6 +586,24 @@ def _ties_reversed(tiles):
     return tiles._replace(objects=objects, entries=entries)
 
 
+def test_every_kind_of_scene_hands_the_kernels_arrays_of_one_kind():
+    # numba compiles the kernels again (minutes) for each new kind of array, read-only included
+    plain = {
+        "camera": {"eye": [0, 0, 6], "lookat": [0, 0, 0], "up": [0, 1, 0], "fov_angle": 50,
+                   "width": 32, "height": 24},
+        "spheres": [{"center": [x, 0, 0], "radius": 0.5, "color": [1, 0, 0]} for x in (-1, 1)],
+    }  # fmt: skip
+    scenes = {
+        "named spheres, textures": load_scene(SCENES / "classic.json"),
+        "lights, mirrors": load_scene(SCENES / "mirror_balls.json"),
+        "plain spheres, kept as read-only columns": scene_from_dict(plain),
+        "billboards only": replace(load_scene(SCENES / "cutouts.json"), spheres=()),
+        "crowd": _crowd(np.random.default_rng(5), 50),
+    }
+    kinds = {name: numba.typeof(compiled.prepare(scene)[1:]) for name, scene in scenes.items()}
+    assert len(set(kinds.values())) == 1, kinds
+
+
 def test_tile_side_sends_rays_in_packets_unless_the_picture_is_crowded():
     classic = load_scene(SCENES / "classic.json")
     assert compiled.prepare(classic).tiles[-2:] == (compiled.WIDE_SIDE, True)

@@ -150,21 +150,37 @@ def scene_arrays(scene: Scene) -> Arrays:
         starts.append(used), widths.append(rgba.shape[1]), heights.append(rgba.shape[0])
         texels.append(rgba.reshape(-1, 4))
         used += rgba.shape[0] * rgba.shape[1]
-    return Arrays(
-        spheres.centers.astype(float).reshape(-1, 3),
-        spheres.radii.astype(float),
-        spheres.sphere_colors,
-        f3([np.asarray(b.upper_left, float) for b in boards]),
-        f3([b.n for b in boards]),
-        f3([b.dual_axes[0] for b in boards]),
-        f3([b.dual_axes[1] for b in boards]),
-        f3([b.color if b.color is not None else np.zeros(3) for b in boards]),
-        np.array(starts, dtype=np.int64),
-        np.array(widths, dtype=np.int64),
-        np.array(heights, dtype=np.int64),
-        *colors_and_opacity(np.concatenate(texels) if texels else np.zeros((0, 4), np.uint8)),
-        np.asarray(scene.background, dtype=float),
+    return _one_kind(
+        Arrays(
+            spheres.centers.astype(float).reshape(-1, 3),
+            spheres.radii.astype(float),
+            spheres.sphere_colors,
+            f3([np.asarray(b.upper_left, float) for b in boards]),
+            f3([b.n for b in boards]),
+            f3([b.dual_axes[0] for b in boards]),
+            f3([b.dual_axes[1] for b in boards]),
+            f3([b.color if b.color is not None else np.zeros(3) for b in boards]),
+            np.array(starts, dtype=np.int64),
+            np.array(widths, dtype=np.int64),
+            np.array(heights, dtype=np.int64),
+            *colors_and_opacity(np.concatenate(texels) if texels else np.zeros((0, 4), np.uint8)),
+            np.asarray(scene.background, dtype=float),
+        )
     )
+
+
+def _one_kind(parts):
+    """``parts`` (a NamedTuple) with every array C-contiguous, aligned and writeable, copied
+    where it is not: numba compiles each kernel again, about 220 s here, for every new kind of
+    array it is given, and a read-only one is another kind (a scene file's plain spheres come
+    as read-only columns, :class:`raykit.spheres.SphereTable`). So every scene renders with
+    the kernels the first compile made."""
+    arrays = {
+        name: np.require(value, requirements="CAW")
+        for name, value in parts._asdict().items()
+        if isinstance(value, np.ndarray)
+    }
+    return parts._replace(**arrays)
 
 
 class Lights(NamedTuple):
@@ -204,23 +220,25 @@ def scene_lights(scene: Scene) -> Lights:
         else toward_light(light, origin)[0][0]
         for light in scene.lights
     ]  # fmt: skip
-    return Lights(
-        needs_shading(scene),
-        scene.lit,
-        casts_shadows(scene),
-        scene.max_depth,
-        point,
-        np.array(vectors, dtype=float).reshape(-1, 3),
-        np.array([light.color for light in scene.lights], dtype=float).reshape(-1, 3),
-        np.asarray(scene.ambient if scene.ambient is not None else np.zeros(3), dtype=float),
-        table.diffuse.astype(float).reshape(-1, 3),
-        table.has_diffuse,
-        table.specular.reshape(-1, 3),
-        table.shininess,
-        table.mirror.reshape(-1, 3),
-        table.specular.reshape(-1, 3).any(axis=1),
-        table.mirror.reshape(-1, 3).any(axis=1),
-        np.array([normalize(b.n) for b in scene.billboards], dtype=float).reshape(-1, 3),
+    return _one_kind(
+        Lights(
+            needs_shading(scene),
+            scene.lit,
+            casts_shadows(scene),
+            scene.max_depth,
+            point,
+            np.array(vectors, dtype=float).reshape(-1, 3),
+            np.array([light.color for light in scene.lights], dtype=float).reshape(-1, 3),
+            np.asarray(scene.ambient if scene.ambient is not None else np.zeros(3), dtype=float),
+            table.diffuse.astype(float).reshape(-1, 3),
+            table.has_diffuse,
+            table.specular.reshape(-1, 3),
+            table.shininess,
+            table.mirror.reshape(-1, 3),
+            table.specular.reshape(-1, 3).any(axis=1),
+            table.mirror.reshape(-1, 3).any(axis=1),
+            np.array([normalize(b.n) for b in scene.billboards], dtype=float).reshape(-1, 3),
+        )
     )
 
 
@@ -1216,9 +1234,11 @@ def caster(scene: Scene, arrays: Arrays | None = None) -> Callable[..., Hits]:
     tree = scene_tree(scene)
 
     def cast(origins, directions, t_max=None) -> Hits:
-        origins = np.ascontiguousarray(origins, dtype=float)
-        directions = np.ascontiguousarray(directions, dtype=float)
-        t_max = np.full(len(origins), np.inf) if t_max is None else np.asarray(t_max, float)
+        t_max = np.full(len(origins), np.inf) if t_max is None else t_max
+        # arrays of one kind, as _one_kind makes them: a new kind is a new compile
+        origins, directions, t_max = (
+            np.require(x, float, "CAW") for x in (origins, directions, t_max)
+        )
         return Hits(*cast_rays(arrays, tree, origins, directions, t_max))
 
     return cast
