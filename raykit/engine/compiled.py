@@ -69,7 +69,7 @@ from raykit.scene import Scene
 from raykit.shading import casts_shadows, needs_shading
 from raykit.surfaces import OFFSET_FACTOR
 
-# the first compile since viewing rays go in packets: 209 s (docs/benchmarks/engines.md)
+# the first compile, as benchmarks/engines.py times it (docs/benchmarks/engines.md, section 2)
 COMPILE_SECONDS = 200
 EPS = float(np.finfo(np.float64).eps)  # the rounding unit of raykit.surfaces' error bound
 STACK = 128  # nodes a ray may have still to visit: a median-split tree of 2^63 objects is 63 deep
