@@ -38,10 +38,10 @@ place on a few per cent of points; with the reference given the same pow, the tw
 bit for bit, and as they stand, within 4 units in the last place and to the PNG byte (tests).
 
 Compiling. The kernels compile on first use, which says so on standard error, and are cached
-on disk in a folder named after a hash of this file's source
+on disk in a folder named after a hash of this file's source and its folder
 (:func:`raykit.engine.choice.cache_folder`): editing a kernel makes a new folder, so the cache
-never serves kernels compiled from older source (numba's own check, the file's time and size,
-would miss an edit that keeps both). Only float64 is compiled.
+never serves kernels compiled from older source, whatever numba's own check of the source
+(in older numba, the file's time and size, which an edit may keep). Only float64 is compiled.
 """
 
 from __future__ import annotations
@@ -69,14 +69,14 @@ from raykit.scene import Scene
 from raykit.shading import casts_shadows, needs_shading
 from raykit.surfaces import OFFSET_FACTOR
 
-# the first compile, as benchmarks/engines.py times it (docs/benchmarks/engines.md, section 2)
-COMPILE_SECONDS = 200
+# about the first compile, as benchmarks/engines.py times it (docs/benchmarks/engines.md, 2)
+COMPILE_SECONDS = 220
 EPS = float(np.finfo(np.float64).eps)  # the rounding unit of raykit.surfaces' error bound
 STACK = 128  # nodes a ray may have still to visit: a median-split tree of 2^63 objects is 63 deep
 ROWS_PER_CALL = 32  # rows of pixels per kernel call when a progress bar is to move
 
 
-_CACHE = cache_folder()  # keyed on this file's source
+_CACHE = cache_folder()  # keyed on this file's source and where it is
 _FIRST_USE = _CACHE is None or not (_CACHE / "compiled.ok").exists()
 if _FIRST_USE:
     print(f"compiling raykit's fast kernels, once: ~{COMPILE_SECONDS} s", file=sys.stderr)
