@@ -526,6 +526,8 @@ def test_packets_and_rays_one_at_a_time_render_what_the_numpy_engine_renders(nam
         reversed_ties = _ties_reversed(tiles)
         if name == "crowd_with_ties":  # its repeated spheres are listed the other way round
             assert not np.array_equal(reversed_ties.objects, tiles.objects)
+            # and a ray reads lists of several chunks (compiled.primary_ray)
+            assert np.diff(tiles.start).max() > 2 * compiled.HOLDING_CHUNK
         for listed in (tiles, reversed_ties):
             rgb, index, t = compiled.render(prepared._replace(tiles=listed), samples)
             assert np.array_equal(index, reference.object_index), (side, packets)

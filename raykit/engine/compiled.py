@@ -657,15 +657,26 @@ class Tiles(NamedTuple):
     packets: bool
 
 
+HOLDING_CHUNK = 8  # entries of a tile's list that primary_ray checks at a time
+
+
 @njit(**_one_ray)
-def primary_ray(arrays, tiles, camera, x, y, tile):
+def primary_ray(arrays, tiles, camera, x, y, tile, holding):
     """:func:`nearest_hit` for the viewing ray through image point (x, y), from the list of its
     tile (:func:`screen_tiles`; -1: the tile is found from x and y): only the objects whose
     screen rectangle holds the point (as :meth:`raykit.engine.tiles.Region.holding` decides),
     nearest first, until the next can only be farther than the hit found. The ray is made at
     the first rectangle that holds the point: if none does, it would see the background, and is
     not made at all (as in :meth:`raykit.engine.regions.Plan.viewing_rays`). Returns ``(made,
-    index, t, r, g, b, o0, o1, o2, d0, d1, d2)`` (the ray 0 if not made)."""
+    index, t, r, g, b, o0, o1, o2, d0, d1, d2)`` (the ray 0 if not made).
+
+    The list is read HOLDING_CHUNK entries at a time: first which of them hold the point, into
+    ``holding (HOLDING_CHUNK,)``, with no branch, then those in order. In a crowded picture an
+    entry holds the point one time in two or three, and a branch per entry, guessed wrong that
+    often, cost more than the checks (about a fifth of sphereflake 6's render, measured). The
+    objects offered are the same, in the same order: the lists are sorted by closest t, and the
+    nearest hit only comes nearer, so an entry checked past the one a scan entry by entry
+    stops at can only be farther than the hit, and is not offered either."""
     size, entries, objects = tiles.size, tiles.entries, tiles.objects
     background = arrays.background
     best, best_t = -1, np.inf
@@ -674,16 +685,31 @@ def primary_ray(arrays, tiles, camera, x, y, tile):
     o0, o1, o2, d0, d1, d2 = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     if tile < 0:
         tile = (int(y) // size) * tiles.tiles_x + int(x) // size
-    for k in range(tiles.start[tile], tiles.start[tile + 1]):
-        if entries[k, 4] > best_t:
-            break  # every object from here on is farther than the hit
-        if entries[k, 0] <= x and x <= entries[k, 1] and entries[k, 2] <= y and y <= entries[k, 3]:
+    first, end = tiles.start[tile], tiles.start[tile + 1]
+    while first < end:
+        stop = min(end, first + HOLDING_CHUNK)
+        held = 0
+        for k in range(first, stop):  # & not `and`: no branch
+            holding[held] = k
+            held += (
+                (entries[k, 0] <= x)
+                & (x <= entries[k, 1])
+                & (entries[k, 2] <= y)
+                & (y <= entries[k, 3])
+            )
+        for i in range(held):
+            k = holding[i]
+            if entries[k, 4] > best_t:
+                break  # every object from here on is farther than the hit
             if not made:
                 o0, o1, o2, d0, d1, d2 = viewing_ray(camera, x, y)
                 made = True
             best, best_t, r, g, b = offer(
                 arrays, objects[k], o0, o1, o2, d0, d1, d2, best, best_t, r, g, b
             )
+        if entries[stop - 1, 4] > best_t:
+            break
+        first = stop
     return made, best, best_t, r, g, b, o0, o1, o2, d0, d1, d2
 
 
@@ -1015,6 +1041,7 @@ def trace(arrays, tiles, tree, lights, camera, width, height, jobs, workers, xs,
             np.empty((lists, SHADOW_CANDIDATES), dtype=np.int64),
             np.full(len(lights.point), -1, dtype=np.int64),  # without lists: walk the tree
             np.empty((6, 5)),  # a shadow volume
+            np.empty(HOLDING_CHUNK, dtype=np.int64),  # primary_ray's entries that hold its point
         )
         while True:
             first_job = take(taken, grain)
@@ -1054,7 +1081,8 @@ def trace_job(arrays, tiles, tree, lights, camera, width, xs, ys, offsets, centr
     ``tile`` (-1: points, each in its own), with the worker's ``room`` for its rays, as
     :func:`trace` makes it. Ray i is sample i % S of the job's pixel i // S; the rays through
     the pixel centres, if cast apart (``centre`` -1), come after all those."""
-    stack, xy, rays, best, best_t, colors, made, alive, ts, box, candidates, counts, volume = room
+    (stack, xy, rays, best, best_t, colors, made, alive, ts, box, candidates, counts, volume,
+     holding) = room  # fmt: skip
     points = len(xs)
     samples = len(offsets)
     pixels = rows * across
@@ -1068,7 +1096,7 @@ def trace_job(arrays, tiles, tree, lights, camera, width, xs, ys, offsets, centr
                 for sample in range(samples):
                     x, y = px + offsets[sample, 0], py + offsets[sample, 1]
                     _, hit, t_hit, r, g, b, _, _, _, _, _, _ = primary_ray(
-                        arrays, tiles, camera, x, y, tile
+                        arrays, tiles, camera, x, y, tile, holding
                     )
                     if sample == centre:
                         index[p], t[p] = hit, t_hit
@@ -1080,7 +1108,7 @@ def trace_job(arrays, tiles, tree, lights, camera, width, xs, ys, offsets, centr
                 rgb[p, 2] = b_sum / samples
                 if centre < 0:
                     _, hit, t_hit, _, _, _, _, _, _, _, _, _ = primary_ray(
-                        arrays, tiles, camera, px + 0.5, py + 0.5, tile
+                        arrays, tiles, camera, px + 0.5, py + 0.5, tile, holding
                     )
                     index[p], t[p] = hit, t_hit
         return
@@ -1104,7 +1132,7 @@ def trace_job(arrays, tiles, tree, lights, camera, width, xs, ys, offsets, centr
         for i in range(n):
             made[i], best[i], best_t[i], colors[0, i], colors[1, i], colors[2, i], rays[0, i], \
                 rays[1, i], rays[2, i], rays[3, i], rays[4, i], rays[5, i] = primary_ray(
-                    arrays, tiles, camera, xy[0, i], xy[1, i], tile
+                    arrays, tiles, camera, xy[0, i], xy[1, i], tile, holding
                 )  # fmt: skip
     if lights.shaded:
         if lights.shadows:
