@@ -44,18 +44,24 @@ def median_time(function, repeats: int):
     return result, statistics.median(times)
 
 
-def interleaved_medians(calls: dict, repeats: int) -> dict:
+def interleaved_medians(calls: dict, repeats: int, warm: bool = False) -> dict:
     """The median wall time in seconds of each of ``calls`` (key: function), taken in turns:
     each round calls every function once, so a burst of load from the machine's neighbours
     falls on all of them alike, and their ratios hold better than their times. Every other
     round goes in reverse order, so that no function always comes right after the same one:
     in a fixed order, whole processes of ``raykit render`` that came right after a compiled
-    render of 1,000 spheres at 1080p took 1.3 times as long, whatever they did."""
+    render of 1,000 spheres at 1080p took 1.3 times as long, whatever they did. ``warm``: each
+    timed call comes right after an untimed one of the same function, so that it finds its
+    data in the caches as it would in a run of its own (rendered in turns with sphereflake 6,
+    whose arrays fill the caches, sphereflake 4 took 5.1-5.5 ms without, 4.8-4.9 ms with:
+    two sets of 27 rounds in one process)."""
     times: dict = {key: [] for key in calls}
     keys = list(calls)
     for round_ in range(repeats):
         for key in keys if round_ % 2 == 0 else keys[::-1]:
             function = calls[key]
+            if warm:
+                function()
             start = time.perf_counter()
             function()
             times[key].append(time.perf_counter() - start)
