@@ -45,26 +45,39 @@ def median_time(function, repeats: int):
 
 
 def interleaved_medians(calls: dict, repeats: int, warm: bool = False) -> dict:
-    """The median wall time in seconds of each of ``calls`` (key: function), taken in turns:
-    each round calls every function once, so a burst of load from the machine's neighbours
-    falls on all of them alike, and their ratios hold better than their times. Every other
-    round goes in reverse order, so that no function always comes right after the same one:
-    in a fixed order, whole processes of ``raykit render`` that came right after a compiled
-    render of 1,000 spheres at 1080p took 1.3 times as long, whatever they did. ``warm``: each
-    timed call comes right after an untimed one of the same function, so that it finds its
-    data in the caches as it would in a run of its own (rendered in turns with sphereflake 6,
-    whose arrays fill the caches, sphereflake 4 took 5.1-5.5 ms without, 4.8-4.9 ms with:
-    two sets of 27 rounds in one process)."""
-    times: dict = {key: [] for key in calls}
-    keys = list(calls)
-    for round_ in range(repeats):
-        for key in keys if round_ % 2 == 0 else keys[::-1]:
-            function = calls[key]
-            if warm:
-                function()
+    """The median wall time in seconds of each of ``calls`` (key: function), taken in turns
+    (:func:`medians_in_turns`)."""
+
+    def timer(function):
+        def timed() -> float:
             start = time.perf_counter()
             function()
-            times[key].append(time.perf_counter() - start)
+            return time.perf_counter() - start
+
+        return timed
+
+    return medians_in_turns({key: timer(f) for key, f in calls.items()}, repeats, warm)
+
+
+def medians_in_turns(timers: dict, repeats: int, warm: bool = False) -> dict:
+    """The median of the seconds each of ``timers`` (key: function that does its work once and
+    returns the seconds it took, by its own clock: a child process times its own) reports,
+    taken in turns: each round calls every timer once, so a burst of load from the machine's
+    neighbours falls on all of them alike, and their ratios hold better than their times. Every
+    other round goes in reverse order, so that none always comes right after the same one: in
+    a fixed order, whole processes of ``raykit render`` that came right after a compiled render
+    of 1,000 spheres at 1080p took 1.3 times as long, whatever they did. ``warm``: each timed
+    call comes right after an untimed one of the same timer, so that it finds its data in the
+    caches as it would in a run of its own (rendered in turns with sphereflake 6, whose arrays
+    fill the caches, sphereflake 4 took 5.1-5.5 ms without, 4.8-4.9 ms with: two sets of 27
+    rounds in one process)."""
+    times: dict = {key: [] for key in timers}
+    keys = list(timers)
+    for round_ in range(repeats):
+        for key in keys if round_ % 2 == 0 else keys[::-1]:
+            if warm:
+                timers[key]()
+            times[key].append(timers[key]())
     return {key: statistics.median(values) for key, values in times.items()}
 
 

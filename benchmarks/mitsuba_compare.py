@@ -19,14 +19,19 @@ the table gives the share of pixels on which both agree whether anything is hit.
 
 Load: raykit from its JSON data (validation included), Mitsuba ``load_dict`` (which builds
 its BVH). Prepare, raykit's compiled engine only: ``raykit.engine.compiled.prepare``, the
-scene's arrays, screen tiles and (lit scenes) BVH, made once per scene; its render renders the
-prepared scene, as Mitsuba's renders its loaded one (``raykit.render.render`` does both). Render:
-the median of ``--repeats`` renders after one warm-up render (for ``llvm_ad_rgb`` the warm-up
-compiles its kernels; that first render is shown too). The last line checks the growth goals:
-sphereflake 4 to 6 in at most 3x the render time, level 6 loaded, prepared and rendered in 2 s.
-The growth ratio is timed anew, the two prepared sphereflakes rendered in turns (each timed
-render after an untimed one of the same scene, so that its data are in the caches), since each
-scene's median above is taken at its own time, and this machine's neighbours make those vary.
+scene's arrays, screen tiles and (lit scenes) BVH, made once per scene (a median of 3); its
+render renders the prepared scene, as Mitsuba's renders its loaded one
+(``raykit.render.render`` does both). Render: the median of ``--repeats`` renders after a
+first one (for ``llvm_ad_rgb`` the first compiles its kernels; it is shown too), every
+renderer of a scene in turns, so that the machine's other work falls on all alike
+(:func:`common.medians_in_turns`; each timed render right after an untimed one of its own).
+Each Mitsuba variant stays in its child process for the whole scene and times its own renders
+there, on request.
+
+The last line checks the growth goals: sphereflake 4 to 6 in at most 3x the render time, level
+6 loaded, prepared and rendered in 2 s. The growth ratio is timed anew, the two prepared
+sphereflakes rendered in turns in the same way, since the table times each scene at its own
+time, and this machine's neighbours make those times vary.
 ``--plot`` draws the render medians as bars per scene, one per renderer (raykit's alone when
 Mitsuba is not installed).
 """
@@ -38,6 +43,7 @@ import json
 import os
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -51,6 +57,7 @@ from common import (  # noqa: E402
     bar_plot,
     interleaved_medians,
     median_time,
+    medians_in_turns,
     parse,
     seconds,
 )
@@ -162,42 +169,75 @@ def mitsuba_dict(data: dict, mi) -> dict:
     return scene
 
 
-def run_mitsuba(variant: str, data: dict, repeats: int) -> dict:
-    """In this (child) process: load and render with one Mitsuba variant."""
+def mitsuba_child(variant: str) -> None:
+    """In a child process: load the scene (JSON, the first line of standard input) with one
+    Mitsuba variant and render it once; print ``{"load", "first", "hit"}`` as a line of JSON;
+    then for each line ``render`` read, render once more and print the seconds it took."""
     import mitsuba as mi
 
     mi.set_variant(variant)
+    data = json.loads(sys.stdin.readline())
     start = time.perf_counter()
     scene = mi.load_dict(mitsuba_dict(data, mi))
     load = time.perf_counter() - start
     start = time.perf_counter()
     image = np.array(mi.render(scene, spp=1))
     first = time.perf_counter() - start
-    _, render_time = median_time(lambda: np.array(mi.render(scene, spp=1)), repeats)
-    return {
-        "load": load,
-        "first": first,
-        "render": render_time,
-        "hit": (image[..., 0] > 0).tolist(),
-    }
+    hit = (image[..., 0] > 0).tolist()
+    print(json.dumps({"load": load, "first": first, "hit": hit}), flush=True)
+    for line in sys.stdin:
+        if line.strip() == "render":
+            start = time.perf_counter()
+            np.array(mi.render(scene, spp=1))
+            print(time.perf_counter() - start, flush=True)
 
 
-def mitsuba_in_child(variant: str, data: dict, repeats: int) -> dict | str:
-    env = dict(os.environ)
-    if variant.startswith("llvm") and Path(LLVM_19).exists():
-        env.setdefault("DRJIT_LIBLLVM_PATH", LLVM_19)
-    run = subprocess.run(
-        [sys.executable, __file__, "--child", variant, "--repeats", str(repeats)],
-        input=json.dumps(data),
-        capture_output=True,
-        text=True,
-        env=env,
-        timeout=1800,
-    )
-    if run.returncode != 0:
-        last = (run.stderr.strip().splitlines() or [f"exit status {run.returncode}"])[-1]
-        return f"failed: {last[:80]}"
-    return json.loads(run.stdout)
+class MitsubaChild:
+    """One Mitsuba variant in a child process of its own (a variant that aborts takes only
+    its child with it), set up on ``data`` (:func:`mitsuba_child`): ``load``, ``first``,
+    ``hit``, and :meth:`render_once`, or ``failure``, a short message, if it did not start."""
+
+    def __init__(self, variant: str, data: dict) -> None:
+        env = dict(os.environ)
+        if variant.startswith("llvm") and Path(LLVM_19).exists():
+            env.setdefault("DRJIT_LIBLLVM_PATH", LLVM_19)
+        self.errors = tempfile.TemporaryFile(mode="w+")
+        self.process = subprocess.Popen(
+            [sys.executable, __file__, "--child", variant],
+            stdin=subprocess.PIPE,
+            stdout=subprocess.PIPE,
+            stderr=self.errors,
+            text=True,
+            env=env,
+        )
+        self.failure = None
+        try:
+            self.process.stdin.write(json.dumps(data) + "\n")
+            self.process.stdin.flush()
+            made = json.loads(self.process.stdout.readline())
+        except (OSError, ValueError):
+            self.failure = self._failed()
+            return
+        self.load, self.first, self.hit = made["load"], made["first"], made["hit"]
+
+    def render_once(self) -> float:
+        """Render once in the child: the seconds it took, by the child's clock."""
+        self.process.stdin.write("render\n")
+        self.process.stdin.flush()
+        return float(self.process.stdout.readline())
+
+    def close(self) -> None:
+        self.process.stdin.close()
+        self.process.wait(timeout=60)
+        self.errors.close()
+
+    def _failed(self) -> str:
+        self.process.kill()
+        returncode = self.process.wait()
+        self.errors.seek(0)
+        lines = self.errors.read().strip().splitlines() or [f"exit status {returncode}"]
+        self.errors.close()
+        return f"failed: {lines[-1][:80]}"
 
 
 def _engines(engine: str) -> list[str]:
@@ -235,9 +275,8 @@ def main() -> None:
         default="auto",
         help="raykit's engine: numpy, compiled, or auto: both side by side (default)",
     )
-    if "--child" in sys.argv:  # one Mitsuba variant, for the parent: JSON only on stdout
-        args = parser.parse_args()
-        print(json.dumps(run_mitsuba(args.child, json.loads(sys.stdin.read()), args.repeats)))
+    if "--child" in sys.argv:  # one Mitsuba variant, for the parent (MitsubaChild)
+        mitsuba_child(parser.parse_args().child)
         return
     args = parse(parser)
     try:
@@ -257,26 +296,36 @@ def main() -> None:
     for name, scene in benchmark_scenes(args.quick).items():
         data = scene_data(scene)
         loaded[name] = scene_from_dict(data)
-        table, ours = [], None
+        renderers, ours, children = {}, None, []
         for engine in engines:
-            load, prepare, first, took, ours = time_raykit(engine, data, args.repeats)
-            table.append((f"raykit {engine}", load, prepare, first, took, "-"))
-            if engine == "compiled":
-                compiled_renders[name] = (load + prepare, took)
+            load, prepare, first, render_once, mask = set_up_raykit(engine, data)
+            renderers[f"raykit {engine}"] = (load, prepare, first, render_once, "-")
+            ours = mask if ours is None else ours
         for variant in VARIANTS if version is not None else ():
-            result = mitsuba_in_child(variant, data, args.repeats)
+            child = MitsubaChild(variant, data)
             renderer = f"Mitsuba {version} {variant}"
-            if isinstance(result, str):
-                table.append((renderer, result, None, None, None, ""))
+            if child.failure:
+                renderers[renderer] = (child.failure, None, None, None, "")
                 continue
-            agree = f"{np.mean(np.array(result['hit']) == ours):.1%}"
-            table.append((renderer, result["load"], 0.0, result["first"], result["render"], agree))
-        llvm = next((r[4] for r in table if r[0].endswith("llvm_ad_rgb") and r[4]), None)
-        for renderer, load, prepare, first, took, agree in table:
+            children.append(child)
+            agree = f"{np.mean(np.array(child.hit) == ours):.1%}"
+            renderers[renderer] = (child.load, 0.0, child.first, child.render_once, agree)
+        medians = medians_in_turns(
+            {key: r[3] for key, r in renderers.items() if r[3] is not None},
+            args.repeats,
+            warm=True,
+        )
+        for child in children:
+            child.close()
+        llvm = next((t for key, t in medians.items() if key.endswith("llvm_ad_rgb")), None)
+        for renderer, (load, prepare, first, _, agree) in renderers.items():
+            took = medians.get(renderer)
             rows.append({"scene": name, "renderer": renderer, "render": took})
             if isinstance(load, str):
                 print(f"| {name} | {renderer} | {load} | | | | | | |")
                 continue
+            if renderer == "raykit compiled":
+                compiled_renders[name] = (load + prepare, took)
             ratio = f"{took / llvm:.2f}" if llvm else "-"
             print(
                 f"| {name} | {renderer} | {seconds(load, 1)} "
@@ -284,7 +333,9 @@ def main() -> None:
                 f"| {seconds(took, 1)} | {seconds(load + prepare + took, 1)} | {ratio} | {agree} |"
             )
     print(
-        f"\nMedians of {args.repeats} renders after a warm-up; load and render in one process each."
+        f"\nMedians of {args.repeats} renders after a warm-up, every renderer of a scene in turns"
+        " (each timed render right after an untimed one of its own); Mitsuba's variants in"
+        " child processes that time their own renders."
         " raykit compiled: prepare is raykit.engine.compiled.prepare (arrays, screen tiles, BVH"
         " for lit scenes), made once per scene as Mitsuba builds its BVH in load_dict; render"
         " renders the prepared scene. raykit.render.render(scene) does both; the numpy engine"
@@ -295,28 +346,37 @@ def main() -> None:
         plot(args.plot, rows)
 
 
-def time_raykit(engine: str, data: dict, repeats: int) -> tuple:
-    """raykit's times on one scene: ``(load, prepare, first render, render median, hit mask)``.
-    The compiled engine's first render is a whole ``render(scene)`` (it loads the cached
-    kernels, as Mitsuba's first render compiles its own), then prepare and render are medians;
-    prepare is 0 for the numpy engine, which prepares inside its render."""
+def set_up_raykit(engine: str, data: dict) -> tuple:
+    """raykit on one scene: ``(load, prepare, first render, render_once, hit mask)``, times in
+    seconds; ``render_once()`` renders once more and returns the seconds it took. The compiled
+    engine's first render is a whole ``render(scene)`` (it loads the cached kernels, as
+    Mitsuba's first render compiles its own); then it renders the prepared scene, whose
+    ``prepare`` is a median of 3. The numpy engine prepares inside its render (prepare 0)."""
     start = time.perf_counter()
     loaded = scene_from_dict(data)
     load = time.perf_counter() - start
+
+    def timed(call):
+        def render_once() -> float:
+            start = time.perf_counter()
+            call()
+            return time.perf_counter() - start
+
+        return render_once
+
     if engine != "compiled":
         start = time.perf_counter()
         first_image = render(loaded, engine=engine)
         first = time.perf_counter() - start
-        _, took = median_time(lambda: render(loaded, engine=engine), repeats)
-        return load, 0.0, first, took, first_image.object_index >= 0
+        call = timed(lambda: render(loaded, engine=engine))
+        return load, 0.0, first, call, first_image.object_index >= 0
     from raykit.engine import compiled
 
     start = time.perf_counter()
     _, index, _ = compiled.render(loaded)
     first = time.perf_counter() - start
-    prepared, prepare = median_time(lambda: compiled.prepare(loaded), repeats)
-    _, took = median_time(lambda: compiled.render(prepared), repeats)
-    return load, prepare, first, took, index >= 0
+    prepared, prepare = median_time(lambda: compiled.prepare(loaded), 3)
+    return load, prepare, first, timed(lambda: compiled.render(prepared)), index >= 0
 
 
 def growth(scenes: dict[str, Scene], compiled_renders: dict, repeats: int) -> None:

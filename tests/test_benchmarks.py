@@ -157,6 +157,34 @@ def _plot_module(name):
     return importlib.import_module(name)
 
 
+def test_a_mitsuba_variant_that_cannot_start_is_reported_failed_in_one_line():
+    # the comparison's child process for one variant: one that cannot start (here an unknown
+    # variant, or Mitsuba not installed) is a short message in its row, and the run goes on
+    module = _plot_module("mitsuba_compare")
+    child = module.MitsubaChild("no_such_variant", {"camera": {}, "spheres": []})
+    assert child.failure.startswith("failed: ")
+    assert "\n" not in child.failure and len(child.failure) <= len("failed: ") + 80
+    assert child.process.poll() is not None  # nothing left running
+
+
+def test_turns_give_each_timer_its_own_median_and_warm_it_first():
+    module = _plot_module("common")
+    calls = []
+
+    def timer(key, seconds):
+        def timed():
+            calls.append(key)
+            return seconds.pop(0)
+
+        return timed
+
+    medians = module.medians_in_turns(
+        {"a": timer("a", [9, 1, 9, 2, 9, 3]), "b": timer("b", [9, 5, 9, 6, 9, 4])}, 3, warm=True
+    )
+    assert medians == {"a": 2, "b": 5}  # the untimed warm-up calls (9) are left out
+    assert calls == ["a", "a", "b", "b", "b", "b", "a", "a", "a", "a", "b", "b"]  # reversed
+
+
 def test_mitsuba_plot_draws_a_bar_per_scene_and_renderer(tmp_path, monkeypatch):
     # Mitsuba is not installed here: made-up rows exercise the plot, a failed variant included
     import matplotlib.pyplot as plt
