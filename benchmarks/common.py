@@ -47,16 +47,19 @@ def median_time(function, repeats: int):
 def interleaved_medians(calls: dict, repeats: int, warm: bool = False) -> dict:
     """The median wall time in seconds of each of ``calls`` (key: function), taken in turns
     (:func:`medians_in_turns`)."""
-
-    def timer(function):
-        def timed() -> float:
-            start = time.perf_counter()
-            function()
-            return time.perf_counter() - start
-
-        return timed
-
     return medians_in_turns({key: timer(f) for key, f in calls.items()}, repeats, warm)
+
+
+def timer(function):
+    """``function`` as a timer for :func:`medians_in_turns`: it calls ``function`` once and
+    returns the seconds that took."""
+
+    def timed() -> float:
+        start = time.perf_counter()
+        function()
+        return time.perf_counter() - start
+
+    return timed
 
 
 def medians_in_turns(timers: dict, repeats: int, warm: bool = False) -> dict:

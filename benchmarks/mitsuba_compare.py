@@ -60,6 +60,7 @@ from common import (  # noqa: E402
     medians_in_turns,
     parse,
     seconds,
+    timer,
 )
 
 from raykit.engine.choice import ENGINES  # noqa: E402
@@ -356,19 +357,11 @@ def set_up_raykit(engine: str, data: dict) -> tuple:
     loaded = scene_from_dict(data)
     load = time.perf_counter() - start
 
-    def timed(call):
-        def render_once() -> float:
-            start = time.perf_counter()
-            call()
-            return time.perf_counter() - start
-
-        return render_once
-
     if engine != "compiled":
         start = time.perf_counter()
         first_image = render(loaded, engine=engine)
         first = time.perf_counter() - start
-        call = timed(lambda: render(loaded, engine=engine))
+        call = timer(lambda: render(loaded, engine=engine))
         return load, 0.0, first, call, first_image.object_index >= 0
     from raykit.engine import compiled
 
@@ -376,7 +369,7 @@ def set_up_raykit(engine: str, data: dict) -> tuple:
     _, index, _ = compiled.render(loaded)
     first = time.perf_counter() - start
     prepared, prepare = median_time(lambda: compiled.prepare(loaded), 3)
-    return load, prepare, first, timed(lambda: compiled.render(prepared)), index >= 0
+    return load, prepare, first, timer(lambda: compiled.render(prepared)), index >= 0
 
 
 def growth(scenes: dict[str, Scene], compiled_renders: dict, repeats: int) -> None:
