@@ -526,13 +526,64 @@ def test_packets_and_rays_one_at_a_time_render_what_the_numpy_engine_renders(nam
         reversed_ties = _ties_reversed(tiles)
         if name == "crowd_with_ties":  # its repeated spheres are listed the other way round
             assert not np.array_equal(reversed_ties.objects, tiles.objects)
-            # and a ray reads lists of several chunks (compiled.primary_ray)
+            # and one ray at a time reads lists of several chunks (compiled.primary_ray)
             assert np.diff(tiles.start).max() > 2 * compiled.HOLDING_CHUNK
         for listed in (tiles, reversed_ties):
             rgb, index, t = compiled.render(prepared._replace(tiles=listed), samples)
             assert np.array_equal(index, reference.object_index), (side, packets)
             _exactly(t, reference.t)
             _exactly(rgb, reference.rgb)
+
+
+def _scan_entry_by_entry(entries, x, y, t_of):
+    """The objects a viewing ray through (x, y) offers, in order, scanning its tile's list
+    ``entries (E, 5)`` one entry at a time, as primary_ray did before it read chunks; object
+    k, if offered, is hit at ``t_of[k]``."""
+    offered, best_t = [], np.inf
+    for k, (x0, x1, y0, y1, closest) in enumerate(entries):
+        if closest > best_t:
+            break
+        if x0 <= x <= x1 and y0 <= y <= y1:
+            offered.append(k)
+            best_t = min(best_t, t_of[k])
+    return offered
+
+
+def test_a_ray_reading_its_list_in_chunks_offers_what_a_scan_entry_by_entry_offers(monkeypatch):
+    # primary_ray, run as Python with offer recording what it is given: lists of every length
+    # around the chunk's, entries sorted nearest first as screen_tiles sorts them, some
+    # holding the point and some hit
+    rng = np.random.default_rng(23)
+    offered, t_of = [], {}
+
+    def recording_offer(arrays, obj, o0, o1, o2, d0, d1, d2, best, best_t, r, g, b):
+        offered.append(obj)
+        if t_of[obj] < best_t:
+            return obj, t_of[obj], r, g, b
+        return best, best_t, r, g, b
+
+    monkeypatch.setattr(compiled, "offer", recording_offer)
+    monkeypatch.setattr(compiled, "viewing_ray", lambda camera, x, y: (0.0,) * 6)
+    arrays = compiled.Arrays._make([np.zeros(3)] * len(compiled.Arrays._fields))
+    chunk = compiled.HOLDING_CHUNK
+    for length in [0, 1, chunk - 1, chunk, chunk + 1, 2 * chunk, 2 * chunk + 1, 5 * chunk + 3]:
+        for _ in range(200):
+            closest = np.sort(rng.uniform(0, 10, length))
+            holds = rng.random(length) < 0.4
+            entries = np.column_stack([
+                np.where(holds, 0.0, 0.6), np.ones(length), np.zeros(length), np.ones(length),
+                closest,
+            ])  # fmt: skip
+            hit = rng.random(length) < 0.5
+            t_of = dict(enumerate(np.where(hit, closest + rng.uniform(0, 3, length), np.inf)))
+            tiles = compiled.Tiles(np.array([0, length]), np.arange(length), entries, 1, 16, False)
+            offered.clear()
+            made, *_ = compiled.primary_ray.py_func(
+                arrays, tiles, None, 0.5, 0.5, 0, np.empty(chunk, dtype=np.int64)
+            )
+            expected = _scan_entry_by_entry(entries, 0.5, 0.5, t_of)
+            assert offered == expected, (length, closest, holds, hit)
+            assert made == bool(expected)
 
 
 @numba.njit(parallel=True)

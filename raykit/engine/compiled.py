@@ -674,9 +674,11 @@ def primary_ray(arrays, tiles, camera, x, y, tile, holding):
     ``holding (HOLDING_CHUNK,)``, with no branch, then those in order. In a crowded picture an
     entry holds the point one time in two or three, and a branch per entry, guessed wrong that
     often, cost more than the checks (about a fifth of sphereflake 6's render, measured). The
-    objects offered are the same, in the same order: the lists are sorted by closest t, and the
-    nearest hit only comes nearer, so an entry checked past the one a scan entry by entry
-    stops at can only be farther than the hit, and is not offered either."""
+    objects offered are the same, in the same order: the lists are sorted by closest t, which
+    is not NaN where the scene's numbers are finite (as :mod:`raykit.io` checks every scene
+    file's), and the nearest hit only comes nearer, so an entry checked past the one a scan
+    entry by entry stops at can only be farther than the hit, and is not offered either
+    (tests/test_compiled.py compares the two scans)."""
     size, entries, objects = tiles.size, tiles.entries, tiles.objects
     background = arrays.background
     best, best_t = -1, np.inf
@@ -1235,8 +1237,9 @@ def tile_side(bounds: np.ndarray, width: int, height: int) -> tuple[int, bool]:
     """``(side, packets)`` for the objects' screen rectangles ``bounds (K, 4)`` on a ``width``
     x ``height`` image. A packet (:func:`primary_rays`) tests each object of its tile against
     all its rays, 8 to a vector instruction, where one ray at a time (:func:`primary_ray`)
-    tests only the objects whose rectangle holds the ray's point, with a branch each: packets
-    win while a tile's list is short, and the larger the packet the fewer tiles' overheads, as
+    tests only the objects whose rectangle holds the ray's point, with a branch each (on the
+    objects, not on the entries checked for them, :func:`primary_ray`): packets win while a
+    tile's list is short, and the larger the packet the fewer tiles' overheads, as
     long as the list stays short. So: WIDE_SIDE packets where those tiles list SPARSE_OBJECTS
     or fewer on average, PACKET_SIDE packets where those list PACKET_OBJECTS or fewer, and
     else one ray at a time in CROWDED_SIDE tiles. ``python benchmarks/engines.py
