@@ -41,6 +41,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import select
 import subprocess
 import sys
 import tempfile
@@ -173,7 +174,12 @@ def mitsuba_dict(data: dict, mi) -> dict:
 def mitsuba_child(variant: str) -> None:
     """In a child process: load the scene (JSON, the first line of standard input) with one
     Mitsuba variant and render it once; print ``{"load", "first", "hit"}`` as a line of JSON;
-    then for each line ``render`` read, render once more and print the seconds it took."""
+    then for each line ``render`` read, render once more and print the seconds it took. The
+    lines go to what was standard output when the child started; anything a library prints
+    there goes to standard error instead, so it cannot be read as an answer."""
+    answers = os.fdopen(os.dup(sys.stdout.fileno()), "w")
+    sys.stdout.flush()
+    os.dup2(sys.stderr.fileno(), sys.stdout.fileno())
     import mitsuba as mi
 
     mi.set_variant(variant)
@@ -185,18 +191,23 @@ def mitsuba_child(variant: str) -> None:
     image = np.array(mi.render(scene, spp=1))
     first = time.perf_counter() - start
     hit = (image[..., 0] > 0).tolist()
-    print(json.dumps({"load": load, "first": first, "hit": hit}), flush=True)
+    print(json.dumps({"load": load, "first": first, "hit": hit}), file=answers, flush=True)
     for line in sys.stdin:
         if line.strip() == "render":
             start = time.perf_counter()
             np.array(mi.render(scene, spp=1))
-            print(time.perf_counter() - start, flush=True)
+            print(time.perf_counter() - start, file=answers, flush=True)
+
+
+CHILD_SECONDS = 600  # for one answer of a Mitsuba child: a child slower than that has hung
 
 
 class MitsubaChild:
     """One Mitsuba variant in a child process of its own (a variant that aborts takes only
     its child with it), set up on ``data`` (:func:`mitsuba_child`): ``load``, ``first``,
-    ``hit``, and :meth:`render_once`, or ``failure``, a short message, if it did not start."""
+    ``hit``, and :meth:`render_once`. ``failure``: a one-line message, once the child has
+    failed to start, died, answered nonsense or taken longer than CHILD_SECONDS for an
+    answer; it is then killed, and its row gives the message."""
 
     def __init__(self, variant: str, data: dict) -> None:
         env = dict(os.environ)
@@ -212,32 +223,54 @@ class MitsubaChild:
             env=env,
         )
         self.failure = None
-        try:
-            self.process.stdin.write(json.dumps(data) + "\n")
-            self.process.stdin.flush()
-            made = json.loads(self.process.stdout.readline())
-        except (OSError, ValueError):
-            self.failure = self._failed()
-            return
-        self.load, self.first, self.hit = made["load"], made["first"], made["hit"]
+        made = self._ask(json.dumps(data), json.loads)
+        if made is not None:
+            self.load, self.first, self.hit = made["load"], made["first"], made["hit"]
 
     def render_once(self) -> float:
-        """Render once in the child: the seconds it took, by the child's clock."""
-        self.process.stdin.write("render\n")
-        self.process.stdin.flush()
-        return float(self.process.stdout.readline())
+        """Render once in the child: the seconds it took, by the child's clock (NaN once the
+        child has failed)."""
+        took = self._ask("render", float) if self.failure is None else None
+        return float("nan") if took is None else took
 
     def close(self) -> None:
-        self.process.stdin.close()
-        self.process.wait(timeout=60)
-        self.errors.close()
+        if self.failure is None:
+            self.process.stdin.close()
+            try:
+                self.process.wait(timeout=60)
+            except subprocess.TimeoutExpired:
+                self.process.kill()
+                self.process.wait()
+            self.process.stdout.close()
+            self.errors.close()
 
-    def _failed(self) -> str:
+    def _ask(self, request: str, read):
+        """Send ``request`` as a line and read the answer's line with ``read``; None, with
+        ``failure`` set and the child gone, if that fails."""
+        try:
+            self.process.stdin.write(request + "\n")
+            self.process.stdin.flush()
+            ready, _, _ = select.select([self.process.stdout], [], [], CHILD_SECONDS)
+            if not ready:
+                raise TimeoutError(f"no answer in {CHILD_SECONDS} s")
+            return read(self.process.stdout.readline())
+        except (OSError, ValueError) as error:  # a broken pipe, an empty line: it died
+            self.failure = self._failed(error)
+            return None
+
+    def _failed(self, error: Exception) -> str:
         self.process.kill()
         returncode = self.process.wait()
+        for stream in (self.process.stdin, self.process.stdout):
+            try:
+                stream.close()
+            except OSError:  # the pipe to a dead child may not flush
+                pass
         self.errors.seek(0)
-        lines = self.errors.read().strip().splitlines() or [f"exit status {returncode}"]
+        lines = self.errors.read().strip().splitlines()
         self.errors.close()
+        if isinstance(error, TimeoutError) or not lines:
+            lines = [str(error) if isinstance(error, TimeoutError) else f"exit status {returncode}"]
         return f"failed: {lines[-1][:80]}"
 
 
@@ -296,19 +329,20 @@ def main() -> None:
     rows, compiled_renders, loaded = [], {}, {}
     for name, scene in benchmark_scenes(args.quick).items():
         data = scene_data(scene)
-        loaded[name] = scene_from_dict(data)
+        if name.startswith("sphereflake"):  # for growth()
+            loaded[name] = scene_from_dict(data)
         renderers, ours, children = {}, None, []
         for engine in engines:
             load, prepare, first, render_once, mask = set_up_raykit(engine, data)
             renderers[f"raykit {engine}"] = (load, prepare, first, render_once, "-")
-            ours = mask if ours is None else ours
+            ours = mask  # the last engine's (all give the same mask)
         for variant in VARIANTS if version is not None else ():
             child = MitsubaChild(variant, data)
             renderer = f"Mitsuba {version} {variant}"
             if child.failure:
                 renderers[renderer] = (child.failure, None, None, None, "")
                 continue
-            children.append(child)
+            children.append((child, renderer))
             agree = f"{np.mean(np.array(child.hit) == ours):.1%}"
             renderers[renderer] = (child.load, 0.0, child.first, child.render_once, agree)
         medians = medians_in_turns(
@@ -316,8 +350,11 @@ def main() -> None:
             args.repeats,
             warm=True,
         )
-        for child in children:
+        for child, renderer in children:
             child.close()
+            if child.failure:  # it died, or hung, during the renders in turns
+                renderers[renderer] = (child.failure, None, None, None, "")
+                medians.pop(renderer)
         llvm = next((t for key, t in medians.items() if key.endswith("llvm_ad_rgb")), None)
         for renderer, (load, prepare, first, _, agree) in renderers.items():
             took = medians.get(renderer)

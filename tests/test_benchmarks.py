@@ -1,7 +1,9 @@
 """The benchmarks run and print their tables (their figures are for people, not assertions)."""
 
+import math
 import subprocess
 import sys
+import types
 
 import numpy as np
 import pytest
@@ -157,14 +159,39 @@ def _plot_module(name):
     return importlib.import_module(name)
 
 
-def test_a_mitsuba_variant_that_cannot_start_is_reported_failed_in_one_line():
-    # the comparison's child process for one variant: one that cannot start (here an unknown
-    # variant, or Mitsuba not installed) is a short message in its row, and the run goes on
+def test_a_mitsuba_variant_that_cannot_start_is_a_failed_row_and_the_run_goes_on(
+    monkeypatch, capsys
+):
+    # Mitsuba "installed" (a stand-in module here; the child imports the real one, or fails
+    # to): a variant that cannot start gives each scene a one-line "failed: ..." row, and
+    # every scene is still timed
     module = _plot_module("mitsuba_compare")
-    child = module.MitsubaChild("no_such_variant", {"camera": {}, "spheres": []})
-    assert child.failure.startswith("failed: ")
-    assert "\n" not in child.failure and len(child.failure) <= len("failed: ") + 80
-    assert child.process.poll() is not None  # nothing left running
+    stand_in = types.ModuleType("mitsuba")
+    stand_in.__version__ = "0.0"
+    monkeypatch.setitem(sys.modules, "mitsuba", stand_in)
+    monkeypatch.setattr(module, "VARIANTS", ("no_such_variant",))
+    monkeypatch.setattr(
+        sys, "argv", ["mitsuba_compare.py", "--quick", "--repeats", "1", "--engine", "numpy"]
+    )
+    module.main()
+    rows = [line for line in capsys.readouterr().out.splitlines() if line.startswith("| ")]
+    failed = [row for row in rows if "Mitsuba 0.0 no_such_variant" in row]
+    assert len(failed) == 2  # one per quick scene
+    assert all(row.split(" | ")[2].startswith("failed: ") for row in failed)
+    assert sum(" | raykit numpy | " in row for row in rows) == 2
+
+
+def test_a_mitsuba_child_that_dies_during_the_renders_is_a_failure_not_a_crash():
+    pytest.importorskip("mitsuba")
+    module = _plot_module("mitsuba_compare")
+    data = module.scene_data(module.benchmark_scenes(True)["sphereflake 2 128x128"])
+    child = module.MitsubaChild("scalar_rgb", data)
+    assert child.failure is None and child.render_once() > 0
+    child.process.kill()
+    assert math.isnan(child.render_once())
+    assert child.failure.startswith("failed: ") and "\n" not in child.failure
+    assert math.isnan(child.render_once())  # and it stays failed, without asking again
+    child.close()
 
 
 def test_turns_give_each_timer_its_own_median_and_warm_it_first():
