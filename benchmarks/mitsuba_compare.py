@@ -56,7 +56,6 @@ sys.path.insert(0, str(HERE))
 from common import (  # noqa: E402
     arguments,
     bar_plot,
-    interleaved_medians,
     median_time,
     medians_in_turns,
     parse,
@@ -326,11 +325,9 @@ def main() -> None:
         "| load + prepare + render | render / Mitsuba llvm | hit masks agree |"
     )
     print("|---|---|---|---|---|---|---|---|---|")
-    rows, compiled_renders, loaded = [], {}, {}
+    rows, compiled_renders = [], {}
     for name, scene in benchmark_scenes(args.quick).items():
         data = scene_data(scene)
-        if name.startswith("sphereflake"):  # for growth()
-            loaded[name] = scene_from_dict(data)
         renderers, ours, children = {}, None, []
         for engine in engines:
             load, prepare, first, render_once, mask = set_up_raykit(engine, data)
@@ -356,14 +353,14 @@ def main() -> None:
                 renderers[renderer] = (child.failure, None, None, None, "")
                 medians.pop(renderer)
         llvm = next((t for key, t in medians.items() if key.endswith("llvm_ad_rgb")), None)
-        for renderer, (load, prepare, first, _, agree) in renderers.items():
+        for renderer, (load, prepare, first, render_once, agree) in renderers.items():
             took = medians.get(renderer)
             rows.append({"scene": name, "renderer": renderer, "render": took})
             if isinstance(load, str):
                 print(f"| {name} | {renderer} | {load} | | | | | | |")
                 continue
             if renderer == "raykit compiled":
-                compiled_renders[name] = (load + prepare, took)
+                compiled_renders[name] = (load + prepare, took, render_once)
             ratio = f"{took / llvm:.2f}" if llvm else "-"
             print(
                 f"| {name} | {renderer} | {seconds(load, 1)} "
@@ -379,7 +376,7 @@ def main() -> None:
         " renders the prepared scene. raykit.render.render(scene) does both; the numpy engine"
         " prepares inside its render."
     )
-    growth(loaded, compiled_renders, args.repeats)
+    growth(compiled_renders, args.repeats)
     if args.plot:
         plot(args.plot, rows)
 
@@ -409,12 +406,13 @@ def set_up_raykit(engine: str, data: dict) -> tuple:
     return load, prepare, first, timer(lambda: compiled.render(prepared)), index >= 0
 
 
-def growth(scenes: dict[str, Scene], compiled_renders: dict, repeats: int) -> None:
+def growth(compiled_renders: dict, repeats: int) -> None:
     """The issue's growth goals for the compiled engine: sphereflake 4 to 6 (81x the spheres)
     at most 3x the render time, and level 6 loaded, prepared and rendered within 2 s (from its
-    row). The render ratio is timed here, the two prepared scenes rendered in turns, 3 x
-    ``repeats`` rounds, each timed render right after an untimed one of the same scene
-    (:func:`common.interleaved_medians`): in three runs of the table at commit 1bd1483,
+    row). ``compiled_renders``: per scene, (load + prepare, render median, the table's timer of
+    one render of the prepared scene). The render ratio is timed here with the table's two
+    timers in turns, 3 x ``repeats`` rounds, each timed render right after an untimed one of
+    the same scene (:func:`common.medians_in_turns`): in three runs of the table at commit 1bd1483,
     sphereflake 4's median alone took 4.4, 5.5 and 7.8 ms, as the machine's other work came and
     went, and the ratio of the rows 1.62 to 3.25."""
     names = {
@@ -425,11 +423,8 @@ def growth(scenes: dict[str, Scene], compiled_renders: dict, repeats: int) -> No
     }
     if None in names.values():
         return
-    from raykit.engine import compiled
-
-    prepared = {level: compiled.prepare(scenes[name]) for level, name in names.items()}
-    renders = {level: (lambda p=p: compiled.render(p)) for level, p in prepared.items()}
-    medians = interleaved_medians(renders, 3 * repeats, warm=True)
+    timers = {level: compiled_renders[name][2] for level, name in names.items()}
+    medians = medians_in_turns(timers, 3 * repeats, warm=True)
     level6_loaded = compiled_renders[names[6]]
     print(
         f"\nGrowth, raykit compiled: sphereflake 6 renders in {medians[6] / medians[4]:.2f}x the "
