@@ -32,10 +32,14 @@ by :func:`prepare`, which a caller may keep and render many times.
 Lit scenes. :func:`shade_ray` and :func:`surface_color` repeat :mod:`raykit.shading` for one
 ray: ambient, Lambert and Blinn-Phong per light, shadow rays (:mod:`raykit.shadows`, through the
 BVH) and mirror bounces (:mod:`raykit.mirrors`), with the surface points and offsets of
-:mod:`raykit.surfaces`. One operation differs: the highlight's power is the C library's pow
-here and numpy's vectorised power in the reference, which disagree by one unit in the last
-place on a few per cent of points; with the reference given the same pow, the two engines agree
-bit for bit, and as they stand, within 4 units in the last place and to the PNG byte (tests).
+:mod:`raykit.surfaces`. A job's viewing rays are shaded together, light by light, in lanes
+(:func:`surface_lanes`, :func:`light_lanes`): each ray's operations in the same order, the
+steps that every ray takes in vector instructions, and the shadow rays against the tile's
+lists; a mirror's rays then go on one at a time (:func:`bounce_on`). One operation differs:
+the highlight's power is the C library's pow here and numpy's vectorised power in the
+reference, which disagree by one unit in the last place on a few per cent of points; with the
+reference given the same pow, the two engines agree bit for bit, and as they stand, within 4
+units in the last place and to the PNG byte (tests).
 
 Compiling. The kernels compile on first use, which says so on standard error, and are cached
 on disk in a folder named after a hash of this file's source and its folder
@@ -484,19 +488,78 @@ def viewing_ray(camera, x, y):
 
 
 @njit(**_one_ray)
+def surface_point(arrays, lights, o0, o1, o2, d0, d1, d2, hit, t):
+    """Repeats :func:`raykit.surfaces.surface_points` for one ray and its hit (object ``hit`` at
+    ``t``): ``(p0, p1, p2, n0, n1, n2, error)``, the point p = o + t·d, the unit normal n on the
+    side the ray arrives at, and the point's rounding bound."""
+    p0, p1, p2 = o0 + t * d0, o1 + t * d1, o2 + t * d2
+    spheres = len(arrays.radii)
+    if hit < spheres:  # raykit.spheres.sphere_normals
+        R = arrays.radii[hit]
+        centers = arrays.centers
+        n0 = (p0 - centers[hit, 0]) / R
+        n1 = (p1 - centers[hit, 1]) / R
+        n2 = (p2 - centers[hit, 2]) / R
+    else:  # raykit.billboards.billboard_normals: the side the ray arrives at
+        normals, board = lights.board_normals, hit - spheres
+        m0, m1, m2 = normals[board, 0], normals[board, 1], normals[board, 2]
+        facing = -1.0 if d0 * m0 + d1 * m1 + d2 * m2 > 0 else 1.0
+        n0, n1, n2 = facing * m0, facing * m1, facing * m2
+    error = EPS * (max(abs(o0), abs(o1), abs(o2)) + t)
+    return p0, p1, p2, n0, n1, n2, error
+
+
+@njit(**_one_ray)
+def toward_point_light(v0, v1, v2, p0, p1, p2):
+    """Repeats :func:`raykit.lights.toward_light` for a point light at v: the unit l from p."""
+    to0, to1, to2 = v0 - p0, v1 - p1, v2 - p2
+    distance = math.sqrt(to0 * to0 + to1 * to1 + to2 * to2)
+    return to0 / distance, to1 / distance, to2 / distance
+
+
+@njit(**_one_ray)
+def off_surface(p0, p1, p2, n0, n1, n2, error):
+    """Repeats :meth:`raykit.surfaces.SurfacePoints.start` for a ray leaving p on n's side."""
+    epsilon = OFFSET_FACTOR * error
+    return p0 + epsilon * n0, p1 + epsilon * n1, p2 + epsilon * n2
+
+
+@njit(**_one_ray)
+def point_light_reach(v0, v1, v2, s0, s1, s2):
+    """Repeats :func:`raykit.shadows.light_reach` for a point light at v and a shadow ray from
+    s: how far along the ray a blocker counts."""
+    to0, to1, to2 = v0 - s0, v1 - s1, v2 - s2
+    distance = math.sqrt(to0 * to0 + to1 * to1 + to2 * to2)
+    largest = max(abs(s0), abs(s1), abs(s2))
+    return distance - OFFSET_FACTOR * EPS * (largest + distance)
+
+
+@njit(**_one_ray)
+def highlight(n0, n1, n2, l0, l1, l2, d0, d1, d2, p):
+    """Repeats the power in :func:`raykit.shading.blinn_phong`, max(0, n·h)^p with
+    h = (l + v)/|l + v| and v = -d, or -1.0 where l + v = 0 (no highlight, as
+    :func:`raykit.shading.surface_color` says). The one operation that may differ from the
+    reference: the power is the C library's pow here and numpy's own (vectorised) power there;
+    they differ by at most one unit in the last place, on a few per cent of highlight points
+    (measured), which no 8-bit pixel shows (tests/test_compiled.py bounds it)."""
+    v0, v1, v2 = -d0, -d1, -d2
+    if not (l0 + v0 != 0 or l1 + v1 != 0 or l2 + v2 != 0):
+        return -1.0
+    h0, h1, h2 = l0 + v0, l1 + v1, l2 + v2
+    length = math.sqrt(h0 * h0 + h1 * h1 + h2 * h2)
+    n_dot_h = n0 * (h0 / length) + n1 * (h1 / length) + n2 * (h2 / length)
+    return (n_dot_h if n_dot_h > 0 else 0.0) ** p
+
+
+@njit(**_one_ray)
 def surface_color(
-    arrays, tree, lights, stack, hit, p0, p1, p2, n0, n1, n2, d0, d1, d2, error, r, g, b,
-    candidates, counts, listed,
-):  # fmt: skip
+    arrays, tree, lights, stack, hit, p0, p1, p2, n0, n1, n2, d0, d1, d2, error, r, g, b
+):
     """Repeats :func:`raykit.shading.surface_color` for one hit: object ``hit`` at point p
     with unit normal n, seen along d, its flat colour (r, g, b); ``error`` is the point's
-    rounding bound (:func:`raykit.surfaces.surface_points`). Shadow rays (:mod:`raykit.shadows`)
-    walk the tree, or if ``listed``, test light j's ``candidates[j, :counts[j]]`` where
-    counts[j] >= 0 (:func:`shadow_candidates`: no other object can block them). The one
-    operation that may differ from the reference: the highlight's power max(0, n·h)^p is the C
-    library's pow here and numpy's own (vectorised) power there; they differ by at most one unit
-    in the last place, on a few per cent of highlight points (measured), which no 8-bit pixel
-    shows (tests/test_compiled.py bounds it)."""
+    rounding bound (:func:`surface_point`). Shadow rays (:mod:`raykit.shadows`) walk the tree.
+    A tile's viewing rays are shaded in lanes instead (:func:`light_lanes`), the same
+    operations in the same order for each."""
     if not lights.lit:
         return r, g, b
     if lights.has_diffuse[hit]:
@@ -505,92 +568,45 @@ def surface_color(
         k0, k1, k2 = r, g, b
     ambient = lights.ambient
     total0, total1, total2 = k0 * ambient[0], k1 * ambient[1], k2 * ambient[2]
-    v0, v1, v2 = -d0, -d1, -d2
-    epsilon = OFFSET_FACTOR * error  # SurfacePoints.start's offset
     vectors, intensity = lights.vectors, lights.colors
     for j in range(len(lights.point)):
+        v0, v1, v2 = vectors[j, 0], vectors[j, 1], vectors[j, 2]
         if lights.point[j]:  # raykit.lights.toward_light
-            to0, to1, to2 = vectors[j, 0] - p0, vectors[j, 1] - p1, vectors[j, 2] - p2
-            distance = math.sqrt(to0 * to0 + to1 * to1 + to2 * to2)
-            l0, l1, l2 = to0 / distance, to1 / distance, to2 / distance
+            l0, l1, l2 = toward_point_light(v0, v1, v2, p0, p1, p2)
         else:
-            l0, l1, l2 = vectors[j, 0], vectors[j, 1], vectors[j, 2]
+            l0, l1, l2 = v0, v1, v2
         n_dot_l = n0 * l0 + n1 * l1 + n2 * l2
         if not n_dot_l > 0:
             continue
         if lights.shadows:  # raykit.shadows.light_reach and in_shadow
-            s0, s1, s2 = p0 + epsilon * n0, p1 + epsilon * n1, p2 + epsilon * n2
-            reach = np.inf
-            if lights.point[j]:
-                to0, to1, to2 = vectors[j, 0] - s0, vectors[j, 1] - s1, vectors[j, 2] - s2
-                distance = math.sqrt(to0 * to0 + to1 * to1 + to2 * to2)
-                largest = max(abs(s0), abs(s1), abs(s2))
-                reach = distance - OFFSET_FACTOR * EPS * (largest + distance)
-            if listed and counts[j] >= 0:
-                blocker = np.inf
-                for k in range(counts[j]):
-                    _, blocker, _, _, _ = offer(
-                        arrays, candidates[j, k], s0, s1, s2, l0, l1, l2, -1, blocker, r, g, b
-                    )
-                    if blocker < reach:
-                        break
-            else:
-                _, blocker, _, _, _ = nearest_hit(
-                    arrays, tree, stack, s0, s1, s2, l0, l1, l2, reach, True
-                )
+            s0, s1, s2 = off_surface(p0, p1, p2, n0, n1, n2, error)
+            reach = point_light_reach(v0, v1, v2, s0, s1, s2) if lights.point[j] else np.inf
+            _, blocker, _, _, _ = nearest_hit(
+                arrays, tree, stack, s0, s1, s2, l0, l1, l2, reach, True
+            )
             if blocker < reach:
                 continue
         total0 += k0 * intensity[j, 0] * n_dot_l  # raykit.shading.lambert
         total1 += k1 * intensity[j, 1] * n_dot_l
         total2 += k2 * intensity[j, 2] * n_dot_l
-        if lights.shiny[hit] and (l0 + v0 != 0 or l1 + v1 != 0 or l2 + v2 != 0):
-            h0, h1, h2 = l0 + v0, l1 + v1, l2 + v2  # raykit.shading.blinn_phong
-            length = math.sqrt(h0 * h0 + h1 * h1 + h2 * h2)
-            n_dot_h = n0 * (h0 / length) + n1 * (h1 / length) + n2 * (h2 / length)
-            power = (n_dot_h if n_dot_h > 0 else 0.0) ** lights.shininess[hit]
-            ks = lights.specular
-            total0 += ks[hit, 0] * intensity[j, 0] * power
-            total1 += ks[hit, 1] * intensity[j, 1] * power
-            total2 += ks[hit, 2] * intensity[j, 2] * power
+        if lights.shiny[hit]:
+            power = highlight(n0, n1, n2, l0, l1, l2, d0, d1, d2, lights.shininess[hit])
+            if power >= 0:  # raykit.shading.blinn_phong
+                ks = lights.specular
+                total0 += ks[hit, 0] * intensity[j, 0] * power
+                total1 += ks[hit, 1] * intensity[j, 1] * power
+                total2 += ks[hit, 2] * intensity[j, 2] * power
     return total0, total1, total2
 
 
 @njit(**_one_ray)
-def shade_ray(
-    arrays, tree, lights, stack, o0, o1, o2, d0, d1, d2, hit, t, r, g, b, candidates, counts
-):
-    """Repeats :func:`raykit.shading.shade` for one viewing ray and its nearest hit: the surface
-    point (:func:`raykit.surfaces.surface_points`), its colour (:func:`surface_color`), and
-    mirror rays (:func:`raykit.mirrors.reflect`, started off the surface) up to max_depth. The
-    first surface's shadow rays may take their objects from ``candidates``, ``counts``
-    (:func:`shadow_lists`; a count of -1: walk the tree); a mirror's walk the tree."""
-    c0, c1, c2 = 0.0, 0.0, 0.0
-    w0, w1, w2 = 1.0, 1.0, 1.0  # what one unit of light along the ray adds to the pixel
-    spheres = len(arrays.radii)
-    for depth in range(lights.max_depth + 1):
-        if hit < 0:
-            c0, c1, c2 = c0 + w0 * r, c1 + w1 * g, c2 + w2 * b  # the background
-            break
-        p0, p1, p2 = o0 + t * d0, o1 + t * d1, o2 + t * d2
-        if hit < spheres:  # raykit.spheres.sphere_normals
-            R = arrays.radii[hit]
-            centers = arrays.centers
-            n0 = (p0 - centers[hit, 0]) / R
-            n1 = (p1 - centers[hit, 1]) / R
-            n2 = (p2 - centers[hit, 2]) / R
-        else:  # raykit.billboards.billboard_normals: the side the ray arrives at
-            normals, board = lights.board_normals, hit - spheres
-            m0, m1, m2 = normals[board, 0], normals[board, 1], normals[board, 2]
-            facing = -1.0 if d0 * m0 + d1 * m1 + d2 * m2 > 0 else 1.0
-            n0, n1, n2 = facing * m0, facing * m1, facing * m2
-        error = EPS * (max(abs(o0), abs(o1), abs(o2)) + t)
-        s0, s1, s2 = surface_color(
-            arrays, tree, lights, stack, hit, p0, p1, p2, n0, n1, n2, d0, d1, d2, error, r, g, b,
-            candidates, counts, depth == 0,
-        )  # fmt: skip
-        c0, c1, c2 = c0 + w0 * s0, c1 + w1 * s1, c2 + w2 * s2
-        if depth == lights.max_depth or not lights.mirrors[hit]:
-            break
+def bounce_on(arrays, tree, lights, stack, depth, hit, p0, p1, p2, n0, n1, n2, d0, d1, d2, error,
+              c0, c1, c2, w0, w1, w2):  # fmt: skip
+    """The rest of :func:`shade_ray` after the surface at ``depth`` (object ``hit`` at p, normal
+    n, seen along d, rounding bound ``error``) has added its colour to the pixel's (c0, c1, c2):
+    mirror rays (:func:`raykit.mirrors.reflect`, started off the surface) up to max_depth, each
+    surface's colour weighted by the mirrors' km on the way (w)."""
+    while depth < lights.max_depth and lights.mirrors[hit]:
         twice = 2.0 * (d0 * n0 + d1 * n1 + d2 * n2)
         d0, d1, d2 = d0 - twice * n0, d1 - twice * n1, d2 - twice * n2
         side = 1.0 if n0 * d0 + n1 * d1 + n2 * d2 >= 0 else -1.0
@@ -599,7 +615,32 @@ def shade_ray(
         km = lights.mirror
         w0, w1, w2 = w0 * km[hit, 0], w1 * km[hit, 1], w2 * km[hit, 2]
         hit, t, r, g, b = nearest_hit(arrays, tree, stack, o0, o1, o2, d0, d1, d2, np.inf)
+        depth += 1
+        if hit < 0:
+            return c0 + w0 * r, c1 + w1 * g, c2 + w2 * b  # the background
+        p0, p1, p2, n0, n1, n2, error = surface_point(arrays, lights, o0, o1, o2, d0, d1, d2,
+                                                      hit, t)  # fmt: skip
+        s0, s1, s2 = surface_color(
+            arrays, tree, lights, stack, hit, p0, p1, p2, n0, n1, n2, d0, d1, d2, error, r, g, b
+        )
+        c0, c1, c2 = c0 + w0 * s0, c1 + w1 * s1, c2 + w2 * s2
     return c0, c1, c2
+
+
+@njit(**_one_ray)
+def shade_ray(arrays, tree, lights, stack, o0, o1, o2, d0, d1, d2, hit, t, r, g, b):
+    """Repeats :func:`raykit.shading.shade` for one viewing ray and its nearest hit: the surface
+    point (:func:`surface_point`), its colour (:func:`surface_color`), and mirror rays up to
+    max_depth (:func:`bounce_on`)."""
+    if hit < 0:
+        return 0.0 + 1.0 * r, 0.0 + 1.0 * g, 0.0 + 1.0 * b  # the background, weighted 1
+    p0, p1, p2, n0, n1, n2, error = surface_point(arrays, lights, o0, o1, o2, d0, d1, d2, hit, t)
+    s0, s1, s2 = surface_color(
+        arrays, tree, lights, stack, hit, p0, p1, p2, n0, n1, n2, d0, d1, d2, error, r, g, b
+    )
+    c0, c1, c2 = 0.0 + 1.0 * s0, 0.0 + 1.0 * s1, 0.0 + 1.0 * s2  # weighted 1, added to nothing
+    return bounce_on(arrays, tree, lights, stack, 0, hit, p0, p1, p2, n0, n1, n2, d0, d1, d2,
+                     error, c0, c1, c2, 1.0, 1.0, 1.0)  # fmt: skip
 
 
 @njit(**_jit)
@@ -788,6 +829,8 @@ def primary_rays(arrays, tiles, camera, tile, n, xy, rays, best, best_t, colors,
 
 
 SHADOW_CANDIDATES = 16  # objects a tile lists per light; with more, its shadow rays walk the BVH
+DIRECT_LISTS = 64  # objects in a scene up to which the lists test each object, not the tree's
+# nodes: at 14 objects, 0.07 against 1 microsecond a list (classic_lit, one core)
 CULL_MARGIN = 1e-9  # of the scene's largest coordinate: rounding that the cull leaves room for
 
 
@@ -890,15 +933,36 @@ def shadow_volume(lights, j, box, pad, scale, volume):
 
 
 @njit(**_one_ray)
+def candidate(arrays, tree, volume, obj, candidates, j, count) -> int:
+    """Adds object ``obj`` to light j's ``candidates`` unless it is apart from the shadow volume
+    (a sphere: itself; a billboard: its box): the new count, or -1 past SHADOW_CANDIDATES."""
+    if obj < len(arrays.radii):
+        apart = sphere_apart(volume, arrays.centers, arrays.radii, obj)
+    else:
+        apart = box_apart(volume, tree.object_lower, tree.object_upper, obj)
+    if apart:
+        return count
+    if count == SHADOW_CANDIDATES:
+        return -1
+    candidates[j, count] = obj
+    return count + 1
+
+
+@njit(**_one_ray)
 def shadow_candidates(arrays, tree, volume, nodes, candidates, j) -> int:
     """Light j's candidates: the objects whose boxes (a sphere: itself) are not apart from the
-    shadow volume (:func:`shadow_volume`), found by walking the tree and leaving every node
-    whose box is apart, into ``candidates[j]``; returns how many, or -1 if more than
-    SHADOW_CANDIDATES (then the shadow rays walk the tree themselves). ``nodes (STACK,)``."""
-    if len(tree.order) == 0:
-        return 0
-    spheres = len(arrays.radii)
+    shadow volume (:func:`shadow_volume`), into ``candidates[j]``; returns how many, or -1 if
+    more than SHADOW_CANDIDATES (then the shadow rays walk the tree themselves). In a scene of
+    DIRECT_LISTS objects or fewer each object is tested; in a larger one, the tree is walked,
+    leaving every node whose box is apart. ``nodes (STACK,)``."""
+    objects = len(tree.order)
     count = 0
+    if objects <= DIRECT_LISTS:
+        for obj in range(objects):
+            count = candidate(arrays, tree, volume, obj, candidates, j, count)
+            if count < 0:
+                return -1
+        return count
     nodes[0] = 0
     top = 1
     while top > 0:
@@ -911,16 +975,9 @@ def shadow_candidates(arrays, tree, volume, nodes, candidates, j) -> int:
             top += 2
             continue
         for k in range(tree.first[node], tree.first[node] + tree.count[node]):
-            obj = tree.order[k]
-            if obj < spheres:
-                apart = sphere_apart(volume, arrays.centers, arrays.radii, obj)
-            else:
-                apart = box_apart(volume, tree.object_lower, tree.object_upper, obj)
-            if not apart:
-                if count == SHADOW_CANDIDATES:
-                    return -1
-                candidates[j, count] = obj
-                count += 1
+            count = candidate(arrays, tree, volume, tree.order[k], candidates, j, count)
+            if count < 0:
+                return -1
     return count
 
 
@@ -948,6 +1005,158 @@ def shadow_lists(arrays, tree, lights, stack, box, pad, volume, candidates, coun
     for j in range(len(counts)):
         shadow_volume(lights, j, box, pad, scale, volume)
         counts[j] = shadow_candidates(arrays, tree, volume, nodes, candidates, j)
+
+
+@njit(**_one_ray)
+def new_lanes(count):
+    """Room for shading ``count`` viewing rays in lanes (:func:`surface_lanes`,
+    :func:`light_lanes`), each a column, as the tuple ``(p, n, error, k, total, l, n_dot_l, s,
+    reach, t, lit)``: the surface point ``p (3, N)``, its normal ``n (3, N)`` and rounding bound
+    ``error (N,)`` (:func:`surface_point`), the colour k that light scales ``k (3, N)`` and the
+    colour so far ``total (3, N)``; toward the light at hand, ``l (3, N)``, ``n_dot_l (N,)``,
+    the shadow ray's start ``s (3, N)`` and ``reach (N,)``, room ``t (N,)``, and whether the
+    light reaches the point, ``lit (N,)``. A plain tuple: inside a parallel loop, writes
+    through a NamedTuple's fields are lost (numba issue #7135, open in numba 0.68.1)."""
+    return (np.empty((3, count)), np.empty((3, count)), np.empty(count), np.empty((3, count)),
+            np.empty((3, count)), np.empty((3, count)), np.empty(count), np.empty((3, count)),
+            np.empty(count), np.empty(count), np.empty(count, dtype=np.bool_))  # fmt: skip
+
+
+@njit(**_one_ray)
+def surface_lanes(arrays, lights, rays, best, best_t, colors, count, lanes, box):
+    """The first part of :func:`surface_color` for each of ``count`` viewing rays ``rays (6,
+    N)`` (origins, then directions) with a hit (``best`` >= 0, at ``best_t``; flat colours
+    ``colors (3, N)``): its surface point, normal and rounding bound (:func:`surface_point`),
+    k and the ambient term (in an unlit scene, the flat colour), into ``lanes``; and the box
+    of the points into ``box (2, 3)`` (empty: lower > upper). Returns the largest rounding
+    bound."""
+    p, n, error_of, k, total = lanes[0], lanes[1], lanes[2], lanes[3], lanes[4]
+    box[0, :], box[1, :] = np.inf, -np.inf
+    largest = 0.0
+    ambient = lights.ambient
+    for i in range(count):
+        hit = best[i]
+        if hit < 0:  # zeros, not whatever the room held: arithmetic on them is thrown away
+            for row in range(3):
+                p[row, i], n[row, i] = 0.0, 0.0
+            error_of[i] = 0.0
+            continue
+        p0, p1, p2, n0, n1, n2, error = surface_point(
+            arrays, lights, rays[0, i], rays[1, i], rays[2, i], rays[3, i], rays[4, i],
+            rays[5, i], hit, best_t[i],
+        )  # fmt: skip
+        p[0, i], p[1, i], p[2, i] = p0, p1, p2
+        n[0, i], n[1, i], n[2, i] = n0, n1, n2
+        error_of[i] = error
+        if lights.has_diffuse[hit]:
+            k0, k1, k2 = lights.diffuse[hit, 0], lights.diffuse[hit, 1], lights.diffuse[hit, 2]
+        else:
+            k0, k1, k2 = colors[0, i], colors[1, i], colors[2, i]
+        k[0, i], k[1, i], k[2, i] = k0, k1, k2
+        if lights.lit:
+            total[0, i] = k0 * ambient[0]
+            total[1, i] = k1 * ambient[1]
+            total[2, i] = k2 * ambient[2]
+        else:  # an unlit scene's surface colour is its flat colour
+            total[0, i], total[1, i] = colors[0, i], colors[1, i]
+            total[2, i] = colors[2, i]
+        box[0, 0], box[1, 0] = min(box[0, 0], p0), max(box[1, 0], p0)
+        box[0, 1], box[1, 1] = min(box[0, 1], p1), max(box[1, 1], p1)
+        box[0, 2], box[1, 2] = min(box[0, 2], p2), max(box[1, 2], p2)
+        largest = max(largest, error)
+    return largest
+
+
+@njit(**_jit)  # called once a job: compiled apart, which keeps trace's compile shorter
+def light_lanes(arrays, tree, lights, stack, rays, best, count, lanes, candidates, counts):
+    """The lights' part of :func:`surface_color` for ``count`` surface points in ``lanes``
+    (:func:`surface_lanes`; those of ``best`` >= 0), seen along the directions in ``rays (6,
+    N)``, light by light, each step for all points at once: l and n·l; whether the light
+    reaches the point (its shadow ray, against light j's ``candidates[j, :counts[j]]``
+    (:func:`shadow_lists`), or walking the tree where counts[j] is -1); the Lambert term; the
+    highlight. Each point's operations are :func:`surface_color`'s, in its order, so its bits
+    are the same; a step that is the same for every point (l, n·l, the start of a shadow ray,
+    a sphere or a billboard's plane tested against every shadow ray, the Lambert term, kept or
+    not) is one loop the compiler turns into vector instructions, 8 points at a time with
+    AVX-512. A point with no hit or facing away from the light takes nothing from them."""
+    spheres = len(arrays.radii)
+    centers, radii, corners, planes = arrays.centers, arrays.radii, arrays.corners, arrays.n
+    p, n, error, k, total, l, n_dot_l, s, reach, t, lit = lanes
+    for j in range(len(lights.point)):
+        v0, v1, v2 = lights.vectors[j, 0], lights.vectors[j, 1], lights.vectors[j, 2]
+        if lights.point[j]:  # raykit.lights.toward_light; the shadow rays' start and reach
+            for i in range(count):
+                l[0, i], l[1, i], l[2, i] = toward_point_light(v0, v1, v2, p[0, i], p[1, i],
+                                                               p[2, i])  # fmt: skip
+                s[0, i], s[1, i], s[2, i] = off_surface(
+                    p[0, i], p[1, i], p[2, i], n[0, i], n[1, i], n[2, i], error[i]
+                )
+                reach[i] = point_light_reach(v0, v1, v2, s[0, i], s[1, i], s[2, i])
+        else:
+            for i in range(count):
+                l[0, i], l[1, i], l[2, i] = v0, v1, v2
+                s[0, i], s[1, i], s[2, i] = off_surface(
+                    p[0, i], p[1, i], p[2, i], n[0, i], n[1, i], n[2, i], error[i]
+                )
+                reach[i] = np.inf
+        for i in range(count):
+            n_dot_l[i] = n[0, i] * l[0, i] + n[1, i] * l[1, i] + n[2, i] * l[2, i]
+            lit[i] = (best[i] >= 0) & (n_dot_l[i] > 0)
+        if lights.shadows and counts[j] < 0:  # raykit.shadows.in_shadow, through the tree
+            for i in range(count):
+                if lit[i]:
+                    _, blocker, _, _, _ = nearest_hit(
+                        arrays, tree, stack, s[0, i], s[1, i], s[2, i], l[0, i], l[1, i],
+                        l[2, i], reach[i], True,
+                    )  # fmt: skip
+                    lit[i] = not blocker < reach[i]
+        elif lights.shadows:  # against the list: a point is dark if any opaque hit is nearer
+            for m in range(counts[j]):  # than the light, whichever is nearest
+                obj = candidates[j, m]
+                if obj < spheres:
+                    c0, c1, c2, R = centers[obj, 0], centers[obj, 1], centers[obj, 2], radii[obj]
+                    for i in range(count):
+                        t[i] = hit_sphere(
+                            s[0, i], s[1, i], s[2, i], l[0, i], l[1, i], l[2, i], c0, c1, c2, R
+                        )
+                    for i in range(count):
+                        lit[i] = lit[i] & ~(t[i] < reach[i])
+                    continue
+                board = obj - spheres  # its plane first, as hit_billboard meets it
+                a0, a1, a2 = corners[board, 0], corners[board, 1], corners[board, 2]
+                m0, m1, m2 = planes[board, 0], planes[board, 1], planes[board, 2]
+                for i in range(count):
+                    d_dot_n = l[0, i] * m0 + l[1, i] * m1 + l[2, i] * m2
+                    a_minus_o_dot_n = (
+                        (a0 - s[0, i]) * m0 + (a1 - s[1, i]) * m1 + (a2 - s[2, i]) * m2
+                    )
+                    t[i] = a_minus_o_dot_n / d_dot_n
+                for i in range(count):  # hit_billboard's t where the plane's is in reach
+                    if lit[i] and t[i] > 0 and t[i] < reach[i]:
+                        t_hit, alpha, beta = hit_billboard(
+                            s[0, i], s[1, i], s[2, i], l[0, i], l[1, i], l[2, i], arrays, board
+                        )
+                        if t_hit < reach[i] and billboard_color(arrays, board, alpha, beta)[3]:
+                            lit[i] = False
+        I0, I1, I2 = lights.colors[j, 0], lights.colors[j, 1], lights.colors[j, 2]
+        for i in range(count):  # raykit.shading.lambert, where the light reaches
+            sum0 = total[0, i] + k[0, i] * I0 * n_dot_l[i]
+            sum1 = total[1, i] + k[1, i] * I1 * n_dot_l[i]
+            sum2 = total[2, i] + k[2, i] * I2 * n_dot_l[i]
+            total[0, i] = sum0 if lit[i] else total[0, i]
+            total[1, i] = sum1 if lit[i] else total[1, i]
+            total[2, i] = sum2 if lit[i] else total[2, i]
+        for i in range(count):  # raykit.shading.blinn_phong
+            hit = best[i]
+            if not lit[i] or not lights.shiny[hit]:
+                continue
+            power = highlight(n[0, i], n[1, i], n[2, i], l[0, i], l[1, i], l[2, i], rays[3, i],
+                              rays[4, i], rays[5, i], lights.shininess[hit])  # fmt: skip
+            if power >= 0:
+                ks = lights.specular
+                total[0, i] += ks[hit, 0] * I0 * power
+                total[1, i] += ks[hit, 1] * I1 * power
+                total[2, i] += ks[hit, 2] * I2 * power
 
 
 # ---- the loops: many rays, both cores --------------------------------------------------------
@@ -1044,6 +1253,7 @@ def trace(arrays, tiles, tree, lights, camera, width, height, jobs, workers, xs,
             np.full(len(lights.point), -1, dtype=np.int64),  # without lists: walk the tree
             np.empty((6, 5)),  # a shadow volume
             np.empty(HOLDING_CHUNK, dtype=np.int64),  # primary_ray's entries that hold its point
+            new_lanes(n if lights.shaded else 0),  # shading in lanes
         )
         while True:
             first_job = take(taken, grain)
@@ -1084,7 +1294,7 @@ def trace_job(arrays, tiles, tree, lights, camera, width, xs, ys, offsets, centr
     :func:`trace` makes it. Ray i is sample i % S of the job's pixel i // S; the rays through
     the pixel centres, if cast apart (``centre`` -1), come after all those."""
     (stack, xy, rays, best, best_t, colors, made, alive, ts, box, candidates, counts, volume,
-     holding) = room  # fmt: skip
+     holding, lanes) = room  # fmt: skip
     points = len(xs)
     samples = len(offsets)
     pixels = rows * across
@@ -1136,32 +1346,34 @@ def trace_job(arrays, tiles, tree, lights, camera, width, xs, ys, offsets, centr
                 rays[1, i], rays[2, i], rays[3, i], rays[4, i], rays[5, i] = primary_ray(
                     arrays, tiles, camera, xy[0, i], xy[1, i], tile, holding
                 )  # fmt: skip
-    if lights.shaded:
+    if lights.shaded:  # each light for all the job's surface points at once, then mirrors
+        shaded = pixels * samples
+        largest = surface_lanes(arrays, lights, rays, best, best_t, colors, shaded, lanes, box)
         if lights.shadows:
-            box[0, :], box[1, :] = np.inf, -np.inf
-            error = 0.0
-            for i in range(pixels * samples):
-                if best[i] < 0:
-                    continue
-                t_hit = best_t[i]  # the surface point, as shade_ray makes it
-                o0, o1, o2 = rays[0, i], rays[1, i], rays[2, i]
-                d0, d1, d2 = rays[3, i], rays[4, i], rays[5, i]
-                p0, p1, p2 = o0 + t_hit * d0, o1 + t_hit * d1, o2 + t_hit * d2
-                box[0, 0], box[1, 0] = min(box[0, 0], p0), max(box[1, 0], p0)
-                box[0, 1], box[1, 1] = min(box[0, 1], p1), max(box[1, 1], p1)
-                box[0, 2], box[1, 2] = min(box[0, 2], p2), max(box[1, 2], p2)
-                error = max(error, EPS * (max(abs(o0), abs(o1), abs(o2)) + t_hit))
             # shadow rays start off the surface by OFFSET_FACTOR x error x |n|, and |n| < 2 but
             # for a sphere smaller than its own rounding
-            pad = 2.0 * OFFSET_FACTOR * error
+            pad = 2.0 * OFFSET_FACTOR * largest
             shadow_lists(arrays, tree, lights, stack, box, pad, volume, candidates, counts)
-        for i in range(pixels * samples):
-            if made[i]:
-                colors[0, i], colors[1, i], colors[2, i] = shade_ray(
-                    arrays, tree, lights, stack, rays[0, i], rays[1, i], rays[2, i],
-                    rays[3, i], rays[4, i], rays[5, i], best[i], best_t[i],
-                    colors[0, i], colors[1, i], colors[2, i], candidates, counts,
-                )  # fmt: skip
+        if lights.lit:
+            light_lanes(arrays, tree, lights, stack, rays, best, shaded, lanes, candidates, counts)
+        point, normal, error, total = lanes[0], lanes[1], lanes[2], lanes[4]
+        for i in range(shaded):
+            if not made[i]:
+                continue
+            if best[i] < 0:  # as shade_ray gives the background
+                colors[0, i], colors[1, i], colors[2, i] = (
+                    0.0 + 1.0 * colors[0, i],
+                    0.0 + 1.0 * colors[1, i],
+                    0.0 + 1.0 * colors[2, i],
+                )
+                continue
+            colors[0, i], colors[1, i], colors[2, i] = bounce_on(
+                arrays, tree, lights, stack, 0, best[i], point[0, i], point[1, i], point[2, i],
+                normal[0, i], normal[1, i], normal[2, i], rays[3, i], rays[4, i], rays[5, i],
+                error[i],
+                0.0 + 1.0 * total[0, i], 0.0 + 1.0 * total[1, i], 0.0 + 1.0 * total[2, i],
+                1.0, 1.0, 1.0,
+            )  # fmt: skip
     for down in range(rows):
         for along in range(across):
             q = down * across + along
