@@ -268,9 +268,11 @@ class MitsubaChild:
         self.errors.seek(0)
         lines = self.errors.read().strip().splitlines()
         self.errors.close()
-        if isinstance(error, TimeoutError) or not lines:
-            lines = [str(error) if isinstance(error, TimeoutError) else f"exit status {returncode}"]
-        return f"failed: {lines[-1][:80]}"
+        if isinstance(error, TimeoutError):
+            why = str(error)
+        else:  # what the child said last, or how it ended
+            why = lines[-1] if lines else f"exit status {returncode}"
+        return f"failed: {why[:80]}"
 
 
 def _engines(engine: str) -> list[str]:
