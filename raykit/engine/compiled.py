@@ -24,7 +24,8 @@ viewing rays are all traced first, then each light's volume of shadow rays from 
 their surface points picks its candidates from the scene (:func:`shadow_lists`; with too many,
 the rays walk the tree). Other shadow rays and mirror rays walk a bounding volume hierarchy
 (the tree of :mod:`raykit.engine.bvh`, built by the same code), nearer child first, leaving
-every box that starts beyond the nearest hit found; a shadow ray stops at its first blocker.
+every box that starts beyond the nearest hit found, or in a scene of a few objects test each
+(:data:`DIRECT_HITS`); a shadow ray stops at its first blocker.
 Either way a tie keeps the lower object index, whatever order objects come in, and a cut-out
 texel is no hit: the answer is :func:`raykit.render.cast`'s. All of it is made once per scene
 by :func:`prepare`, which a caller may keep and render many times.
@@ -74,7 +75,7 @@ from raykit.shading import casts_shadows, needs_shading
 from raykit.surfaces import OFFSET_FACTOR
 
 # about the first compile, as benchmarks/engines.py times it (docs/benchmarks/engines.md, 2)
-COMPILE_SECONDS = 220
+COMPILE_SECONDS = 260
 EPS = float(np.finfo(np.float64).eps)  # the rounding unit of raykit.surfaces' error bound
 STACK = 128  # nodes a ray may have still to visit: a median-split tree of 2^63 objects is 63 deep
 ROWS_PER_CALL = 32  # rows of pixels per kernel call when a progress bar is to move
@@ -401,22 +402,36 @@ def offer(arrays, obj, o0, o1, o2, d0, d1, d2, best, best_t, r, g, b):
     return best, best_t, r, g, b
 
 
+# objects in a scene up to which a shadow or mirror ray tests each object, not the tree's
+# boxes: mirror_balls's 5 render about 15% faster so (prepared, in turns, one run)
+DIRECT_HITS = 8
+
+
 @njit(**_one_ray)
 def nearest_hit(arrays, tree, stack, o0, o1, o2, d0, d1, d2, t_max, any_blocker=False):
     """Repeats :func:`raykit.render.cast` for one ray, through the BVH: ``(index, t, r, g, b)``,
     the nearest opaque hit with t > 0 (the lower index on a tie), or (-1, inf, background).
-    Hits at t > t_max may be left out (shadow rays). ``any_blocker``: a shadow ray asks only
-    whether some opaque hit lies before t_max (:func:`raykit.shadows.in_shadow` compares the
-    nearest hit's t with it), so the walk stops at the first such hit, whose t < t_max answers
-    as the nearest's would. ``stack``: room for the nodes still to visit and where the ray
-    enters them, ``(STACK,)`` ints and floats (:func:`new_stack`), reused from ray to ray. A
-    child's box is tested once, when its parent is left, and skipped when taken from the stack
-    if the nearest hit found meanwhile lies before it: the nodes visited are those a test at
-    each visit would visit, with one slab test fewer per node."""
+    Hits at t > t_max may be left out (shadow rays). In a scene of :data:`DIRECT_HITS` objects
+    or fewer each object is tested, in index order, and the tree is not walked. ``any_blocker``:
+    a shadow ray asks only whether some opaque hit lies before t_max
+    (:func:`raykit.shadows.in_shadow` compares the nearest hit's t with it), so the search
+    stops at the first such hit, whose t < t_max answers as the nearest's would. ``stack``:
+    room for the nodes still to visit and where the ray enters them, ``(STACK,)`` ints and
+    floats (:func:`new_stack`), reused from ray to ray. A child's box is tested once, when its
+    parent is left, and skipped when taken from the stack if the nearest hit found meanwhile
+    lies before it: the nodes visited are those a test at each visit would visit, with one slab
+    test fewer per node."""
     background = arrays.background
     best, best_t = -1, np.inf
     r, g, b = background[0], background[1], background[2]
-    if len(tree.order) == 0:
+    objects = len(tree.order)  # the tree holds each of the scene's objects once
+    if objects <= DIRECT_HITS:
+        for obj in range(objects):
+            best, best_t, r, g, b = offer(
+                arrays, obj, o0, o1, o2, d0, d1, d2, best, best_t, r, g, b
+            )
+            if any_blocker and best_t < t_max:
+                break
         return best, best_t, r, g, b
     i0, i1, i2 = 1.0 / d0, 1.0 / d1, 1.0 / d2  # ±inf along an axis the ray does not move
     lower, upper = tree.lower, tree.upper
@@ -830,7 +845,7 @@ def primary_rays(arrays, tiles, camera, tile, n, xy, rays, best, best_t, colors,
 
 SHADOW_CANDIDATES = 16  # objects a tile lists per light; with more, its shadow rays walk the BVH
 DIRECT_LISTS = 64  # objects in a scene up to which the lists test each object, not the tree's
-# nodes: at 14 objects, 0.07 against 1 microsecond a list (classic_lit, one core)
+# nodes: at 14 objects, 0.09 against 1.1 microseconds a list (classic_lit, one core)
 CULL_MARGIN = 1e-9  # of the scene's largest coordinate: rounding that the cull leaves room for
 
 
