@@ -238,6 +238,11 @@ def _crowd(rng, count, ties=True, holes=True):
 def test_bvh_caster_answers_what_cast_answers_with_ties_and_holes(objects):
     rng = np.random.default_rng(objects)
     scene = _crowd(rng, objects)
+    if objects < 4:  # few enough that each ray tests every object (DIRECT_HITS): add a tie
+        twin = replace(scene.spheres[0], color=np.array([1.0, 0.0, 1.0]))
+        scene = replace(scene, spheres=(*scene.spheres, twin))
+    direct = len(scene.spheres) + len(scene.billboards) <= compiled.DIRECT_HITS
+    assert direct == (objects < 4)  # the small crowd takes that path, the others the tree's
     origins, directions = _random_rays(rng, RAYS, 6.0)
     toward = rng.normal(size=(RAYS, 3)) * 4 - origins  # aimed into the crowd
     directions = toward / np.linalg.norm(toward, axis=1, keepdims=True)
@@ -247,6 +252,7 @@ def test_bvh_caster_answers_what_cast_answers_with_ties_and_holes(objects):
     _exactly(got.t, expected.t)
     _exactly(got.color, expected.color)
     assert (expected.index >= 0).mean() > 0.05  # thousands of hits, and misses
+    assert (expected.index == 0).sum() > 25  # rays that meet sphere 0 and its twin at one t
 
 
 @numba.njit
