@@ -12,7 +12,8 @@ Variants, on the same scene in the same process:
 
 Then float32 against float64 on every scene, and the whole process: ``raykit render`` of the
 classic scene from the command line against ``python -c "import numpy, PIL.Image"``, run in
-turn, each the median of ``--repeats`` runs (at least 5).
+turn, each the median of ``--repeats`` runs (at least 5), and where its time goes: the same
+steps in a fresh process, each timed (``--whole-process``: only these two tables).
 
 Times are medians of ``--repeats`` runs of the render alone (not loading); the ratio columns
 compare the variants measured in this run. ``--quick`` uses small images and few objects, for CI.
@@ -89,6 +90,76 @@ def whole_process(repeats: int) -> tuple[float, float]:
     return statistics.median(times[0]), statistics.median(times[1])
 
 
+# what ``raykit render scenes/classic.json -o OUT`` does (raykit.cli), step by step, in a fresh
+# process: each step's seconds, one per line
+STEPS = """
+import sys, time
+start = time.perf_counter()
+import numpy, PIL.Image
+imported = time.perf_counter()
+import raykit.cli
+from raykit.io.images import check_image_path, save_image
+from raykit.io.scene_json import load_scene
+from raykit.render import render
+ready = time.perf_counter()
+check_image_path(sys.argv[2])
+scene = load_scene(sys.argv[1])
+loaded = time.perf_counter()
+image = render(scene)
+rendered = time.perf_counter()
+save_image(image.rgb, sys.argv[2])
+saved = time.perf_counter()
+for a, b in ((start, imported), (imported, ready), (ready, loaded), (loaded, rendered),
+             (rendered, saved)):
+    print(b - a)
+"""
+STEP_NAMES = (
+    "importing numpy and Pillow",
+    "importing raykit's modules",
+    "loading the scene (JSON, textures)",
+    "rendering (numpy engine, first render in the process)",
+    "writing the PNG",
+)
+
+
+def whole_process_steps(repeats: int) -> tuple[float, list[float]]:
+    """Median wall time (s) of ``python -c pass``, and median seconds of each of
+    :data:`STEP_NAMES` in a fresh process doing what ``raykit render`` does, run in turn."""
+    classic = str(HERE.parent / "scenes" / "classic.json")
+    starts, steps = [], []
+    with tempfile.TemporaryDirectory() as folder:
+        for _ in range(repeats):
+            start = time.perf_counter()
+            subprocess.run([sys.executable, "-c", "pass"], check=True, capture_output=True)
+            starts.append(time.perf_counter() - start)
+            done = subprocess.run(
+                [sys.executable, "-c", STEPS, classic, f"{folder}/classic.png"],
+                check=True, capture_output=True, text=True,
+            )  # fmt: skip
+            steps.append([float(line) for line in done.stdout.split()])
+    return statistics.median(starts), [statistics.median(step) for step in zip(*steps, strict=True)]
+
+
+def print_whole_process(repeats: int) -> None:
+    imports, whole = whole_process(repeats)
+    print("| whole process, classic 640x480 | median | ratio |")
+    print("|---|---|---|")
+    print(f'| `python -c "import numpy, PIL.Image"` | {seconds(imports)} | 1.00 |')
+    print(f"| `raykit render scenes/classic.json` | {seconds(whole)} | {whole / imports:.2f} |")
+
+    python, steps = whole_process_steps(repeats)
+    print("\n| where `raykit render scenes/classic.json` spends its time | median |")
+    print("|---|---|")
+    print(f"| Python starting (`python -c pass`) | {seconds(python)} |")
+    for name, step in zip(STEP_NAMES, steps, strict=True):
+        print(f"| {name} | {seconds(step)} |")
+    print(
+        f"\nA whole process of 1.5 times the first table's yardstick leaves "
+        f"{seconds(1.5 * imports - imports)} for everything beyond importing numpy and Pillow; "
+        f"the render alone takes {seconds(steps[3])} of it here."
+    )
+
+
 def scenes(quick: bool) -> list[tuple[str, Scene]]:
     classic = load_scene(HERE.parent / "scenes" / "classic.json")
     if quick:
@@ -121,7 +192,13 @@ def example_scenes(quick: bool) -> list[tuple[str, Scene]]:
 def main() -> None:
     parser = arguments(__doc__, "small images, for CI")
     parser.add_argument("--plot", type=Path, help="write time against number of objects here")
+    parser.add_argument(
+        "--whole-process", action="store_true", help="only the whole process and its steps"
+    )
     args = parse(parser)
+    if args.whole_process:
+        print_whole_process(max(args.repeats, 5))
+        return
     crop = (8, 6) if args.quick else CROP
     rows = [measure(name, scene, args.repeats, crop) for name, scene in scenes(args.quick)]
 
@@ -155,11 +232,8 @@ def main() -> None:
             f"| {changed} of {double.object_index.size:,} |"
         )
 
-    imports, whole = whole_process(max(args.repeats, 5))
-    print("\n| whole process, classic 640x480 | median | ratio |")
-    print("|---|---|---|")
-    print(f'| `python -c "import numpy, PIL.Image"` | {seconds(imports)} | 1.00 |')
-    print(f"| `raykit render scenes/classic.json` | {seconds(whole)} | {whole / imports:.2f} |")
+    print()
+    print_whole_process(max(args.repeats, 5))
 
     if args.plot:
         flakes = [r for r in rows if r["scene"].startswith("sphereflake")]

@@ -45,9 +45,31 @@ def test_render_speed_compares_float32_with_float64():
         text=True,
         timeout=TIMEOUT,
     )
-    table = run.stdout.split("| scene | float64 | float32")[1]
+    table = run.stdout.split("| scene | float64 | float32")[1].split("\n\n")[0]
     examples = len(list((REPO / "scenes").glob("*.json")))
     assert table.count(" of ") == 3 + examples  # the benchmark scenes and every example scene
+
+
+def test_render_speed_whole_process_says_where_the_time_of_raykit_render_goes():
+    run = subprocess.run(
+        [sys.executable, str(REPO / "benchmarks/render_speed.py"), "--whole-process"],
+        capture_output=True,
+        text=True,
+        timeout=TIMEOUT,
+    )
+    assert run.returncode == 0, run.stderr
+    assert "| scene |" not in run.stdout  # only the whole process's tables
+    steps = run.stdout.split("spends its time | median |")[1].split("\n\n")[0]
+    rows = [line for line in steps.splitlines() if line.startswith("| ")]
+    assert [row.split(" | ")[0] for row in rows] == [
+        "| Python starting (`python -c pass`)",
+        "| importing numpy and Pillow",
+        "| importing raykit's modules",
+        "| loading the scene (JSON, textures)",
+        "| rendering (numpy engine, first render in the process)",
+        "| writing the PNG",
+    ]
+    assert all(row.endswith(" ms |") for row in rows)
 
 
 def test_time_vs_error_quick_prints_every_mode():
