@@ -73,24 +73,6 @@ def measure(name: str, scene: Scene, repeats: int, crop: tuple[int, int]) -> dic
     return row
 
 
-def whole_process(repeats: int) -> tuple[float, float]:
-    """Median wall times (s) of a Python that imports numpy and Pillow, and of ``raykit
-    render`` of the classic scene to a PNG, each a fresh process, run in turn."""
-    classic = str(HERE.parent / "scenes" / "classic.json")
-    with tempfile.TemporaryDirectory() as folder:
-        commands = (
-            [sys.executable, "-c", "import numpy, PIL.Image"],
-            [sys.executable, "-m", "raykit", "render", classic, "-o", f"{folder}/classic.png"],
-        )
-        times = ([], [])
-        for _ in range(repeats):
-            for command, kept in zip(commands, times, strict=True):
-                start = time.perf_counter()
-                subprocess.run(command, check=True, capture_output=True)
-                kept.append(time.perf_counter() - start)
-    return statistics.median(times[0]), statistics.median(times[1])
-
-
 # what ``raykit render scenes/classic.json -o OUT`` does (raykit.cli), step by step, in a fresh
 # process: each step's seconds, one per line
 STEPS = """
@@ -123,32 +105,41 @@ STEP_NAMES = (
 )
 
 
-def whole_process_steps(repeats: int) -> tuple[float, list[float]]:
-    """Median wall time (s) of ``python -c pass``, and median seconds of each of
-    :data:`STEP_NAMES` in a fresh process doing what ``raykit render`` does, run in turn."""
+def whole_process(repeats: int) -> tuple[float, float, float, list[float]]:
+    """Median wall times (s) of a Python that imports numpy and Pillow, of ``raykit render`` of
+    the classic scene to a PNG and of ``python -c pass``, and the median seconds of each of
+    :data:`STEP_NAMES` in a process doing what ``raykit render`` does: each a fresh process,
+    the four run in turn."""
     classic = str(HERE.parent / "scenes" / "classic.json")
-    starts, steps = [], []
     with tempfile.TemporaryDirectory() as folder:
+        image = f"{folder}/classic.png"
+        timed = (
+            [sys.executable, "-c", "import numpy, PIL.Image"],
+            [sys.executable, "-m", "raykit", "render", classic, "-o", image],
+            [sys.executable, "-c", "pass"],
+        )
+        walls, steps = ([], [], []), []
         for _ in range(repeats):
-            start = time.perf_counter()
-            subprocess.run([sys.executable, "-c", "pass"], check=True, capture_output=True)
-            starts.append(time.perf_counter() - start)
+            for command, kept in zip(timed, walls, strict=True):
+                start = time.perf_counter()
+                subprocess.run(command, check=True, capture_output=True)
+                kept.append(time.perf_counter() - start)
             done = subprocess.run(
-                [sys.executable, "-c", STEPS, classic, f"{folder}/classic.png"],
+                [sys.executable, "-c", STEPS, classic, image],
                 check=True, capture_output=True, text=True,
             )  # fmt: skip
             steps.append([float(line) for line in done.stdout.split()])
-    return statistics.median(starts), [statistics.median(step) for step in zip(*steps, strict=True)]
+    imports, whole, python = (statistics.median(kept) for kept in walls)
+    return imports, whole, python, [statistics.median(step) for step in zip(*steps, strict=True)]
 
 
 def print_whole_process(repeats: int) -> None:
-    imports, whole = whole_process(repeats)
+    imports, whole, python, steps = whole_process(repeats)
     print("| whole process, classic 640x480 | median | ratio |")
     print("|---|---|---|")
     print(f'| `python -c "import numpy, PIL.Image"` | {seconds(imports)} | 1.00 |')
     print(f"| `raykit render scenes/classic.json` | {seconds(whole)} | {whole / imports:.2f} |")
 
-    python, steps = whole_process_steps(repeats)
     print("\n| where `raykit render scenes/classic.json` spends its time | median |")
     print("|---|---|")
     print(f"| Python starting (`python -c pass`) | {seconds(python)} |")
