@@ -20,12 +20,15 @@ rays, sizes and parameters.
 from __future__ import annotations
 
 import json
+import math
 import zlib
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+
+from raykit.rays import dot, length
 
 REPO = Path(__file__).resolve().parent.parent
 SCENES = REPO / "scenes"
@@ -73,7 +76,7 @@ def _rays(rng, count: int, dims: int, aim: np.ndarray, spread: float):
     origins = rng.uniform(-4, 4, (count, dims))
     targets = aim + rng.uniform(-spread, spread, (count, dims))
     directions = targets - origins
-    directions /= np.linalg.norm(directions, axis=1, keepdims=True)
+    directions /= length(directions)[:, None]
     return origins, directions
 
 
@@ -111,7 +114,7 @@ def jitter_camera(scene: dict, rng: np.random.Generator) -> dict:
     if "eye" in camera:  # 3D
         eye, lookat = np.array(camera["eye"], float), np.array(camera["lookat"], float)
         away = rng.normal(size=3)
-        away *= rng.uniform(0.03, 0.06) * np.linalg.norm(eye - lookat) / np.linalg.norm(away)
+        away *= rng.uniform(0.03, 0.06) * length(eye - lookat) / length(away)
         camera["eye"] = (eye + away).tolist()
         scale = 1 + either_way(0.05, 0.15)
         camera["width"] = max(8, round(camera["width"] * scale))
@@ -119,9 +122,9 @@ def jitter_camera(scene: dict, rng: np.random.Generator) -> dict:
     else:  # the 2D line-scan camera
         e, w = np.array(camera["e"], float), np.array(camera["w"], float)
         turn = rng.uniform(-0.03, 0.03)
-        rotation = np.array([[np.cos(turn), -np.sin(turn)], [np.sin(turn), np.cos(turn)]])
+        cos, sin = math.cos(turn), math.sin(turn)
         camera["e"] = (e + rng.uniform(-0.05, 0.05, 2)).tolist()
-        camera["w"] = (rotation @ w).tolist()
+        camera["w"] = [cos * w[0] - sin * w[1], sin * w[0] + cos * w[1]]
         camera["pixels"] = max(4, camera["pixels"] + int(either_way(1, 4)))
     camera["fov_angle"] = float(camera["fov_angle"] * (1 + either_way(0.02, 0.05)))
     return scene
@@ -160,7 +163,7 @@ def _tiny_far_sphere(rng):
     distance = rng.uniform(0.8e5, 1.2e5)
     center = np.array([0.0, 0.0, -distance])
     aim = center + rng.uniform(-1.5e-3, 1.5e-3, (400, 3)) * [1, 1, 0]
-    directions = aim / np.linalg.norm(aim, axis=1, keepdims=True)
+    directions = aim / length(aim)[:, None]
     return {"radius": 1e-3, "origins": np.zeros((400, 3)), "directions": directions,
             "center": center}  # fmt: skip
 
@@ -189,7 +192,7 @@ def _camera(rng, **kw):
 
 def _unit_rows(rng, count):
     rows = rng.normal(size=(count, 3))
-    return rows / np.linalg.norm(rows, axis=1, keepdims=True)
+    return rows / length(rows)[:, None]
 
 
 def _shading_arrays(seed: int, *names: str):
@@ -220,10 +223,10 @@ def _sphere_points(rng):
 def _parallel_planes(rng):
     """Rays parallel to a plane (some in it), and planes behind the ray."""
     n = rng.normal(size=3)
-    n /= np.linalg.norm(n)
+    n /= length(n)
     a = rng.uniform(-1, 1, 3)
     along = np.cross(n, rng.normal(size=3))
-    along /= np.linalg.norm(along)
+    along /= length(along)
     above = a + n * rng.uniform(0.5, 2)
     origins = np.array([above, above, above, a - n])
     directions = np.array([along, n, -n, -n])
@@ -238,7 +241,7 @@ def _plane_sides(rng):
     a = rng.integers(-3, 4, 3).astype(float)
     p = rng.integers(-5, 6, (90, 3)).astype(float)
     on = p[:30].copy()
-    on[:, 0] = a[0] - ((on[:, 1:] - a[1:]) @ n[1:]) / n[0]  # solved for x: on the plane
+    on[:, 0] = a[0] - dot(on[:, 1:] - a[1:], n[1:]) / n[0]  # solved for x: on the plane
     keep = on[:, 0] == np.round(on[:, 0])  # whole numbers only
     return {"p": np.vstack([on[keep], p[30:]]), "a": a, "n": n}
 
@@ -261,16 +264,16 @@ def _shadow_test(rng: np.random.Generator):
     far = np.array([1e6, 1e6, 1e6])
     eye = far + [0.0, 4.0, 6.0]
     aim = far + np.column_stack([rng.uniform(-3, 3, 400), np.zeros(400), rng.uniform(-3, 3, 400)])
-    directions = (aim - eye) / np.linalg.norm(aim - eye, axis=1, keepdims=True)
+    directions = (aim - eye) / length(aim - eye)[:, None]
     origins = np.broadcast_to(eye, directions.shape).copy()
     across, along = np.array([1.0, 0.1, 0.0]), np.array([0.0, 0.2, 1.0])  # the floor's edges
     normal = np.cross(along, across)
-    normal /= np.linalg.norm(normal)
+    normal /= length(normal)
     t = hit_plane(origins, directions, far, normal)
     points = point_at(origins, directions, t)
     light = far + [0.5, 5.0, 0.2] + rng.uniform(-0.3, 0.3, 3)
     to_light = light - points
-    distance = np.linalg.norm(to_light, axis=1)
+    distance = length(to_light)
     floor = {
         "upper_left": (far - 10 * across - 10 * along).tolist(),
         "lower_left": (far - 10 * across + 10 * along).tolist(),

@@ -103,7 +103,7 @@ def _any_root(origins, directions, center, radius):
 
 def _plane_any_side(origins, directions, a, n):
     with np.errstate(divide="ignore", invalid="ignore"):
-        t = ((a - origins) @ n) / (directions @ n)
+        t = dot(a - origins, n) / dot(directions, n)
     return np.where(np.isfinite(t), t, MISS)
 
 
