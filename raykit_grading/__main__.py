@@ -188,11 +188,8 @@ def _grade(args, options) -> int:
     else:
         print(f"wrote {args.output}: {results['score']:g} of {total:g} points")
     if status == 1:
-        print(
-            f"raykit_grading: error: {args.submission}: no raykit package "
-            "(expected raykit/__init__.py)",
-            file=sys.stderr,
-        )
+        why = results["tests"][0]["output"].splitlines()[0]  # what was found, what expected
+        print(f"raykit_grading: error: {args.submission}: {why}", file=sys.stderr)
     return status
 
 

@@ -177,7 +177,8 @@ def _grade_student(folder: Path, out: Path, names, options: Options, draw: list[
         return {**row, "status": f"could not grade: {last[:300]}"}
     results = json.loads(results_path.read_text())
     if run.returncode == 1:
-        row["status"] = "could not grade: no raykit package in the folder"
+        why = results["tests"][0]["output"].splitlines()[0] if results["tests"] else ""
+        row["status"] = f"could not grade: {why or 'no raykit package in the folder'}"[:300]
     else:
         row["status"] = "graded"
     row["score"] = results["score"]

@@ -122,7 +122,7 @@ def grade(
             staged = stage(Path(submission), workspace / "submission")
             notes = staged.notes
             package = staged.package
-            problem = "no raykit package found in the submission (expected raykit/__init__.py)"
+            problem = staged.problem or "no raykit package (expected raykit/__init__.py)"
         except SubmissionError as exc:
             package, problem = None, f"the submission could not be taken in: {exc}"
         except OSError as exc:  # a shape of folder the staging did not foresee: theirs
@@ -153,6 +153,8 @@ def grade(
                     progress(test)
     summary = [f"raykit autograder: {len(tests)} tests"]
     summary += [f"Note: {note}" for note in notes]
+    if package is None:  # the submission's shape, said once at the top as well
+        summary.append(problem)
     if failures:
         summary.append(f"{len(failures)} test(s) could not be graded; they need a regrade")
     graded = {
