@@ -210,3 +210,24 @@ def test_several_raykit_folders_are_not_guessed_between(make, message, tmp_path,
     assert results["score"] == 0
     assert [t["output"] for t in results["tests"]] == [message, message]
     assert message in results["output"].splitlines()
+
+
+def test_the_zip_the_student_readme_says_to_make_is_graded_as_it_is(tmp_path, child_python):
+    """The release README's command, run where it says (the folder holding raykit/), makes a
+    zip the grader takes without a note."""
+    from raykit_grading.release import STUDENT_README, ZIP_COMMAND
+
+    readme = STUDENT_README.format(functions="", zip_command=ZIP_COMMAND)
+    assert f"```bash\n{ZIP_COMMAND}\n```" in readme
+    work = tmp_path / "student-release"
+    _copy(work / "raykit")
+    program, *arguments = ZIP_COMMAND.split()
+    assert program == "python"
+    subprocess.run([sys.executable, *arguments], cwd=work, check=True)
+
+    def upload(s):
+        shutil.copy(work / "raykit.zip", s)
+
+    results = grade_shape(upload, tmp_path)
+    assert results["score"] == 4, results["tests"]
+    assert "Note:" not in results["output"]
