@@ -161,7 +161,7 @@ def _grade(args, options) -> int:
     if not args.submission.is_dir():
         print(f"raykit_grading: error: {args.submission}: no such folder", file=sys.stderr)
         return 2
-    seed = _seed(args)
+    seed, made = _seed(args)
     if seed is None:
         return 2
     tests = by_name(args.only)
@@ -183,6 +183,9 @@ def _grade(args, options) -> int:
 
     results = json.loads(args.output.read_text())
     total = sum(t["max_score"] for t in results["tests"])
+    if made:
+        print(f"raykit_grading: made the grading seed {made} (mode 600): grading again with "
+              "it draws the same inputs", file=sys.stderr)  # fmt: skip
     if status == 3:
         print(f"wrote {args.output}: NOT GRADED (see above)")
     else:
@@ -193,12 +196,13 @@ def _grade(args, options) -> int:
     return status
 
 
-def _seed(args) -> int | None:
-    """``grade``'s seed: --seed, or the seed file (made if missing); None after saying why."""
+def _seed(args) -> tuple[int | None, Path | None]:
+    """``grade``'s seed: --seed, or the seed file (made if missing); and the file if it was
+    made now. None after saying why."""
     from raykit_grading.seeds import FILE_NAME, seed_from_file
 
     if args.seed is not None:
-        return args.seed
+        return args.seed, None
     path = args.seed_file or args.output.parent / FILE_NAME
     try:
         if args.seed_file is None:
@@ -206,11 +210,8 @@ def _seed(args) -> int | None:
         seed, made = seed_from_file(path)
     except (SeedFileError, OSError) as exc:
         print(f"raykit_grading: error: {exc}", file=sys.stderr)
-        return None
-    if made:
-        print(f"raykit_grading: made the grading seed {path} (mode 600): "
-              "grading again with it draws the same inputs", file=sys.stderr)  # fmt: skip
-    return seed
+        return None, None
+    return seed, path if made else None
 
 
 def _progress(total: int, what: str):

@@ -154,7 +154,7 @@ def _survey_folder(top: int) -> _Survey:
                     if _holds_init(folder):
                         survey.candidates.append(((*parts, name), shown))
                     else:
-                        survey.without_init.append(shown)
+                        survey.without_init.append(f"{shown}/")
                 continue
             if (
                 stat.S_ISDIR(mode)
@@ -235,7 +235,7 @@ def _what_was_found(survey: _Survey) -> str:
     elif survey.links:
         found = f"{survey.links[0]} as a symbolic link (links are not followed)"
     elif survey.without_init:
-        found = f"{survey.without_init[0]}/ without an __init__.py"
+        found = f"{survey.without_init[0]} without an __init__.py"
     elif survey.loose:
         found = (f"loose Python files{survey.loose_in} ({_listed(survey.loose)}) instead of "
                  "the raykit/ folder that holds them")  # fmt: skip
@@ -328,14 +328,18 @@ def _from_zips(top: int, survey: _Survey, root: Path, staged: Staged) -> None:
             if archive is None:
                 staged.notes.append(f"{_shown(name)} is not a plain file: left out")
                 continue
+            _refuse_escapes(archive, _shown(name))
             chosen = _shallowest(_zip_candidates(archive))
+            if chosen is None:
+                survey.without_init += _zip_without_init(archive, _shown(name))
             if chosen is None and not survey.loose:
                 survey.loose = sorted(_shown(m) for m in _loose(archive))
                 survey.loose_in = f" in {_shown(name)}" if survey.loose else ""
             if chosen is None:  # a zip of a zip: its zips, one level down
                 for inner_name, inner in _inner_zips(archive, name, opened):
-                    chosen = _shallowest(_zip_candidates(inner))
                     where = f"{_shown(inner_name)} inside {_shown(name)}"
+                    _refuse_escapes(inner, where)
+                    chosen = _shallowest(_zip_candidates(inner))
                     if chosen is None:
                         survey.nested += [f"{_shown(z)} inside {where}" for z in _zip_names(inner)]
                     elif len(chosen) > 1:
@@ -388,6 +392,26 @@ def _open_zip(top: int, name: str):
 
 def _member_parts(member: zipfile.ZipInfo) -> tuple[str, ...]:
     return PurePosixPath(member.filename).parts
+
+
+def _refuse_escapes(archive: zipfile.ZipFile, where: str) -> None:
+    """A zip whose member names would leave the folder is refused whole (hostile, not lost)."""
+    for member in archive.infolist():
+        if ".." in _member_parts(member) or member.filename.startswith("/"):
+            raise SubmissionError(f"{where}: {_shown(member.filename)} leaves the folder")
+
+
+def _zip_without_init(archive: zipfile.ZipFile, where: str) -> list[str]:
+    """The ``raykit/`` folders in a zip that hold no ``__init__.py``."""
+    names = {_member_parts(m) for m in archive.infolist()}
+    found = []
+    for parts in sorted(names):
+        if PACKAGE in parts[:-1] and not any(_skipped(p) for p in parts):
+            prefix = parts[: parts.index(PACKAGE) + 1]
+            shown = f"{_shown('/'.join(prefix))}/ in {where}"
+            if (*prefix, "__init__.py") not in names and shown not in found:
+                found.append(shown)
+    return found
 
 
 def _zip_candidates(archive: zipfile.ZipFile) -> list[tuple[tuple[str, ...], str]]:

@@ -100,6 +100,15 @@ def no_init(s):
     (s / "raykit/__init__.py").unlink()
 
 
+def a_zip_without_init(s):
+    _zip(s / "raykit.zip")
+    with zipfile.ZipFile(s / "raykit.zip") as archive, zipfile.ZipFile(s / "x.zip", "w") as out:
+        for member in archive.infolist():
+            if member.filename != "raykit/__init__.py":
+                out.writestr(member, archive.read(member))
+    (s / "raykit.zip").unlink()
+
+
 def a_zip_of_a_zip_of_a_zip(s):
     _zip(s / "raykit.zip")
     _zip_of(s / "middle.zip", s / "raykit.zip")
@@ -147,6 +156,7 @@ REFUSED = [
         "holds them",
     ),
     (no_init, "found raykit/ without an __init__.py"),
+    (a_zip_without_init, "found raykit/ in x.zip without an __init__.py"),
     (
         a_zip_of_a_zip_of_a_zip,
         "found only zips inside zips (raykit.zip inside middle.zip inside outer.zip)",
@@ -231,3 +241,28 @@ def test_the_zip_the_student_readme_says_to_make_is_graded_as_it_is(tmp_path, ch
     results = grade_shape(upload, tmp_path)
     assert results["score"] == 4, results["tests"]
     assert "Note:" not in results["output"]
+
+
+def test_a_zip_in_a_zip_is_held_to_the_same_bounds_and_names(tmp_path):
+    """The inner zip is unpacked by the same rules: no name leaves the folder, no bomb."""
+    import io
+
+    from raykit_grading.submissions import MAX_BYTES, SubmissionError, stage
+
+    inflating = {"raykit/__init__.py": b""}
+    inflating |= {f"raykit/big{i}.py": b"\0" * (MAX_BYTES // 2) for i in range(3)}
+    for name, members in {
+        "escape": {"raykit/__init__.py": b"", "raykit/../../evil.py": b"x"},
+        "bomb": inflating,
+    }.items():
+        inner = io.BytesIO()
+        with zipfile.ZipFile(inner, "w", zipfile.ZIP_DEFLATED) as archive:
+            for member, data in members.items():
+                archive.writestr(member, data)
+        source = tmp_path / name
+        source.mkdir()
+        with zipfile.ZipFile(source / "outer.zip", "w") as archive:
+            archive.writestr("inner.zip", inner.getvalue())
+        with pytest.raises(SubmissionError, match="^inner.zip inside outer.zip[: ]"):
+            stage(source, tmp_path / f"{name}-staged")
+    assert not list(tmp_path.rglob("evil.py"))
