@@ -43,6 +43,7 @@ python3 -m venv /opt/raykit-grader
 chmod -R a+rX /opt/raykit-grader
 # submissions run in a sandbox, as an unprivileged uid (50000-59999): none of this is in it
 chmod 700 /autograder/source
+chmod 600 /autograder/source/grading-seed  # the assignment's secret seed: root's alone
 """
 
 RUN = """#!/usr/bin/env bash
