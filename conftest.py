@@ -19,6 +19,8 @@ SLOW_MODULES = {
     "test_grading.py",
     "test_grading_hostile.py",
     "test_grading_isolation.py",
+    "test_grading_seeds.py",
+    "test_submission_shapes.py",
     "test_compiled.py",
     "test_benchmarks.py",
     "test_reproducible.py",

@@ -8,11 +8,18 @@ tolerance (a miss may be NaN or inf); image tests compare renders with
 
 Inputs are drawn, never fixed: :meth:`GradingTest.inputs` takes a random generator. The
 student release ships each visible test's *public* draw (:meth:`GradingTest.public_inputs`,
-from a seed derived from its name) for practice; grading draws fresh ones
-(:meth:`GradingTest.graded_inputs`) from a seed chosen when grading starts, so nothing shipped
-to students answers a graded test. Scenes are graded from a camera moved a little at random
-(:func:`jitter_camera`: another image size, eye and field of view), arrays from new random
-rays, sizes and parameters.
+from a seed of its own) for practice; grading draws others
+(:meth:`GradingTest.graded_inputs`) from the assignment's secret seed
+(:mod:`raykit_grading.seeds`), so nothing shipped to students answers a graded test, and every
+student and every regrade gets the same tests. Scenes are graded from a camera moved a little
+at random (:func:`jitter_camera`: another image size, eye and field of view), arrays from new
+random rays, sizes and parameters.
+
+The same seed must give the same inputs on any machine (Gradescope's, of any processor): the
+draw uses numpy's generator, elementwise arithmetic, ``np.sqrt`` (correctly rounded) and
+:func:`raykit.rays.dot` / :func:`~raykit.rays.normalize` (sums left to right), never ``@``,
+``np.dot``, ``np.linalg.norm`` or numpy's vectorised sin/cos, whose last bits depend on BLAS
+and the processor's vector width (tests/test_grading_seeds.py checks both).
 
 ``visible`` tests show their result at once; ``after_due_date`` tests are hidden until then.
 """
@@ -28,7 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
-from raykit.rays import dot, length
+from raykit.rays import dot, length, normalize
 
 REPO = Path(__file__).resolve().parent.parent
 SCENES = REPO / "scenes"
@@ -64,7 +71,7 @@ class GradingTest:
         return self.inputs(None)
 
     def graded_inputs(self, seed: int):
-        """The draw graded under ``seed`` (chosen when grading starts, unknown to students)."""
+        """The draw graded under ``seed`` (the assignment's secret seed)."""
         return self.inputs(np.random.default_rng([seed, zlib.crc32(self.name.encode())]))
 
 
@@ -75,9 +82,7 @@ def _public(rng: np.random.Generator | None, seed: int) -> np.random.Generator:
 def _rays(rng, count: int, dims: int, aim: np.ndarray, spread: float):
     origins = rng.uniform(-4, 4, (count, dims))
     targets = aim + rng.uniform(-spread, spread, (count, dims))
-    directions = targets - origins
-    directions /= length(directions)[:, None]
-    return origins, directions
+    return origins, normalize(targets - origins)
 
 
 def _split(values: dict):
@@ -121,10 +126,12 @@ def jitter_camera(scene: dict, rng: np.random.Generator) -> dict:
         camera["height"] = max(8, round(camera["height"] * scale))
     else:  # the 2D line-scan camera
         e, w = np.array(camera["e"], float), np.array(camera["w"], float)
-        turn = rng.uniform(-0.03, 0.03)
-        cos, sin = math.cos(turn), math.sin(turn)
+        # turned by up to 1.7 degrees, the angle whose tangent is ``slope``: cos and sin from
+        # a square root (correctly rounded everywhere), not from a sin/cos of numpy or libm
+        slope = float(rng.uniform(-0.03, 0.03))
+        cos, sin = 1 / math.sqrt(1 + slope * slope), slope / math.sqrt(1 + slope * slope)
         camera["e"] = (e + rng.uniform(-0.05, 0.05, 2)).tolist()
-        camera["w"] = [cos * w[0] - sin * w[1], sin * w[0] + cos * w[1]]
+        camera["w"] = [float(cos * w[0] - sin * w[1]), float(sin * w[0] + cos * w[1])]
         camera["pixels"] = max(4, camera["pixels"] + int(either_way(1, 4)))
     camera["fov_angle"] = float(camera["fov_angle"] * (1 + either_way(0.02, 0.05)))
     return scene
@@ -163,7 +170,7 @@ def _tiny_far_sphere(rng):
     distance = rng.uniform(0.8e5, 1.2e5)
     center = np.array([0.0, 0.0, -distance])
     aim = center + rng.uniform(-1.5e-3, 1.5e-3, (400, 3)) * [1, 1, 0]
-    directions = aim / length(aim)[:, None]
+    directions = normalize(aim)
     return {"radius": 1e-3, "origins": np.zeros((400, 3)), "directions": directions,
             "center": center}  # fmt: skip
 
@@ -191,8 +198,7 @@ def _camera(rng, **kw):
 
 
 def _unit_rows(rng, count):
-    rows = rng.normal(size=(count, 3))
-    return rows / length(rows)[:, None]
+    return normalize(rng.normal(size=(count, 3)))
 
 
 def _shading_arrays(seed: int, *names: str):
@@ -222,11 +228,9 @@ def _sphere_points(rng):
 
 def _parallel_planes(rng):
     """Rays parallel to a plane (some in it), and planes behind the ray."""
-    n = rng.normal(size=3)
-    n /= length(n)
+    n = normalize(rng.normal(size=3))
     a = rng.uniform(-1, 1, 3)
-    along = np.cross(n, rng.normal(size=3))
-    along /= length(along)
+    along = normalize(np.cross(n, rng.normal(size=3)))
     above = a + n * rng.uniform(0.5, 2)
     origins = np.array([above, above, above, a - n])
     directions = np.array([along, n, -n, -n])
@@ -264,16 +268,15 @@ def _shadow_test(rng: np.random.Generator):
     far = np.array([1e6, 1e6, 1e6])
     eye = far + [0.0, 4.0, 6.0]
     aim = far + np.column_stack([rng.uniform(-3, 3, 400), np.zeros(400), rng.uniform(-3, 3, 400)])
-    directions = (aim - eye) / length(aim - eye)[:, None]
+    directions = normalize(aim - eye)
     origins = np.broadcast_to(eye, directions.shape).copy()
     across, along = np.array([1.0, 0.1, 0.0]), np.array([0.0, 0.2, 1.0])  # the floor's edges
-    normal = np.cross(along, across)
-    normal /= length(normal)
+    normal = normalize(np.cross(along, across))
     t = hit_plane(origins, directions, far, normal)
     points = point_at(origins, directions, t)
     light = far + [0.5, 5.0, 0.2] + rng.uniform(-0.3, 0.3, 3)
     to_light = light - points
-    distance = length(to_light)
+    distance = np.sqrt(dot(to_light, to_light))
     floor = {
         "upper_left": (far - 10 * across - 10 * along).tolist(),
         "lower_left": (far - 10 * across + 10 * along).tolist(),

@@ -3,8 +3,9 @@
 The submission is first staged (:mod:`raykit_grading.submissions`: plain files only, links
 and special files left out) into a private workspace (:mod:`raykit_grading.workspace`), then a
 sandbox is checked to work (:meth:`Sandbox.check`) before any test runs. Each test draws its
-inputs from the run's seed (:meth:`GradingTest.graded_inputs`: nothing shipped to students
-answers it), runs the submission's code on them in a sandbox of its own, and compares what
+inputs from the assignment's secret seed (:mod:`raykit_grading.seeds`;
+:meth:`GradingTest.graded_inputs`: nothing shipped to students answers it, and a regrade gets
+the same inputs), runs the submission's code on them in a sandbox of its own, and compares what
 comes back with the same task run here by the reference raykit: arrays within a tolerance,
 renders with :mod:`raykit_grading.compare`; a render that is not right is also compared with
 the classic mistakes (:mod:`raykit_grading.mistakes`), and a mistake found there costs that
@@ -30,7 +31,6 @@ import html
 import io
 import json
 import os
-import secrets
 import sys
 import tempfile
 import time
@@ -46,6 +46,7 @@ from raykit_grading.compare import DEFAULT_SCORING, Scoring, check_arrays, judge
 from raykit_grading.isolation import IsolationUnavailable
 from raykit_grading.mistakes import MISTAKES
 from raykit_grading.sandbox import Limits, Sandbox
+from raykit_grading.seeds import fingerprint, new_seed
 from raykit_grading.submissions import SubmissionError, stage
 from raykit_grading.workspace import Workspace
 
@@ -107,12 +108,13 @@ def grade(
 ) -> dict:
     """Grade a submission folder; returns Gradescope's results as a dict.
 
-    Raises :class:`GradingImpossible` if nothing can be graded here, :class:`NotGraded` (with
+    ``seed``: the assignment's seed (None: a draw of its own, for this run only). Raises
+    :class:`GradingImpossible` if nothing can be graded here, :class:`NotGraded` (with
     the results of the rest) if the grader failed on some tests.
     """
     start = time.perf_counter()
     tests = by_name(names)
-    seed = secrets.randbits(63) if seed is None else seed
+    seed = new_seed() if seed is None else seed
     check_clone()
     results, notes, failures = [], [], []
     with Workspace() as workspace:
@@ -120,7 +122,7 @@ def grade(
             staged = stage(Path(submission), workspace / "submission")
             notes = staged.notes
             package = staged.package
-            problem = "no raykit package found in the submission (expected raykit/__init__.py)"
+            problem = staged.problem or "no raykit package (expected raykit/__init__.py)"
         except SubmissionError as exc:
             package, problem = None, f"the submission could not be taken in: {exc}"
         except OSError as exc:  # a shape of folder the staging did not foresee: theirs
@@ -151,6 +153,8 @@ def grade(
                     progress(test)
     summary = [f"raykit autograder: {len(tests)} tests"]
     summary += [f"Note: {note}" for note in notes]
+    if package is None:  # the submission's shape, said once at the top as well
+        summary.append(problem)
     if failures:
         summary.append(f"{len(failures)} test(s) could not be graded; they need a regrade")
     graded = {
@@ -159,7 +163,9 @@ def grade(
         "output": "\n".join(summary),
         "visibility": "visible",
         "stdout_visibility": "hidden",
-        "extra_data": {"seed": seed, "not_graded": failures},
+        # the seed's fingerprint, never the seed: hidden results reach students after the due
+        # date, and the seed would let them draw the hidden tests' inputs for a regrade
+        "extra_data": {"seed_fingerprint": fingerprint(seed), "not_graded": failures},
         "tests": results,
     }
     if failures:

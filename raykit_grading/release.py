@@ -88,11 +88,12 @@ reference, within a stated tolerance, and your renders against the reference ima
 `tests/expected/*/reference.png` (a pixel counts as right when it is within 2 levels of the
 reference pixel or one of its neighbours).
 
-**These are practice tests.** The grader runs the same kinds of test on inputs it draws fresh
-each time it grades (new random rays and sizes, the scenes seen from a slightly moved camera),
-plus hidden tests. Code that only reproduces these expected results scores nothing; code that
-computes them right passes both. A render that shows a classic mistake (such as rays through
-pixel corners instead of centres) loses that test's points even when it looks close.
+**These are practice tests.** The grader runs the same kinds of test on inputs of its own (new
+random rays and sizes, the scenes seen from a slightly moved camera), drawn from a secret seed:
+the same inputs for everyone and every time it grades, so grading again gives the same score.
+There are hidden tests too. Code that only reproduces these expected results scores nothing;
+code that computes them right passes both. A render that shows a classic mistake (such as rays
+through pixel corners instead of centres) loses that test's points even when it looks close.
 
 Before you submit, run the self-check: `python check.py`. It runs the practice tests with the
 grader's own comparison and its diagnosis of the classic mistakes, and writes a captioned
@@ -104,9 +105,23 @@ Look at your pictures as you go: `raykit render scenes/classic.json -o classic.p
 
 ## Submit
 
-Upload your `raykit/` folder (or a zip of it). Only that folder is graded.
+Upload your `raykit/` folder: the folder itself (the one that holds `__init__.py`, `camera.py`
+and its subfolders), or a zip of it with `raykit/` at the zip's top. To make the zip, run this
+in the folder that holds `raykit/` (this one):
+
+```bash
+{zip_command}
+```
+
+Only `raykit/` is graded; the tests, scenes and pictures need not be uploaded. Not the files
+inside `raykit/` one by one: they score nothing, as the grader needs the folder. The grader's
+results say in a line where it found `raykit/` when it was not at the top, or what it found
+instead.
 """
 
+
+# how students zip their work: Python's own zip tool, there wherever the kit runs
+ZIP_COMMAND = "python -m zipfile -c raykit.zip raykit"
 
 # the student README lists the functions to write in the lecture's order, stage by stage
 LECTURE_ORDER = [
@@ -154,7 +169,8 @@ def build_release(out: Path) -> list[str]:
     _visible_tests(out / "tests")
     shutil.copy(Path(__file__).with_name("selfcheck.py"), out / "check.py")
     functions = "\n".join(f"- `{name}`" for name in sorted(stubbed, key=_lecture_order))
-    (out / "README.md").write_text(STUDENT_README.format(functions=functions))
+    readme = STUDENT_README.format(functions=functions, zip_command=ZIP_COMMAND)
+    (out / "README.md").write_text(readme)
     print(
         f"wrote {out}: {len(stubbed)} functions to write, "
         f"{sum(t.visibility == VISIBLE for t in TESTS)} visible tests"
