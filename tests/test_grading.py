@@ -234,8 +234,8 @@ def test_image_comparison_forgives_a_silhouette_pixel_but_not_a_wrong_colour():
     assert result.score() == 0.0
     assert np.isfinite(result.psnr) and result.psnr < 30
     picture = feedback_picture(recoloured, reference, result.matched)
-    # each panel drawn 10 times larger (a small image made visible), captions above
-    assert picture.shape == (222, 3 * 200 + 2 * 6, 3) and picture.dtype == np.uint8
+    # each panel drawn 12 times larger (a small image made visible), captions above
+    assert picture.shape == (240 + 22, 3 * 240 + 2 * 6, 3) and picture.dtype == np.uint8
 
 
 def test_score_is_linear_between_the_thresholds():
