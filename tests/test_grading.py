@@ -387,7 +387,7 @@ def test_release_self_check_judges_like_the_grader_and_draws_the_pictures(releas
     assert pictures == sorted(
         f"{t.key.replace('.', '_')}.png" for t in visible if t.kind == "image"
     )
-    assert "<img src='3_6.png'" in (folder / "check/index.html").read_text()
+    assert '<img src="3_6.png"' in (folder / "check/index.html").read_text()
     wrong, _ = check("pixel_corners")
     assert wrong.returncode == 1
     assert "FAIL  3.6 render scenes/classic.json (320 x 240)" in wrong.stdout
