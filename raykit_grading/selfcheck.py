@@ -158,7 +158,9 @@ def page(rows: list[dict]) -> str:
         parts.append(f"<h2>Passing ({len(passed)})</h2><ul>")
         parts += [
             f"<li class='pass'>pass: {html.escape(r['name'])}: {_points(r['points'])} of "
-            f"{_points(r['points'])} points</li>"
+            f"{_points(r['points'])} points"
+            + (f" (<a href='{html.escape(r['picture'])}'>the picture</a>)" if r["picture"] else "")
+            + "</li>"
             for r in passed
         ]
         parts.append("</ul>")
