@@ -212,7 +212,8 @@ def _grade_one(
             caller=CALLERS.get(test.task, ""),
             hidden=test.visibility != VISIBLE,
         )
-    return _result(test, test.points * verdict.share, verdict.message, ran.output)
+    score = test.points if verdict.share >= 1.0 else 0.0  # array tests: all or nothing
+    return _result(test, score, verdict.message, ran.output)
 
 
 # the student function each array task calls first, as the callee lines name it
