@@ -45,6 +45,37 @@ RTOL, ATOL = 1e-6, 1e-9
 
 
 @dataclass(frozen=True)
+class Callee:
+    """A student function that a test's function calls, tested on the same inputs when the
+    test fails, to say where the difference starts: ``task`` runs it, on the inputs
+    ``inputs(spec, arrays)`` makes from the test's."""
+
+    name: str
+    task: str
+    inputs: Callable[[dict, dict], tuple[dict, dict]]
+
+
+LINE_RAYS_CALL = (
+    Callee(
+        "pixel_x",
+        "pixel_x",
+        lambda spec, arrays: (
+            {"pixels": spec["camera"]["pixels"], "samples": spec.get("samples", 1)},
+            {},
+        ),
+    ),
+)
+RAYS_THROUGH_CALLS = (
+    Callee(
+        "camera_frame",
+        "camera_frame",
+        lambda spec, arrays: ({k: spec["camera"][k] for k in ("eye", "lookat", "up")}, {}),
+    ),
+    Callee("_in_plane", "in_plane", lambda spec, arrays: (spec, arrays)),
+)
+
+
+@dataclass(frozen=True)
 class GradingTest:
     """One graded check. ``inputs(rng)`` gives (spec, arrays, files for the child); ``rng`` is
     None for the public draw of a scene (the scene exactly as in ``scenes/``)."""
@@ -59,7 +90,8 @@ class GradingTest:
     ]
     kind: str = "arrays"  # or "image"
     tolerance: str = f"each number within rtol {RTOL:g}, atol {ATOL:g}"
-    mistakes: bool = False  # diagnose the classic 3D mistakes on this image
+    mistakes: bool = False  # diagnose the classic mistakes on this image (arrays: always)
+    callees: tuple[Callee, ...] = ()  # the student functions its task's function calls
 
     @property
     def key(self) -> str:
@@ -232,8 +264,8 @@ def _parallel_planes(rng):
     a = rng.uniform(-1, 1, 3)
     along = normalize(np.cross(n, rng.normal(size=3)))
     above = a + n * rng.uniform(0.5, 2)
-    origins = np.array([above, above, above, a - n])
-    directions = np.array([along, n, -n, -n])
+    origins = np.array([above, above, above, a - n, a])  # the last starts on the plane: t = 0
+    directions = np.array([along, n, -n, -n, -n])
     return {"origins": origins, "directions": directions, "a": a, "n": n}
 
 
@@ -326,12 +358,14 @@ TESTS = [
         "1.3 perspective rays of the line-scan camera",
         STAGE1, 2, VISIBLE, "line_rays",
         _drawn(13, lambda rng: {"camera": _line_camera(rng)}),
+        callees=LINE_RAYS_CALL,
     ),
     GradingTest(
         "1.4 orthographic rays of the line-scan camera",
         STAGE1, 1, HIDDEN, "line_rays",
         _drawn(14, lambda rng: {"camera": _line_camera(
             rng, projection="orthographic", width=float(rng.uniform(1, 4)))}),
+        callees=LINE_RAYS_CALL,
     ),
     GradingTest(
         "1.5 ray-segment hits: t and s",
@@ -344,13 +378,13 @@ TESTS = [
         "1.6 one scan of scenes/linescan/slide.json",
         STAGE1, 2, VISIBLE, "scan",
         _scene_test(SCENES / "linescan/slide.json"),
-        kind="image",
+        kind="image", mistakes=True,
     ),
     GradingTest(
         "1.7 a sweep of scenes/linescan/conveyor.json",
         STAGE1, 2, HIDDEN, "sweep",
         _scene_test(SCENES / "linescan/conveyor.json", scans=160),
-        kind="image",
+        kind="image", mistakes=True,
     ),
     GradingTest(
         "2.1 ray-plane hits",
@@ -401,11 +435,13 @@ TESTS = [
         "3.2 perspective rays through pixel points",
         STAGE3, 2, VISIBLE, "rays_through",
         _drawn(32, lambda rng: _pixel_points(rng, _camera(rng))),
+        callees=RAYS_THROUGH_CALLS,
     ),
     GradingTest(
         "3.3 orthographic rays through pixel points",
         STAGE3, 1, HIDDEN, "rays_through",
         _drawn(33, lambda rng: _pixel_points(rng, _camera(rng, projection="orthographic"))),
+        callees=RAYS_THROUGH_CALLS,
     ),
     GradingTest(
         "3.4 ray-billboard hits: t, alpha, beta",

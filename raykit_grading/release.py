@@ -236,7 +236,9 @@ def _visible_tests(tests: Path) -> None:
         for relative, source in files.items():
             (folder / relative).parent.mkdir(parents=True, exist_ok=True)
             shutil.copy(source, folder / relative)
-        order = {"task": test.task, "kind": test.kind, "name": test.name, "spec": spec}
+        callees = _callees(test, spec, arrays, folder)
+        order = {"task": test.task, "kind": test.kind, "name": test.name, "spec": spec,
+                 "points": test.points, "callees": callees}  # fmt: skip
         (folder / "task.json").write_text(json.dumps(order, indent=1))
         np.savez(folder / "inputs.npz", **arrays)
         want = child.TASKS[test.task](located(spec, folder), arrays)
@@ -245,6 +247,26 @@ def _visible_tests(tests: Path) -> None:
             save_image(quantize(want["rgb"]), folder / "reference.png")
         if test.mistakes:  # the classic mistakes' pictures, for the self-check's diagnosis
             _mistake_pictures(test, quantize(want["rgb"]), folder)
+        if test.kind != "image":  # and their results, for the array tests
+            _mistake_results(test, want, folder)
+
+
+def _callees(test, spec: dict, arrays: dict, folder: Path) -> list[dict]:
+    """The functions the test's function calls, each with its inputs (``callees/<name>.npz``:
+    ``in_`` arrays) and the reference's results (``out_`` arrays), for the self-check to say
+    where a difference starts."""
+    found = []
+    for callee in test.callees:
+        their_spec, their_arrays = callee.inputs(spec, arrays)
+        want = child.TASKS[callee.task](json.loads(json.dumps(their_spec)), their_arrays)
+        (folder / "callees").mkdir(exist_ok=True)
+        np.savez(
+            folder / "callees" / f"{callee.name}.npz",
+            **{f"in_{k}": v for k, v in their_arrays.items()},
+            **{f"out_{k}": np.asarray(v) for k, v in want.items()},
+        )
+        found.append({"name": callee.name, "task": callee.task, "spec": their_spec})
+    return found
 
 
 def _mistake_pictures(test, right: np.ndarray, folder: Path) -> None:
@@ -254,8 +276,29 @@ def _mistake_pictures(test, right: np.ndarray, folder: Path) -> None:
     says = {}
     (folder / "mistakes").mkdir()
     for mistake in MISTAKES:
+        if not mistake.in_renders:
+            continue
         wrong = quantize(expected(test.name, None, mistake.key)["rgb"])
         if not np.array_equal(wrong, right):  # only the mistakes that change this picture
             save_image(wrong, folder / "mistakes" / f"{mistake.key}.png")
-            says[mistake.key] = mistake.says
+            says[mistake.key] = {"says": mistake.says, "where": mistake.where}
+    (folder / "mistakes.json").write_text(json.dumps(says, indent=1))
+
+
+def _mistake_results(test, want: dict, folder: Path) -> None:
+    """``mistakes/<key>.npz``: the results of each classic mistake that changes this array
+    test's results, and ``mistakes.json`` saying what each is."""
+    from raykit_grading.compare import judge_arrays
+    from raykit_grading.grade import array_mistakes
+    from raykit_grading.mistakes import MISTAKES
+
+    says = {}
+    where = {m.says: m for m in MISTAKES}
+    for text, results, _ in array_mistakes(test, None):
+        if judge_arrays(results, {k: np.asarray(v) for k, v in want.items()}).share >= 1.0:
+            continue  # this mistake changes nothing here
+        mistake = where[text]
+        (folder / "mistakes").mkdir(exist_ok=True)
+        np.savez(folder / "mistakes" / f"{mistake.key}.npz", **results)
+        says[mistake.key] = {"says": mistake.says, "where": mistake.where}
     (folder / "mistakes.json").write_text(json.dumps(says, indent=1))
