@@ -41,7 +41,7 @@ from functools import cached_property
 
 import numpy as np
 
-from raykit.rays import normalize
+from raykit.rays import length, normalize
 
 PROJECTIONS = ("perspective", "orthographic")
 
@@ -74,7 +74,7 @@ class Camera:
     @property
     def d(self) -> float:
         """Distance from the eye to the image plane, |lookat - eye|."""
-        return float(np.linalg.norm(np.asarray(self.lookat) - np.asarray(self.eye)))
+        return float(length(np.asarray(self.lookat, float) - np.asarray(self.eye, float)))
 
     @property
     def plane_size(self) -> tuple[float, float]:
@@ -103,7 +103,7 @@ def camera_frame(
     if not np.any(up):
         raise DegenerateFrameError("up", "is the zero vector")
     up_cross_w = np.cross(up, w)
-    if np.linalg.norm(up_cross_w) <= 1e-12 * np.linalg.norm(up):
+    if length(up_cross_w) <= 1e-12 * length(up):
         raise DegenerateFrameError(
             "up", "is parallel to the view direction, so it fixes no image rotation"
         )

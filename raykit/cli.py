@@ -17,6 +17,7 @@ import argparse
 import sys
 import time
 from collections.abc import Sequence
+from pathlib import Path
 
 MAX_SAMPLES = 32
 
@@ -179,17 +180,22 @@ def _engine_option(parser: argparse.ArgumentParser, what: str) -> None:
         "--engine",
         choices=("auto", "numpy", "compiled"),  # raykit.engine.choice.ENGINES, which imports numpy
         default="auto",
-        help=f"{what}: numpy, compiled (the same picture, faster; needs "
-        "'pip install \"raykit[fast]\"'), or auto, compiled only where it pays (default)",
+        help=f"{what}: numpy, compiled (the same picture, faster; "
+        + (
+            "needs 'pip install \"raykit[fast]\"')"
+            if (Path(__file__).parent / "engine" / "compiled.py").exists()
+            else "not in the starter kit)"
+        )
+        + ", or auto, compiled only where it pays (default)",
     )
 
 
 def _check_engine(engine: str) -> None:
     """Refuse ``--engine compiled`` without numba before any work, naming the fix."""
-    from raykit.engine.choice import FAST_EXTRA, compiled_available
+    from raykit.engine.choice import compiled_available, compiled_missing
 
     if engine == "compiled" and not compiled_available():
-        raise ValueError(f"--engine compiled needs numba, which is not installed: {FAST_EXTRA}")
+        raise ValueError(f"--engine compiled {compiled_missing()}")
 
 
 class _VersionAction(argparse.Action):

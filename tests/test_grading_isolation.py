@@ -73,7 +73,10 @@ def test_staging_copies_plain_files_and_names_what_it_leaves_out(tmp_path):
 def test_staging_refuses_a_zip_that_escapes_or_inflates(tmp_path):
     for name, members in {
         "escape": {"raykit/../../evil.py": b"x"},
-        "bomb": {f"raykit/big{i}.py": b"\0" * (MAX_BYTES // 2) for i in range(3)},
+        "bomb": {
+            "raykit/__init__.py": b"",
+            **{f"raykit/big{i}.py": b"\0" * (MAX_BYTES // 2) for i in range(3)},
+        },
     }.items():
         source = tmp_path / name
         source.mkdir()

@@ -25,7 +25,7 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Circle
 
 from raykit.planes import hit_plane, normal_from_points, plane_side
-from raykit.rays import dot, point_at
+from raykit.rays import dot, length, normalize, point_at
 from raykit.spheres import sphere_roots
 
 CENTER, RADIUS = np.array([0.0, 0.0]), 1.0
@@ -100,7 +100,7 @@ def plane_hit(ax: Axes | None = None) -> Figure:
     if ax is None:
         _, ax = plt.subplots(figsize=(5.5, 4.5), layout="constrained")
     a, n = np.array([1.5, 0.5]), np.array([-1.0, 0.35])
-    n = n / np.linalg.norm(n)
+    n = n / length(n)
     along = np.array([n[1], -n[0]])
     o, d = np.array([[-2.0, -0.8]]), np.array([[1.0, 0.55]])
     t_hit = hit_plane(o, d, a, n)
@@ -142,7 +142,7 @@ def dot_projection(ax: Axes | None = None) -> Figure:
     if ax is None:
         _, ax = plt.subplots(figsize=(5.5, 4.2), layout="constrained")
     origin = np.zeros(2)
-    u = np.array([1.0, 0.25]) / np.linalg.norm([1.0, 0.25])
+    u = normalize(np.array([1.0, 0.25]))
     r = np.array([1.7, 1.5])
     length = float(dot(r, u))
     shadow = length * u
@@ -208,7 +208,7 @@ def plane_sides(axes: list[Axes] | None = None) -> Figure:
         axes = [figure.add_subplot(1, 2, 1), figure.add_subplot(1, 2, 2, projection="3d")]
     ax, ax3 = axes
     a, n = np.array([0.0, 0.0]), np.array([0.75, 1.0])  # any length: the sides are its sign
-    along = np.array([n[1], -n[0]]) / np.linalg.norm(n)
+    along = np.array([n[1], -n[0]]) / length(n)
     rng = np.random.default_rng(433)
     points = rng.uniform(-2, 2, (40, 2))
     points = np.vstack([points, [[-1.5, 1.125], [1.75, -1.3125]]])  # two on it: p·n = a·n exactly
@@ -252,15 +252,15 @@ def plane_sides(axes: list[Axes] | None = None) -> Figure:
         outward = (point - centre) / np.linalg.norm(point - centre)
         ax3.text(*(point + 0.35 * outward), name, fontsize=12, ha="center", va="center")
     ax3.quiver(*centre, *n3, color="tab:red", arrow_length_ratio=0.08, lw=1.6)
-    ax3.quiver(*centre, *(n3 / np.linalg.norm(n3)), color="tab:blue", arrow_length_ratio=0.2, lw=2)
+    ax3.quiver(*centre, *(n3 / length(n3)), color="tab:blue", arrow_length_ratio=0.2, lw=2)
     ax3.text(
         *(centre + np.array([0.1, 0, 0.8 * n3[2]])),
-        f"n = (p - a) × (q - a)\n|n| = {np.linalg.norm(n3):g}",
+        f"n = (p - a) × (q - a)\n|n| = {length(n3):g}",
         color="tab:red",
         fontsize=SMALLEST_FONT + 1,
     )
     ax3.text(
-        *(centre + n3 / np.linalg.norm(n3) + np.array([0.15, 0, -0.3])),
+        *(centre + n3 / length(n3) + np.array([0.15, 0, -0.3])),
         "unit n",
         color="tab:blue",
         fontsize=SMALLEST_FONT + 1,

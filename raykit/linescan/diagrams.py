@@ -29,6 +29,7 @@ from raykit.billboards import OPAQUE_FROM
 from raykit.linescan.camera import pixel_positions, pixel_x, slide_pixel_positions
 from raykit.linescan.scan import Scan, scan, sweep, trace
 from raykit.linescan.scene import LineScene
+from raykit.rays import dot, length
 
 MAX_RAYS_DRAWN = 24
 
@@ -366,10 +367,10 @@ def paths_of_light(
     hit = np.isfinite(hits.t)
     points = origins + np.where(hit, hits.t, 0.0)[:, None] * directions
     to_point = points - e
-    distance = np.linalg.norm(to_point, axis=1)
+    distance = length(to_point)
     with np.errstate(invalid="ignore", divide="ignore"):
         seen = trace(scene, np.broadcast_to(e, points.shape).copy(), to_point / distance[:, None])
-        inside = (to_point @ w) / distance >= math.cos(math.radians(camera.fov_angle) / 2)
+        inside = dot(to_point, w) / distance >= math.cos(math.radians(camera.fov_angle) / 2)
     arrives = hit & inside & (seen.index == hits.index)
     arrives &= np.abs(seen.t - distance) <= 1e-9 * (distance + 1)
     lower = np.minimum(e, np.asarray(light)) - 1.5
