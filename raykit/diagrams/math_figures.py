@@ -144,8 +144,8 @@ def dot_projection(ax: Axes | None = None) -> Figure:
     origin = np.zeros(2)
     u = normalize(np.array([1.0, 0.25]))
     r = np.array([1.7, 1.5])
-    length = float(dot(r, u))
-    shadow = length * u
+    projection = float(dot(r, u))
+    shadow = projection * u
     ax.plot(*np.stack([origin - 0.3 * u, origin + 2.8 * u]).T, color="0.7", lw=1)
     ax.plot(*np.stack([origin, shadow]).T, color="0.25", lw=6, alpha=0.5, solid_capstyle="butt")
     ax.plot(*np.stack([r, shadow]).T, color="black", lw=1, ls="dashed")
@@ -177,7 +177,7 @@ def dot_projection(ax: Axes | None = None) -> Figure:
     ax.text(
         0.5,
         0.04,
-        f"r·u = {length:.2f} = |r| cos α = {float(np.sqrt(dot(r, r))):.2f} × {cosine:.2f}\n"
+        f"r·u = {projection:.2f} = |r| cos α = {float(length(r)):.2f} × {cosine:.2f}\n"
         "the length of the shadow of r on u",
         transform=ax.transAxes,
         ha="center",
@@ -249,7 +249,7 @@ def plane_sides(axes: list[Axes] | None = None) -> Figure:
     for point, name in ((a3, "a"), (p3, "p"), (q3, "q")):
         ax3.scatter(*point, color="black", s=12)
         # outward from the triangle's centre, clear of the marker and the edges
-        outward = (point - centre) / np.linalg.norm(point - centre)
+        outward = normalize(point - centre)
         ax3.text(*(point + 0.35 * outward), name, fontsize=12, ha="center", va="center")
     ax3.quiver(*centre, *n3, color="tab:red", arrow_length_ratio=0.08, lw=1.6)
     ax3.quiver(*centre, *(n3 / length(n3)), color="tab:blue", arrow_length_ratio=0.2, lw=2)
