@@ -94,6 +94,13 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="H",
         help="repeat the scan H times down the strip image, to see it better (default 1)",
     )
+    scan.add_argument(
+        "--scale",
+        type=_positive,
+        default=1,
+        metavar="K",
+        help="draw each pixel as a K x K block, so a short scan can be seen (default 1)",
+    )
     scan.set_defaults(run=_run_scan)
 
     sweep = _command(
@@ -281,7 +288,8 @@ def _run_scan(args: argparse.Namespace) -> None:
     start = time.perf_counter()
     scene = load_line_scene(args.scene)
     strip = scan(scene, samples=args.samples).colors
-    save_image(np.repeat(strip[None], args.height, axis=0), args.output)
+    rows = np.repeat(strip[None], args.height, axis=0)
+    save_image(np.repeat(np.repeat(rows, args.scale, axis=0), args.scale, axis=1), args.output)
     wrote = [f"{args.output} ({scene.camera.pixels} pixels)"]
     if args.diagram:
         _save_figure("raykit.linescan.diagrams", "ray_diagram", scene, args.diagram)

@@ -60,7 +60,9 @@ def pinhole_figure(scene: Scene) -> Figure:
     top, bottom = limits[:, 1].max(), limits[:, 1].min()
     for depth, label in ((-d, "back wall (camera obscura)"), (d, "image plane (pinhole camera)")):
         side.axvline(depth, color="0.3", lw=2)
-        side.annotate(label, (depth, top), xytext=(4, 4), textcoords="offset points", fontsize=9)
+        side.annotate(
+            label, (depth, top), xytext=(4, -2), textcoords="offset points", va="top", fontsize=10
+        )
     side.plot(0, 0, "ko", ms=7)
     side.annotate("hole e", (0, 0), xytext=(-10, -16), textcoords="offset points", fontsize=10)
     side.annotate(

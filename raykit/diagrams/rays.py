@@ -224,6 +224,6 @@ def _mark(ax: Axes, view, point: np.ndarray, label: str, marker: str | None = "o
     if marker:
         ax.plot(*[[c] for c in shown], marker, color="black", ms=5, zorder=7)
     if view.is_3d:
-        ax.text(*shown, f" {label}", fontsize=9)
+        ax.text(*shown, f" {label}", fontsize=10)
     else:
-        ax.annotate(label, shown, xytext=(4, 4), textcoords="offset points", fontsize=9)
+        ax.annotate(label, shown, xytext=(4, 4), textcoords="offset points", fontsize=10)
