@@ -139,11 +139,11 @@ def _grade_student(folder: Path, out: Path, names, options: Options) -> dict:
         )
     except subprocess.TimeoutExpired:
         return {**row, "status": "could not grade: its grader went over its time budget"}
-    if run.returncode not in (0, 1) or not results_path.is_file():
+    if run.returncode != 0 or not results_path.is_file():
         last = (run.stderr.strip().splitlines() or [f"exit status {run.returncode}"])[-1]
         return {**row, "status": f"could not grade: {last[:300]}"}
     results = json.loads(results_path.read_text())
-    if run.returncode == 1:
+    if any("no raykit package" in t["output"] for t in results["tests"]):
         row["status"] = "could not grade: no raykit package in the folder"
     else:
         row["status"] = "graded"

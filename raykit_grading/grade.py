@@ -115,6 +115,7 @@ def grade(
     seed = secrets.randbits(63) if seed is None else seed
     check_clone()
     results, notes, failures = [], [], []
+    sandbox_kind = "none: nothing of the submission was run"
     with Workspace() as workspace:
         try:
             staged = stage(Path(submission), workspace / "submission")
@@ -133,6 +134,8 @@ def grade(
                 sandbox.check()
             except IsolationUnavailable as exc:
                 raise GradingImpossible(str(exc)) from None
+            sandbox_kind = sandbox.description
+            print(f"raykit_grading: sandbox: {sandbox_kind}", file=sys.stderr)
             deadline = time.monotonic() + options.total_seconds
             for test in tests:
                 try:
@@ -159,7 +162,7 @@ def grade(
         "output": "\n".join(summary),
         "visibility": "visible",
         "stdout_visibility": "hidden",
-        "extra_data": {"seed": seed, "not_graded": failures},
+        "extra_data": {"seed": seed, "not_graded": failures, "sandbox": sandbox_kind},
         "tests": results,
     }
     if failures:
@@ -318,12 +321,13 @@ def not_graded_results(why: str, tests: list[GradingTest] | None = None) -> dict
 
 
 def grade_to_file(submission: Path, output: Path, **options) -> int:
-    """Grade and write results.json: the exit status (0 graded, 1 the submission has no
-    package, 3 some or all tests could not be graded; results.json says which)."""
+    """Grade and write results.json: the exit status (0 graded, whatever the score, even a
+    submission with nothing to grade; 3 some or all tests could not be graded; results.json
+    says which)."""
     names = options.get("names")
     try:
         results = grade(submission, **options)
-        status = 1 if any("no raykit package" in t["output"] for t in results["tests"]) else 0
+        status = 0
     except NotGraded as exc:
         results, status = exc.results, 3
         print(f"raykit_grading: some tests could not be graded: {exc}", file=sys.stderr)
