@@ -233,7 +233,9 @@ class Sandbox:
                 }
                 self._fill(outside, order, arrays, files)
                 (outside / "submission").rmdir()
-                shutil.copytree(self.submission, outside / "submission", symlinks=True)
+                shutil.copytree(
+                    self.submission, outside / "submission", True, copy_function=_link_or_copy
+                )
                 for path in [outside, *outside.rglob("*")]:
                     os.chmod(path, 0o755 if path.is_dir() else 0o644)
                 (outside / "tmp").mkdir(mode=0o700)
@@ -385,6 +387,15 @@ def _prefer_me_when_memory_runs_out() -> None:
             adj.write("1000")
     except OSError:
         pass
+
+
+def _link_or_copy(source: str, target: str) -> None:
+    """A hard link where the tree shares the staged submission's file system (the grader's
+    own private copy: the child can read it, never write it), else a copy."""
+    try:
+        os.link(source, target)
+    except OSError:
+        shutil.copy2(source, target)
 
 
 def _confine_or_say(plan) -> None:

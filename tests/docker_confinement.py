@@ -1,6 +1,6 @@
 """Run a command as root the way Docker's default confinement would (Gradescope's container).
 
-    python tests/docker_confinement.py [--memory-mb 768] [--cpus 0.5] -- COMMAND...
+    python tests/docker_confinement.py [--memory-mb 768] [--cpus 0.5] [--report] -- COMMAND...
 
 The command runs with:
 
@@ -26,6 +26,7 @@ import os
 import platform
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parent.parent
@@ -101,6 +102,9 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__, allow_abbrev=False)
     parser.add_argument("--memory-mb", type=int)
     parser.add_argument("--cpus", type=float)
+    parser.add_argument(
+        "--report", action="store_true", help="say the wall time and the peak memory used"
+    )
     parser.add_argument("command", nargs=argparse.REMAINDER)
     args = parser.parse_args()
     command = args.command[1:] if args.command[:1] == ["--"] else args.command
@@ -132,17 +136,23 @@ def main() -> int:
         install_seccomp(program)  # as full root: needs no NO_NEW_PRIVS, as Docker's runtime
         drop_to_docker_capabilities()
 
+    start = time.perf_counter()
     try:
         return subprocess.run(command, preexec_fn=confine).returncode  # noqa: PLW1509
     finally:
+        if args.report:
+            said = [f"wall {time.perf_counter() - start:.1f} s"]
+            for folder in made:
+                if (folder / "memory.max_usage_in_bytes").exists():
+                    peak = int((folder / "memory.max_usage_in_bytes").read_text())
+                    said.append(f"peak memory {peak / 2**20:.0f} MB")
+            print(f"docker_confinement: {', '.join(said)}", file=sys.stderr)
         for folder in made:
             for _ in range(100):  # the command's last processes may still be exiting
                 try:
                     folder.rmdir()
                     break
                 except OSError:
-                    import time
-
                     time.sleep(0.05)
 
 
