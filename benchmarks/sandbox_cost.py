@@ -4,7 +4,8 @@
 
 Times, in turns (medians, :func:`common.medians_in_turns`), of:
 
-* ``bare``: the child's interpreter importing numpy and Pillow, as a plain process;
+* ``bare``: the child's interpreter importing numpy and Pillow, as a plain process with the
+  child's environment (one BLAS thread, as in every sandbox);
 * ``bubblewrap``: the same command inside the sandbox bubblewrap builds for a test
   (:func:`raykit_grading.isolation.sandbox_arguments`: mount, pid, network, ipc, uts
   namespaces);
@@ -20,7 +21,8 @@ Times, in turns (medians, :func:`common.medians_in_turns`), of:
   grader's workspace share a file system, else copies).
 
 And once: building the chroot tree (files, size, seconds), which Gradescope's ``setup.sh``
-does when the image is built. The table is printed and written to ``--page``.
+does when the image is built. The table is printed and written to ``--page`` (by default,
+but not with ``--quick``, the committed page).
 """
 
 from __future__ import annotations
@@ -52,12 +54,13 @@ from raykit_grading.isolation import (  # noqa: E402
 from raykit_grading.sandbox import Sandbox, _link_or_copy  # noqa: E402
 from raykit_grading.workspace import Workspace  # noqa: E402
 
+PAGE = REPO / "docs/benchmarks/sandbox_cost.md"
 IMPORTS = "import sys; sys.path.insert(0, '{site}'); import numpy, PIL.Image"
 
 
 def main() -> None:
     parser = arguments(__doc__, "fewer runs", repeats=21)
-    parser.add_argument("--page", type=Path, default=REPO / "docs/benchmarks/sandbox_cost.md")
+    parser.add_argument("--page", type=Path, help=f"default (not with --quick): {PAGE}")
     args = parse(parser)
     repeats = 5 if args.quick else args.repeats
     python = probe_python(sys.executable)
@@ -77,7 +80,7 @@ def main() -> None:
         boxed = [find_bwrap(), *sandbox_arguments(python, work, submission, 2**20, as_root),
                  python.executable, "-I", "-S", "-c", IMPORTS.format(site=SITE)]  # fmt: skip
         calls = {
-            "bare": lambda: subprocess.run(bare, check=True),
+            "bare": lambda: subprocess.run(bare, check=True, env=child_environment("/tmp")),
             "bubblewrap": lambda: subprocess.run(boxed, check=True),
         }
         sandboxes = {"bubblewrap": Sandbox(submission, workspace, kind="bubblewrap")}
@@ -101,7 +104,10 @@ def main() -> None:
             if as_root:
                 cleanup()
     user = "root" if as_root else "a normal user"
-    lines += [f"Per test, as {user}: medians of {repeats} runs of each, in turns.", ""]
+    load = ", ".join(f"{x:.1f}" for x in os.getloadavg())
+    lines += [f"Per test, as {user}: medians of {repeats} runs of each, in turns, on "
+              f"{os.cpu_count()} CPUs with a load average of {load} (1, 5, 15 minutes) "
+              "as the run ended.", ""]  # fmt: skip
     lines += ["| what | median | / bare |", "|---|---|---|"]
     for name, seconds in times.items():
         lines.append(f"| {name} | {seconds * 1000:.1f} ms | {seconds / times['bare']:.2f} |")
@@ -112,9 +118,12 @@ def main() -> None:
                   f"{built[2]:.1f} s."]  # fmt: skip
     text = "\n".join(lines) + "\n"
     print("\n".join(lines[2:]))
-    args.page.parent.mkdir(parents=True, exist_ok=True)
-    args.page.write_text(text)
-    print(f"\nwrote {args.page}")
+    page = args.page or (None if args.quick else PAGE)
+    if page is None:
+        return
+    page.parent.mkdir(parents=True, exist_ok=True)
+    page.write_text(text)
+    print(f"\nwrote {page}")
 
 
 def _tree_once(python) -> tuple[int, int, float]:

@@ -367,3 +367,48 @@ def test_a_normal_user_without_user_namespaces_is_refused_in_one_line(tmp_path, 
     )
     assert len(run.stderr.strip().splitlines()) == 1 and "grade as root" in run.stderr
     assert json.loads(out.read_text())["tests"][0]["output"].startswith("NOT GRADED")
+
+
+def test_setup_sh_builds_the_chroot_tree_the_sandbox_then_uses(tmp_path):
+    """setup.sh's line builds the tree at image build time; a grading then finds it built."""
+    from raykit_grading.gradescope import build_zip
+    from raykit_grading.isolation import probe_python
+    from raykit_grading.sandbox import Sandbox
+
+    with zipfile.ZipFile(build_zip(tmp_path / "ag.zip")) as archive:
+        setup = archive.read("setup.sh").decode()
+    line = next(line for line in setup.splitlines() if "raykit_grading.confine" in line)
+    assert line.startswith("PYTHONPATH=/autograder/source /opt/raykit-grader/bin/python -m")
+    if not AS_ROOT:
+        pytest.skip("the chroot tree is built by root")
+    built = subprocess.run(
+        [sys.executable, "-m", "raykit_grading.confine"], capture_output=True, text=True,
+        cwd=REPO, timeout=600,
+    )  # fmt: skip
+    assert built.returncode == 0, built.stderr
+    tree = Path(built.stdout.strip().removeprefix("sandbox tree: "))
+    python = probe_python(sys.executable)
+    assert (tree / python.executable.lstrip("/")).is_file()
+    assert not (tree / python.stdlib.lstrip("/") / "site-packages").exists()
+    assert oct(tree.parent.stat().st_mode & 0o777) == "0o700"
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    sandbox = Sandbox(empty, tmp_path, kind="chroot")
+    sandbox.check()
+    assert sandbox.tree == tree
+
+
+@pytest.mark.skipif(shutil.which("bwrap") is None, reason="the benchmark times bubblewrap too")
+def test_the_sandbox_cost_benchmark_times_every_sandbox_kind_this_user_can_make(tmp_path):
+    page = tmp_path / "page.md"
+    run = subprocess.run(
+        [sys.executable, str(REPO / "benchmarks/sandbox_cost.py"), "--quick", "--repeats", "1",
+         "--page", str(page)],
+        capture_output=True, text=True, timeout=600,
+    )  # fmt: skip
+    assert run.returncode == 0, run.stderr
+    rows = [line.split(" | ")[0] for line in page.read_text().splitlines() if line[:2] == "| "]
+    kinds = ["bubblewrap", "chroot"] if AS_ROOT else ["bubblewrap"]
+    expected = ["| what", "| bare", *kinds, *(f"| test, {k}" for k in kinds)]
+    expected = [e if e.startswith("| ") else f"| {e}" for e in expected]
+    assert rows == expected + (["| copy the submission"] if AS_ROOT else [])
