@@ -172,11 +172,11 @@ def _grade_student(folder: Path, out: Path, names, options: Options, draw: list[
         )
     except subprocess.TimeoutExpired:
         return {**row, "status": "could not grade: its grader went over its time budget"}
-    if run.returncode not in (0, 1) or not results_path.is_file():
+    if run.returncode != 0 or not results_path.is_file():
         last = (run.stderr.strip().splitlines() or [f"exit status {run.returncode}"])[-1]
         return {**row, "status": f"could not grade: {last[:300]}"}
     results = json.loads(results_path.read_text())
-    if run.returncode == 1:
+    if any("no raykit package" in t["output"] for t in results["tests"]):
         why = results["tests"][0]["output"].splitlines()[0] if results["tests"] else ""
         row["status"] = f"could not grade: {why or 'no raykit package in the folder'}"[:300]
     else:

@@ -123,6 +123,7 @@ def grade(
     seed = new_seed() if seed is None else seed
     check_clone()
     results, notes, failures = [], [], []
+    sandbox_kind = "none: nothing of the submission was run"
     with Workspace() as workspace:
         try:
             staged = stage(Path(submission), workspace / "submission")
@@ -141,6 +142,8 @@ def grade(
                 sandbox.check()
             except IsolationUnavailable as exc:
                 raise GradingImpossible(str(exc)) from None
+            sandbox_kind = sandbox.description
+            print(f"raykit_grading: sandbox: {sandbox_kind}", file=sys.stderr)
             deadline = time.monotonic() + options.total_seconds
             for test in tests:
                 try:
@@ -171,7 +174,11 @@ def grade(
         "stdout_visibility": "hidden",
         # the seed's fingerprint, never the seed: hidden results reach students after the due
         # date, and the seed would let them draw the hidden tests' inputs for a regrade
-        "extra_data": {"seed_fingerprint": fingerprint(seed), "not_graded": failures},
+        "extra_data": {
+            "seed_fingerprint": fingerprint(seed),
+            "not_graded": failures,
+            "sandbox": sandbox_kind,
+        },
         "tests": results,
     }
     if failures:
@@ -403,12 +410,13 @@ def not_graded_results(why: str, tests: list[GradingTest] | None = None) -> dict
 
 
 def grade_to_file(submission: Path, output: Path, **options) -> int:
-    """Grade and write results.json: the exit status (0 graded, 1 the submission has no
-    package, 3 some or all tests could not be graded; results.json says which)."""
+    """Grade and write results.json: the exit status (0 graded, whatever the score, even a
+    submission with nothing to grade; 3 some or all tests could not be graded; results.json
+    says which)."""
     names = options.get("names")
     try:
         results = grade(submission, **options)
-        status = 1 if any("no raykit package" in t["output"] for t in results["tests"]) else 0
+        status = 0
     except NotGraded as exc:
         results, status = exc.results, 3
         print(f"raykit_grading: some tests could not be graded: {exc}", file=sys.stderr)

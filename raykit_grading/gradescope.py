@@ -14,9 +14,13 @@ image:
   references are computed with them at grading time, and submissions run on the same
   interpreter, inside the sandbox, which shows them numpy and Pillow only); and it closes
   ``/autograder/source`` to everyone but root.
+  It also builds the chroot sandbox's tree (:mod:`raykit_grading.confine`), used where
+  Docker's default confinement refuses bubblewrap its namespaces (as on Gradescope).
 * ``run_autograder`` grades ``/autograder/submission`` (a folder or a zip in it) under the
-  seed in ``source/grading-seed`` and writes ``/autograder/results/results.json``; it exits
-  non-zero if the grader could not grade.
+  seed in ``source/grading-seed`` and writes ``/autograder/results/results.json``; it exits 0
+  when it graded, whatever the score (a submission with nothing to grade scores 0 and says
+  why), and non-zero only if the grader could not grade (results.json then says NOT GRADED on
+  every test).
 
 Set Gradescope's autograder timeout to at least 12 minutes: one submission's tests may take
 480 s together (``--total-seconds``), plus the reference renders and start-up.
@@ -41,6 +45,8 @@ apt-get install -y -qq python3 python3-pip python3-venv bubblewrap
 python3 -m venv /opt/raykit-grader
 /opt/raykit-grader/bin/pip install -q {pins} tqdm
 chmod -R a+rX /opt/raykit-grader
+# the chroot sandbox's tree, made now so that no grading pays for it
+PYTHONPATH=/autograder/source /opt/raykit-grader/bin/python -m raykit_grading.confine
 # submissions run in a sandbox, as an unprivileged uid (50000-59999): none of this is in it
 chmod 700 /autograder/source
 chmod 600 /autograder/source/grading-seed  # the assignment's secret seed: root's alone
