@@ -183,7 +183,9 @@ def _grade(args, options) -> int:
 
     results = json.loads(args.output.read_text())
     total = sum(t["max_score"] for t in results["tests"])
-    if made:
+    if made and status == 3:  # nothing was graded under it: leave no seed behind either
+        made.unlink(missing_ok=True)
+    elif made:
         print(f"raykit_grading: made the grading seed {made} (mode 600): grading again with "
               "it draws the same inputs", file=sys.stderr)  # fmt: skip
     if status == 3:
