@@ -58,6 +58,9 @@ def _copy_notebooks() -> None:
 _copy_notebooks()
 root_doc = "index"
 
+# commands are shown as typed: no "--" turned into a dash, no quotes curled
+smartquotes = False
+
 # ---- MyST and the notebooks ----------------------------------------------------------------
 myst_enable_extensions = ["colon_fence", "dollarmath", "deflist"]
 myst_heading_anchors = 3  # "page.md#a-heading" links, as a repository host makes them
@@ -96,6 +99,8 @@ html_theme_options = {
     "navigation_with_keys": False,
     "show_toc_level": 2,
     "header_links_before_dropdown": 6,
+    # a search button, not a search field: the field pushed the menu onto a second line
+    "navbar_persistent": ["search-button"],
     "secondary_sidebar_items": ["page-toc"],
     "footer_start": ["copyright"],
     "footer_end": [],
@@ -107,13 +112,24 @@ html_sidebars = {"index": [], "students": [], "instructors": [], "lecturers": []
 BENCHMARK_TITLE = re.compile(r"\A\s*#\s")
 
 
-def _benchmark_title(docname: str, text: str) -> str:
-    """A benchmark page is what a benchmark command printed; some start with the command, not a
-    title. Give those a title from their file name, so the page has one in the site's menus."""
-    if not docname.startswith("benchmarks/") or BENCHMARK_TITLE.match(text):
+PLOT_ARGUMENT = re.compile(r"--plot docs/benchmarks/([\w.-]+\.png)")
+
+
+def _benchmark_page(docname: str, text: str) -> str:
+    """A benchmark page is what a benchmark command printed. Some start with the command, not a
+    title: give those a title from their file name, so that the page has one in the site's
+    menus. Some name their plot (``--plot docs/benchmarks/X.png``, or X.png beside the page
+    with the page's name) without showing it: show it at the end."""
+    if not docname.startswith("benchmarks/"):
         return text
-    name = docname.removeprefix("benchmarks/").replace("_", " ")
-    return f"# Benchmark: {name}\n\n{text}"
+    stem = docname.removeprefix("benchmarks/")
+    if not BENCHMARK_TITLE.match(text):
+        text = f"# Benchmark: {stem.replace('_', ' ')}\n\n{text}"
+    plots = dict.fromkeys([*PLOT_ARGUMENT.findall(text), f"{stem}.png"])
+    for plot in plots:
+        if (DOCS / "benchmarks" / plot).exists() and f"]({plot})" not in text:
+            text += f"\n\n![the plot of this run: {plot}]({plot})\n"
+    return text
 
 
 def _notebook_links(docname: str, text: str) -> str:
@@ -125,7 +141,7 @@ def _notebook_links(docname: str, text: str) -> str:
 
 
 def _source_read(app, docname: str, source: list[str]) -> None:
-    source[0] = _notebook_links(docname, _benchmark_title(docname, source[0]))
+    source[0] = _notebook_links(docname, _benchmark_page(docname, source[0]))
 
 
 # ---- docstrings written for help() and a terminal, read as reStructuredText ------------------
