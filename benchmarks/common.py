@@ -84,9 +84,14 @@ def medians_in_turns(timers: dict, repeats: int, warm: bool = False) -> dict:
 
 
 def loglog_plot(
-    path: Path, series: dict[str, tuple[list, list, str]], xlabel: str, ylabel: str
+    path: Path,
+    series: dict[str, tuple[list, list, str]],
+    xlabel: str,
+    ylabel: str,
+    legend_below: bool = False,
 ) -> None:
-    """One log-log line per ``label: (xs, ys, style)``, written to ``path``."""
+    """One log-log line per ``label: (xs, ys, style)``, written to ``path``; ``legend_below``:
+    the legend under the axes, where it covers no line (for lines that cross anywhere)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -94,12 +99,15 @@ def loglog_plot(
 
     from raykit.io.images import save_figure
 
-    figure, ax = plt.subplots(figsize=(5, 3.5), layout="constrained")
+    figure, ax = plt.subplots(figsize=(5, 4.2 if legend_below else 3.5), layout="constrained")
     for label, (xs, ys, style) in series.items():
         ax.loglog(xs, ys, style, label=label)
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
-    ax.legend()
+    if legend_below:
+        figure.legend(loc="outside lower center", ncol=2)
+    else:
+        ax.legend()
     save_figure(figure, path)
     plt.close(figure)
     print(f"\nwrote {path}")

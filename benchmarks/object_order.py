@@ -97,7 +97,9 @@ def main() -> None:
             [p[1] for p in every],
             "^--",
         )
-        loglog_plot(args.plot, series, "objects (random spheres)", "render time (s)")
+        loglog_plot(
+            args.plot, series, "objects (random spheres)", "render time (s)", legend_below=True
+        )
 
 
 if __name__ == "__main__":

@@ -8,29 +8,41 @@ many_spheres(n)      n small spheres scattered in front of the camera.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from raykit.io.scene_json import scene_from_dict
+from raykit.rays import dot, normalize
 from raykit.scene import Scene
 
 
 def _directions() -> np.ndarray:
-    """The 9 child directions about +z: 6 around the equator, 3 raised 60 degrees."""
-    around = [(np.cos(a), np.sin(a), 0.0) for a in np.radians(np.arange(0, 360, 60))]
-    raised = [
-        (0.5 * np.cos(a), 0.5 * np.sin(a), np.sqrt(3) / 2)
-        for a in np.radians(np.arange(30, 390, 120))
-    ]
-    return np.array(around + raised)
+    """The 9 child directions about +z ``(9, 3)``: 6 around the equator, 3 raised 60 degrees.
+
+    Written with exact constants (cos and sin of multiples of 30 degrees are 0, ±1/2, ±1 and
+    ±√3/2) rather than numpy's vectorised cos and sin, whose last bit differs between processors.
+    """
+    half, root = 0.5, math.sqrt(3) / 2
+    around = [(1.0, 0.0), (half, root), (-half, root), (-1.0, 0.0), (-half, -root), (half, -root)]
+    raised = [(root, half), (-root, half), (0.0, -1.0)]  # at 30, 150 and 270 degrees
+    return np.array(
+        [(x, y, 0.0) for x, y in around] + [(half * x, half * y, root) for x, y in raised]
+    )
 
 
 def _frame_to(axis: np.ndarray) -> np.ndarray:
-    """A rotation taking +z to ``axis``."""
-    z = axis / np.linalg.norm(axis)
+    """A rotation ``(3, 3)`` taking +z to ``axis``: its columns are the new x, y and z."""
+    z = normalize(axis)
     helper = np.array([1.0, 0, 0]) if abs(z[0]) < 0.9 else np.array([0, 1.0, 0])
-    x = np.cross(helper, z)
-    x /= np.linalg.norm(x)
+    x = normalize(np.cross(helper, z))
     return np.column_stack([x, np.cross(z, x), z])
+
+
+def _rotated(directions: np.ndarray, rotation: np.ndarray) -> np.ndarray:
+    """``directions (N, 3)`` turned by ``rotation (3, 3)``, each row's sums taken left to right
+    (:func:`raykit.rays.dot`), not by a matrix product, whose order depends on BLAS."""
+    return np.stack([dot(directions, row) for row in rotation], axis=-1)
 
 
 def sphereflake(level: int, width: int = 512, height: int = 512) -> Scene:
@@ -55,7 +67,7 @@ def sphereflake_dict(level: int, width: int = 512, height: int = 512) -> dict:
         if depth == level:
             return
         rotation = _frame_to(axis)
-        for direction in _directions() @ rotation.T:
+        for direction in _rotated(_directions(), rotation):
             grow(center + direction * (radius + radius / 3), radius / 3, direction, depth + 1)
 
     grow(np.array([0.0, 1.0, 0.0]), 1.0, np.array([0.0, 1.0, 0.0]), 0)

@@ -20,7 +20,7 @@ REPO = Path(__file__).resolve().parent.parent
 COMMANDS = [
     "render scenes/classic.json -o {out}/classic.png",
     "render scenes/cutouts.json -o {out}/cutouts.png --samples 3",
-    "scan scenes/linescan/slide.json -o {out}/slide_scan.png --height 24"
+    "scan scenes/linescan/slide.json -o {out}/slide_scan.png --height 2 --scale 40"
     " --diagram {out}/slide_rays.png",
     "sweep scenes/linescan/passing_car.json -o {out}/passing_car_sweep.png"
     " --diagram {out}/passing_car_sweep_diagram.png",

@@ -9,7 +9,7 @@ The tree is the architecture, in three wings:
   :mod:`raykit.render` (image order), :mod:`raykit.object_order`, :mod:`raykit.forward` (light
   traced forward) and :mod:`raykit.pinhole` (stage 3); :mod:`raykit.lights`,
   :mod:`raykit.materials`, :mod:`raykit.surfaces`, :mod:`raykit.shading`, :mod:`raykit.shadows`,
-  :mod:`raykit.mirrors` (stage 4, FOCG 4.5-4.8); and their figures, :mod:`raykit.diagrams`;
+  :mod:`raykit.mirrors` (stage 4, FOCG 4.5-4.9); and their figures, :mod:`raykit.diagrams`;
 * **the engine**, :mod:`raykit.engine`: speed only, named for what it skips, never a different
   picture;
 * **input and output**, :mod:`raykit.io`: scene files, textures, images.

@@ -36,7 +36,7 @@ import numpy as np
 from raykit.hits import ColorAt, solid
 from raykit.materials import PLAIN, Material
 from raykit.planes import hit_plane, hit_points_on_plane
-from raykit.rays import MISS, dot, normalize
+from raykit.rays import MISS, dot, length, normalize
 
 OPAQUE_FROM = 128  # a texel whose alpha is below this is a hole
 
@@ -99,7 +99,7 @@ def _floats(point) -> np.ndarray:
 
 def is_degenerate(a: np.ndarray, b: np.ndarray) -> bool:
     """True when edges a and b ``(3,)`` span no parallelogram (zero or parallel)."""
-    return bool(np.linalg.norm(np.cross(a, b)) <= 1e-12 * np.linalg.norm(a) * np.linalg.norm(b))
+    return bool(length(np.cross(a, b)) <= 1e-12 * length(a) * length(b))
 
 
 def hit_billboard(

@@ -4,10 +4,18 @@ Conventions (owned here; every other 3D module refers to this page)
 -------------------------------------------------------------------
 * Frame: w = normalize(eye - lookat) points *backwards*, from what we look at to the eye;
   u = normalize(up × w) points to the right of the image; v = w × u points up the image.
-  (u, v, w) is right-handed and orthonormal; ``up`` need only not be parallel to w.
+  (u, v, w) is right-handed and orthonormal; ``up`` need only not be parallel to w: it is
+  not necessarily v, but lies in the same plane as v and w (v is up with its part along w
+  taken away).
 * Image plane: it passes through lookat, at distance d = |lookat - eye| from the eye, and is
   Hp = 2·d·tan(fov_angle / 2) high and Wp = Hp·width / height wide. ``fov_angle`` is the
-  *vertical* field of view, in degrees.
+  *vertical* field of view, in degrees. In the camera's own coordinates (eye at 0, axes
+  u, v, w) the plane is w = -d: the slide's question "what should w be?" has that answer,
+  since the camera looks along -w.
+* Two d's. The slides say "from now on, d = distance to the image plane" (``Camera.d`` here),
+  while a ray's direction is also d (p(t) = o + t·d, :mod:`raykit.rays`). They never meet in
+  one formula; in code the distance is always ``camera.d`` and a direction a plain ``d``
+  array of rays.
 * Pixels: row r counts from the *top* of the image (row 0 is the top row, as in the PNG and in
   numpy's ``image[r, c]``), column c from the left. A point inside pixel (r, c) has continuous
   image coordinates x = c + a, y = r + b with the sample offset (a, b) in [0, 1)²; the pixel
@@ -16,8 +24,11 @@ Conventions (owned here; every other 3D module refers to this page)
       s = -Wp/2 + x·Wp/width,   t = Hp/2 - y·Hp/height,   P = eye - d·w + s·u + t·v.
 
 * Perspective: origin e = eye, direction P - eye = -d·w + s·u + t·v (formed without subtracting
-  eye, so a camera at 1e6 loses no digits), scaled to unit length so that the ray parameter is
-  the distance from the eye.
+  eye, so a camera at 1e6 loses no digits). The slide's ray is p(t) = e + t(s - e) with its s
+  = our P: then t = 1 on the image plane. raykit scales the direction to unit length instead,
+  so that the ray parameter is the distance from the eye: hits of different rays, and of
+  shadow and mirror rays, compare in one unit, and the sphere's A = d·d is 1. (The letters:
+  the slide's s is P here; our s and t are P's coordinates along u and v.)
 * Orthographic: origin eye + s·u + t·v, direction -w: parallel rays that frame the plane
   through lookat exactly as the perspective camera does.
 """
@@ -30,7 +41,7 @@ from functools import cached_property
 
 import numpy as np
 
-from raykit.rays import normalize
+from raykit.rays import length, normalize
 
 PROJECTIONS = ("perspective", "orthographic")
 
@@ -63,7 +74,7 @@ class Camera:
     @property
     def d(self) -> float:
         """Distance from the eye to the image plane, |lookat - eye|."""
-        return float(np.linalg.norm(np.asarray(self.lookat) - np.asarray(self.eye)))
+        return float(length(np.asarray(self.lookat, float) - np.asarray(self.eye, float)))
 
     @property
     def plane_size(self) -> tuple[float, float]:
@@ -92,7 +103,7 @@ def camera_frame(
     if not np.any(up):
         raise DegenerateFrameError("up", "is the zero vector")
     up_cross_w = np.cross(up, w)
-    if np.linalg.norm(up_cross_w) <= 1e-12 * np.linalg.norm(up):
+    if length(up_cross_w) <= 1e-12 * length(up):
         raise DegenerateFrameError(
             "up", "is parallel to the view direction, so it fixes no image rotation"
         )

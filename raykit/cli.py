@@ -17,6 +17,7 @@ import argparse
 import sys
 import time
 from collections.abc import Sequence
+from pathlib import Path
 
 MAX_SAMPLES = 32
 
@@ -92,6 +93,13 @@ def build_parser() -> argparse.ArgumentParser:
         default=1,
         metavar="H",
         help="repeat the scan H times down the strip image, to see it better (default 1)",
+    )
+    scan.add_argument(
+        "--scale",
+        type=_positive,
+        default=1,
+        metavar="K",
+        help="draw each pixel as a K x K block, so a short scan can be seen (default 1)",
     )
     scan.set_defaults(run=_run_scan)
 
@@ -172,17 +180,22 @@ def _engine_option(parser: argparse.ArgumentParser, what: str) -> None:
         "--engine",
         choices=("auto", "numpy", "compiled"),  # raykit.engine.choice.ENGINES, which imports numpy
         default="auto",
-        help=f"{what}: numpy, compiled (the same picture, faster; needs "
-        "'pip install \"raykit[fast]\"'), or auto, compiled only where it pays (default)",
+        help=f"{what}: numpy, compiled (the same picture, faster; "
+        + (
+            "needs 'pip install \"raykit[fast]\"')"
+            if (Path(__file__).parent / "engine" / "compiled.py").exists()
+            else "not in the starter kit)"
+        )
+        + ", or auto, compiled only where it pays (default)",
     )
 
 
 def _check_engine(engine: str) -> None:
     """Refuse ``--engine compiled`` without numba before any work, naming the fix."""
-    from raykit.engine.choice import FAST_EXTRA, compiled_available
+    from raykit.engine.choice import compiled_available, compiled_missing
 
     if engine == "compiled" and not compiled_available():
-        raise ValueError(f"--engine compiled needs numba, which is not installed: {FAST_EXTRA}")
+        raise ValueError(f"--engine compiled {compiled_missing()}")
 
 
 class _VersionAction(argparse.Action):
@@ -275,7 +288,8 @@ def _run_scan(args: argparse.Namespace) -> None:
     start = time.perf_counter()
     scene = load_line_scene(args.scene)
     strip = scan(scene, samples=args.samples).colors
-    save_image(np.repeat(strip[None], args.height, axis=0), args.output)
+    rows = np.repeat(strip[None], args.height, axis=0)
+    save_image(np.repeat(np.repeat(rows, args.scale, axis=0), args.scale, axis=1), args.output)
     wrote = [f"{args.output} ({scene.camera.pixels} pixels)"]
     if args.diagram:
         _save_figure("raykit.linescan.diagrams", "ray_diagram", scene, args.diagram)

@@ -45,7 +45,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from raykit.lights import PointLight
-from raykit.rays import dot
+from raykit.rays import dot, length
 from raykit.render import secondary_caster
 from raykit.scene import Scene
 from raykit.surfaces import surface_points
@@ -116,7 +116,7 @@ def _trace_batch(scene, cast, light, count, rng, image, stats) -> None:
     camera = scene.camera
     stats.emitted += count
     directions = rng.normal(size=(count, 3))  # uniform on the sphere once normalised
-    directions /= np.linalg.norm(directions, axis=1, keepdims=True)
+    directions /= length(directions)[:, None]
     origins = np.broadcast_to(np.asarray(light.position, float), directions.shape)
     hits = cast(origins, directions)
     hit = np.flatnonzero(hits.index >= 0)
@@ -129,13 +129,13 @@ def _trace_batch(scene, cast, light, count, rng, image, stats) -> None:
     # a billboard's normal faces the photon; a sphere's points outward, the side photons reach
     eye = np.asarray(camera.eye, float)
     to_eye = eye - p
-    r_eye = np.linalg.norm(to_eye, axis=1)
+    r_eye = length(to_eye)
     cos_eye = dot(n, to_eye) / r_eye
     u, v, w = camera.frame
-    depth = -(-to_eye @ w)  # (p - e)·(-w): in front of the eye when > 0
+    depth = dot(to_eye, w)  # (p - e)·(-w): in front of the eye when > 0
     with np.errstate(divide="ignore", invalid="ignore"):
-        s = camera.d * ((p - eye) @ u) / depth
-        t = camera.d * ((p - eye) @ v) / depth
+        s = camera.d * dot(p - eye, u) / depth
+        t = camera.d * dot(p - eye, v) / depth
     Wp, Hp = camera.plane_size
     x = (s + Wp / 2) * camera.width / Wp
     y = (Hp / 2 - t) * camera.height / Hp
@@ -154,6 +154,8 @@ def _trace_batch(scene, cast, light, count, rng, image, stats) -> None:
     stats.landed += len(landed)
     if not len(landed):
         return
+    # cubed below as a product: numpy's ** 3 is a vectorised power whose last bit differs
+    # between processors (tests/test_machine_independent.py)
     cos_alpha = depth[landed] / r_eye[landed]
     table = scene.materials
     which = index[landed]
@@ -163,7 +165,7 @@ def _trace_batch(scene, cast, light, count, rng, image, stats) -> None:
         r_light[landed] ** 2
         * camera.d**2
         * cos_eye[landed]
-        / (r_eye[landed] ** 2 * cos_alpha**3 * pixel_area)
+        / (r_eye[landed] ** 2 * (cos_alpha * cos_alpha * cos_alpha) * pixel_area)
     )
     stats.through_hole += float(
         np.sum(cos_eye[landed] * cos_alpha * stats.aperture**2 / r_eye[landed] ** 2)

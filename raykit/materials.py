@@ -1,4 +1,4 @@
-"""Materials: how a surface answers light (FOCG 4.5–4.8), one per sphere or billboard.
+"""Materials: how a surface answers light (FOCG 4.5–4.9), one per sphere or billboard.
 
 =========  =======  ===========================================================================
 field      letter   meaning

@@ -31,6 +31,13 @@ def normalize(vectors: np.ndarray) -> np.ndarray:
         return vectors / np.sqrt(squared)[..., None]
 
 
+def length(vectors: np.ndarray) -> np.ndarray:
+    """The lengths |v| ``(...)`` of vectors ``(..., k)``: the square root of :func:`dot` (v, v),
+    so the same bits on every machine (``np.linalg.norm`` of one vector is BLAS's sum)."""
+    vectors = np.asarray(vectors, dtype=float)
+    return np.sqrt(dot(vectors, vectors))
+
+
 def dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Row-wise dot product over the last axis: ``(..., k) · (..., k) -> (...)``.
 

@@ -1,4 +1,4 @@
-"""Shading (FOCG 4.5–4.8): the colour of a hit point from its lights, shadows and mirrors.
+"""Shading (FOCG 4.5–4.9): the colour of a hit point from its lights, shadows and mirrors.
 
 The book's model, per colour channel, with every vector unit length and pointing away from the
 surface point (the conventions of :mod:`raykit.lights`):

@@ -1,7 +1,7 @@
 """``python -m raykit_grading COMMAND``: release, grade, batch, gradescope, tests.
 
-Exit status: 0 done; 1 graded, but a submission had nothing to grade (batch: some student
-could not be graded); 2 bad arguments; 3 the grader could not grade (no sandbox here, or it
+Exit status: 0 done (grade: graded, whatever the score); 1 batch: some student could not be
+graded; 2 bad arguments; 3 the grader could not grade (no sandbox here, or it
 failed on some tests): it says so, and never stands a made-up score in for a grade.
 """
 
@@ -10,6 +10,8 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
+
+from raykit_grading.seeds import SeedFileError, seed_argument
 
 
 def _seconds(text: str) -> float:
@@ -35,7 +37,6 @@ def build_parser() -> argparse.ArgumentParser:
     grade.add_argument("submission", type=Path, help="folder holding the student's raykit/")
     grade.add_argument("-o", "--output", type=Path, required=True, help="results.json to write")
     grade.add_argument("--feedback", type=Path, help="folder for feedback pictures")
-    grade.add_argument("--seed", type=int, help="the graded draw to repeat (default: a new one)")
 
     batch = command("batch", help="grade a folder of submissions, a few at a time")
     batch.add_argument("submissions", type=Path, help="folder with one folder per student")
@@ -56,10 +57,28 @@ def build_parser() -> argparse.ArgumentParser:
 
     zip_ = command("gradescope", help="build the Gradescope autograder zip")
     zip_.add_argument("-o", "--output", type=Path, required=True, help="autograder.zip")
+    zip_.add_argument(
+        "--seed-file",
+        type=Path,
+        help="the assignment's secret seed, made (mode 600) if missing "
+        "(default: autograder.grading-seed beside the zip)",
+    )
 
     command("tests", help="list the grading tests, their points and visibility")
 
-    for sub in (grade, batch):
+    for sub, beside in ((grade, "beside results.json"), (batch, "in the output folder")):
+        sub.add_argument(
+            "--seed-file",
+            type=Path,
+            help="the assignment's secret seed, from which the graded inputs are drawn; made "
+            f"(mode 600) if missing (default: grading-seed {beside})",
+        )
+        sub.add_argument(
+            "--seed",
+            type=seed_argument,
+            help="draw the graded inputs from this seed instead (a whole number; overrides "
+            "--seed-file)",
+        )
         sub.add_argument(
             "--child-python",
             help="Python to run submissions with (default: this one; needs numpy and Pillow)",
@@ -110,6 +129,8 @@ def main(argv: list[str] | None = None) -> int:
             names=args.only,
             options=options,
             regrade=args.regrade,
+            seed=args.seed,
+            seed_file=args.seed_file,
         )
     if args.command == "release":
         from raykit_grading.release import build_release
@@ -120,7 +141,11 @@ def main(argv: list[str] | None = None) -> int:
     elif args.command == "gradescope":
         from raykit_grading.gradescope import build_zip
 
-        build_zip(args.output)
+        try:
+            build_zip(args.output, seed_file=args.seed_file)
+        except SeedFileError as exc:
+            print(f"raykit_grading: error: {exc}", file=sys.stderr)
+            return 2
     elif args.command == "tests":
         from raykit_grading.catalog import TESTS
 
@@ -136,6 +161,9 @@ def _grade(args, options) -> int:
     if not args.submission.is_dir():
         print(f"raykit_grading: error: {args.submission}: no such folder", file=sys.stderr)
         return 2
+    seed, made = _seed(args)
+    if seed is None:
+        return 2
     tests = by_name(args.only)
     bar = _progress(len(tests), f"grading {args.submission.name}")
     try:
@@ -144,7 +172,7 @@ def _grade(args, options) -> int:
             args.output,
             names=args.only,
             feedback=args.feedback,
-            seed=args.seed,
+            seed=seed,
             options=options,
             progress=(lambda test: bar.update()) if bar else None,
         )
@@ -155,17 +183,35 @@ def _grade(args, options) -> int:
 
     results = json.loads(args.output.read_text())
     total = sum(t["max_score"] for t in results["tests"])
+    if made:
+        print(f"raykit_grading: made the grading seed {made} (mode 600): grading again with "
+              "it draws the same inputs", file=sys.stderr)  # fmt: skip
     if status == 3:
         print(f"wrote {args.output}: NOT GRADED (see above)")
     else:
         print(f"wrote {args.output}: {results['score']:g} of {total:g} points")
-    if status == 1:
-        print(
-            f"raykit_grading: error: {args.submission}: no raykit package "
-            "(expected raykit/__init__.py)",
-            file=sys.stderr,
-        )
+    if status == 0 and any("no raykit package" in t["output"] for t in results["tests"]):
+        why = results["tests"][0]["output"].splitlines()[0]  # what was found, what expected
+        print(f"raykit_grading: note: {args.submission}: {why}: graded 0", file=sys.stderr)
     return status
+
+
+def _seed(args) -> tuple[int | None, Path | None]:
+    """``grade``'s seed: --seed, or the seed file (made if missing); and the file if it was
+    made now. None after saying why."""
+    from raykit_grading.seeds import FILE_NAME, seed_from_file
+
+    if args.seed is not None:
+        return args.seed, None
+    path = args.seed_file or args.output.parent / FILE_NAME
+    try:
+        if args.seed_file is None:
+            path.parent.mkdir(parents=True, exist_ok=True)
+        seed, made = seed_from_file(path)
+    except (SeedFileError, OSError) as exc:
+        print(f"raykit_grading: error: {exc}", file=sys.stderr)
+        return None, None
+    return seed, path if made else None
 
 
 def _progress(total: int, what: str):

@@ -11,6 +11,10 @@ this process; ``scores.csv`` is written by this process alone, one row as each s
 grader has finished (and all its sandboxes are gone), so a batch that is stopped keeps what it
 has graded, and running it again grades only the students not graded yet.
 
+Every student is graded on the same inputs, drawn from the assignment's secret seed
+(:mod:`raykit_grading.seeds`): ``OUT/grading-seed``, made (mode 600) when the batch is first
+run, or ``--seed-file``/``--seed``. A student graded earlier under another seed is graded again.
+
 ``OUT/scores.csv``: student, status (``graded`` or ``could not grade: why``), score,
 max_score, then one column per test. ``OUT/feedback/<student>/``: results.json and feedback
 pictures. The exit status is 1 (and the students are listed) if any could not be graded.
@@ -29,6 +33,7 @@ from pathlib import Path
 
 from raykit_grading.catalog import by_name
 from raykit_grading.grade import GradingImpossible, Options, preflight
+from raykit_grading.seeds import FILE_NAME, SeedFileError, fingerprint, seed_from_file
 
 NAMES_AS_BYTES = {"encoding": "utf-8", "errors": "surrogateescape"}  # folder names as they are
 MARGIN_SECONDS = 180.0  # a student's grader may take its tests' total time and this much more
@@ -57,6 +62,8 @@ def grade_folder(
     names: list[str] | None = None,
     options: Options | None = None,
     regrade: bool = False,
+    seed: int | None = None,
+    seed_file: Path | None = None,
 ) -> int:
     """Grade every student folder in ``submissions``; returns the exit status."""
     options = options or Options()
@@ -74,11 +81,28 @@ def grade_folder(
         return 3
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
+    if seed is None:
+        seed_file = Path(seed_file or out / FILE_NAME).absolute()
+        try:
+            seed, made = seed_from_file(seed_file)
+        except SeedFileError as exc:
+            print(f"raykit_grading: error: {exc}", file=sys.stderr)
+            return 2
+        if made:
+            print(f"made the grading seed {seed_file} (mode 600): every student, and every "
+                  "later run, is graded on the inputs drawn from it", file=sys.stderr)  # fmt: skip
+        draw = ["--seed-file", str(seed_file)]
+    else:
+        draw = ["--seed", str(seed)]
     tests = by_name(names)
     header = ["student", "status", "score", "max_score", *(t.key for t in tests)]
     path = out / "scores.csv"
     rows = {} if regrade else _read_scores(path)
-    done = {name for name, row in rows.items() if row.get("status") == "graded"}
+    done = {
+        name
+        for name, row in rows.items()
+        if row.get("status") == "graded" and _graded_under(out, name) == fingerprint(seed)
+    }
     todo = [s for s in students if s.name not in done]
     if rows and list(next(iter(rows.values())).keys()) != header:
         rows, todo = {}, students  # other tests than last time: start over
@@ -89,7 +113,7 @@ def grade_folder(
         ThreadPoolExecutor(jobs or 2) as pool,
     ):
         writer = csv.writer(stream)
-        futures = {pool.submit(_grade_student, s, out, names, options): s for s in todo}
+        futures = {pool.submit(_grade_student, s, out, names, options, draw): s for s in todo}
         for future in _progress(as_completed(futures), len(futures)):
             student = futures[future]
             try:
@@ -110,7 +134,16 @@ def grade_folder(
     return 0
 
 
-def _grade_student(folder: Path, out: Path, names, options: Options) -> dict:
+def _graded_under(out: Path, student: str) -> str | None:
+    """The fingerprint of the seed the student's results.json was graded under."""
+    try:
+        results = json.loads((out / "feedback" / student / "results.json").read_text())
+        return results["extra_data"]["seed_fingerprint"]
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+
+
+def _grade_student(folder: Path, out: Path, names, options: Options, draw: list[str]) -> dict:
     """One student, by a grader process of its own under a time budget: a row of scores.csv."""
     feedback = out / "feedback" / folder.name
     feedback.mkdir(parents=True, exist_ok=True)
@@ -120,7 +153,7 @@ def _grade_student(folder: Path, out: Path, names, options: Options) -> dict:
         sys.executable, "-m", "raykit_grading", "grade", str(folder),
         "-o", str(results_path), "--feedback", str(feedback),
         "--wall-seconds", str(options.limits.wall_seconds),
-        "--total-seconds", str(options.total_seconds),
+        "--total-seconds", str(options.total_seconds), *draw,
     ]  # fmt: skip
     if options.child_python:
         command += ["--child-python", options.child_python]
@@ -139,12 +172,13 @@ def _grade_student(folder: Path, out: Path, names, options: Options) -> dict:
         )
     except subprocess.TimeoutExpired:
         return {**row, "status": "could not grade: its grader went over its time budget"}
-    if run.returncode not in (0, 1) or not results_path.is_file():
+    if run.returncode != 0 or not results_path.is_file():
         last = (run.stderr.strip().splitlines() or [f"exit status {run.returncode}"])[-1]
         return {**row, "status": f"could not grade: {last[:300]}"}
     results = json.loads(results_path.read_text())
-    if run.returncode == 1:
-        row["status"] = "could not grade: no raykit package in the folder"
+    if any("no raykit package" in t["output"] for t in results["tests"]):
+        why = results["tests"][0]["output"].splitlines()[0] if results["tests"] else ""
+        row["status"] = f"could not grade: {why or 'no raykit package in the folder'}"[:300]
     else:
         row["status"] = "graded"
     row["score"] = results["score"]

@@ -8,11 +8,18 @@ tolerance (a miss may be NaN or inf); image tests compare renders with
 
 Inputs are drawn, never fixed: :meth:`GradingTest.inputs` takes a random generator. The
 student release ships each visible test's *public* draw (:meth:`GradingTest.public_inputs`,
-from a seed derived from its name) for practice; grading draws fresh ones
-(:meth:`GradingTest.graded_inputs`) from a seed chosen when grading starts, so nothing shipped
-to students answers a graded test. Scenes are graded from a camera moved a little at random
-(:func:`jitter_camera`: another image size, eye and field of view), arrays from new random
-rays, sizes and parameters.
+from a seed of its own) for practice; grading draws others
+(:meth:`GradingTest.graded_inputs`) from the assignment's secret seed
+(:mod:`raykit_grading.seeds`), so nothing shipped to students answers a graded test, and every
+student and every regrade gets the same tests. Scenes are graded from a camera moved a little
+at random (:func:`jitter_camera`: another image size, eye and field of view), arrays from new
+random rays, sizes and parameters.
+
+The same seed must give the same inputs on any machine (Gradescope's, of any processor): the
+draw uses numpy's generator, elementwise arithmetic, ``np.sqrt`` (correctly rounded) and
+:func:`raykit.rays.dot` / :func:`~raykit.rays.normalize` (sums left to right), never ``@``,
+``np.dot``, ``np.linalg.norm`` or numpy's vectorised sin/cos, whose last bits depend on BLAS
+and the processor's vector width (tests/test_grading_seeds.py checks both).
 
 ``visible`` tests show their result at once; ``after_due_date`` tests are hidden until then.
 """
@@ -20,6 +27,7 @@ rays, sizes and parameters.
 from __future__ import annotations
 
 import json
+import math
 import zlib
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -27,11 +35,44 @@ from pathlib import Path
 
 import numpy as np
 
+from raykit.rays import dot, length, normalize
+
 REPO = Path(__file__).resolve().parent.parent
 SCENES = REPO / "scenes"
 HIDDEN_SCENES = REPO / "grading-scenes"
 VISIBLE, HIDDEN = "visible", "after_due_date"
 RTOL, ATOL = 1e-6, 1e-9
+
+
+@dataclass(frozen=True)
+class Callee:
+    """A student function that a test's function calls, tested on the same inputs when the
+    test fails, to say where the difference starts: ``task`` runs it, on the inputs
+    ``inputs(spec, arrays)`` makes from the test's."""
+
+    name: str
+    task: str
+    inputs: Callable[[dict, dict], tuple[dict, dict]]
+
+
+LINE_RAYS_CALL = (
+    Callee(
+        "pixel_x",
+        "pixel_x",
+        lambda spec, arrays: (
+            {"pixels": spec["camera"]["pixels"], "samples": spec.get("samples", 1)},
+            {},
+        ),
+    ),
+)
+RAYS_THROUGH_CALLS = (
+    Callee(
+        "camera_frame",
+        "camera_frame",
+        lambda spec, arrays: ({k: spec["camera"][k] for k in ("eye", "lookat", "up")}, {}),
+    ),
+    Callee("_in_plane", "in_plane", lambda spec, arrays: (spec, arrays)),
+)
 
 
 @dataclass(frozen=True)
@@ -49,7 +90,8 @@ class GradingTest:
     ]
     kind: str = "arrays"  # or "image"
     tolerance: str = f"each number within rtol {RTOL:g}, atol {ATOL:g}"
-    mistakes: bool = False  # diagnose the classic 3D mistakes on this image
+    mistakes: bool = False  # diagnose the classic mistakes on this image (arrays: always)
+    callees: tuple[Callee, ...] = ()  # the student functions its task's function calls
 
     @property
     def key(self) -> str:
@@ -61,7 +103,7 @@ class GradingTest:
         return self.inputs(None)
 
     def graded_inputs(self, seed: int):
-        """The draw graded under ``seed`` (chosen when grading starts, unknown to students)."""
+        """The draw graded under ``seed`` (the assignment's secret seed)."""
         return self.inputs(np.random.default_rng([seed, zlib.crc32(self.name.encode())]))
 
 
@@ -72,9 +114,7 @@ def _public(rng: np.random.Generator | None, seed: int) -> np.random.Generator:
 def _rays(rng, count: int, dims: int, aim: np.ndarray, spread: float):
     origins = rng.uniform(-4, 4, (count, dims))
     targets = aim + rng.uniform(-spread, spread, (count, dims))
-    directions = targets - origins
-    directions /= np.linalg.norm(directions, axis=1, keepdims=True)
-    return origins, directions
+    return origins, normalize(targets - origins)
 
 
 def _split(values: dict):
@@ -111,17 +151,19 @@ def jitter_camera(scene: dict, rng: np.random.Generator) -> dict:
     if "eye" in camera:  # 3D
         eye, lookat = np.array(camera["eye"], float), np.array(camera["lookat"], float)
         away = rng.normal(size=3)
-        away *= rng.uniform(0.03, 0.06) * np.linalg.norm(eye - lookat) / np.linalg.norm(away)
+        away *= rng.uniform(0.03, 0.06) * length(eye - lookat) / length(away)
         camera["eye"] = (eye + away).tolist()
         scale = 1 + either_way(0.05, 0.15)
         camera["width"] = max(8, round(camera["width"] * scale))
         camera["height"] = max(8, round(camera["height"] * scale))
     else:  # the 2D line-scan camera
         e, w = np.array(camera["e"], float), np.array(camera["w"], float)
-        turn = rng.uniform(-0.03, 0.03)
-        rotation = np.array([[np.cos(turn), -np.sin(turn)], [np.sin(turn), np.cos(turn)]])
+        # turned by up to 1.7 degrees, the angle whose tangent is ``slope``: cos and sin from
+        # a square root (correctly rounded everywhere), not from a sin/cos of numpy or libm
+        slope = float(rng.uniform(-0.03, 0.03))
+        cos, sin = 1 / math.sqrt(1 + slope * slope), slope / math.sqrt(1 + slope * slope)
         camera["e"] = (e + rng.uniform(-0.05, 0.05, 2)).tolist()
-        camera["w"] = (rotation @ w).tolist()
+        camera["w"] = [float(cos * w[0] - sin * w[1]), float(sin * w[0] + cos * w[1])]
         camera["pixels"] = max(4, camera["pixels"] + int(either_way(1, 4)))
     camera["fov_angle"] = float(camera["fov_angle"] * (1 + either_way(0.02, 0.05)))
     return scene
@@ -160,7 +202,7 @@ def _tiny_far_sphere(rng):
     distance = rng.uniform(0.8e5, 1.2e5)
     center = np.array([0.0, 0.0, -distance])
     aim = center + rng.uniform(-1.5e-3, 1.5e-3, (400, 3)) * [1, 1, 0]
-    directions = aim / np.linalg.norm(aim, axis=1, keepdims=True)
+    directions = normalize(aim)
     return {"radius": 1e-3, "origins": np.zeros((400, 3)), "directions": directions,
             "center": center}  # fmt: skip
 
@@ -188,8 +230,7 @@ def _camera(rng, **kw):
 
 
 def _unit_rows(rng, count):
-    rows = rng.normal(size=(count, 3))
-    return rows / np.linalg.norm(rows, axis=1, keepdims=True)
+    return normalize(rng.normal(size=(count, 3)))
 
 
 def _shading_arrays(seed: int, *names: str):
@@ -219,14 +260,12 @@ def _sphere_points(rng):
 
 def _parallel_planes(rng):
     """Rays parallel to a plane (some in it), and planes behind the ray."""
-    n = rng.normal(size=3)
-    n /= np.linalg.norm(n)
+    n = normalize(rng.normal(size=3))
     a = rng.uniform(-1, 1, 3)
-    along = np.cross(n, rng.normal(size=3))
-    along /= np.linalg.norm(along)
+    along = normalize(np.cross(n, rng.normal(size=3)))
     above = a + n * rng.uniform(0.5, 2)
-    origins = np.array([above, above, above, a - n])
-    directions = np.array([along, n, -n, -n])
+    origins = np.array([above, above, above, a - n, a])  # the last starts on the plane: t = 0
+    directions = np.array([along, n, -n, -n, -n])
     return {"origins": origins, "directions": directions, "a": a, "n": n}
 
 
@@ -238,7 +277,7 @@ def _plane_sides(rng):
     a = rng.integers(-3, 4, 3).astype(float)
     p = rng.integers(-5, 6, (90, 3)).astype(float)
     on = p[:30].copy()
-    on[:, 0] = a[0] - ((on[:, 1:] - a[1:]) @ n[1:]) / n[0]  # solved for x: on the plane
+    on[:, 0] = a[0] - dot(on[:, 1:] - a[1:], n[1:]) / n[0]  # solved for x: on the plane
     keep = on[:, 0] == np.round(on[:, 0])  # whole numbers only
     return {"p": np.vstack([on[keep], p[30:]]), "a": a, "n": n}
 
@@ -261,16 +300,15 @@ def _shadow_test(rng: np.random.Generator):
     far = np.array([1e6, 1e6, 1e6])
     eye = far + [0.0, 4.0, 6.0]
     aim = far + np.column_stack([rng.uniform(-3, 3, 400), np.zeros(400), rng.uniform(-3, 3, 400)])
-    directions = (aim - eye) / np.linalg.norm(aim - eye, axis=1, keepdims=True)
+    directions = normalize(aim - eye)
     origins = np.broadcast_to(eye, directions.shape).copy()
     across, along = np.array([1.0, 0.1, 0.0]), np.array([0.0, 0.2, 1.0])  # the floor's edges
-    normal = np.cross(along, across)
-    normal /= np.linalg.norm(normal)
+    normal = normalize(np.cross(along, across))
     t = hit_plane(origins, directions, far, normal)
     points = point_at(origins, directions, t)
     light = far + [0.5, 5.0, 0.2] + rng.uniform(-0.3, 0.3, 3)
     to_light = light - points
-    distance = np.linalg.norm(to_light, axis=1)
+    distance = np.sqrt(dot(to_light, to_light))
     floor = {
         "upper_left": (far - 10 * across - 10 * along).tolist(),
         "lower_left": (far - 10 * across + 10 * along).tolist(),
@@ -320,12 +358,14 @@ TESTS = [
         "1.3 perspective rays of the line-scan camera",
         STAGE1, 2, VISIBLE, "line_rays",
         _drawn(13, lambda rng: {"camera": _line_camera(rng)}),
+        callees=LINE_RAYS_CALL,
     ),
     GradingTest(
         "1.4 orthographic rays of the line-scan camera",
         STAGE1, 1, HIDDEN, "line_rays",
         _drawn(14, lambda rng: {"camera": _line_camera(
             rng, projection="orthographic", width=float(rng.uniform(1, 4)))}),
+        callees=LINE_RAYS_CALL,
     ),
     GradingTest(
         "1.5 ray-segment hits: t and s",
@@ -338,13 +378,13 @@ TESTS = [
         "1.6 one scan of scenes/linescan/slide.json",
         STAGE1, 2, VISIBLE, "scan",
         _scene_test(SCENES / "linescan/slide.json"),
-        kind="image",
+        kind="image", mistakes=True,
     ),
     GradingTest(
         "1.7 a sweep of scenes/linescan/conveyor.json",
         STAGE1, 2, HIDDEN, "sweep",
         _scene_test(SCENES / "linescan/conveyor.json", scans=160),
-        kind="image",
+        kind="image", mistakes=True,
     ),
     GradingTest(
         "2.1 ray-plane hits",
@@ -395,11 +435,13 @@ TESTS = [
         "3.2 perspective rays through pixel points",
         STAGE3, 2, VISIBLE, "rays_through",
         _drawn(32, lambda rng: _pixel_points(rng, _camera(rng))),
+        callees=RAYS_THROUGH_CALLS,
     ),
     GradingTest(
         "3.3 orthographic rays through pixel points",
         STAGE3, 1, HIDDEN, "rays_through",
         _drawn(33, lambda rng: _pixel_points(rng, _camera(rng, projection="orthographic"))),
+        callees=RAYS_THROUGH_CALLS,
     ),
     GradingTest(
         "3.4 ray-billboard hits: t, alpha, beta",

@@ -131,6 +131,12 @@ def task_rays_through(spec, arrays):
     return {"origins": origins, "directions": directions}
 
 
+def task_in_plane(spec, arrays):
+    from raykit.camera import _in_plane
+
+    return {"in_plane": _in_plane(_camera(spec["camera"]), arrays["x"], arrays["y"])}
+
+
 def task_hit_billboard(spec, arrays):
     import numpy as np
 

@@ -14,6 +14,7 @@ score follows the matched fraction: full at ``full_at`` (99.5%) and above, none 
 
 from __future__ import annotations
 
+import html
 import itertools
 from collections.abc import Iterable
 from dataclasses import dataclass
@@ -77,65 +78,81 @@ def strict_fraction(student: np.ndarray, reference: np.ndarray, tolerance: int =
 
 
 def diagnose(
-    mine: np.ndarray, want: np.ndarray, mistakes: Iterable[tuple[str, np.ndarray]]
-) -> tuple[str, float] | None:
+    mine: np.ndarray, want: np.ndarray, mistakes: Iterable[tuple]
+) -> tuple[str, float, float, str] | None:
     """The classic mistake whose picture explains ``mine`` better than ``want`` does, pixel
     for pixel (strictly, so that even a half-pixel shift shows): (what it says, the share of
-    pixels it explains), or None. ``mistakes`` yields (what it says, its picture) and is only
-    looked at when ``mine`` is not right; a mistake that does not change this picture is
-    skipped."""
-    best, best_fraction = None, max(strict_fraction(mine, want), DIAGNOSE_FROM)
-    if best_fraction >= STRICTLY_RIGHT:
+    pixels it explains, the share the reference explains, where it is made), or None.
+    ``mistakes`` yields (what it says, its picture[, where it is made]) and is only looked at
+    when ``mine`` is not right; a mistake that does not change this picture is skipped, and on
+    a tie the one listed first wins (the catalog's mistakes come before the one-pixel
+    shifts)."""
+    right = strict_fraction(mine, want)
+    if right >= STRICTLY_RIGHT:
         return None
-    for says, wrong in mistakes:
+    best, best_fraction = None, max(right, DIAGNOSE_FROM)
+    for says, wrong, *where in mistakes:
         if wrong.shape != mine.shape or strict_fraction(wrong, want) >= 1.0:
             continue
         matched = strict_fraction(mine, wrong)
         if matched > best_fraction:
-            best, best_fraction = says, matched
-    return None if best is None else (best, best_fraction)
+            best, best_fraction = (says, where[0] if where else ""), matched
+    return None if best is None else (best[0], best_fraction, right, best[1])
 
 
 @dataclass(frozen=True)
-class ImageVerdict:
-    """How a render fares: the share of its points, what to tell the student, the picture."""
+class Verdict:
+    """How a test fares: the share of its points, what to tell the student, the picture (for
+    renders; None for arrays)."""
 
     share: float
     message: str
-    picture: np.ndarray
+    picture: np.ndarray | None = None
+
+
+ImageVerdict = Verdict
 
 
 def judge_image(
     mine: np.ndarray,
     want: np.ndarray,
-    mistakes: Iterable[tuple[str, np.ndarray]] = (),
+    mistakes: Iterable[tuple] = (),
     scoring: Scoring = DEFAULT_SCORING,
-) -> ImageVerdict:
+    inputs: str = "",
+) -> Verdict:
     """Compare a uint8 render with the reference, name a classic mistake it shows (which
     then costs all of the test's points: it is systematic, not float noise), and draw the
-    captioned feedback picture. The grader and the students' self-check both use this."""
+    captioned feedback picture. Every percentage in the message is one the score comes from.
+    The grader and the students' self-check both use this."""
     result = compare_images(mine, want, scoring)
     share = result.score(scoring)
-    mistakes = itertools.chain(mistakes, shifted_by_one(want))
-    lines = [
-        f"{result.fraction:.2%} of pixels match the reference (full marks from "
-        f"{scoring.full_at:.1%}, none below {scoring.none_below:.0%}); "
-        f"PSNR {result.psnr:.1f} dB"
-    ]
-    mistake = diagnose(mine, want, mistakes)
+    mistake = diagnose(mine, want, itertools.chain(mistakes, shifted_by_one(want)))
     if mistake is None:
+        lines = [
+            f"{result.fraction:.2%} of pixels match the reference, so this test gives "
+            f"{share:.0%} of its points (all from {scoring.full_at:.1%}, none below "
+            f"{scoring.none_below:.0%}; a pixel matches when it is within "
+            f"{scoring.tolerance} levels of the reference pixel or one of its 8 neighbours). "
+            f"PSNR {result.psnr:.1f} dB."
+        ]
         picture = feedback_picture(mine, want, result.matched)
     else:
-        says, fraction = mistake
-        lines.append(
-            f"Your image matches what the renderer gives when {says} ({fraction:.1%} of "
-            "pixels exactly). That is a systematic mistake, not rounding: this test gives no "
-            "points for it, however close the picture looks."
-        )
+        says, fraction, right, where = mistake
         share = 0.0
-        note = f"Diagnosed: {says} (red: every pixel it changes)"
+        lines = [
+            f"Diagnosis: your image is what the renderer gives when {says}"
+            + (f" (made in {where})" if where else "")
+            + ".",
+            f"Pixel for pixel, your image equals that mistake's picture in {fraction:.1%} of "
+            f"pixels and the right picture in only {right:.1%}. That is a systematic mistake, "
+            "not rounding, so this test gives 0% of its points, however close the picture "
+            "looks.",
+        ]
+        note = f"Diagnosed: {says} (red: every pixel that differs)"
         picture = feedback_picture(mine, want, strict_matched(mine, want), note)
-    return ImageVerdict(share, "\n".join(lines), picture)
+    if inputs:
+        lines.append(f"Inputs: {inputs}")
+    return Verdict(share, "\n".join(lines), picture)
 
 
 SHIFTS = {"down": (1, 0), "up": (-1, 0), "right": (0, 1), "left": (0, -1)}
@@ -152,10 +169,24 @@ def shifted_by_one(image: np.ndarray):
         yield (
             f"the picture is shifted by one pixel ({way}): an off-by-one in the pixel indices",
             moved,
+            "the pixel indices (a row or column counted from 1, or one too many)",
         )
 
 
 CAPTIONS = ("yours", "expected", "where they differ (red)")
+PANEL_WIDTH = 240  # pixels a small picture's panel is scaled up to, at least
+PANEL_HEIGHT = 480  # ... unless it would be taller than this
+STRIP_HEIGHT = 40  # a line-scan strip (a row or a few) is drawn at least this tall
+
+
+def picture_scale(height: int, width: int) -> tuple[int, int]:
+    """(across, down): how many times each pixel of a ``height x width`` picture is repeated
+    (nearest neighbour) so that one pixel can be seen: the same both ways, up to
+    ``PANEL_WIDTH`` wide and ``PANEL_HEIGHT`` tall; a scan's strip of a row or a few is drawn
+    taller still, ``STRIP_HEIGHT`` at least."""
+    across = max(1, min(-(-PANEL_WIDTH // width), PANEL_HEIGHT // height))
+    down = max(across, -(-STRIP_HEIGHT // height))
+    return across, down
 
 
 def feedback_picture(
@@ -163,23 +194,27 @@ def feedback_picture(
 ) -> np.ndarray:
     """Yours | expected | mismatches in red over a greyed reference, side by side, each panel
     captioned, and ``note`` (e.g. the diagnosed mistake) on a line above them; uint8."""
+    import textwrap
+
     from PIL import Image, ImageDraw, ImageFont
 
     grey = reference.mean(axis=-1, keepdims=True)
     greyed = np.repeat(0.35 * grey + 0.65 * 255, 3, axis=-1)
     greyed[~matched] = [230, 20, 20]
-    scale = max(1, -(-200 // reference.shape[1]))  # small images (a scan's strip) made visible
+    across, down = picture_scale(*reference.shape[:2])
     student, reference, greyed = (
-        np.kron(np.asarray(a), np.ones((scale, scale, 1))) for a in (student, reference, greyed)
+        np.kron(np.asarray(a), np.ones((down, across, 1))) for a in (student, reference, greyed)
     )
     height, width = reference.shape[:2]
     gap, line = 6, 18
-    top = line * (2 if note else 1) + 4
-    canvas = Image.new("RGB", (3 * width + 2 * gap, height + top), "white")
+    total = 3 * width + 2 * gap
+    notes = textwrap.wrap(note, max(20, total // 7)) if note else []
+    top = line * (len(notes) + 1) + 4
+    canvas = Image.new("RGB", (total, height + top), "white")
     draw = ImageDraw.Draw(canvas)
     font = ImageFont.load_default(13)
-    if note:
-        draw.text((2, 2), note, fill=(150, 0, 0), font=font)
+    for row, text in enumerate(notes):
+        draw.text((2, 2 + row * line), text, fill=(150, 0, 0), font=font)
     for i, (panel, caption) in enumerate(zip((student, reference, greyed), CAPTIONS, strict=True)):
         left = i * (width + gap)
         canvas.paste(Image.fromarray(np.asarray(panel, np.uint8)), (left, top))
@@ -187,30 +222,267 @@ def feedback_picture(
     return np.asarray(canvas)
 
 
+RTOL, ATOL = 1e-6, 1e-9
+SHOWN_DIFFERENCES = 3  # the first few differences a message lists
+SMALL_INPUT = 12  # numbers: an input this small is shown in full
+DIAGNOSE_ARRAYS_FROM = 0.8  # a mistake is named if it explains this share of the disputed values
+
+
+def _number(value) -> str:
+    """A number as a person writes it: ``-0.888888889``, ``3``, ``inf``, ``True``; no numpy
+    repr."""
+    if isinstance(value, (bool, np.bool_)):
+        return str(bool(value))
+    value = float(value)
+    if not np.isfinite(value):
+        return str(value)
+    if value == int(value) and abs(value) < 1e15:
+        return str(int(value))
+    return f"{value:.10g}"
+
+
+def _numbers(values) -> str:
+    values = np.asarray(values)
+    if values.ndim == 0:
+        return _number(values[()])
+    return "[" + ", ".join(_numbers(v) for v in values) + "]"
+
+
+def _differing(value: np.ndarray, reference: np.ndarray) -> np.ndarray:
+    """Where two arrays of one shape differ beyond the tolerance; a miss (NaN or inf) matches
+    a miss."""
+    value, reference = value.astype(float), reference.astype(float)
+    miss_got, miss_want = ~np.isfinite(value), ~np.isfinite(reference)
+    wrong = miss_got != miss_want
+    both = ~miss_got & ~miss_want
+    wrong[both] |= ~np.isclose(value[both], reference[both], rtol=RTOL, atol=ATOL)
+    return wrong
+
+
+def _problem(got: dict, want: dict) -> str | None:
+    """What makes ``got`` not even comparable with ``want`` (a result missing, another shape,
+    not numbers), or None."""
+    for key, reference in want.items():
+        if key not in got:
+            return f"no result named {key!r}"
+        value = got[key]
+        if value.shape != reference.shape:
+            return f"{key}: shape {value.shape}, expected {reference.shape}"
+        if not (np.issubdtype(value.dtype, np.number) or value.dtype == bool):
+            return f"{key}: values of type {value.dtype}, expected numbers"
+    return None
+
+
+def _agree(got: dict, want: dict) -> bool:
+    return _problem(got, want) is None and not any(_differing(got[k], want[k]).any() for k in want)
+
+
 def check_arrays(got: dict[str, np.ndarray], want: dict[str, np.ndarray]) -> tuple[bool, str]:
-    """Every expected array present, of the same shape, numeric, and equal within tolerance.
+    """Every expected array present, of the same shape, numeric, and equal within tolerance;
+    (passed, what to say: the first differences, as plain numbers).
 
     A miss may be NaN or inf in either; integers must be equal exactly.
     """
-    for key, reference in want.items():
-        if key not in got:
-            return False, f"no result named {key!r}"
-        value = got[key]
-        if value.shape != reference.shape:
-            return False, f"{key}: shape {value.shape}, expected {reference.shape}"
-        if not (np.issubdtype(value.dtype, np.number) or value.dtype == bool):
-            return False, f"{key}: values of type {value.dtype}, expected numbers"
-        value = value.astype(float)
-        reference = reference.astype(float)
-        miss_got, miss_want = ~np.isfinite(value), ~np.isfinite(reference)
-        wrong = miss_got != miss_want
-        both = ~miss_got & ~miss_want
-        wrong[both] |= ~np.isclose(value[both], reference[both], rtol=1e-6, atol=1e-9)
-        if wrong.any():
-            first = np.argwhere(wrong)[0]
-            where = tuple(int(i) for i in first)
-            return False, (
-                f"{key}: {int(wrong.sum())} of {wrong.size} values differ; first at "
-                f"{where}: got {value[where]!r}, expected {reference[where]!r}"
+    verdict = judge_arrays(got, want)
+    return verdict.share >= 1.0, verdict.message
+
+
+def describe_inputs(spec: dict, arrays: dict[str, np.ndarray]) -> str:
+    """The inputs of a test, for a person: the spec's settings, and each array in full when it
+    is small (its shape otherwise; the rows at a difference are shown beside it)."""
+    parts = []
+    for key, value in spec.items():
+        if key == "folder":
+            continue
+        if key == "scene" and isinstance(value, dict):
+            camera = value.get("camera", {})
+            objects = sum(len(v) for v in value.values() if isinstance(v, list))
+            parts.append(f"a scene of {objects} objects seen by the camera {_settings(camera)}")
+        elif isinstance(value, dict):
+            parts.append(f"{key}: {_settings(value)}")
+        else:
+            parts.append(f"{key} = {_settings(value)}")
+    for key, value in arrays.items():
+        value = np.asarray(value)
+        if value.size <= SMALL_INPUT:
+            parts.append(f"{key} = {_numbers(value)}")
+        else:
+            parts.append(f"{key}: {' x '.join(map(str, value.shape))} numbers")
+    return "; ".join(parts)
+
+
+def _settings(value) -> str:
+    if isinstance(value, dict):
+        return "(" + ", ".join(f"{k} = {_settings(v)}" for k, v in value.items()) + ")"
+    if isinstance(value, (list, tuple, np.ndarray)) and np.asarray(value).dtype.kind in "fiub":
+        return _numbers(value)
+    if isinstance(value, (int, float, np.number)) and not isinstance(value, bool):
+        return _number(value)
+    return str(value)
+
+
+def _pattern(value: np.ndarray, reference: np.ndarray, wrong: np.ndarray) -> str:
+    """A plain pattern in the differences: every wrong value off by the same amount, or by the
+    same factor, or the right values in another order (rows reversed)."""
+    value, reference = value.astype(float)[wrong], reference.astype(float)[wrong]
+    if not (np.isfinite(value).all() and np.isfinite(reference).all()) or value.size < 2:
+        return ""
+    offset = value - reference
+    if np.allclose(offset, offset[0], rtol=1e-6, atol=1e-12):
+        return f"every differing value is off by the same amount, {_number(offset[0])}"
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = value / reference
+    if np.isfinite(ratio).all() and np.allclose(ratio, ratio[0], rtol=1e-6):
+        return f"every differing value is {_number(ratio[0])} times the expected one"
+    return ""
+
+
+def judge_arrays(
+    got: dict[str, np.ndarray],
+    want: dict[str, np.ndarray],
+    *,
+    spec: dict | None = None,
+    arrays: dict[str, np.ndarray] | None = None,
+    tolerance: str = f"each number within rtol {RTOL:g}, atol {ATOL:g}",
+    mistakes: Iterable[tuple[str, dict, str]] = (),
+    callees: Iterable[tuple[str, dict | None, dict]] = (),
+    caller: str = "",
+    hidden: bool = False,
+) -> Verdict:
+    """An array test's verdict: all points if every expected array matches within the
+    tolerance, none otherwise, and what to tell the student.
+
+    A failing test's message gives the first few differences as plain numbers with the input
+    rows they come from and the inputs (small ones in full), a pattern in the differences,
+    the classic mistake that explains them (``mistakes``: (what it says, the results the
+    mistake gives, where it is made)), and for a function that calls other student functions
+    (``callees``: (name, what the student's gave on the same inputs or None, the reference)),
+    which of them the difference starts in. ``hidden``: the message carries only the grader's
+    own words (no values, shapes or inputs: nothing the submission chose).
+    """
+    problem = _problem(got, want)
+    if problem is None and not any(_differing(got[k], want[k]).any() for k in want):
+        return Verdict(1.0, f"all values match ({tolerance})")
+    lines = []
+    if problem is not None:
+        key = next(k for k in want if _problem({k: got[k]} if k in got else {}, {k: want[k]}))
+        lines.append(
+            f"{key}: not the result expected (a hidden test: what was returned is not shown)"
+            if hidden and key in got
+            else problem
+        )
+    else:
+        for key, reference in want.items():
+            value = got[key]
+            wrong = _differing(value, reference)
+            if not wrong.any():
+                continue
+            if hidden:
+                lines.append(f"{key}: your values differ from the reference ({tolerance})")
+                continue
+            lines.append(
+                f"{key}: {int(wrong.sum())} of {wrong.size} values differ from the reference "
+                f"({tolerance}). The first differences:"
             )
-    return True, "all values match"
+            lines += _first_differences(key, value, reference, wrong, arrays or {})
+            pattern = _pattern(value, reference, wrong)
+            if pattern:
+                lines.append(f"  ({pattern})")
+    if spec is not None or arrays:
+        if hidden:
+            lines.append("Inputs: not shown (a hidden test)")
+        else:
+            lines.append(f"Inputs: {describe_inputs(spec or {}, arrays or {})}")
+    if problem is None:
+        named = _diagnose_arrays(got, want, mistakes)
+        if named is not None:
+            says, explained, where = named
+            lines.append(
+                f"Diagnosis: your results are what the code gives when {says}"
+                + (f" (made in {where})" if where else "")
+                + (f"; it explains {explained:.0%} of the values that differ." if not hidden
+                   else ".")
+            )  # fmt: skip
+    lines += _callee_lines(list(callees), caller)
+    return Verdict(0.0, "\n".join(lines))
+
+
+def _first_differences(key, value, reference, wrong, arrays) -> list[str]:
+    """The first differences, one line each (a whole row of a (N, k) result), with the input
+    rows of the same index."""
+    lines = []
+    rows = np.unique(np.argwhere(wrong)[:, 0]) if value.ndim > 1 else np.flatnonzero(wrong)
+    for row in rows[:SHOWN_DIFFERENCES]:
+        row = int(row)
+        lines.append(
+            f"  {key}[{row}]: yours {_numbers(value[row])}, expected {_numbers(reference[row])}"
+        )
+        beside = [
+            f"{name}[{row}] = {_numbers(np.asarray(a)[row])}"
+            for name, a in arrays.items()
+            if np.ndim(a) >= 1 and len(a) == len(value) and np.size(a) > SMALL_INPUT
+        ]
+        if beside:
+            lines.append(f"    for {', '.join(beside)}")
+    if len(rows) > SHOWN_DIFFERENCES:
+        lines.append(f"  … and {len(rows) - SHOWN_DIFFERENCES} more")
+    return lines
+
+
+def _diagnose_arrays(got, want, mistakes) -> tuple[str, float, str] | None:
+    """The mistake that explains the differences best: of the values where the submission or
+    the mistake differs from the reference, the share where the submission equals the
+    mistake; named from ``DIAGNOSE_ARRAYS_FROM``. A mistake that changes nothing here, or
+    cannot be compared, is skipped; on a tie the first listed wins."""
+    best, best_share = None, DIAGNOSE_ARRAYS_FROM - 1e-12
+    for says, results, where in mistakes:
+        if _problem(results, want) is not None:
+            continue
+        disputed = agreed = 0
+        for key, reference in want.items():
+            mine_off = _differing(got[key], reference)
+            theirs_off = _differing(results[key], reference)
+            same = ~_differing(got[key], results[key])
+            disputed += int((mine_off | theirs_off).sum())
+            agreed += int(((mine_off | theirs_off) & same).sum())
+        if disputed == 0 or not any(_differing(results[k], want[k]).any() for k in want):
+            continue
+        share = agreed / disputed
+        if share > best_share:
+            best, best_share = (says, share, where), share
+    return best
+
+
+def _callee_lines(callees: list, caller: str) -> list[str]:
+    """Which of the functions a test's function calls the difference starts in."""
+    if not callees:
+        return []
+    names = [name for name, _, _ in callees]
+    them = names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]
+    first = next((n for n, mine, want in callees if mine is None or not _agree(mine, want)), None)
+    if first is None:
+        return [
+            f"{caller or 'This function'} calls {them}; on this test's inputs "
+            f"{'it gives' if len(names) == 1 else 'they give'} the right results, so the "
+            f"difference starts in {caller or 'the function tested'} itself."
+        ]
+    return [
+        f"{caller or 'This function'} calls {them}; on this test's inputs {first} already "
+        f"gives other results than the reference's, so the difference starts in {first}."
+    ]
+
+
+def feedback_html(message: str, picture: str | None = None) -> str:
+    """One failure (or pass) as HTML, the same on Gradescope and on the self-check page: the
+    message wrapped at any width, and the picture (a URL: a file or a data: URI) scaled to
+    the width available, pixels kept sharp."""
+    parts = [
+        '<pre style="white-space: pre-wrap; overflow-wrap: anywhere; margin: 0.4em 0; '
+        'font-size: 0.9em">' + html.escape(message) + "</pre>"
+    ]
+    if picture is not None:
+        parts.append(
+            f'<img src="{html.escape(picture)}" alt="{" | ".join(CAPTIONS)}" '
+            'style="max-width: 100%; height: auto; image-rendering: pixelated">'
+        )
+    return "\n".join(parts)

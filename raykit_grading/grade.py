@@ -3,8 +3,9 @@
 The submission is first staged (:mod:`raykit_grading.submissions`: plain files only, links
 and special files left out) into a private workspace (:mod:`raykit_grading.workspace`), then a
 sandbox is checked to work (:meth:`Sandbox.check`) before any test runs. Each test draws its
-inputs from the run's seed (:meth:`GradingTest.graded_inputs`: nothing shipped to students
-answers it), runs the submission's code on them in a sandbox of its own, and compares what
+inputs from the assignment's secret seed (:mod:`raykit_grading.seeds`;
+:meth:`GradingTest.graded_inputs`: nothing shipped to students answers it, and a regrade gets
+the same inputs), runs the submission's code on them in a sandbox of its own, and compares what
 comes back with the same task run here by the reference raykit: arrays within a tolerance,
 renders with :mod:`raykit_grading.compare`; a render that is not right is also compared with
 the classic mistakes (:mod:`raykit_grading.mistakes`), and a mistake found there costs that
@@ -26,11 +27,9 @@ from __future__ import annotations
 
 import base64
 import functools
-import html
 import io
 import json
 import os
-import secrets
 import sys
 import tempfile
 import time
@@ -42,10 +41,18 @@ import numpy as np
 from raykit.io.images import quantize, save_image
 from raykit_grading import child
 from raykit_grading.catalog import HIDDEN_SCENES, SCENES, TESTS, VISIBLE, GradingTest, by_name
-from raykit_grading.compare import DEFAULT_SCORING, Scoring, check_arrays, judge_image
+from raykit_grading.compare import (
+    DEFAULT_SCORING,
+    Scoring,
+    describe_inputs,
+    feedback_html,
+    judge_arrays,
+    judge_image,
+)
 from raykit_grading.isolation import IsolationUnavailable
 from raykit_grading.mistakes import MISTAKES
 from raykit_grading.sandbox import Limits, Sandbox
+from raykit_grading.seeds import fingerprint, new_seed
 from raykit_grading.submissions import SubmissionError, stage
 from raykit_grading.workspace import Workspace
 
@@ -107,20 +114,22 @@ def grade(
 ) -> dict:
     """Grade a submission folder; returns Gradescope's results as a dict.
 
-    Raises :class:`GradingImpossible` if nothing can be graded here, :class:`NotGraded` (with
+    ``seed``: the assignment's seed (None: a draw of its own, for this run only). Raises
+    :class:`GradingImpossible` if nothing can be graded here, :class:`NotGraded` (with
     the results of the rest) if the grader failed on some tests.
     """
     start = time.perf_counter()
     tests = by_name(names)
-    seed = secrets.randbits(63) if seed is None else seed
+    seed = new_seed() if seed is None else seed
     check_clone()
     results, notes, failures = [], [], []
+    sandbox_kind = "none: nothing of the submission was run"
     with Workspace() as workspace:
         try:
             staged = stage(Path(submission), workspace / "submission")
             notes = staged.notes
             package = staged.package
-            problem = "no raykit package found in the submission (expected raykit/__init__.py)"
+            problem = staged.problem or "no raykit package (expected raykit/__init__.py)"
         except SubmissionError as exc:
             package, problem = None, f"the submission could not be taken in: {exc}"
         except OSError as exc:  # a shape of folder the staging did not foresee: theirs
@@ -133,6 +142,8 @@ def grade(
                 sandbox.check()
             except IsolationUnavailable as exc:
                 raise GradingImpossible(str(exc)) from None
+            sandbox_kind = sandbox.description
+            print(f"raykit_grading: sandbox: {sandbox_kind}", file=sys.stderr)
             deadline = time.monotonic() + options.total_seconds
             for test in tests:
                 try:
@@ -151,6 +162,8 @@ def grade(
                     progress(test)
     summary = [f"raykit autograder: {len(tests)} tests"]
     summary += [f"Note: {note}" for note in notes]
+    if package is None:  # the submission's shape, said once at the top as well
+        summary.append(problem)
     if failures:
         summary.append(f"{len(failures)} test(s) could not be graded; they need a regrade")
     graded = {
@@ -159,7 +172,13 @@ def grade(
         "output": "\n".join(summary),
         "visibility": "visible",
         "stdout_visibility": "hidden",
-        "extra_data": {"seed": seed, "not_graded": failures},
+        # the seed's fingerprint, never the seed: hidden results reach students after the due
+        # date, and the seed would let them draw the hidden tests' inputs for a regrade
+        "extra_data": {
+            "seed_fingerprint": fingerprint(seed),
+            "not_graded": failures,
+            "sandbox": sandbox_kind,
+        },
         "tests": results,
     }
     if failures:
@@ -192,9 +211,58 @@ def _grade_one(
         return _result(test, 0.0, problem, ran.output)
     if test.kind == "image":
         return _image_result(test, seed, ran.outputs, feedback, options.scoring, ran.output)
-    passed, message = check_arrays(ran.outputs, expected(test.name, seed))
-    score = test.points if passed else 0.0
-    return _result(test, score, f"{message} ({test.tolerance})", ran.output)
+    want = expected(test.name, seed)
+    verdict = judge_arrays(ran.outputs, want, tolerance=test.tolerance)
+    if verdict.share < 1.0:  # say why: the inputs, the mistake, where it starts
+        verdict = judge_arrays(
+            ran.outputs,
+            want,
+            spec=spec,
+            arrays=arrays,
+            tolerance=test.tolerance,
+            mistakes=array_mistakes(test, seed),
+            callees=_callees(sandbox, test, spec, arrays, files, deadline, options),
+            caller=CALLERS.get(test.task, ""),
+            hidden=test.visibility != VISIBLE,
+        )
+    score = test.points if verdict.share >= 1.0 else 0.0  # array tests: all or nothing
+    return _result(test, score, verdict.message, ran.output)
+
+
+# the student function each array task calls first, as the callee lines name it
+CALLERS = {"line_rays": "line_rays", "rays_through": "rays_through"}
+
+
+def array_mistakes(test: GradingTest, seed: int | None):
+    """(what it says, the results, where it is made) of each classic mistake on this test's
+    draw; a mistake the reference cannot make here (it fails) is left out."""
+    for mistake in MISTAKES:
+        try:
+            results = expected(test.name, seed, mistake.key)
+        except Exception:  # noqa: BLE001 - a patch that does not fit this task
+            continue
+        yield mistake.says, results, mistake.where
+
+
+def _callees(sandbox, test, spec, arrays, files, deadline, options) -> list:
+    """(name, the submission's results or None, the reference's) of each function the test's
+    function calls, run on the same inputs."""
+    found = []
+    for callee in test.callees:
+        left = deadline - time.monotonic()
+        if left <= 1:
+            break
+        their_spec, their_arrays = callee.inputs(spec, arrays)
+        ran = sandbox.run(
+            callee.task,
+            their_spec,
+            their_arrays,
+            files,
+            wall_seconds=min(options.limits.wall_seconds, left),
+        )
+        want = child.TASKS[callee.task](json.loads(json.dumps(their_spec)), their_arrays)
+        found.append((callee.name, ran.outputs, {k: np.asarray(v) for k, v in want.items()}))
+    return found
 
 
 @functools.cache
@@ -219,8 +287,11 @@ def reference_results(test: GradingTest, spec, arrays, files, mistake: str | Non
         if mistake is None:
             return child.TASKS[test.task](spec, arrays)
         wrong = next(m for m in MISTAKES if m.key == mistake)
-        with wrong.active():
+        image = test.kind == "image"
+        with wrong.active(arrays=not image):
             outputs = child.TASKS[test.task](spec, arrays)
+        if not image:
+            return {k: np.asarray(v) for k, v in outputs.items()}
         return {k: wrong.after(v) for k, v in outputs.items()}
 
 
@@ -230,17 +301,25 @@ def _image_result(
     want = quantize(expected(test.name, seed)["rgb"])
     rgb = got.get("rgb")
     if rgb is None or rgb.shape != want.shape:
+        if test.visibility != VISIBLE:  # its shape is the code's choice: not shown
+            return _result(test, 0.0, "the image is not of the expected size (a hidden test)")
         shape = None if rgb is None else rgb.shape
         return _result(test, 0.0, f"the image has shape {shape}, expected {want.shape}")
     if not np.isfinite(rgb).all():
         return _result(test, 0.0, "the image holds NaN or infinity")
     mine = quantize(rgb)
     mistakes = (
-        ((m.says, quantize(expected(test.name, seed, m.key)["rgb"])) for m in MISTAKES)
+        (
+            (m.says, quantize(expected(test.name, seed, m.key)["rgb"]), m.where)
+            for m in MISTAKES
+            if m.in_renders
+        )
         if test.mistakes
         else ()
     )
-    verdict = judge_image(mine, want, mistakes, scoring)
+    hidden = test.visibility != VISIBLE
+    inputs = "" if hidden else describe_inputs(*test.graded_inputs(seed)[:2])
+    verdict = judge_image(mine, want, mistakes, scoring, inputs)
     message = verdict.message
     if feedback is not None:
         feedback.mkdir(parents=True, exist_ok=True)
@@ -254,28 +333,41 @@ def _image_result(
     return entry
 
 
+# what a hidden test may say when the code failed to give results: the grader's own words
+# only (the code's error message, names and sizes could carry the test's inputs out)
+WITHHELD_KINDS = (
+    "not written yet",
+    "your code stopped with an error",
+    "your code used up its CPU time",
+    "your code wrote a file larger than allowed",
+    "your code was killed (too much memory or time?)",
+    "your code crashed",
+    "your code used more memory than allowed",
+    "returned something that is not plain arrays",
+)
+
+
 def _withheld(problem: str) -> str:
-    """A hidden test's problem without anything the code said (its error message could carry
-    the test's inputs): what kind of failure, only."""
-    for kind in ("not written yet", "your code stopped with an error"):
+    """A hidden test's problem in the grader's words only: what kind of failure, nothing the
+    code said or chose (names, sizes, its error message)."""
+    for kind in WITHHELD_KINDS:
         if problem.startswith(kind):
-            return f"{kind} (a hidden test: what it said is not shown)"
-    return problem
+            return f"{kind} (a hidden test: details are not shown)"
+    if problem.startswith(("took longer than", "returned more than")):
+        return problem  # the grader's limits, in its own words
+    return "your code did not give results (a hidden test: details are not shown)"
 
 
 def _html(text: str, picture: np.ndarray | None) -> str:
-    parts = [f"<pre>{html.escape(text)}</pre>"]
+    """A test's output for Gradescope: :func:`feedback_html`, the picture inline."""
+    source = None
     if picture is not None:
-        png = io.BytesIO()
         from PIL import Image
 
+        png = io.BytesIO()
         Image.fromarray(picture).save(png, format="PNG", optimize=True)
-        encoded = base64.b64encode(png.getvalue()).decode()
-        parts.append(
-            f'<img alt="yours | expected | where they differ" '
-            f'src="data:image/png;base64,{encoded}">'
-        )
-    return "\n".join(parts)
+        source = "data:image/png;base64," + base64.b64encode(png.getvalue()).decode()
+    return feedback_html(text, source)
 
 
 def _result(test: GradingTest, score: float, message: str, output: str = "") -> dict:
@@ -318,12 +410,13 @@ def not_graded_results(why: str, tests: list[GradingTest] | None = None) -> dict
 
 
 def grade_to_file(submission: Path, output: Path, **options) -> int:
-    """Grade and write results.json: the exit status (0 graded, 1 the submission has no
-    package, 3 some or all tests could not be graded; results.json says which)."""
+    """Grade and write results.json: the exit status (0 graded, whatever the score, even a
+    submission with nothing to grade; 3 some or all tests could not be graded; results.json
+    says which)."""
     names = options.get("names")
     try:
         results = grade(submission, **options)
-        status = 1 if any("no raykit package" in t["output"] for t in results["tests"]) else 0
+        status = 0
     except NotGraded as exc:
         results, status = exc.results, 3
         print(f"raykit_grading: some tests could not be graded: {exc}", file=sys.stderr)

@@ -136,49 +136,78 @@ def _shared_libraries(binaries: list[str], packages: list[str]) -> tuple[tuple[s
     return tuple(sorted(found.items()))
 
 
-# system calls refused in the sandbox, by architecture: (AUDIT_ARCH, {name: number})
+# system calls refused in the sandbox, by architecture: (AUDIT_ARCH, {name: number}). Besides
+# the kernel state above: tracing and reading other processes (ptrace, process_vm_*), making or
+# entering namespaces and mounting (a chroot's way out), and handles that bypass paths.
 SECCOMP_ARCHES = {
     "x86_64": (0xC000003E, {
         "add_key": 248, "request_key": 249, "keyctl": 250, "bpf": 321, "perf_event_open": 298,
         "userfaultfd": 323, "io_uring_setup": 425, "io_uring_enter": 426,
         "io_uring_register": 427, "init_module": 175, "finit_module": 313, "kexec_load": 246,
-        "kexec_file_load": 320,
+        "kexec_file_load": 320, "ptrace": 101, "process_vm_readv": 310,
+        "process_vm_writev": 311, "unshare": 272, "setns": 308, "mount": 165, "umount2": 166,
+        "pivot_root": 155, "chroot": 161, "name_to_handle_at": 303, "open_by_handle_at": 304,
     }),
     "aarch64": (0xC00000B7, {
         "add_key": 217, "request_key": 218, "keyctl": 219, "bpf": 280, "perf_event_open": 241,
         "userfaultfd": 282, "io_uring_setup": 425, "io_uring_enter": 426,
         "io_uring_register": 427, "init_module": 105, "finit_module": 273, "kexec_load": 104,
-        "kexec_file_load": 294,
+        "kexec_file_load": 294, "ptrace": 117, "process_vm_readv": 270,
+        "process_vm_writev": 271, "unshare": 97, "setns": 268, "mount": 40, "umount2": 39,
+        "pivot_root": 41, "chroot": 51, "name_to_handle_at": 264, "open_by_handle_at": 265,
     }),
 }  # fmt: skip
+SOCKET_CALL = {"x86_64": 41, "aarch64": 198}  # socket(2): only AF_UNIX is let through
+AF_UNIX = 1
 X32_SYSCALL_BIT = 0x40000000
 SECCOMP_RET_ALLOW, SECCOMP_RET_ERRNO, EPERM = 0x7FFF0000, 0x00050000, 1
 
 
+def bpf_program(steps: list[tuple]) -> bytes:
+    """Classic BPF from ``steps``: ``("label", name)`` marks a place; ``("ld", offset)`` loads
+    a word of seccomp_data; ``("jeq"|"jge"|"jset", k, where_true, where_false)`` jumps to
+    labels (None: the next step); ``("ret", value)``. Jumps go forward only, as BPF
+    requires."""
+    places, index = {}, 0
+    for step in steps:
+        if step[0] == "label":
+            places[step[1]] = index
+        else:
+            index += 1
+    program, index = [], 0
+    for step in steps:
+        if step[0] == "label":
+            continue
+        if step[0] == "ld":
+            program.append(struct.pack("HBBI", 0x20, 0, 0, step[1]))
+        elif step[0] == "ret":
+            program.append(struct.pack("HBBI", 0x06, 0, 0, step[1]))
+        else:
+            code = {"jeq": 0x15, "jge": 0x35, "jset": 0x45}[step[0]]
+            jumps = [0 if w is None else places[w] - index - 1 for w in step[2:4]]
+            if not all(0 <= j < 256 for j in jumps):
+                raise ValueError(f"a jump out of reach in step {step}")
+            program.append(struct.pack("HBBI", code, jumps[0], jumps[1], step[1]))
+        index += 1
+    return b"".join(program)
+
+
 def seccomp_filter(machine: str | None = None) -> bytes:
-    """The sandbox's seccomp program, classic BPF as bwrap's ``--seccomp`` reads it: a call of
-    another architecture, an x32 call, or one of :data:`SECCOMP_ARCHES` fails with EPERM;
-    everything else is allowed."""
+    """The sandbox's seccomp program, classic BPF as bwrap's ``--seccomp`` and
+    ``PR_SET_SECCOMP`` read it: a call of another architecture, an x32 call, one of
+    :data:`SECCOMP_ARCHES`, or a socket of any family but AF_UNIX (no network: IPv4, IPv6,
+    netlink, packet...) fails with EPERM; everything else is allowed."""
     machine = machine or platform.machine()
     if machine not in SECCOMP_ARCHES:
         raise IsolationUnavailable(f"no seccomp filter for {machine} machines; grade on x86_64")
     arch, calls = SECCOMP_ARCHES[machine]
-    numbers = sorted(calls.values())
-
-    def op(code: int, k: int, jt: int = 0, jf: int = 0) -> bytes:
-        return struct.pack("HBBI", code, jt, jf, k)
-
-    load_word, jump_eq, jump_ge, ret = 0x20, 0x15, 0x35, 0x06
-    deny_at = 5 + len(numbers)  # the index of the final "deny"; jumps count from the next
-    program = [op(load_word, 4)]  # seccomp_data.arch
-    program.append(op(jump_eq, arch, 0, deny_at - 2))  # another architecture: deny
-    program.append(op(load_word, 0))  # seccomp_data.nr
-    program.append(op(jump_ge, X32_SYSCALL_BIT, deny_at - 4, 0))
-    for i, number in enumerate(numbers):
-        program.append(op(jump_eq, number, deny_at - (5 + i), 0))
-    program.append(op(ret, SECCOMP_RET_ALLOW))
-    program.append(op(ret, SECCOMP_RET_ERRNO | EPERM))
-    return b"".join(program)
+    steps: list[tuple] = [("ld", 4), ("jeq", arch, None, "deny"), ("ld", 0)]
+    steps += [("jge", X32_SYSCALL_BIT, "deny", None), ("jeq", SOCKET_CALL[machine], "socket", None)]
+    steps += [("jeq", number, "deny", None) for number in sorted(calls.values())]
+    steps += [("ret", SECCOMP_RET_ALLOW), ("label", "socket"), ("ld", 16)]  # args[0], low word
+    steps += [("jeq", AF_UNIX, "allow", "deny"), ("label", "allow"), ("ret", SECCOMP_RET_ALLOW)]
+    steps += [("label", "deny"), ("ret", SECCOMP_RET_ERRNO | EPERM)]
+    return bpf_program(steps)
 
 
 def find_bwrap() -> str:
@@ -236,18 +265,22 @@ def sandbox_arguments(
     private_tmp = ["--size", str(tmp_bytes), "--perms", "01777", "--tmpfs", "/tmp"]
     arguments += [*private_tmp, "--chdir", "/tmp"]
     arguments += ["--remount-ro", "/"]  # nothing but /tmp (of a fixed size) can be written
-    environment = {
-        "HOME": "/tmp",
-        "TMPDIR": "/tmp",
+    for name, value in child_environment("/tmp").items():
+        arguments += ["--setenv", name, value]
+    return arguments
+
+
+def child_environment(tmp: str) -> dict[str, str]:
+    """The child's whole environment: ``tmp`` its home and scratch folder, one BLAS thread."""
+    return {
+        "HOME": tmp,
+        "TMPDIR": tmp,
         "PATH": "/usr/bin:/bin",
         "OPENBLAS_NUM_THREADS": "1",
         "OMP_NUM_THREADS": "1",
         "MKL_NUM_THREADS": "1",
         "LANG": "C.UTF-8",
     }
-    for name, value in environment.items():
-        arguments += ["--setenv", name, value]
-    return arguments
 
 
 class UidLease:
@@ -298,8 +331,25 @@ class UidPool:
         raise IsolationUnavailable(f"all {len(self.uids)} sandbox uids are in use")
 
 
+def kill_as(uid: int) -> None:
+    """SIGKILL every process of ``uid`` at once: ``kill(-1)`` from a process of that uid
+    (the kernel signals all it may in one pass, so a fork bomb cannot outrun it)."""
+    pid = os.fork()
+    if pid == 0:
+        try:
+            os.setgroups([])
+            os.setresgid(uid, uid, uid)
+            os.setresuid(uid, uid, uid)
+            os.kill(-1, signal.SIGKILL)  # every process of the uid but this one
+        finally:
+            os._exit(0)
+    os.waitpid(pid, 0)
+
+
 def kill_uid(uid: int) -> None:
-    """SIGKILL every process of ``uid`` (as root), sweeping until none is left."""
+    """SIGKILL every process of ``uid`` (as root): all at once, then sweeping /proc until
+    none is left."""
+    kill_as(uid)
     for _ in range(50):
         found = False
         for proc in Path("/proc").iterdir():

@@ -1,13 +1,15 @@
-"""The classic mistakes of the 3D renderer and of shading, rendered by the reference code made
-to make them.
+"""The classic mistakes, made by the reference code made to make them: for renders, scans and
+the array tests alike.
 
-Each :class:`Mistake` swaps one piece of the reference renderer for the wrong version a student
+Each :class:`Mistake` swaps one piece of the reference code for the wrong version a student
 typically writes (rows counted from the bottom, u and v swapped, fov_angle taken as horizontal,
-a normal not made unit length, no offset for shadow rays, …) while the task runs in the grader.
-When a submission's image fails, the grader compares it with these too; if one matches it
-better than the reference does, the feedback says which. ``stage`` says which stage's code the
-mistake is in; every mistake is tried on every graded render, since a camera mistake spoils a
-lit picture too.
+a normal not made unit length, no offset for shadow rays, …) while a task runs in the grader.
+When a submission's result fails a test, the grader runs that test's task with each mistake
+made too; if one explains the result better than the reference does, the feedback names it
+(and ``where``: the function a student makes it in). ``stage`` says which stage's code the
+mistake is in; every mistake is tried on every graded picture (``in_renders``), since a camera
+mistake spoils a lit picture too, and on every array test (``array_patches``: the same swap,
+reaching also the names the array tasks call), skipped where it changes nothing.
 """
 
 from __future__ import annotations
@@ -23,11 +25,19 @@ import numpy as np
 import raykit.billboards
 import raykit.camera
 import raykit.engine.regions
+import raykit.lights
+import raykit.linescan.camera
+import raykit.linescan.objects
+import raykit.mirrors
+import raykit.planes
 import raykit.render
 import raykit.shading
+import raykit.shadows
+import raykit.spheres
 import raykit.surfaces
 from raykit.camera import Camera
 from raykit.lights import toward_light
+from raykit.linescan.camera import LineCamera
 from raykit.rays import MISS, dot
 from raykit.spheres import sphere_roots
 
@@ -41,11 +51,17 @@ class Mistake:
     patches: Callable[[], list] = field(default=lambda: [])
     after: Callable[[np.ndarray], np.ndarray] = field(default=lambda rgb: rgb)
     stage: str = "3"
+    where: str = ""  # the student's function it is made in: "raykit/camera.py: _in_plane"
+    arrays: Callable[[], list] | None = None  # patches for the array tests (None: ``patches``)
+    in_renders: bool = True  # tried on rendered pictures too
 
     @contextmanager
-    def active(self) -> Iterator[None]:
+    def active(self, *, arrays: bool = False) -> Iterator[None]:
+        """The mistake made while the block runs: for a picture, or (``arrays``) for the
+        array tests' tasks."""
+        patches = self.arrays if arrays and self.arrays is not None else self.patches
         with ExitStack() as stack:
-            for patch in self.patches():
+            for patch in patches():
                 stack.enter_context(patch)
             yield
 
@@ -55,9 +71,21 @@ def _frame(change: Callable[[np.ndarray, np.ndarray, np.ndarray], tuple]) -> lis
     even over a frame a camera has already computed and cached."""
 
     def wrong(camera: Camera) -> tuple:
-        return change(*raykit.camera.camera_frame(camera.eye, camera.lookat, camera.up))
+        return change(*ORIGINAL_CAMERA_FRAME(camera.eye, camera.lookat, camera.up))
 
     return [mock.patch.object(Camera, "frame", property(wrong))]
+
+
+ORIGINAL_CAMERA_FRAME = raykit.camera.camera_frame
+
+
+def _frame_function(change: Callable[[np.ndarray, np.ndarray, np.ndarray], tuple]) -> list:
+    """Patch camera_frame itself (what test 3.1 calls) and every camera's frame."""
+
+    def wrong(eye, lookat, up) -> tuple:
+        return change(*ORIGINAL_CAMERA_FRAME(eye, lookat, up))
+
+    return [mock.patch.object(raykit.camera, "camera_frame", wrong), *_frame(change)]
 
 
 def _plane_size(size: Callable[[Camera], tuple[float, float]]) -> list:
@@ -77,6 +105,26 @@ def _no_aspect(camera: Camera) -> tuple[float, float]:
 def _radians(camera: Camera) -> tuple[float, float]:
     Hp = 2 * camera.d * math.tan(camera.fov_angle / 2)
     return Hp * camera.width / camera.height, Hp
+
+
+def _line_radians(camera: LineCamera) -> float:
+    return 1.0 / math.tan(camera.fov_angle / 2.0)
+
+
+def _rows_flipped_in_plane(camera: Camera, x, y) -> np.ndarray:
+    """s·u + t·v with t counted from the bottom: t = -Hp/2 + y·Hp/height."""
+    u, v, _ = camera.frame
+    Wp, Hp = camera.plane_size
+    s = -Wp / 2 + np.asarray(x, float) * (Wp / camera.width)
+    t = -Hp / 2 + np.asarray(y, float) * (Hp / camera.height)
+    return s[:, None] * u + t[:, None] * v
+
+
+def _corner_pixel_x(pixels: int, samples: int = 1) -> np.ndarray:
+    """x = -1 + (i + k/n)·2/N: each pixel's (or sample's) left edge, not its centre."""
+    i = np.repeat(np.arange(pixels), samples)
+    k = np.tile(np.arange(samples), pixels)
+    return -1.0 + (i + k / samples) * (2.0 / pixels)
 
 
 def _stretched(camera: Camera, x, y) -> np.ndarray:
@@ -101,9 +149,17 @@ def _any_root(origins, directions, center, radius):
     return np.where(discriminant >= 0, np.fmin(t0, t1), MISS)
 
 
+def _plane_t_zero(origins, directions, a, n):
+    """t >= 0 where the rule is t > 0: a ray starting on the plane hits it at t = 0."""
+    d_dot_n, a_minus_o_dot_n = dot(directions, n), dot(a - origins, n)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = a_minus_o_dot_n / d_dot_n
+    return np.where((d_dot_n != 0) & (t >= 0), t, MISS)
+
+
 def _plane_any_side(origins, directions, a, n):
     with np.errstate(divide="ignore", invalid="ignore"):
-        t = ((a - origins) @ n) / (directions @ n)
+        t = dot(a - origins, n) / dot(directions, n)
     return np.where(np.isfinite(t), t, MISS)
 
 
@@ -136,33 +192,53 @@ def _half_vector_not_unit(ks, intensity, n, l, v, p):
     return ks * intensity * (np.maximum(0.0, dot(n, l + v)) ** p)[:, None]
 
 
-def _shading(name: str, wrong: Callable, module=raykit.shading) -> Callable[[], list]:
-    return lambda: [mock.patch.object(module, name, wrong)]
+def _shading(name: str, wrong: Callable, *modules) -> Callable[[], list]:
+    """Patch ``name`` in raykit.shading (what the renderer calls) and in ``modules`` (where the
+    array tests' tasks import it from)."""
+    modules = modules or (raykit.shading,)
+    return lambda: [mock.patch.object(module, name, wrong) for module in modules]
 
+
+def _patch(*where: tuple) -> Callable[[], list]:
+    """(module or class, name, wrong) triples, patched together."""
+    return lambda: [mock.patch.object(owner, name, wrong) for owner, name, wrong in where]
+
+
+CAMERA, PLANE_SIZE = "raykit/camera.py: _in_plane", "raykit/camera.py: Camera.plane_size"
+SWAP_UV = lambda u, v, w: (v, u, w)  # noqa: E731
 
 MISTAKES = [
     Mistake(
         "rows_flipped",
         "image rows are counted from the bottom (the picture is upside down)",
         after=lambda rgb: rgb[::-1],
+        where=CAMERA,
+        arrays=_patch((raykit.camera, "_in_plane", _rows_flipped_in_plane)),
     ),
     Mistake(
-        "u_v_swapped", "u and v are swapped", patches=lambda: _frame(lambda u, v, w: (v, u, w))
+        "u_v_swapped",
+        "u and v are swapped",
+        patches=lambda: _frame(SWAP_UV),
+        where="raykit/camera.py: camera_frame",
+        arrays=lambda: _frame_function(SWAP_UV),
     ),
     Mistake(
         "u_negated",
         "u points left instead of right (the picture is mirrored)",
         patches=lambda: _frame(lambda u, v, w: (-u, v, w)),
+        where=CAMERA,
     ),
     Mistake(
         "fov_horizontal",
         "fov_angle is used as the horizontal field of view",
         patches=lambda: _plane_size(_horizontal_fov),
+        where=PLANE_SIZE,
     ),
     Mistake(
         "aspect_ignored",
         "the aspect ratio is ignored (the image plane is made square)",
         patches=lambda: _plane_size(_no_aspect),
+        where=PLANE_SIZE,
     ),
     Mistake(
         "pixel_corners",
@@ -171,66 +247,108 @@ MISTAKES = [
         patches=lambda: [
             mock.patch.object(raykit.engine.regions, "sample_offsets", lambda n: np.zeros((1, 2)))
         ],
+        where="raykit/camera.py: sample_offsets",
+    ),
+    Mistake(
+        "pixel_x_corners",
+        "pixel positions are the pixels' left edges x = -1 + i·2/N instead of their centres "
+        "x_i = -1 + (i + 0.5)·2/N (every position half a pixel off)",
+        patches=_patch((raykit.linescan.camera, "pixel_x", _corner_pixel_x)),
+        stage="1",
+        where="raykit/linescan/camera.py: pixel_x",
     ),
     Mistake(
         "slide_second_formula",
         "pixels are placed by the slide's second formula u_i = i·2/N_cols, i = 0, ±1, …, "
         "±N_cols/2 (N_cols + 1 positions spread over N_cols pixels: the picture is stretched)",
-        patches=lambda: [mock.patch.object(raykit.camera, "_in_plane", _stretched)],
+        patches=_patch((raykit.camera, "_in_plane", _stretched)),
+        where=CAMERA,
     ),
     Mistake(
         "degrees_as_radians",
         "fov_angle in degrees is given to tan() as radians",
-        patches=lambda: _plane_size(_radians),
+        patches=lambda: [
+            *_plane_size(_radians),
+            mock.patch.object(LineCamera, "D", property(_line_radians)),
+        ],
+        where=f"{PLANE_SIZE} (LineCamera.D in the line-scan camera)",
     ),
     Mistake(
         "far_root",
         "the far root of the quadratic is taken instead of the near one",
-        patches=lambda: [mock.patch.object(raykit.render, "hit_sphere", _far_root)],
+        patches=_patch(
+            (raykit.render, "hit_sphere", _far_root),
+            (raykit.spheres, "hit_sphere", _far_root),
+            (raykit.linescan.objects, "hit_sphere", _far_root),
+        ),
+        where="raykit/spheres.py: hit_sphere",
+    ),
+    Mistake(
+        "textbook_discriminant",
+        "the discriminant is the textbook's D = B² - 4AC, whose digits are lost for a small "
+        "sphere far away (b'² and AC huge and nearly equal): use the slides' stable form "
+        "Δ = A·(R² - |f - (b'/A)·d|²)",
+        patches=_patch((raykit.spheres, "hit_sphere", raykit.spheres.hit_sphere_textbook)),
+        where="raykit/spheres.py: sphere_roots",
+        in_renders=False,
     ),
     Mistake(
         "texture_rows_flipped",
         "texture rows are read upside down",
-        patches=lambda: [
-            mock.patch.object(raykit.billboards, "texel_indices", _rows_flipped_texels)
-        ],
+        patches=_patch((raykit.billboards, "texel_indices", _rows_flipped_texels)),
+        where="raykit/billboards.py: texel_indices",
     ),
     Mistake(
         "behind_the_eye",
         "hits behind the eye (t < 0) are accepted",
-        patches=lambda: [
-            mock.patch.object(raykit.render, "hit_sphere", _any_root),
-            mock.patch.object(raykit.billboards, "hit_plane", _plane_any_side),
-        ],
+        patches=_patch(
+            (raykit.render, "hit_sphere", _any_root),
+            (raykit.spheres, "hit_sphere", _any_root),
+            (raykit.billboards, "hit_plane", _plane_any_side),
+            (raykit.planes, "hit_plane", _plane_any_side),
+        ),
+        where="raykit/spheres.py: hit_sphere, raykit/planes.py: hit_plane",
+    ),
+    Mistake(
+        "t_zero_accepted",
+        "a hit at t = 0 (where the ray starts) is accepted: the rule is t > 0, not t >= 0",
+        patches=_patch((raykit.planes, "hit_plane", _plane_t_zero)),
+        where="raykit/planes.py: hit_plane",
+        in_renders=False,
     ),
     Mistake(
         "normal_not_unit",
         "the sphere normal p - c is not divided by r (not unit length)",
-        patches=_shading("sphere_normals", _normal_not_unit, raykit.surfaces),
+        patches=_shading("sphere_normals", _normal_not_unit, raykit.surfaces, raykit.spheres),
         stage="4",
+        where="raykit/spheres.py: sphere_normals",
     ),
     Mistake(
         "light_reversed",
         "l points from the light to the surface instead of toward the light",
-        patches=_shading("toward_light", _light_reversed),
+        patches=_shading("toward_light", _light_reversed, raykit.shading, raykit.lights),
         stage="4",
+        where="raykit/lights.py: toward_light",
     ),
     Mistake(
         "no_offset",
         "shadow rays start exactly on the surface (shadow acne: no offset)",
-        patches=_shading("in_shadow", _no_offset),
+        patches=_shading("in_shadow", _no_offset, raykit.shading, raykit.shadows),
         stage="4",
+        where="raykit/shadows.py: in_shadow",
     ),
     Mistake(
         "reflect_sign",
         "the mirror direction is d + 2(d·n)n instead of d - 2(d·n)n",
-        patches=_shading("reflect", _reflect_sign),
+        patches=_shading("reflect", _reflect_sign, raykit.shading, raykit.mirrors),
         stage="4",
+        where="raykit/mirrors.py: reflect",
     ),
     Mistake(
         "half_vector_not_unit",
         "the half vector h = l + v is not normalised",
         patches=_shading("blinn_phong", _half_vector_not_unit),
         stage="4",
+        where="raykit/shading.py: blinn_phong",
     ),
 ]

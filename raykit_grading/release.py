@@ -88,11 +88,12 @@ reference, within a stated tolerance, and your renders against the reference ima
 `tests/expected/*/reference.png` (a pixel counts as right when it is within 2 levels of the
 reference pixel or one of its neighbours).
 
-**These are practice tests.** The grader runs the same kinds of test on inputs it draws fresh
-each time it grades (new random rays and sizes, the scenes seen from a slightly moved camera),
-plus hidden tests. Code that only reproduces these expected results scores nothing; code that
-computes them right passes both. A render that shows a classic mistake (such as rays through
-pixel corners instead of centres) loses that test's points even when it looks close.
+**These are practice tests.** The grader runs the same kinds of test on inputs of its own (new
+random rays and sizes, the scenes seen from a slightly moved camera), drawn from a secret seed:
+the same inputs for everyone and every time it grades, so grading again gives the same score.
+There are hidden tests too. Code that only reproduces these expected results scores nothing;
+code that computes them right passes both. A render that shows a classic mistake (such as rays
+through pixel corners instead of centres) loses that test's points even when it looks close.
 
 Before you submit, run the self-check: `python check.py`. It runs the practice tests with the
 grader's own comparison and its diagnosis of the classic mistakes, and writes a captioned
@@ -104,9 +105,23 @@ Look at your pictures as you go: `raykit render scenes/classic.json -o classic.p
 
 ## Submit
 
-Upload your `raykit/` folder (or a zip of it). Only that folder is graded.
+Upload your `raykit/` folder: the folder itself (the one that holds `__init__.py`, `camera.py`
+and its subfolders), or a zip of it with `raykit/` at the zip's top. To make the zip, run this
+in the folder that holds `raykit/` (this one):
+
+```bash
+{zip_command}
+```
+
+Only `raykit/` is graded; the tests, scenes and pictures need not be uploaded. Not the files
+inside `raykit/` one by one: they score nothing, as the grader needs the folder. The grader's
+results say in a line where it found `raykit/` when it was not at the top, or what it found
+instead.
 """
 
+
+# how students zip their work: Python's own zip tool, there wherever the kit runs
+ZIP_COMMAND = "python -m zipfile -c raykit.zip raykit"
 
 # the student README lists the functions to write in the lecture's order, stage by stage
 LECTURE_ORDER = [
@@ -154,7 +169,8 @@ def build_release(out: Path) -> list[str]:
     _visible_tests(out / "tests")
     shutil.copy(Path(__file__).with_name("selfcheck.py"), out / "check.py")
     functions = "\n".join(f"- `{name}`" for name in sorted(stubbed, key=_lecture_order))
-    (out / "README.md").write_text(STUDENT_README.format(functions=functions))
+    readme = STUDENT_README.format(functions=functions, zip_command=ZIP_COMMAND)
+    (out / "README.md").write_text(readme)
     print(
         f"wrote {out}: {len(stubbed)} functions to write, "
         f"{sum(t.visibility == VISIBLE for t in TESTS)} visible tests"
@@ -220,7 +236,9 @@ def _visible_tests(tests: Path) -> None:
         for relative, source in files.items():
             (folder / relative).parent.mkdir(parents=True, exist_ok=True)
             shutil.copy(source, folder / relative)
-        order = {"task": test.task, "kind": test.kind, "name": test.name, "spec": spec}
+        callees = _callees(test, spec, arrays, folder)
+        order = {"task": test.task, "kind": test.kind, "name": test.name, "spec": spec,
+                 "points": test.points, "callees": callees}  # fmt: skip
         (folder / "task.json").write_text(json.dumps(order, indent=1))
         np.savez(folder / "inputs.npz", **arrays)
         want = child.TASKS[test.task](located(spec, folder), arrays)
@@ -229,6 +247,26 @@ def _visible_tests(tests: Path) -> None:
             save_image(quantize(want["rgb"]), folder / "reference.png")
         if test.mistakes:  # the classic mistakes' pictures, for the self-check's diagnosis
             _mistake_pictures(test, quantize(want["rgb"]), folder)
+        if test.kind != "image":  # and their results, for the array tests
+            _mistake_results(test, want, folder)
+
+
+def _callees(test, spec: dict, arrays: dict, folder: Path) -> list[dict]:
+    """The functions the test's function calls, each with its inputs (``callees/<name>.npz``:
+    ``in_`` arrays) and the reference's results (``out_`` arrays), for the self-check to say
+    where a difference starts."""
+    found = []
+    for callee in test.callees:
+        their_spec, their_arrays = callee.inputs(spec, arrays)
+        want = child.TASKS[callee.task](json.loads(json.dumps(their_spec)), their_arrays)
+        (folder / "callees").mkdir(exist_ok=True)
+        np.savez(
+            folder / "callees" / f"{callee.name}.npz",
+            **{f"in_{k}": v for k, v in their_arrays.items()},
+            **{f"out_{k}": np.asarray(v) for k, v in want.items()},
+        )
+        found.append({"name": callee.name, "task": callee.task, "spec": their_spec})
+    return found
 
 
 def _mistake_pictures(test, right: np.ndarray, folder: Path) -> None:
@@ -238,8 +276,29 @@ def _mistake_pictures(test, right: np.ndarray, folder: Path) -> None:
     says = {}
     (folder / "mistakes").mkdir()
     for mistake in MISTAKES:
+        if not mistake.in_renders:
+            continue
         wrong = quantize(expected(test.name, None, mistake.key)["rgb"])
         if not np.array_equal(wrong, right):  # only the mistakes that change this picture
             save_image(wrong, folder / "mistakes" / f"{mistake.key}.png")
-            says[mistake.key] = mistake.says
+            says[mistake.key] = {"says": mistake.says, "where": mistake.where}
+    (folder / "mistakes.json").write_text(json.dumps(says, indent=1))
+
+
+def _mistake_results(test, want: dict, folder: Path) -> None:
+    """``mistakes/<key>.npz``: the results of each classic mistake that changes this array
+    test's results, and ``mistakes.json`` saying what each is."""
+    from raykit_grading.compare import judge_arrays
+    from raykit_grading.grade import array_mistakes
+    from raykit_grading.mistakes import MISTAKES
+
+    says = {}
+    where = {m.says: m for m in MISTAKES}
+    for text, results, _ in array_mistakes(test, None):
+        if judge_arrays(results, {k: np.asarray(v) for k, v in want.items()}).share >= 1.0:
+            continue  # this mistake changes nothing here
+        mistake = where[text]
+        (folder / "mistakes").mkdir(exist_ok=True)
+        np.savez(folder / "mistakes" / f"{mistake.key}.npz", **results)
+        says[mistake.key] = {"says": mistake.says, "where": mistake.where}
     (folder / "mistakes.json").write_text(json.dumps(says, indent=1))

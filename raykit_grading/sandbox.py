@@ -26,6 +26,7 @@ import io
 import json
 import os
 import resource
+import secrets
 import selectors
 import shutil
 import signal
@@ -34,16 +35,18 @@ import sys
 import tempfile
 import time
 import zipfile
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
+from raykit_grading import confine
 from raykit_grading.isolation import (
     SITE,
     WORK,
     IsolationUnavailable,
     UidPool,
+    child_environment,
     find_bwrap,
     probe_python,
     sandbox_arguments,
@@ -52,6 +55,9 @@ from raykit_grading.isolation import (
 
 CHILD_SCRIPT = Path(__file__).with_name("child.py")
 OUTPUT_EXCERPT = 2000
+KINDS = ("bubblewrap", "chroot")  # strongest first; RAYKIT_SANDBOX=KIND asks for one
+GRADER_MEMORY = 320 * 2**20  # what the grader itself may need beside one child
+CHILD_MEMORY_FLOOR = 256 * 2**20  # below this a child cannot render; the grader says so
 
 
 @dataclass(frozen=True)
@@ -90,23 +96,75 @@ class Sandbox:
         workspace: Path,
         child_python: str | None = None,
         limits: Limits | None = None,
+        kind: str | None = None,
     ) -> None:
         self.submission = Path(submission)
         self.workspace = Path(workspace)
-        self.limits = limits or Limits()
-        self.bwrap = find_bwrap()
+        self.container = confine.container_limits()
+        self.limits = fit_to_container(limits or Limits(), self.container)
         self.python = probe_python(child_python or sys.executable)
         self.as_root = os.geteuid() == 0
         self.uids = UidPool() if self.as_root else None
         self.seccomp = seccomp_filter()
+        self.wanted = kind or os.environ.get("RAYKIT_SANDBOX") or "auto"
+        self.kind: str | None = None  # chosen by check()
+        self.description = ""  # what the chosen kind is made of, e.g. "bubblewrap"
+        self.bwrap: str | None = None
+        self.tree: Path | None = None
+        self.landlock = 0
 
     def check(self) -> None:
-        """Preflight: a sandbox can be made and its Python imports numpy and Pillow, as the
-        sandbox user; otherwise :class:`IsolationUnavailable`, saying why in one line."""
-        ran = self.run("probe", {}, {})
-        if ran.outputs is None or "ok" not in ran.outputs:
-            said = (ran.output.strip().splitlines() or [ran.problem])[-1]
-            raise IsolationUnavailable(f"a sandbox could not run Python with numpy: {said}")
+        """Preflight: pick the strongest sandbox that works here (:data:`KINDS`), one whose
+        Python imports numpy and Pillow as the sandbox user; otherwise
+        :class:`IsolationUnavailable`, saying why in one line and how to grade safely.
+
+        Nothing weaker than the floor is ever used: as root, a chroot into the minimal tree,
+        a uid of its own and the seccomp filter (Landlock on top where the kernel has it); as
+        a normal user, bubblewrap only (a user's child shares the grader's uid, and without
+        namespaces nothing would stop it from signalling the grader or outliving its test on
+        a kernel without Landlock's scoping)."""
+        if self.wanted not in ("auto", *KINDS):
+            raise IsolationUnavailable(
+                f"RAYKIT_SANDBOX={self.wanted}: not a sandbox kind (auto, {', '.join(KINDS)})"
+            )
+        refused = []
+        for kind in KINDS if self.wanted == "auto" else (self.wanted,):
+            try:
+                self._prepare(kind)
+                ran = self.run("probe", {}, {})
+                if ran.outputs is None or "ok" not in ran.outputs:
+                    said = (ran.output.strip().splitlines() or [ran.problem])[-1]
+                    raise IsolationUnavailable(f"a sandbox could not run Python with numpy: {said}")
+                return
+            except IsolationUnavailable as exc:
+                self.kind = None
+                refused.append(f"{kind}: {exc}")
+        if len(refused) == 1:
+            raise IsolationUnavailable(refused[0].split(": ", 1)[1])
+        if not self.as_root:
+            raise IsolationUnavailable(
+                f"cannot isolate submissions as a normal user here ({refused[0]}); grade as "
+                "root (sudo, or in a container as Gradescope does), or where unprivileged "
+                "user namespaces are allowed"
+            )
+        raise IsolationUnavailable("no sandbox works here (" + "; ".join(refused) + ")")
+
+    def _prepare(self, kind: str) -> None:
+        """Make ready what ``kind`` needs, or raise :class:`IsolationUnavailable`."""
+        if kind == "bubblewrap":
+            self.bwrap = find_bwrap()
+            self.description = "bubblewrap"
+        else:
+            if not self.as_root:
+                raise IsolationUnavailable("a chroot sandbox needs root")
+            self.tree = confine.chroot_tree(self.python)
+            confine.stale_task_folders(self.tree)
+            self.landlock = confine.landlock_abi()
+            made_of = ["chroot", "uid"]
+            if self.landlock:
+                made_of.append(f"landlock{self.landlock}")
+            self.description = "+".join([*made_of, "seccomp"])
+        self.kind = kind
 
     def run(
         self,
@@ -117,6 +175,10 @@ class Sandbox:
         wall_seconds: float | None = None,
     ) -> ChildResult:
         """Run ``task`` of :mod:`raykit_grading.child` on the submission, in a sandbox."""
+        if self.kind is None:
+            self.check()
+        if self.kind == "chroot":
+            return self._run_chrooted(task, spec, arrays, files or {}, wall_seconds)
         work = Path(tempfile.mkdtemp(prefix="task-", dir=self.workspace))
         lease = self.uids.lease() if self.uids else None
         returned_read, returned_write = os.pipe()
@@ -151,6 +213,93 @@ class Sandbox:
                 lease.release()
             shutil.rmtree(work, ignore_errors=True)
         return _result(returned, printed, status, why, time.perf_counter() - start, self.limits)
+
+    def _run_chrooted(self, task, spec, arrays, files, wall_seconds) -> ChildResult:
+        """The same as :meth:`run`, in a chroot of its own (:mod:`raykit_grading.confine`)."""
+        name = f"p{os.getpid()}-{secrets.token_hex(8)}"
+        outside, inside = self.tree / confine.TASKS / name, f"/{confine.TASKS}/{name}"
+        lease = self.uids.lease()
+        returned_read, returned_write = os.pipe()
+        printed_read = None
+        try:
+            try:
+                outside.mkdir(mode=0o700)
+                order = {
+                    "task": task,
+                    "spec": spec,
+                    "library_paths": [SITE],
+                    "uid": None,  # it is the task's uid before child.py starts
+                    "outputs_fd": returned_write,
+                }
+                self._fill(outside, order, arrays, files)
+                (outside / "submission").rmdir()
+                shutil.copytree(
+                    self.submission, outside / "submission", True, copy_function=_link_or_copy
+                )
+                for path in [outside, *outside.rglob("*")]:
+                    os.chmod(path, 0o755 if path.is_dir() else 0o644)
+                (outside / "tmp").mkdir(mode=0o700)
+                os.chown(outside / "tmp", lease.uid, lease.uid)
+                os.chown(outside, 0, lease.uid)  # its uid may read it, no other uid enter it
+                os.chmod(outside, 0o750)
+                plan = confine.ChildConfinement(
+                    tree=str(self.tree),
+                    folder=inside,
+                    uid=lease.uid,
+                    rlimits=self._rlimits(),
+                    landlock_abi=self.landlock,
+                    landlock_read_execute=tuple(confine.top_entries(self.tree)),
+                    seccomp=self.seccomp,
+                )
+                command = [self.python.executable, "-I", "-S", "-B", f"{inside}/child.py", inside]
+                printed_read, printed_write = os.pipe()
+                start = time.perf_counter()
+                try:
+                    child = subprocess.Popen(
+                        command,
+                        stdin=subprocess.DEVNULL,
+                        stdout=printed_write,
+                        stderr=printed_write,
+                        env=child_environment(f"{inside}/tmp"),
+                        pass_fds=(returned_write,),
+                        preexec_fn=lambda: _confine_or_say(plan),  # noqa: PLW1509 - the point
+                    )
+                except subprocess.SubprocessError:
+                    os.close(printed_write)
+                    said = os.read(printed_read, 2000).decode(errors="replace").strip()
+                    raise IsolationUnavailable(
+                        f"the chroot sandbox could not start a child: {said or 'no reason given'}"
+                    ) from None
+                os.close(printed_write)
+            finally:
+                os.close(returned_write)
+            try:
+                returned, printed, status, why = _collect(
+                    child,
+                    returned_read,
+                    printed_read,
+                    wall_seconds or self.limits.wall_seconds,
+                    self.limits.returned_bytes,
+                )
+            finally:
+                _kill_group(child)
+        finally:
+            os.close(returned_read)
+            if printed_read is not None:
+                os.close(printed_read)
+            lease.release()  # every process of the uid is dead after this
+            shutil.rmtree(outside, ignore_errors=True)
+        return _result(returned, printed, status, why, time.perf_counter() - start, self.limits)
+
+    def _rlimits(self) -> tuple[tuple[int, int], ...]:
+        limits = self.limits
+        return (
+            (resource.RLIMIT_CPU, limits.cpu_seconds),
+            (resource.RLIMIT_AS, limits.memory_bytes),
+            (resource.RLIMIT_FSIZE, limits.file_bytes),
+            (resource.RLIMIT_CORE, 0),
+            (resource.RLIMIT_NPROC, limits.processes),  # counted for the task's own uid
+        )
 
     def _fill(self, work: Path, order: dict, arrays, files: dict[str, Path]) -> None:
         shutil.copyfile(CHILD_SCRIPT, work / "child.py")
@@ -199,6 +348,7 @@ class Sandbox:
         """In the child, before exec: its own session and the limits (the uid comes later,
         inside the sandbox, from :mod:`raykit_grading.child`)."""
         os.setsid()
+        _prefer_me_when_memory_runs_out()
         limits = self.limits
         resource.setrlimit(resource.RLIMIT_CPU, (limits.cpu_seconds, limits.cpu_seconds))
         resource.setrlimit(resource.RLIMIT_AS, (limits.memory_bytes, limits.memory_bytes))
@@ -217,6 +367,44 @@ class Sandbox:
             cap = min(running + limits.processes, resource.getrlimit(resource.RLIMIT_NPROC)[1])
             if cap > 0:
                 resource.setrlimit(resource.RLIMIT_NPROC, (cap, cap))
+
+
+def fit_to_container(limits: Limits, container: confine.ContainerLimits) -> Limits:
+    """``limits`` with a child's memory cut to what the container leaves beside the grader
+    (:data:`GRADER_MEMORY`), so that a child that takes all it may dies of its own limit
+    (a MemoryError, its test's zero) before the container runs out."""
+    if container.memory_bytes is None:
+        return limits
+    room = max(CHILD_MEMORY_FLOOR, container.memory_bytes - GRADER_MEMORY)
+    return replace(limits, memory_bytes=min(limits.memory_bytes, room))
+
+
+def _prefer_me_when_memory_runs_out() -> None:
+    """oom_score_adj 1000: if the container's memory runs out all the same, the kernel's
+    OOM killer picks the child, not the grader (raising one's own score needs no privilege)."""
+    try:
+        with open("/proc/self/oom_score_adj", "w") as adj:
+            adj.write("1000")
+    except OSError:
+        pass
+
+
+def _link_or_copy(source: str, target: str) -> None:
+    """A hard link where the tree shares the staged submission's file system (the grader's
+    own private copy: the child can read it, never write it), else a copy."""
+    try:
+        os.link(source, target)
+    except OSError:
+        shutil.copy2(source, target)
+
+
+def _confine_or_say(plan) -> None:
+    """:func:`confine.confine_child`, saying why on the child's stderr if it fails."""
+    try:
+        confine.confine_child(plan)
+    except BaseException as exc:
+        os.write(2, f"{type(exc).__name__}: {exc}".encode(errors="replace"))
+        raise
 
 
 def _collect(child, returned_fd, printed_fd, wall_seconds, returned_limit):

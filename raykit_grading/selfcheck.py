@@ -27,47 +27,144 @@ sys.path[:0] = [str(HERE), str(HERE / "tests")]
 import numpy as np  # noqa: E402
 from _grading.cases import read_case  # noqa: E402
 from _grading.child import TASKS  # noqa: E402
-from _grading.compare import check_arrays, judge_image  # noqa: E402
+from _grading.compare import (  # noqa: E402
+    describe_inputs,
+    feedback_html,
+    judge_arrays,
+    judge_image,
+)
 from PIL import Image  # noqa: E402
 
 from raykit.io.images import quantize  # noqa: E402
 
 EXPECTED = HERE / "tests" / "expected"
+STYLE = """
+body { font-family: system-ui, sans-serif; line-height: 1.4; max-width: 72em;
+       margin: 0 auto; padding: 0.5em 1em; overflow-wrap: anywhere; }
+.summary { font-size: 1.2em; padding: 0.6em 0.8em; border-radius: 6px; background: #f3f3f3; }
+section { border-top: 1px solid #ccc; padding: 0.3em 0 0.8em; }
+h3 { margin: 0.4em 0 0.2em; font-size: 1.05em; }
+.fail h3 { color: #a4001d; } .pass { color: #1f6b32; }
+"""
 
 
 def _number(case: Path) -> tuple[int, ...]:
     return tuple(int(part) for part in case.name.split("_"))
 
 
-def run_case(case: Path, out: Path) -> tuple[str, bool, str, str | None]:
-    """(test name, passed, what to say, picture file or None) for one practice test."""
+def _said(case: Path) -> dict:
+    """The case's classic mistakes: key -> (what it says, where it is made)."""
+    path = case / "mistakes.json"
+    said = json.loads(path.read_text()) if path.is_file() else {}
+    return {
+        key: (text, "") if isinstance(text, str) else (text["says"], text.get("where", ""))
+        for key, text in said.items()
+    }
+
+
+def _arrays(path: Path, prefix: str = "") -> dict:
+    with np.load(path) as data:
+        return {k[len(prefix) :]: data[k] for k in data.files if k.startswith(prefix)}
+
+
+def _run(task: str, spec: dict, arrays: dict) -> dict:
+    return {k: np.asarray(v) for k, v in TASKS[task](spec, arrays).items()}
+
+
+def _callees(case: Path, order: dict) -> list:
+    """(name, what your function gives on the test's inputs or None, the reference's) for each
+    function the test's function calls."""
+    found = []
+    for callee in order.get("callees", []):
+        saved = case / "callees" / f"{callee['name']}.npz"
+        try:
+            mine = _run(callee["task"], callee["spec"], _arrays(saved, "in_"))
+        except Exception:  # noqa: BLE001 - not written yet, or it failed: it differs
+            mine = None
+        found.append((callee["name"], mine, _arrays(saved, "out_")))
+    return found
+
+
+def run_case(case: Path, out: Path) -> dict:
+    """One practice test, judged as the grader judges: its name, the share of its points,
+    the points, what to say, and the picture file (renders) or None."""
     order, arrays, want = read_case(case)
+    result = {"name": order["name"], "points": order.get("points", 1), "share": 0.0,
+              "picture": None}  # fmt: skip
     try:
-        got = {k: np.asarray(v) for k, v in TASKS[order["task"]](order["spec"], arrays).items()}
+        got = _run(order["task"], order["spec"], arrays)
     except NotImplementedError as exc:
-        return order["name"], False, f"not written yet: {exc}", None
+        return {**result, "message": f"not written yet: {exc}"}
     except Exception:  # noqa: BLE001 - whatever the student's code raised, say it
         last = traceback.format_exc().strip().splitlines()[-1]
-        return order["name"], False, f"your code stopped with an error: {last}", None
+        return {**result, "message": f"your code stopped with an error: {last}"}
+    said = _said(case)
     if order["kind"] != "image":
-        passed, message = check_arrays(got, want)
-        return order["name"], passed, message, None
+        mistakes = [
+            (text, _arrays(case / "mistakes" / f"{key}.npz"), where)
+            for key, (text, where) in said.items()
+        ]
+        spec = {k: v for k, v in order["spec"].items() if k != "folder"}
+        verdict = judge_arrays(got, want, spec=spec, arrays=arrays, mistakes=mistakes,
+                               callees=_callees(case, order), caller=order["task"])  # fmt: skip
+        return {**result, "share": verdict.share, "message": verdict.message}
     mine, reference = quantize(got["rgb"]), quantize(want["rgb"])
     if mine.shape != reference.shape:
-        return order["name"], False, f"shape {mine.shape}, expected {reference.shape}", None
-    says = (
-        json.loads((case / "mistakes.json").read_text())
-        if (case / "mistakes.json").is_file()
-        else {}
-    )
+        return {**result, "message": f"shape {mine.shape}, expected {reference.shape}"}
     mistakes = (
-        (text, np.asarray(Image.open(case / "mistakes" / f"{key}.png").convert("RGB")))
-        for key, text in says.items()
+        (text, np.asarray(Image.open(case / "mistakes" / f"{key}.png").convert("RGB")), where)
+        for key, (text, where) in said.items()
     )
-    verdict = judge_image(mine, reference, mistakes)
+    spec = {k: v for k, v in order["spec"].items() if k != "folder"}
+    verdict = judge_image(mine, reference, mistakes, inputs=describe_inputs(spec, arrays))
     picture = out / f"{case.name}.png"
     Image.fromarray(verdict.picture).save(picture)
-    return order["name"], verdict.share >= 1.0, verdict.message, picture.name
+    return {**result, "share": verdict.share, "message": verdict.message, "picture": picture.name}
+
+
+def _points(value: float) -> str:
+    return f"{value:.4g}"
+
+
+def page(rows: list[dict]) -> str:
+    """The self-check page: the summary first, then the failing tests (each with its message,
+    inputs and picture), then the passing ones; it wraps at any width."""
+    passed = [r for r in rows if r["share"] >= 1.0]
+    failing = [r for r in rows if r["share"] < 1.0]
+    earned = sum(r["share"] * r["points"] for r in rows)
+    total = sum(r["points"] for r in rows)
+    parts = [
+        "<!doctype html><html lang='en'><meta charset='utf-8'>",
+        "<meta name='viewport' content='width=device-width, initial-scale=1'>",
+        f"<title>raykit self-check: {len(passed)} of {len(rows)} pass</title>",
+        f"<style>{STYLE}</style>",
+        "<h1>raykit: your practice tests</h1>",
+        f"<p class='summary'><strong>{len(passed)} of {len(rows)} practice tests pass: "
+        f"{_points(earned)} of {_points(total)} points.</strong> "
+        + ("Failing tests first." if failing else "Every practice test passes.")
+        + " The grader runs the same kinds of test on inputs it draws itself, plus hidden "
+        "tests: passing here is a good sign, not the grade.</p>",
+    ]
+    if failing:
+        parts.append(f"<h2>Failing ({len(failing)})</h2>")
+    for row in failing:
+        parts.append(
+            f"<section class='fail'><h3>FAIL: {html.escape(row['name'])}: "
+            f"{_points(row['share'] * row['points'])} of {_points(row['points'])} points</h3>"
+            + feedback_html(row["message"], row["picture"])
+            + "</section>"
+        )
+    if passed:
+        parts.append(f"<h2>Passing ({len(passed)})</h2><ul>")
+        parts += [
+            f"<li class='pass'>pass: {html.escape(r['name'])}: {_points(r['points'])} of "
+            f"{_points(r['points'])} points"
+            + (f" (<a href='{html.escape(r['picture'])}'>the picture</a>)" if r["picture"] else "")
+            + "</li>"
+            for r in passed
+        ]
+        parts.append("</ul>")
+    return "\n".join(parts) + "\n"
 
 
 def main() -> int:
@@ -75,23 +172,20 @@ def main() -> int:
     out.mkdir(exist_ok=True)
     rows = []
     for case in sorted((p for p in EXPECTED.iterdir() if p.is_dir()), key=_number):
-        name, passed, message, picture = run_case(case, out)
-        rows.append((name, passed, message, picture))
-        first, *more = message.splitlines()
-        print(f"{'pass' if passed else 'FAIL'}  {name}: {first}")
+        row = run_case(case, out)
+        rows.append(row)
+        passed = row["share"] >= 1.0
+        first, *more = row["message"].splitlines()
+        print(f"{'pass' if passed else 'FAIL'}  {row['name']}: {first}")
         for line in more if not passed else []:
             print(f"      {line}")
-    page = ["<!doctype html><meta charset='utf-8'><title>raykit: self-check</title>",
-            "<h1>raykit: your practice tests</h1>"]  # fmt: skip
-    for name, passed, message, picture in rows:
-        colour = "green" if passed else "crimson"
-        page.append(f"<h2 style='color:{colour}'>{'pass' if passed else 'FAIL'}: "
-                    f"{html.escape(name)}</h2><pre>{html.escape(message)}</pre>")  # fmt: skip
-        if picture:
-            page.append(f"<img src='{picture}' alt='yours | expected | where they differ'>")
-    (out / "index.html").write_text("\n".join(page) + "\n")
-    passed = sum(row[1] for row in rows)
-    print(f"{passed} of {len(rows)} practice tests pass; pictures: {out / 'index.html'}")
+    (out / "index.html").write_text(page(rows))
+    passed = sum(row["share"] >= 1.0 for row in rows)
+    earned = sum(r["share"] * r["points"] for r in rows)
+    print(
+        f"{passed} of {len(rows)} practice tests pass ({_points(earned)} of "
+        f"{_points(sum(r['points'] for r in rows))} points); the page: {out / 'index.html'}"
+    )
     return 0 if passed == len(rows) else 1
 
 

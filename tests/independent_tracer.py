@@ -151,7 +151,7 @@ def trace_object_index(scene: dict, folder) -> list[list[int]]:
 
 
 def trace_shaded(scene: dict, folder) -> tuple[list[list[int]], list[list[list[float]]]]:
-    """Object index and colour per pixel centre of a lit scene, from FOCG 4.5-4.8's formulas.
+    """Object index and colour per pixel centre of a lit scene, from FOCG 4.5-4.9's formulas.
 
     Written apart from raykit's shading: the normal of a billboard is flipped toward the ray by
     the sign of a determinant-free dot product, shadow and mirror rays skip the object they

@@ -1,7 +1,7 @@
 """Submissions with one classic mistake each: the solution with one line written wrong, the way
-students get it wrong. Each entry: the mistake's key in raykit_grading.mistakes, then (file, the
-right
-line, the wrong line) edits applied to a copy of raykit/."""
+students get it wrong, in the one function where they make it. Each entry: the mistake's key in
+raykit_grading.mistakes, then (file, the right line, the wrong line) edits applied to a copy of
+raykit/."""
 
 from __future__ import annotations
 
@@ -39,6 +39,27 @@ EDITS = {
             "camera.py",
             "centres = (np.arange(samples) + 0.5) / samples",
             "centres = np.arange(samples) / samples",
+        )
+    ],
+    "pixel_x_corners": [
+        (
+            "linescan/camera.py",
+            "return -1.0 + (i + (k + 0.5) / samples) * (2.0 / pixels)",
+            "return -1.0 + (i + k / samples) * (2.0 / pixels)",
+        )
+    ],
+    "textbook_discriminant": [
+        (
+            "spheres.py",
+            "discriminant = A * (radius * radius - dot(closest, closest))  # Δ = D/4",
+            "discriminant = b * b - A * C  # Δ = D/4, the textbook's b'² - AC",
+        )
+    ],
+    "t_zero_accepted": [
+        (
+            "planes.py",
+            "np.where((d_dot_n != 0) & (t > 0), t, MISS)",
+            "np.where((d_dot_n != 0) & (t >= 0), t, MISS)",
         )
     ],
     "slide_second_formula": [

@@ -7,7 +7,14 @@ from raykit.io.scene_json import load_scene
 from raykit.render import render
 
 
-@pytest.mark.parametrize("name", ["classic", "cutouts", "wide_fov"])
+@pytest.mark.parametrize(
+    "name",
+    [
+        "classic",
+        pytest.param("cutouts", marks=pytest.mark.slow),
+        pytest.param("wide_fov", marks=pytest.mark.slow),
+    ],
+)
 def test_adaptive_supersampling_matches_full_supersampling(name):
     scene = load_scene(SCENES / f"{name}.json")
     full, adaptive = render(scene, 3), render(scene, 3, adaptive=True)

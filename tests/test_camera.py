@@ -7,6 +7,7 @@ from raykit.camera import (
     Camera,
     DegenerateFrameError,
     camera_frame,
+    image_plane_points,
     pixel_points,
     rays_through,
     sample_offsets,
@@ -118,3 +119,28 @@ def test_degenerate_frames_are_refused_naming_the_input(eye, lookat, up, culprit
     with pytest.raises(DegenerateFrameError) as info:
         camera_frame(np.array(eye, float), np.array(lookat, float), np.array(up, float))
     assert info.value.culprit == culprit
+
+
+def test_slides_ray_e_plus_t_s_minus_e_is_on_the_image_plane_at_t_one_along_the_unit_ray():
+    camera = make_camera()
+    x, y = pixel_points(camera.width, range(camera.height))
+    s = image_plane_points(camera, x, y)  # the slide's s: the pixel's point on the image plane
+    e = camera.eye
+    _, _, w = camera.frame
+    at_one = e + 1.0 * (s - e)  # p(1) = e + 1·(s - e)
+    assert np.allclose((at_one - camera.lookat) @ w, 0, atol=1e-12)  # on the plane
+    assert np.allclose(at_one, s)
+    origins, d = rays_through(camera, x, y)  # raykit's: the same line, unit length
+    assert np.array_equal(origins, np.broadcast_to(e, origins.shape))
+    assert np.allclose(d, normalize(s - e), atol=1e-15)
+    # with the unit direction the plane is met at t = |s - e|, its distance from the eye
+    assert np.allclose(hit_plane(origins, d, camera.lookat, w), np.linalg.norm(s - e, axis=1))
+
+
+def test_image_plane_is_at_w_equals_minus_d_in_the_cameras_own_coordinates():
+    camera = make_camera()
+    u, v, w = camera.frame
+    x, y = pixel_points(camera.width, range(camera.height))
+    relative = image_plane_points(camera, x, y) - camera.eye
+    assert np.allclose(relative @ w, -camera.d, rtol=0, atol=1e-12)
+    assert camera.d == pytest.approx(np.linalg.norm(camera.lookat - camera.eye))

@@ -147,9 +147,9 @@ def test_sphere_cases_mark_the_roots_the_math_returns():
     figure = math_figures.sphere_cases()
     titles = [ax.get_title() for ax in figure.axes]
     assert titles == [
-        "discriminant < 0: no root: a miss",
-        "discriminant = 0: one root: grazes",
-        "discriminant > 0: two roots",
+        "D = B² − 4AC < 0: no root: a miss",
+        "D = B² − 4AC = 0: one root: grazes",
+        "D = B² − 4AC > 0: two roots",
     ]
     t0, t1, _ = sphere_roots(np.array([[-2.6, 0.45]]), np.array([[1.0, 0.0]]), np.zeros(2), 1.0)
     labels = [t.get_text() for t in figure.axes[2].texts]
@@ -239,3 +239,90 @@ def test_unlit_scene_diagram_draws_no_secondary_rays():
     figure = ray_diagram(load_scene(SCENES / "classic.json"), view="top")
     gids = {c.get_gid() for ax in figure.axes for c in ax.collections}
     assert not gids & {"rays-shadow", "rays-blocked", "rays-mirror"}
+
+
+def _lecture_figures():
+    from raykit.diagrams.pinhole import pinhole_figure
+    from raykit.io.linescan_json import load_line_scene
+    from raykit.linescan.diagrams import paths_of_light, pixel_formulas, sweep_diagram
+    from raykit.linescan.diagrams import ray_diagram as line_ray_diagram
+
+    classic = load_scene(SCENES / "classic.json")
+    slide = SCENES / "linescan" / "slide.json"
+    return {
+        "math_sphere_cases": math_figures.sphere_cases,
+        "math_plane_hit": math_figures.plane_hit,
+        "math_dot_projection": math_figures.dot_projection,
+        "math_plane_sides": math_figures.plane_sides,
+        "camera_diagrams": lambda: camera_diagrams(classic.camera),
+        "pinhole_figure": lambda: pinhole_figure(classic),
+        "rays_top": lambda: ray_diagram(classic, view="top"),
+        "paths_of_light": lambda: paths_of_light(load_line_scene(slide), (3.0, 4.5)),
+        "pixel_formulas": pixel_formulas,
+        "line_scan_rays": lambda: line_ray_diagram(load_line_scene(slide)),
+        "sweep": lambda: sweep_diagram(
+            load_line_scene(SCENES / "linescan" / "passing_car.json"), scans=60
+        ),
+    }
+
+
+@pytest.mark.parametrize("name", sorted(_lecture_figures()))
+def test_lecture_figures_have_no_text_under_10_points(name):
+    from matplotlib.text import Text
+
+    figure = _lecture_figures()[name]()
+    figure.canvas.draw()
+    small = [
+        (text.get_text(), text.get_fontsize())
+        for text in figure.findobj(Text)
+        if text.get_visible() and text.get_text().strip() and text.get_fontsize() < 10
+    ]
+    assert not small, f"{name}: {small}"
+
+
+def _drawn_points(ax):
+    """Points in pixels along every line, marker and circle outline of a 2D axes."""
+    from matplotlib.patches import Circle
+
+    points = []
+    for line in ax.lines:
+        xy = ax.transData.transform(line.get_xydata())
+        steps = np.linspace(0, 1, 60)[:, None]
+        for start, end in zip(xy[:-1], xy[1:], strict=True):
+            points.append(start + steps * (end - start))
+        if line.get_marker() not in (None, "None", "", " "):
+            radius = line.get_markersize() / 2 * ax.figure.dpi / 72
+            for dx, dy in ((0, 0), (radius, 0), (-radius, 0), (0, radius), (0, -radius)):
+                points.append(xy + [dx, dy])
+    for patch in ax.patches:
+        if isinstance(patch, Circle):
+            path = patch.get_transform().transform_path(patch.get_path())
+            points.append(path.interpolated(30).vertices)
+    return np.vstack(points)
+
+
+def _apart(a, b) -> bool:
+    return a[0] >= b[2] or b[0] >= a[2] or a[1] >= b[3] or b[1] >= a[3]
+
+
+@pytest.mark.parametrize("name", ["sphere_cases", "plane_hit", "dot_projection", "plane_sides"])
+def test_math_figure_labels_touch_no_line_marker_circle_or_other_label(name):
+    figure = getattr(math_figures, name)()
+    figure.canvas.draw()
+    renderer = figure.canvas.get_renderer()
+    for ax in figure.axes:
+        if ax.name == "3d":
+            continue
+        texts = [t for t in ax.texts if t.get_text().strip()]
+        boxes = [t.get_window_extent(renderer).extents for t in texts]
+        drawn = _drawn_points(ax)
+        for text, (x0, y0, x1, y1) in zip(texts, boxes, strict=True):
+            inside = (
+                (drawn[:, 0] > x0) & (drawn[:, 0] < x1) & (drawn[:, 1] > y0) & (drawn[:, 1] < y1)
+            )
+            assert not inside.any(), f"{name}: {text.get_text()!r} lies on what is drawn"
+        for i, (text, box) in enumerate(zip(texts, boxes, strict=True)):
+            for other, other_box in zip(texts[i + 1 :], boxes[i + 1 :], strict=True):
+                assert _apart(box, other_box), (
+                    f"{name}: {text.get_text()!r} overlaps {other.get_text()!r}"
+                )

@@ -16,6 +16,7 @@ def _small(name: str, width: int = 40, height: int = 30):
     return replace(scene, camera=replace(scene.camera, width=width, height=height))
 
 
+@pytest.mark.slow
 def test_forward_error_falls_within_its_monte_carlo_standard_error_as_photons_grow():
     """Eight seeded runs per photon count give each pixel's mean and its standard error; the
     mean's distance from the backward render must stay within 2 RMS standard errors (plus the

@@ -2,12 +2,20 @@
 deserves, nothing outside its sandbox is read or written, and results.json is always valid
 and the grader's own.
 
-As root (as on Gradescope) they go through the autograder zip's own ``run_autograder`` in a
-Gradescope-like folder layout (``source/`` closed to everyone but root); as a normal user,
-through the README's ``python -m raykit_grading grade`` and ``batch`` commands. Both run here
-whichever user the machine gives. Every attack that needs something outside its sandbox has
-a way to profit if it got it (it then answers right and scores), so a defence that failed
-shows as a score above the one asserted.
+Every test that grades through :func:`grade_as_deployed` runs three ways (the ``autograder``
+fixture's parameter), each skipped with its reason where this machine cannot make it:
+
+* ``root``: the autograder zip's own ``run_autograder`` as root, in a Gradescope-like folder
+  layout (``source/`` closed to everyone but root): bubblewrap's sandbox;
+* ``docker``: the same ``run_autograder`` as root under an emulation of Docker's default
+  confinement with a 768 MB memory limit (``tests/docker_confinement.py``), as Gradescope runs
+  it: no namespaces, so the chroot sandbox (:mod:`raykit_grading.confine`);
+* ``user``: the README's ``python -m raykit_grading grade`` as a normal user (this one, or as
+  root ``setpriv`` to uid 65534 with a Python that uid can run: ``RAYKIT_USER_PYTHON``).
+
+The batch tests run as the user running the suite. Every attack that needs something outside
+its sandbox has a way to profit if it got it (it then answers right and scores), so a defence
+that failed shows as a score above the one asserted.
 
 Kinds (numbers as in the trust issue): 1 hard-coding the shipped answers, 2 links and special
 files in the submission, 3 child-controlled output, 4 one broken test, 5 hidden inputs reaching
@@ -19,6 +27,7 @@ loops, memory, forks, printing, monkeypatching, garbage arrays.
 from __future__ import annotations
 
 import csv
+import fcntl
 import json
 import os
 import platform
@@ -27,6 +36,7 @@ import shutil
 import socket
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 import zipfile
@@ -38,11 +48,17 @@ from mistaken_submissions import make_submission
 
 from conftest import REPO
 from raykit_grading.catalog import TESTS
+from raykit_grading.confine import TREES
 from raykit_grading.gradescope import build_zip
 from raykit_grading.release import build_release
 
+pytestmark = pytest.mark.slow
+
 AS_ROOT = os.geteuid() == 0
 WALL = 4.0
+NOBODY = 65534
+EMULATION = REPO / "tests" / "docker_confinement.py"
+DEPLOYMENTS = ("root", "docker", "user")
 POINTS = {t.key: t.points for t in TESTS}
 SEED = 20261123
 
@@ -67,10 +83,47 @@ def canary(tmp_path_factory):
     shutil.rmtree(folder, ignore_errors=True)
 
 
-@pytest.fixture(scope="module")
-def autograder(tmp_path_factory):
-    """The autograder zip unpacked as Gradescope does, source closed to everyone but root."""
-    root = Path("/tmp") / f"raykit-autograder-{os.getpid()}"  # outside pytest's private tmp
+def user_python() -> str | None:
+    """A Python with numpy and Pillow that uid 65534 can run (for the ``user`` way as root)."""
+    for python in (os.environ.get("RAYKIT_USER_PYTHON"), sys.executable):
+        if not python:
+            continue
+        probe = subprocess.run(
+            ["setpriv", f"--reuid={NOBODY}", f"--regid={NOBODY}", "--clear-groups", python,
+             "-c", "import numpy, PIL"], capture_output=True, cwd="/",
+        )  # fmt: skip
+        if probe.returncode == 0:
+            return python
+    return None
+
+
+def _deployment_skip(way: str) -> str | None:
+    """Why ``way`` cannot run on this machine, or None."""
+    if way in ("root", "docker") and not AS_ROOT:
+        return f"the {way} way runs run_autograder as root, as Gradescope does"
+    if way == "docker":
+        probe = subprocess.run(
+            [sys.executable, str(EMULATION), "--memory-mb", "768", "--", "true"],
+            capture_output=True, text=True,
+        )  # fmt: skip
+        if probe.returncode != 0:
+            return f"cannot emulate Docker's confinement here: {probe.stderr.strip()}"
+    if way == "user" and AS_ROOT and (shutil.which("setpriv") is None or user_python() is None):
+        return (
+            "as root, the user way needs setpriv and a Python uid 65534 can run "
+            "(set RAYKIT_USER_PYTHON)"
+        )
+    return None
+
+
+@pytest.fixture(scope="module", params=DEPLOYMENTS)
+def autograder(request, tmp_path_factory):
+    """The autograder zip unpacked as Gradescope does, source closed to everyone but root;
+    its folder's name ends in the way it is graded (:data:`DEPLOYMENTS`)."""
+    why = _deployment_skip(request.param)
+    if why:
+        pytest.skip(why)
+    root = Path("/tmp") / f"raykit-autograder-{os.getpid()}-{request.param}"
     shutil.rmtree(root, ignore_errors=True)
     (root / "source").mkdir(parents=True)
     archive = build_zip(tmp_path_factory.mktemp("zip") / "autograder.zip")
@@ -84,12 +137,16 @@ def autograder(tmp_path_factory):
     shutil.rmtree(root, ignore_errors=True)
 
 
+def way(autograder: Path) -> str:
+    return autograder.name.rsplit("-", 1)[1]
+
+
 def grade_as_deployed(
     autograder: Path, submission: Path, only: list[str], tmp_path: Path, extra: str = ""
 ) -> tuple[dict, subprocess.CompletedProcess]:
-    """Grade the way an instructor does: run_autograder as root, the grade command otherwise."""
+    """Grade the way an instructor does (see the module's docstring)."""
     options = f"--only {' '.join(only)} --wall-seconds {WALL} --seed {SEED} {extra}"
-    if AS_ROOT:
+    if way(autograder) in ("root", "docker"):
         shutil.rmtree(autograder / "submission", ignore_errors=True)
         shutil.rmtree(autograder / "results", ignore_errors=True)
         subprocess.run(["cp", "-a", str(submission), str(autograder / "submission")], check=True)
@@ -99,22 +156,45 @@ def grade_as_deployed(
             "RAYKIT_GRADER_PYTHON": sys.executable,
             "RAYKIT_GRADE_OPTIONS": options,
         }
-        run = subprocess.run(
-            ["bash", str(autograder / "run_autograder")],
-            env=env,
-            capture_output=True,
-            text=True,
-            timeout=300,
-        )
+        command = ["bash", str(autograder / "run_autograder")]
+        if way(autograder) == "docker":
+            command = [sys.executable, str(EMULATION), "--memory-mb", "768", "--", *command]
+        run = subprocess.run(command, env=env, capture_output=True, text=True, timeout=300)
         path = autograder / "results/results.json"
-    else:
+        expected_sandbox = "bubblewrap" if way(autograder) == "root" else "chroot+uid+"
+    elif not AS_ROOT:
         path = tmp_path / "results" / "results.json"
         run = subprocess.run(
             [sys.executable, "-m", "raykit_grading", "grade", str(submission), "-o", str(path),
              *options.split()],
             capture_output=True, text=True, timeout=300, cwd=REPO,
         )  # fmt: skip
-    return json.loads(path.read_text()), run
+        expected_sandbox = "bubblewrap"
+    else:  # as root: uid 65534, in a folder of its own
+        folder = Path(tempfile.mkdtemp(prefix="raykit-user-", dir="/tmp"))
+        try:
+            subprocess.run(["cp", "-a", str(submission), str(folder / "submission")], check=True)
+            subprocess.run(["chown", "-R", f"{NOBODY}:{NOBODY}", str(folder)], check=True)
+            path = folder / "results" / "results.json"
+            run = subprocess.run(
+                ["setpriv", f"--reuid={NOBODY}", f"--regid={NOBODY}", "--clear-groups",
+                 user_python(), "-m", "raykit_grading", "grade", str(folder / "submission"),
+                 "-o", str(path), *options.split()],
+                capture_output=True, text=True, timeout=300, cwd=REPO,
+                env={"PATH": "/usr/bin:/bin", "PYTHONPATH": str(REPO), "TMPDIR": str(folder)},
+            )  # fmt: skip
+            results = json.loads(path.read_text())
+        finally:
+            shutil.rmtree(folder, ignore_errors=True)
+        assert results["extra_data"]["sandbox"] in (
+            "bubblewrap",
+            "none: nothing of the submission was run",
+        ), results["extra_data"]
+        return results, run
+    results = json.loads(path.read_text())
+    sandbox = results["extra_data"].get("sandbox", "")
+    assert sandbox.startswith(expected_sandbox) or sandbox.startswith("none"), sandbox
+    return results, run
 
 
 def submission_with(release: Path, tmp_path: Path, edits: dict[str, str], **fmt) -> Path:
@@ -259,7 +339,7 @@ def test_2_a_raykit_that_is_a_link_to_the_reference_scores_zero(autograder, tmp_
     assert scores(results) == {"2.1": 0, "3.6": 0}
     assert "raykit is a symbolic link: not followed" in results["output"]
     assert "no raykit package" in results["tests"][0]["output"]
-    assert run.returncode == 1  # graded: nothing to grade, and the command says so
+    assert run.returncode == 0  # graded (a zero, with the reason): exit 0, whatever the score
 
 
 def test_2_linked_modules_fifos_and_zip_tricks_are_left_out(release, autograder, tmp_path):
@@ -740,19 +820,38 @@ def test_a_correct_submission_scores_full_marks_as_deployed(autograder, tmp_path
     assert results["score"] == pytest.approx(sum(POINTS.values()))
 
 
-def test_nothing_is_left_behind():
-    """No sandbox uid process, no grader workspace (this runs after the tests above)."""
-    from raykit_grading.isolation import SANDBOX_UIDS
+def _held(lock: Path) -> bool:
+    """Whether a live grader holds ``lock`` (other graders may be running on this machine:
+    only what none of them holds was left behind)."""
+    try:
+        fd = os.open(lock, os.O_RDONLY)
+    except OSError:
+        return False
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        return False
+    except BlockingIOError:
+        return True
+    finally:
+        os.close(fd)
 
+
+def test_nothing_is_left_behind(autograder):
+    """No process of a sandbox uid, no grader workspace, no test folder in a chroot tree that
+    no running grader holds (this runs after the tests above, for each way)."""
+    from raykit_grading.isolation import SANDBOX_UIDS, UID_LOCKS
+
+    if AS_ROOT:
+        folders = TREES.glob("tree-*/tasks/p*-*")
+        gone = [f for f in folders if not Path(f"/proc/{f.name[1:].split('-')[0]}").exists()]
+        assert gone == []  # named p<grader's pid>-...: a grader that is gone left it
     uids = set(SANDBOX_UIDS)
     left = [p for p in Path("/proc").iterdir() if p.name.isdigit() and p.stat().st_uid in uids]
-    assert left == []
-    import tempfile
-
+    assert [p for p in left if not _held(UID_LOCKS / str(p.stat().st_uid))] == []
     mine = [
         p
         for p in Path(tempfile.gettempdir()).glob("raykit-grading-*")
-        if p.stat().st_uid == os.geteuid()
+        if p.stat().st_uid == os.geteuid() and not _held(p / ".lock")
     ]
     assert mine == []
 

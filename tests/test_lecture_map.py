@@ -1,5 +1,6 @@
 """docs/lecture-map.md cannot rot: each notebook cell, function, test and figure it names exists,
-and the notebooks take the slide items in the lecture's order."""
+the notebooks take the slide items in the lecture's order, and every item's section of its
+notebook has a code cell that ran and a figure."""
 
 import ast
 import importlib
@@ -24,8 +25,8 @@ def _rows() -> list[list[str]]:
     return rows
 
 
-def test_map_has_the_fifteen_slide_items_in_order():
-    assert [int(row[0]) for row in _rows()] == list(range(1, 16))
+def test_map_has_the_twenty_four_slide_items_in_order():
+    assert [int(row[0]) for row in _rows()] == list(range(1, 25))
 
 
 def _place(notebook: str) -> tuple[str, int]:
@@ -65,3 +66,47 @@ def test_every_name_in_the_map_exists(row):
         assert test in {node.name for node in tree.body if isinstance(node, ast.FunctionDef)}, name
     for name in re.findall(r"`([^`]+)`", figures):
         assert (REPO / name).is_file(), name
+
+
+def _sections() -> list[tuple[list[str], list[dict]]]:
+    """Each map row with its notebook's cells from the item's cell up to the next item's (or,
+    when the next item is in another notebook, to the notebook's end)."""
+    places = [_place(row[2]) for row in _rows()]
+    sections = []
+    for k, (row, (path, start)) in enumerate(zip(_rows(), places, strict=True)):
+        cells = json.loads((REPO / path).read_text())["cells"]
+        following = places[k + 1] if k + 1 < len(places) else None
+        end = following[1] if following and following[0] == path else len(cells)
+        sections.append((row, cells[start : max(end, start + 1)]))
+    return sections
+
+
+def _images_shown(cells: list[dict], path: str) -> list[str]:
+    """Images a section draws (PNG outputs) or shows (Markdown images of files that exist)."""
+    found = []
+    for cell in cells:
+        if cell["cell_type"] == "code":
+            found += [
+                "output" for out in cell.get("outputs", []) if "image/png" in out.get("data", {})
+            ]
+        else:
+            for target in re.findall(r"!\[[^\]]*\]\(([^)]+)\)", "".join(cell["source"])):
+                if (REPO / Path(path).parent / target).is_file():
+                    found.append(target)
+    return found
+
+
+SECTIONS = _sections()
+
+
+@pytest.mark.parametrize("row, cells", SECTIONS, ids=[row[0] for row, _ in SECTIONS])
+def test_every_item_has_a_cell_that_ran_and_a_figure(row, cells):
+    path = re.match(r"`([^`]+)`", row[2]).group(1)
+    ran = [
+        c for c in cells if c["cell_type"] == "code" and c.get("execution_count") and c["outputs"]
+    ]
+    assert ran, f"item {row[0]}: no code cell with stored outputs in its section of {path}"
+    shown = _images_shown(cells, path)
+    assert shown, f"item {row[0]}: no figure in its section of {path}"
+    if "cell figure" in row[5]:  # the map promises a figure drawn by the item's own cells
+        assert "output" in shown, f"item {row[0]}: its cells draw no figure"

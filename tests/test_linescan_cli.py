@@ -162,6 +162,17 @@ def test_scan_writes_the_strip_and_the_diagram(tmp_path, capsys):
     assert Image.open(rays).size[0] > 300
 
 
+def test_scan_scale_draws_each_pixel_as_a_k_by_k_block(tmp_path):
+    strip = tmp_path / "strip.png"
+    scene_file = SCENES / "linescan/slide.json"
+    assert main(["scan", str(scene_file), "-o", str(strip), "--height", "2", "--scale", "3"]) == 0
+    pixels = np.asarray(Image.open(strip))
+    expected = quantize(scan(load_line_scene(scene_file)).colors)
+    assert pixels.shape == (6, 36, 3)
+    for i in range(12):  # pixel i is the block of columns 3i to 3i + 2, in every row
+        assert (pixels[:, 3 * i : 3 * i + 3] == expected[i]).all()
+
+
 def test_sweep_writes_m_by_n_image(tmp_path, capsys):
     out = tmp_path / "sweep.png"
     scene_file = SCENES / "linescan/conveyor.json"

@@ -55,3 +55,20 @@ def test_normal_from_points_gives_the_plane_they_lie_on():
 def test_points_on_one_line_give_a_zero_normal():
     a, p = np.zeros(3), np.array([1.0, 2.0, 3.0])
     assert not normal_from_points(a, p, 2 * p).any()
+
+
+def test_ray_plane_hit_is_where_f_of_p_of_t_is_zero_and_parallel_or_behind_is_a_miss():
+    # the slide's derivation: substitute p(t) = o + t·d into f(p) = (p - a)·n and solve for t
+    rng = np.random.default_rng(20)
+    o, d = rng.normal(size=(200, 3)), rng.normal(size=(200, 3))
+    a, n = rng.normal(size=3), rng.normal(size=3)
+    t = hit_plane(o, d, a, n)
+    met = np.isfinite(t)
+    assert 50 < met.sum() < 150  # about half the rays point toward the plane
+    f = (o[met] + t[met, None] * d[met] - a) @ n
+    assert np.allclose(f, 0, atol=1e-9)
+    assert (t[met] > 0).all()
+    # the others would meet it at t <= 0, behind their origin
+    assert (((a - o[~met]) @ n) / (d[~met] @ n) <= 0).all()
+    parallel = np.cross(n, rng.normal(size=3))  # d·n = 0
+    assert hit_plane(o[:1], parallel[None], a, n)[0] == np.inf

@@ -67,6 +67,7 @@ def test_sweep_reports_every_scan_once():
     assert (taken.image == sweep(scene, 12).image).all()
 
 
+@pytest.mark.slow
 def test_the_command_line_prints_no_bar_into_captured_output(tmp_path):
     run = subprocess.run(
         [sys.executable, "-m", "raykit", "render", str(SCENES / "cutouts.json")]

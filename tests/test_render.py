@@ -258,3 +258,21 @@ def test_texture_of_a_billboard_no_ray_reaches_is_never_decoded(tmp_path):
     scene = scene_from_dict(scene_dict(billboards=[_facing_board(name, z=9.0)]), folder=tmp_path)
     render(scene)  # the board is behind the eye
     assert "rgba" not in vars(scene.billboards[0].texture)
+
+
+def test_scene_without_light_copies_the_colour_of_the_object_at_each_pixel():
+    # the slide's first loop: "copy the color of the object at this point to this pixel"
+    from dataclasses import replace
+
+    from raykit.render import cast_pixels
+
+    lit = load_scene(SCENES / "classic_lit.json")
+    small = replace(lit.camera, width=64, height=48)
+    flat = replace(lit, camera=small, lights=(), ambient=None)
+    rows, cols = np.indices((48, 64)).reshape(2, -1)
+    _, _, hits = cast_pixels(flat, rows, cols)
+    assert np.array_equal(render(flat).rgb.reshape(-1, 3), hits.color)
+    # with ambient light only, the same colours scaled by it: darker than the objects' own
+    ambient = render(replace(flat, ambient=lit.ambient)).rgb.reshape(-1, 3)
+    seen = hits.index >= 0
+    assert np.allclose(ambient[seen], hits.color[seen] * lit.ambient)

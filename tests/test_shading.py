@@ -1,4 +1,4 @@
-"""Stage 4: lights, shading, shadows and mirrors (FOCG 4.5-4.8), and what is skipped."""
+"""Stage 4: lights, shading, shadows and mirrors (FOCG 4.5-4.9), and what is skipped."""
 
 import json
 

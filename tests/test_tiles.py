@@ -22,7 +22,7 @@ def _same(a, b) -> bool:
 
 
 @pytest.mark.parametrize("path", EXAMPLES, ids=lambda p: p.stem)
-@pytest.mark.parametrize("samples", [1, 2])
+@pytest.mark.parametrize("samples", [1, pytest.param(2, marks=pytest.mark.slow)])
 def test_skipping_changes_no_pixel_on_the_example_scenes(path, samples):
     scene = load_scene(path)
     assert _same(render(scene, samples, skip_hidden=False), render(scene, samples))

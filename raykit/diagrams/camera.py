@@ -20,6 +20,7 @@ from raykit.diagrams.views import draw_lines, draw_outline, view_for
 from raykit.rays import normalize
 
 COARSE_COLUMNS = 8
+UP_LENGTH = 1.5  # up's arrow, as a multiple of u, v and w's: apart from v even when they agree
 
 
 def coarse(camera: Camera, columns: int = COARSE_COLUMNS) -> Camera:
@@ -57,25 +58,25 @@ def camera_diagram(camera: Camera, *, ax: Axes | None = None) -> Figure:
     draw_lines(ax, view, np.stack([starts, corners], axis=1), colors="0.5", linewidths=0.8)
 
     # the frame at the eye, up, and d along -w to lookat. Labels sit beside their anchors, not
-    # on them: v and up nearly coincide, so v goes to the left of its tip and up to the right;
-    # point labels get a white ground so the lines they cross do not strike them through
+    # on them. up is often close to v (it need only lie in the plane of v and w), so it is
+    # drawn longer than v: its label stands above v's, and v's goes to the left of its tip.
+    # Point labels get a white ground so the lines they cross do not strike them through
     # (arrows at least 0.15 of the drawing: at a wide fov_angle the plane dwarfs d)
     extent = np.ptp(np.vstack([eye[None], corners, starts]), axis=0).max()
     size = max(0.35 * d, 0.15 * extent)
-    for vector, label, color, at, align in (
-        (u, "u", "tab:red", 1.08, ("left", "top")),
-        (v, "v ", "tab:green", 1.08, ("right", "bottom")),
-        (w, "w", "tab:blue", 1.08, ("left", "bottom")),
-        # up often coincides with v: its label goes right of its tip and below, v's left and above
-        (normalize(np.asarray(camera.up, float)), " up", "0.4", 1.08, ("left", "top")),
+    for vector, label, color, length, align in (
+        (u, "u", "tab:red", 1.0, ("left", "top")),
+        (v, "v ", "tab:green", 1.0, ("right", "center")),
+        (w, "w", "tab:blue", 1.0, ("left", "bottom")),
+        (normalize(np.asarray(camera.up, float)), "up", "0.4", UP_LENGTH, ("center", "bottom")),
     ):
-        tip = eye + size * vector
+        tip = eye + length * size * vector
         draw_lines(ax, view, np.stack([eye, tip])[None], colors=color, linewidths=2)
         ax.text(
-            *view.project(eye + at * size * vector),
+            *view.project(eye + 1.08 * length * size * vector),
             label,
             color=color,
-            fontsize=11,
+            fontsize=12,
             fontweight="bold",
             ha=align[0],
             va=align[1],
@@ -84,9 +85,9 @@ def camera_diagram(camera: Camera, *, ax: Axes | None = None) -> Figure:
         ax, view, np.stack([eye, lookat])[None], colors="black", linewidths=1, linestyles="dotted"
     )
     ax.scatter(*view.project(np.stack([eye, lookat])).T, color="black", s=18, depthshade=False)
-    _label(ax, view.project(eye), " e", fontsize=11, ha="left", va="bottom")
-    _label(ax, view.project(lookat), "lookat ", fontsize=9, ha="right", va="top")
-    _label(ax, view.project((eye + lookat) / 2), " d", fontsize=11, style="italic", va="top")
+    _label(ax, view.project(eye), " e", fontsize=12, ha="left", va="bottom")
+    _label(ax, view.project(lookat), "lookat ", fontsize=11, ha="right", va="top")
+    _label(ax, view.project((eye + lookat) / 2), " d", fontsize=12, style="italic", va="top")
 
     if camera.projection == "perspective":  # fov_angle: from the top edge to the bottom edge
         Hp = camera.plane_size[1]
@@ -96,11 +97,14 @@ def camera_diagram(camera: Camera, *, ax: Axes | None = None) -> Figure:
             np.cos(np.radians(angles))[:, None] * -w + np.sin(np.radians(angles))[:, None] * v
         )
         ax.plot(*view.project(arc).T, color="black", lw=1)
-        _label(ax, view.project(arc[-1]), "fov_angle ", fontsize=9, ha="right", va="bottom")
+        _label(ax, view.project(arc[-1]), "fov_angle ", fontsize=11, ha="right", va="bottom")
         edge = lookat + Hp / 2 * v
         draw_lines(ax, view, np.stack([eye, edge])[None], colors="black", linewidths=0.8)
 
-    points = np.vstack([eye[None], corners, starts, eye + size * np.stack([u, v, w])])
+    up = normalize(np.asarray(camera.up, float))
+    points = np.vstack(
+        [eye[None], corners, starts, eye + size * np.stack([u, v, w, UP_LENGTH * up])]
+    )
     shown = view.project(points)
     centre = (shown.min(axis=0) + shown.max(axis=0)) / 2
     half = (shown.max(axis=0) - shown.min(axis=0)).max() / 2 * 1.05
@@ -111,7 +115,7 @@ def camera_diagram(camera: Camera, *, ax: Axes | None = None) -> Figure:
     ax.set_title(
         f"{camera.projection}: {camera.width} x {camera.height} pixels "
         f"(drawn {grid.width} x {grid.height}), fov_angle = {camera.fov_angle:g}°",
-        fontsize=9,
+        fontsize=11,
     )
     for label, axis in zip((ax.set_xlabel, ax.set_ylabel, ax.set_zlabel), view.axes, strict=True):
         label("xyz"[axis])

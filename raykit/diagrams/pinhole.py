@@ -16,7 +16,7 @@ from matplotlib.figure import Figure
 from raykit.camera import rays_through
 from raykit.io.images import quantize
 from raykit.pinhole import obscura_rays, render_obscura
-from raykit.rays import point_at
+from raykit.rays import dot, point_at
 from raykit.render import cast, render
 from raykit.scene import Scene
 
@@ -35,7 +35,7 @@ def pinhole_figure(scene: Scene) -> Figure:
 
     def local(points: np.ndarray) -> np.ndarray:  # (depth in front of the eye, height)
         relative = points - eye
-        return np.column_stack([relative @ -w, relative @ v])
+        return np.column_stack([-dot(relative, w), dot(relative, v)])
 
     rows = np.linspace(0.5, camera.height - 0.5, ROWS_DRAWN)
     x = np.full(ROWS_DRAWN, camera.width / 2)
@@ -43,8 +43,8 @@ def pinhole_figure(scene: Scene) -> Figure:
     hits = cast(scene, origins, directions)
     # the wall pixel turned half a turn from (x, row) sends its obscura ray the same way
     _, back = obscura_rays(camera, camera.width - x, camera.height - rows)
-    wall = eye - back * (d / (back @ -w))[:, None]  # where that ray left the wall
-    front = origins + directions * (d / (directions @ -w))[:, None]
+    wall = eye - back * (d / -dot(back, w))[:, None]  # where that ray left the wall
+    front = origins + directions * (d / -dot(directions, w))[:, None]
     ends = np.where(
         np.isfinite(hits.t)[:, None],
         point_at(origins, directions, hits.t),
@@ -60,7 +60,9 @@ def pinhole_figure(scene: Scene) -> Figure:
     top, bottom = limits[:, 1].max(), limits[:, 1].min()
     for depth, label in ((-d, "back wall (camera obscura)"), (d, "image plane (pinhole camera)")):
         side.axvline(depth, color="0.3", lw=2)
-        side.annotate(label, (depth, top), xytext=(4, 4), textcoords="offset points", fontsize=9)
+        side.annotate(
+            label, (depth, top), xytext=(4, -2), textcoords="offset points", va="top", fontsize=10
+        )
     side.plot(0, 0, "ko", ms=7)
     side.annotate("hole e", (0, 0), xytext=(-10, -16), textcoords="offset points", fontsize=10)
     side.annotate(

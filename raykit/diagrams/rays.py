@@ -30,7 +30,7 @@ from raykit.diagrams.views import (
     view_for,
 )
 from raykit.lights import PointLight
-from raykit.rays import point_at
+from raykit.rays import length, point_at
 from raykit.render import cast_pixels, secondary_caster
 from raykit.scene import Scene
 from raykit.shading import needs_shading, shade
@@ -126,7 +126,7 @@ def ray_diagram(
 
     corners = image_plane_corners(camera)
     extent = _scene_points(scene, corners)
-    reach = np.linalg.norm(np.ptp(np.vstack([extent, ends[hit]]), axis=0))
+    reach = float(length(np.ptp(np.vstack([extent, ends[hit]]), axis=0)))
     draw_scene_objects(ax, shown, scene)
     _draw_secondary(ax, shown, paths, reach)
     draw_lines(
@@ -224,6 +224,6 @@ def _mark(ax: Axes, view, point: np.ndarray, label: str, marker: str | None = "o
     if marker:
         ax.plot(*[[c] for c in shown], marker, color="black", ms=5, zorder=7)
     if view.is_3d:
-        ax.text(*shown, f" {label}", fontsize=9)
+        ax.text(*shown, f" {label}", fontsize=10)
     else:
-        ax.annotate(label, shown, xytext=(4, 4), textcoords="offset points", fontsize=9)
+        ax.annotate(label, shown, xytext=(4, 4), textcoords="offset points", fontsize=10)

@@ -23,6 +23,7 @@ from mpl_toolkits.mplot3d.art3d import Line3DCollection
 
 from raykit.billboards import OPAQUE_FROM
 from raykit.camera import Camera
+from raykit.rays import length
 from raykit.scene import Scene
 
 VIEWS = ("3d", "top", "side")
@@ -180,7 +181,7 @@ def _draw_billboard(ax: Axes, view: View, billboard) -> None:
     shown = view.project(corners)
     ax.add_patch(Polygon(shown, closed=True, fill=False, edgecolor="black", lw=1.0, zorder=3))
     p0, pa, pb = shown[0], shown[1] - shown[0], shown[3] - shown[0]
-    if abs(pa[0] * pb[1] - pa[1] * pb[0]) < 1e-12 * (np.linalg.norm(pa) * np.linalg.norm(pb)):
+    if abs(pa[0] * pb[1] - pa[1] * pb[0]) < 1e-12 * (length(pa) * length(pb)):
         return  # seen edge-on: the outline is all there is to see
     # texel (col, row) -> ul + (col/W) a + (row/H) b, projected: an affine map
     to_world = Affine2D(

@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from raykit.rays import length
+
 BOX_PADDING = 1e-9  # relative to the box's size and distance from the origin
 
 
@@ -51,8 +53,8 @@ def objects_near_segments(
         return np.zeros(0, dtype=np.intp)
     scene_lower, scene_upper = lower.min(axis=0), upper.max(axis=0)
     # beyond this, a ray from its origin has left every object's box behind
-    corner_distance = np.linalg.norm(
-        np.maximum(np.abs(origins - scene_lower), np.abs(origins - scene_upper)), axis=1
+    corner_distance = length(
+        np.maximum(np.abs(origins - scene_lower), np.abs(origins - scene_upper))
     )
     reach = np.minimum(t_max, corner_distance)
     ends = origins + reach[:, None] * directions

@@ -24,6 +24,11 @@ from raykit.shading import needs_shading
 
 ENGINES = ("auto", "numpy", "compiled")
 FAST_EXTRA = 'pip install "raykit[fast]"'
+STARTER_KIT = (
+    "is not in the starter kit (it would give the solutions away): render with your own "
+    "functions, --engine numpy (what auto picks here); for a quicker look, make the picture "
+    "smaller (the camera's width and height in the scene file)"
+)
 COMPILED_SOURCE = Path(__file__).with_name("compiled.py")
 # The numpy engine's time per ray, flat and shaded, and what loading numba and the cached
 # kernels costs a process: measured on the 2-core machine by benchmarks/engines.py
@@ -34,6 +39,13 @@ AUTO_FROM = 0.5  # seconds of numpy rendering from which the compiled engine win
 
 class EngineUnavailable(RuntimeError):
     """The compiled engine was asked for where it cannot run; the message says what to do."""
+
+
+def compiled_missing() -> str:
+    """Why the compiled engine cannot run here, and what to do instead."""
+    if not COMPILED_SOURCE.exists():
+        return STARTER_KIT
+    return f"needs numba, which is not installed: {FAST_EXTRA}"
 
 
 def compiled_available() -> bool:
@@ -97,7 +109,7 @@ def choose(engine: str, scene: Scene, samples: int = 1, dtype: type = np.float64
         return "numpy"
     if engine == "compiled":
         if not compiled_available():
-            raise EngineUnavailable(f"the compiled engine needs numba: {FAST_EXTRA}")
+            raise EngineUnavailable(f"the compiled engine {compiled_missing()}")
         if dtype != np.float64:
             raise ValueError("the compiled engine renders in float64 only; use engine='numpy'")
         return "compiled"

@@ -69,7 +69,7 @@ from raykit.engine.screen_bounds import scene_bounds
 from raykit.engine.tiles import regions
 from raykit.hits import Hits
 from raykit.lights import PointLight, toward_light
-from raykit.rays import normalize
+from raykit.rays import dot, length, normalize
 from raykit.scene import Scene
 from raykit.shading import casts_shadows, needs_shading
 from raykit.surfaces import OFFSET_FACTOR
@@ -1442,9 +1442,9 @@ def screen_tiles(
         centers, radii = arrays.centers, arrays.radii
         eye = np.asarray(camera.eye, dtype=float)
         if camera.projection == "orthographic":
-            distance = (centers - eye) @ -camera.frame[2]
+            distance = -dot(centers - eye, camera.frame[2])
         else:
-            distance = np.linalg.norm(centers - eye, axis=1)
+            distance = length(centers - eye)
         margin = 1e-9 * (np.abs(distance) + radii + np.abs(eye).max() + np.abs(centers).max(axis=1))
         closest[: len(radii)] = np.maximum(0.0, distance - radii - margin)
     tiles_x = -(-camera.width // size)

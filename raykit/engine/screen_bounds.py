@@ -29,6 +29,7 @@ import numpy as np
 
 from raykit.billboards import Billboard
 from raykit.camera import Camera
+from raykit.rays import dot
 from raykit.spheres import Sphere
 
 MARGIN = 1e-3  # pixels
@@ -39,7 +40,7 @@ def _camera_coordinates(camera: Camera, points: np.ndarray) -> np.ndarray:
     """Points ``(N, 3)`` as (along u, along v, depth along -w) relative to the eye."""
     u, v, w = camera.frame
     relative = np.asarray(points, float) - np.asarray(camera.eye, float)
-    return np.stack([relative @ u, relative @ v, -(relative @ w)], axis=-1)
+    return np.stack([dot(relative, u), dot(relative, v), -dot(relative, w)], axis=-1)
 
 
 def _to_image(camera: Camera, s: np.ndarray, t: np.ndarray) -> Bounds | None:

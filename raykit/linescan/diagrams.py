@@ -29,6 +29,7 @@ from raykit.billboards import OPAQUE_FROM
 from raykit.linescan.camera import pixel_positions, pixel_x, slide_pixel_positions
 from raykit.linescan.scan import Scan, scan, sweep, trace
 from raykit.linescan.scene import LineScene
+from raykit.rays import dot, length
 
 MAX_RAYS_DRAWN = 24
 
@@ -131,9 +132,10 @@ def _draw_camera(ax: Axes, scene: LineScene, taken: Scan, annotate: bool) -> Non
         ax.plot(*centres.T, "o", color="white", mec="black", ms=2.5, mew=0.6, zorder=6)
     if not annotate:
         return
-    ax.annotate("image line", ends[1] + 0.25 * u, fontsize=9, ha="center", va="center")
+    # past the line's end along u; the first and last pixel's i beside the ends, off the line
+    ax.annotate("image line", ends[1] + 0.45 * u, fontsize=10, ha="center", va="center")
     for i, end in ((0, ends[0]), (cam.pixels - 1, ends[1])):
-        ax.annotate(f"i={i}", end + 0.3 * w, fontsize=8, ha="center", va="center")
+        ax.annotate(f"i={i}", end + 0.45 * w, fontsize=10, ha="center", va="center")
     if cam.projection == "perspective":
         side = -0.35 * u  # the D dimension line, set off to the right of w
         ax.annotate(
@@ -162,12 +164,16 @@ def _draw_camera(ax: Axes, scene: LineScene, taken: Scan, annotate: bool) -> Non
             )
         )
         edge = math.radians(heading + cam.fov_angle / 2)
+        # the label beyond u's arrow, led to the arc's end: beside the arc it would lie on the
+        # rays or the u arrow
         ax.annotate(
             f"fov_angle = {cam.fov_angle:g}°",
-            e + 1.1 * radius * np.array([math.cos(edge), math.sin(edge)]),
-            fontsize=9,
-            ha="right",
+            e + radius * np.array([math.cos(edge), math.sin(edge)]),
+            xytext=e + 1.9 * u + 0.3 * w,
+            fontsize=10,
+            ha="center",
             va="bottom",
+            arrowprops=dict(arrowstyle="-", color="0.4", lw=0.7, shrinkA=1, shrinkB=1),
         )
 
 
@@ -320,7 +326,7 @@ def pixel_formulas(counts: tuple[int, ...] = (8, 7), ax: Axes | None = None) -> 
             label="u_i = i·2/N, i = 0, ±1, …, ±N/2 (the slide)" if row == 0 else None,
         )
         ax.text(
-            1.08, y, f"N = {n}: {n} centres, {len(slide)} slide positions", va="center", fontsize=9
+            1.08, y, f"N = {n}: {n} centres, {len(slide)} slide positions", va="center", fontsize=10
         )
     ax.axvline(-1, color="black", lw=1)
     ax.axvline(1, color="black", lw=1)
@@ -329,7 +335,7 @@ def pixel_formulas(counts: tuple[int, ...] = (8, 7), ax: Axes | None = None) -> 
     ax.set_yticks([])
     ax.set_xticks([-1, -0.5, 0, 0.5, 1])
     ax.set_xlabel("position on the image line (u)")
-    ax.legend(loc="upper left", fontsize=8, ncol=2, frameon=False)
+    ax.legend(loc="upper left", fontsize=10, ncol=2, frameon=False)
     for side in ("top", "right", "left"):
         ax.spines[side].set_visible(False)
     ax.set_title("the slide's second pixel formula against the pixel centres", fontsize=10)
@@ -361,10 +367,10 @@ def paths_of_light(
     hit = np.isfinite(hits.t)
     points = origins + np.where(hit, hits.t, 0.0)[:, None] * directions
     to_point = points - e
-    distance = np.linalg.norm(to_point, axis=1)
+    distance = length(to_point)
     with np.errstate(invalid="ignore", divide="ignore"):
         seen = trace(scene, np.broadcast_to(e, points.shape).copy(), to_point / distance[:, None])
-        inside = (to_point @ w) / distance >= math.cos(math.radians(camera.fov_angle) / 2)
+        inside = dot(to_point, w) / distance >= math.cos(math.radians(camera.fov_angle) / 2)
     arrives = hit & inside & (seen.index == hits.index)
     arrives &= np.abs(seen.t - distance) <= 1e-9 * (distance + 1)
     lower = np.minimum(e, np.asarray(light)) - 1.5

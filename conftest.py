@@ -1,0 +1,37 @@
+"""The test suite's two speeds (README, "Quick start"; CONTRIBUTING.md).
+
+``python -m pytest -m "not slow"`` is the quick suite a student runs while working: every test of
+the math, the renderer, the formats and the command line. ``python -m pytest`` is the full suite
+CI runs: it adds what takes seconds a test, marked ``slow`` here in one place:
+
+* the lecture notebooks, each run by nbval;
+* the grader's tests, each grading submissions in sandboxes;
+* the compiled engine's, which compile or load numba kernels;
+* commands run whole: the benchmarks, the committed pictures remade, outputs under other machines'
+  settings.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+SLOW_MODULES = {
+    "test_grading.py",
+    "test_grading_hostile.py",
+    "test_grading_isolation.py",
+    "test_grading_seeds.py",
+    "test_submission_shapes.py",
+    "test_compiled.py",
+    "test_benchmarks.py",
+    "test_reproducible.py",
+    "test_baselines.py",
+    "test_gallery.py",
+    "test_machine_independent.py",
+}
+
+
+def pytest_collection_modifyitems(config, items):
+    slow = pytest.mark.slow
+    for item in items:
+        if item.path.suffix == ".ipynb" or item.path.name in SLOW_MODULES:
+            item.add_marker(slow)

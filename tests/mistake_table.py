@@ -1,0 +1,25 @@
+"""Where each classic mistake of tests/mistaken_submissions.py must be named: the tests of the
+function it is made in (and of its callers that have array tests), and one render or scan that
+shows it."""
+
+NAMED_IN = {
+    "rows_flipped": ["3.2", "3.6"],
+    "u_v_swapped": ["3.1", "3.2", "3.6"],
+    "u_negated": ["3.2", "3.6"],
+    "fov_horizontal": ["3.2", "3.6"],
+    "aspect_ignored": ["3.2", "3.6"],
+    "pixel_corners": ["3.6", "3.8"],
+    "pixel_x_corners": ["1.1", "1.2", "1.3", "1.6", "1.7"],
+    "slide_second_formula": ["3.2", "3.6"],
+    "degrees_as_radians": ["3.2", "3.6"],
+    "far_root": ["2.3", "4.8"],
+    "textbook_discriminant": ["2.5"],
+    "texture_rows_flipped": ["3.5", "3.7"],
+    "behind_the_eye": ["2.1", "2.3", "3.9", "3.10"],
+    "t_zero_accepted": ["2.2"],
+    "normal_not_unit": ["4.1", "4.8"],
+    "light_reversed": ["4.2", "4.3", "4.8"],
+    "no_offset": ["4.7", "4.11"],
+    "reflect_sign": ["4.6", "4.10"],
+    "half_vector_not_unit": ["4.5", "4.8"],
+}
