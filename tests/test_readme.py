@@ -26,6 +26,10 @@ def test_quickstart_block_renders_then_runs_the_quick_tests():
     ]
 
 
+def test_full_suite_block_runs_every_test():
+    assert _block("full-suite") == ["python -m pytest"]
+
+
 def test_fast_lane_block_tests_the_compiled_engine():
     assert _block("fast-lane") == [
         'pip install -e ".[fast]" && python -m pytest tests/test_compiled.py tests/test_cli.py'
