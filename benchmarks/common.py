@@ -72,8 +72,7 @@ def medians_in_turns(timers: dict, repeats: int, warm: bool = False) -> dict:
     of 1,000 spheres at 1080p took 1.3 times as long, whatever they did. ``warm``: each timed
     call comes right after an untimed one of the same timer, so that it finds its data in the
     caches as it would in a run of its own (rendered in turns with sphereflake 6, whose arrays
-    fill the caches, sphereflake 4 took 5.1-5.5 ms without, 4.8-4.9 ms with: two sets of 27
-    rounds in one process)."""
+    fill the caches, sphereflake 4 took longer without the untimed call than with it)."""
     times: dict = {key: [] for key in timers}
     keys = list(timers)
     for round_ in range(repeats):

@@ -415,8 +415,8 @@ def growth(compiled_renders: dict, repeats: int) -> None:
     one render of the prepared scene). The render ratio is timed here with the table's two
     timers in turns, 3 x ``repeats`` rounds, each timed render right after an untimed one of
     the same scene (:func:`common.medians_in_turns`): in three runs of the table at commit 1bd1483,
-    sphereflake 4's median alone took 4.4, 5.5 and 7.8 ms, as the machine's other work came and
-    went, and the ratio of the rows 1.62 to 3.25."""
+    sphereflake 4's median alone, and with it the ratio of the rows, moved widely as the
+    machine's other work came and went."""
     names = {
         level: next(
             (name for name in compiled_renders if name.startswith(f"sphereflake {level}")), None

@@ -1,10 +1,10 @@
-"""Make the pictures in README.md and docs/ with raykit's own commands.
+"""Make the pictures of README.md and the docs pages with raykit's own commands.
 
     python docs/make_images.py [OUT_FOLDER]
 
-runs each ``raykit`` command below (the ones README shows, with ``docs/images/`` as the output
-folder) and writes into OUT_FOLDER (default: docs/images). The tests run it into a temporary
-folder and compare the results with the committed images.
+runs each ``raykit`` command below (the ones docs/rendering.md shows, with ``docs/images/`` as
+the output folder) and writes into OUT_FOLDER (default: docs/images). The tests run it into a
+temporary folder and compare the results with the committed images.
 """
 
 from __future__ import annotations

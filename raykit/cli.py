@@ -200,8 +200,8 @@ def _check_engine(engine: str) -> None:
 
 class _VersionAction(argparse.Action):
     """``--version``: print the installed version and exit. The version is looked up only when
-    asked: importlib.metadata costs every process about 20 ms, which argparse's own version
-    action would pay at each ``raykit render``."""
+    asked: importing importlib.metadata is slow, and argparse's own version action would pay
+    for it at each ``raykit render``."""
 
     def __init__(self, option_strings: Sequence[str], dest: str = argparse.SUPPRESS) -> None:
         super().__init__(

@@ -90,7 +90,7 @@ def _image_format(suffix: str) -> str | None:
     """Pillow's format name for a file suffix such as ".png", or None."""
     Image.preinit()  # the common formats, PNG among them, without importing every plugin
     if suffix not in Image.EXTENSION:
-        Image.init()  # all the others: this import costs about 25 ms
+        Image.init()  # all the others: importing every plugin is slow, so only when asked
     return Image.EXTENSION.get(suffix)
 
 

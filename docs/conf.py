@@ -1,0 +1,213 @@
+"""Sphinx configuration of raykit's documentation site.
+
+    pip install -e ".[docs]"
+    sphinx-build -W --keep-going -b html docs docs/_build/html
+
+The pages are Markdown (MyST), so they read the same on a repository host and on the site; the
+lecture notebooks are shown from their stored outputs (myst-nb, never executed here: nbval in
+the test suite is what runs them); the API reference is made from the docstrings.
+"""
+
+from __future__ import annotations
+
+import re
+import sys
+from pathlib import Path
+
+DOCS = Path(__file__).resolve().parent
+REPO = DOCS.parent
+sys.path.insert(0, str(REPO))  # raykit_grading and raykit from this clone, installed or not
+
+project = "raykit"
+author = "raykit developers"
+copyright = "2026, raykit developers"
+
+extensions = [
+    "myst_nb",  # Markdown pages (it brings myst-parser) and the notebooks
+    "sphinx.ext.autodoc",
+    "sphinx.ext.autosummary",
+    # napoleon, not numpydoc: the docstrings are prose with Sphinx roles and a few reST headings
+    # of their own ("Conventions ..."), rarely a "Parameters" section; napoleon turns the
+    # sections it knows and leaves the rest as it is, where numpydoc expects every docstring
+    # in its layout and warns (and so fails -W) on the others
+    "sphinx.ext.napoleon",
+    "sphinx.ext.mathjax",
+]
+
+# ---- sources -------------------------------------------------------------------------------
+exclude_patterns = ["_build", "**.ipynb_checkpoints"]
+# .rst first: autosummary writes its pages (api/generated/, git-ignored) with the first suffix
+source_suffix = {".rst": "restructuredtext", ".md": "myst-nb", ".ipynb": "myst-nb"}
+
+
+def _copy_notebooks() -> None:
+    """The notebooks stay in notebooks/, where nbval and Jupyter find them; the site shows copies
+    in docs/notebooks/ (git-ignored), rewritten only when a notebook changed, so that a second
+    build reads none of them again."""
+    copies = DOCS / "notebooks"
+    copies.mkdir(exist_ok=True)
+    for notebook in sorted((REPO / "notebooks").glob("*.ipynb")):
+        copy = copies / notebook.name
+        if not copy.exists() or copy.read_bytes() != notebook.read_bytes():
+            copy.write_bytes(notebook.read_bytes())
+    for copy in copies.glob("*.ipynb"):
+        if not (REPO / "notebooks" / copy.name).exists():
+            copy.unlink()
+
+
+_copy_notebooks()
+root_doc = "index"
+
+# commands are shown as typed: no "--" turned into a dash, no quotes curled
+smartquotes = False
+
+# ---- MyST and the notebooks ----------------------------------------------------------------
+myst_enable_extensions = ["colon_fence", "dollarmath", "deflist"]
+myst_heading_anchors = 3  # "page.md#a-heading" links, as a repository host makes them
+nb_execution_mode = "off"  # rendered from the outputs stored in the notebooks, no kernel, no pandoc
+nb_merge_streams = True
+
+# ---- API reference -------------------------------------------------------------------------
+autosummary_generate = True
+autosummary_imported_members = False
+autodoc_default_options = {"members": True, "show-inheritance": True}
+autodoc_member_order = "bysource"
+autodoc_typehints = "description"
+autodoc_typehints_format = "short"
+# numba is the optional compiled engine's: without it, raykit.engine.compiled is documented from
+# its source with numba mocked (njit and friends hand back the function they decorate);
+# _grading is what raykit_grading is called inside the starter kit, where selfcheck.py runs
+# as check.py
+autodoc_mock_imports = ["numba", "_grading"]
+napoleon_google_docstring = False
+napoleon_numpy_docstring = True
+
+# ---- links ---------------------------------------------------------------------------------
+# The links inside the site are checked by the html build itself: MyST resolves every Markdown
+# link (a page, a heading's anchor, a file, an image) and warns when it cannot, which -W turns
+# into a failure. "-b linkcheck" would add only the web, which it must not fetch here (CI has
+# no network, and another site's being up is not this repository's to test).
+linkcheck_ignore = [r"https?://.*"]
+
+# ---- look ----------------------------------------------------------------------------------
+html_theme = "pydata_sphinx_theme"
+html_title = "raykit"
+html_logo = None
+html_static_path: list[str] = []
+html_show_sourcelink = False
+html_theme_options = {
+    "navigation_with_keys": False,
+    "show_toc_level": 2,
+    "header_links_before_dropdown": 6,
+    # a search button, not a search field: the field pushed the menu onto a second line
+    "navbar_persistent": ["search-button"],
+    "secondary_sidebar_items": ["page-toc"],
+    "footer_start": ["copyright"],
+    "footer_end": [],
+}
+html_sidebars = {"index": [], "students": [], "instructors": [], "lecturers": []}
+
+
+# ---- pages written for a repository host, read by Sphinx -------------------------------------
+BENCHMARK_TITLE = re.compile(r"\A\s*#\s")
+
+
+PLOT_ARGUMENT = re.compile(r"--plot docs/benchmarks/([\w.-]+\.png)")
+
+
+def _benchmark_page(docname: str, text: str) -> str:
+    """A benchmark page is what a benchmark command printed. Some start with the command, not a
+    title: give those a title from their file name, so that the page has one in the site's
+    menus. Some name their plot (``--plot docs/benchmarks/X.png``, or X.png beside the page
+    with the page's name) without showing it: show it at the end."""
+    if not docname.startswith("benchmarks/"):
+        return text
+    stem = docname.removeprefix("benchmarks/")
+    if not BENCHMARK_TITLE.match(text):
+        text = f"# Benchmark: {stem.replace('_', ' ')}\n\n{text}"
+    plots = dict.fromkeys([*PLOT_ARGUMENT.findall(text), f"{stem}.png"])
+    for plot in plots:
+        if (DOCS / "benchmarks" / plot).exists() and f"]({plot})" not in text:
+            text += f"\n\n![the plot of this run: {plot}]({plot})\n"
+    return text
+
+
+def _notebook_links(docname: str, text: str) -> str:
+    """The notebooks link to pages and pictures as ``../docs/PAGE`` (from notebooks/ in the
+    repository); on the site they are in docs/notebooks/, where the same file is ``../PAGE``."""
+    if not docname.startswith("notebooks/"):
+        return text
+    return text.replace("](../docs/", "](../")
+
+
+def _source_read(app, docname: str, source: list[str]) -> None:
+    source[0] = _notebook_links(docname, _benchmark_page(docname, source[0]))
+
+
+# ---- docstrings written for help() and a terminal, read as reStructuredText ------------------
+LIST_ITEM = re.compile(r"^\s*([*-]|\d+\.|\(\w\))\s")
+UNDERLINE = re.compile(r"^([-=~^])\1{2,}$")
+
+
+def _indent(line: str) -> int:
+    return len(line) - len(line.lstrip())
+
+
+def _escape_bars(line: str) -> str:
+    """|v| is a length in the docstrings, not a reST substitution: escape the bars outside
+    ``literals``."""
+    parts = line.split("``")
+    return "``".join(p if k % 2 else p.replace("|", "\\|") for k, p in enumerate(parts))
+
+
+def docstring_as_written(lines: list[str]) -> list[str]:
+    """The docstrings set formulas and diagrams apart by indenting them after a blank line (as
+    in the slides), write |v| for a length, and underline a heading to the width of its source
+    text; reST would read those as a block quote (and trip over a diagram's own indents), a
+    substitution, and a short underline. Show such a block as written (a literal block), the bars
+    as bars, and the heading as a heading."""
+    out: list[str] = []
+    literal_indent: int | None = None  # inside a literal block: the indent of its paragraph
+    for line in lines:
+        blank = not line.strip()
+        if literal_indent is not None:
+            if blank or _indent(line) > literal_indent:
+                out.append(line)
+                continue
+            literal_indent = None
+        previous = out[-1] if out else ""
+        paragraph_end = next((j for j in range(len(out) - 1, -1, -1) if out[j].strip()), None)
+        after_blank = bool(out) and not out[-1].strip() and paragraph_end is not None
+        if not blank and after_blank and not LIST_ITEM.match(line):
+            last = out[paragraph_end]
+            start = paragraph_end
+            while start > 0 and out[start - 1].strip():
+                start -= 1
+            first = out[start]
+            item = LIST_ITEM.match(first)
+            content = item.end() if item and start == paragraph_end else _indent(last)
+            if (
+                _indent(line) > content
+                and not first.lstrip().startswith("..")
+                and not UNDERLINE.match(last.strip())
+            ):
+                if not last.rstrip().endswith("::"):
+                    out[paragraph_end] = last.rstrip() + " ::"
+                literal_indent = content
+                out.append(line)
+                continue
+        underline = UNDERLINE.match(line.strip()) and _indent(line) == _indent(previous)
+        if underline and previous.strip():
+            line = line.strip()[0] * max(len(line.strip()), len(previous.strip()))
+            line = " " * _indent(previous) + line
+        out.append(line if blank else _escape_bars(line))
+    return out
+
+
+def _process_docstring(app, what, name, obj, options, lines: list[str]) -> None:
+    lines[:] = docstring_as_written(lines)
+
+
+def setup(app):
+    app.connect("source-read", _source_read)
+    app.connect("autodoc-process-docstring", _process_docstring)
