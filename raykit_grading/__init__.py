@@ -1,18 +1,37 @@
 """raykit_grading: the instructor's autograder and the student starter kit for raykit.
 
-One module per verb, in the order a term uses them:
+``python -m raykit_grading --help`` lists the commands (:mod:`raykit_grading.__main__`). The
+modules, in the order a term uses them:
 
-* ``markers``, ``release``: the student release, built from the solution by replacing every
-  ``# BEGIN SOLUTION`` … ``# END SOLUTION`` region with a hint.
-* ``catalog``: the grading tests, per stage, with points and visibility.
-* ``sandbox``, ``child``: running a submission's code in a child process with limits, so that
-  it can only hand back arrays.
-* ``compare``, ``mistakes``: fair image comparison, and the classic mistakes that feedback can
-  name.
-* ``grade``, ``batch``: one submission to a Gradescope results.json; a folder of them to a CSV.
-* ``gradescope``: the autograder zip.
+The starter kit
+    * :mod:`~raykit_grading.markers`: the ``# BEGIN SOLUTION`` … ``# END SOLUTION`` regions.
+    * :mod:`~raykit_grading.release`: the student release, the solution with those regions
+      replaced by hints, and its practice tests.
+    * :mod:`~raykit_grading.cases`: one practice test on disk.
+    * :mod:`~raykit_grading.selfcheck`: the release's ``check.py``.
 
-``python -m raykit_grading --help`` lists the commands. It needs a clone of the course
-repository: the example scenes (``scenes/``) and the hidden ones (``grading-scenes/``) are not
-in any wheel.
+The tests
+    * :mod:`~raykit_grading.catalog`: the grading tests, per stage, with points and visibility.
+    * :mod:`~raykit_grading.seeds`: the assignment's secret seed, from which inputs are drawn.
+    * :mod:`~raykit_grading.mistakes`: the classic mistakes, made by the reference on purpose.
+    * :mod:`~raykit_grading.compare`: arrays within a tolerance, images fairly at silhouettes,
+      and the feedback shown for a failure.
+
+Running a submission
+    * :mod:`~raykit_grading.submissions`: taking a submission in, as plain files.
+    * :mod:`~raykit_grading.workspace`: the grader's own private temporary folder.
+    * :mod:`~raykit_grading.sandbox`: one task in a child process, its results taken back as
+      untrusted; which kind of sandbox is used.
+    * :mod:`~raykit_grading.isolation`: the bubblewrap sandbox, and the seccomp filter.
+    * :mod:`~raykit_grading.confine`: the sandbox without namespaces (chroot, own uid, Landlock).
+    * :mod:`~raykit_grading.child`: what runs inside the sandbox, and the tasks it can run.
+
+Grading
+    * :mod:`~raykit_grading.grade`: one submission, every test.
+    * :mod:`~raykit_grading.results`: Gradescope's results.json format.
+    * :mod:`~raykit_grading.batch`: a folder of submissions into a CSV.
+    * :mod:`~raykit_grading.autograder`: the Gradescope autograder zip.
+
+It needs a clone of the course repository: the example scenes (``scenes/``) and the hidden ones
+(``grading/hidden-scenes/``) are not in any wheel.
 """

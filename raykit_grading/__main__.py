@@ -139,7 +139,7 @@ def main(argv: list[str] | None = None) -> int:
             parser.error(f"{args.output} exists; give a new folder")
         build_release(args.output)
     elif args.command == "gradescope":
-        from raykit_grading.gradescope import build_zip
+        from raykit_grading.autograder import build_zip
 
         try:
             build_zip(args.output, seed_file=args.seed_file)

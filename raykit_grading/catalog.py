@@ -39,7 +39,7 @@ from raykit.rays import dot, length, normalize
 
 REPO = Path(__file__).resolve().parent.parent
 SCENES = REPO / "scenes"
-HIDDEN_SCENES = REPO / "grading-scenes"
+HIDDEN_SCENES = REPO / "grading" / "hidden-scenes"
 VISIBLE, HIDDEN = "visible", "after_due_date"
 RTOL, ATOL = 1e-6, 1e-9
 

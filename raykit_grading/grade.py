@@ -25,11 +25,8 @@ and message only, never a picture or what the code printed.
 
 from __future__ import annotations
 
-import base64
 import functools
-import io
 import json
-import os
 import sys
 import tempfile
 import time
@@ -45,19 +42,24 @@ from raykit_grading.compare import (
     DEFAULT_SCORING,
     Scoring,
     describe_inputs,
-    feedback_html,
     judge_arrays,
     judge_image,
 )
 from raykit_grading.isolation import IsolationUnavailable
 from raykit_grading.mistakes import MISTAKES
+from raykit_grading.results import (
+    html_output,
+    not_graded_results,
+    test_entry,
+    withheld,
+    write_results,
+)
 from raykit_grading.sandbox import Limits, Sandbox
 from raykit_grading.seeds import fingerprint, new_seed
 from raykit_grading.submissions import SubmissionError, stage
 from raykit_grading.workspace import Workspace
 
 TOTAL_SECONDS = 480.0  # what all of one submission's tests may take together
-OUTPUT_LIMIT = 4000  # characters of text per test (pictures come on top, as HTML)
 
 
 class GradingImpossible(RuntimeError):
@@ -87,7 +89,7 @@ def check_clone() -> None:
         if not folder.is_dir():
             raise GradingImpossible(
                 f"the grader needs a clone of the course repository ({folder} not found); "
-                "run it from a clone (pip install -e '.[grading]')"
+                "run it from a clone (pip install -e .)"
             )
 
 
@@ -135,7 +137,7 @@ def grade(
         except OSError as exc:  # a shape of folder the staging did not foresee: theirs
             package, problem = None, f"the submission could not be read: {exc.strerror}"
         if package is None:
-            results = [_result(t, 0.0, problem) for t in tests]
+            results = [test_entry(t, 0.0, problem) for t in tests]
         else:
             try:
                 sandbox = Sandbox(staged.root, workspace, options.child_python, options.limits)
@@ -151,7 +153,7 @@ def grade(
                 except Exception as exc:  # noqa: BLE001 - one test's failure stays its own
                     failures.append(f"{test.key}: {type(exc).__name__}: {exc}")
                     results.append(
-                        _result(
+                        test_entry(
                             test,
                             0.0,
                             "not graded: the autograder failed on this test (not your "
@@ -196,7 +198,7 @@ def _grade_one(
 ) -> dict:
     left = deadline - time.monotonic()
     if left <= 1:
-        return _result(
+        return test_entry(
             test,
             0.0,
             f"not run: all tests together may take {options.total_seconds:g} s, and your "
@@ -207,8 +209,8 @@ def _grade_one(
         test.task, spec, arrays, files, wall_seconds=min(options.limits.wall_seconds, left)
     )
     if ran.outputs is None:
-        problem = ran.problem if test.visibility == VISIBLE else _withheld(ran.problem)
-        return _result(test, 0.0, problem, ran.output)
+        problem = ran.problem if test.visibility == VISIBLE else withheld(ran.problem)
+        return test_entry(test, 0.0, problem, ran.output)
     if test.kind == "image":
         return _image_result(test, seed, ran.outputs, feedback, options.scoring, ran.output)
     want = expected(test.name, seed)
@@ -226,7 +228,7 @@ def _grade_one(
             hidden=test.visibility != VISIBLE,
         )
     score = test.points if verdict.share >= 1.0 else 0.0  # array tests: all or nothing
-    return _result(test, score, verdict.message, ran.output)
+    return test_entry(test, score, verdict.message, ran.output)
 
 
 # the student function each array task calls first, as the callee lines name it
@@ -302,11 +304,11 @@ def _image_result(
     rgb = got.get("rgb")
     if rgb is None or rgb.shape != want.shape:
         if test.visibility != VISIBLE:  # its shape is the code's choice: not shown
-            return _result(test, 0.0, "the image is not of the expected size (a hidden test)")
+            return test_entry(test, 0.0, "the image is not of the expected size (a hidden test)")
         shape = None if rgb is None else rgb.shape
-        return _result(test, 0.0, f"the image has shape {shape}, expected {want.shape}")
+        return test_entry(test, 0.0, f"the image has shape {shape}, expected {want.shape}")
     if not np.isfinite(rgb).all():
-        return _result(test, 0.0, "the image holds NaN or infinity")
+        return test_entry(test, 0.0, "the image holds NaN or infinity")
     mine = quantize(rgb)
     mistakes = (
         (
@@ -326,87 +328,11 @@ def _image_result(
         path = feedback / f"{test.key}.png"
         save_image(verdict.picture, path)
         message += f"\nfeedback picture (yours | expected | where they differ): {path.name}"
-    entry = _result(test, test.points * verdict.share, message, printed)
+    entry = test_entry(test, test.points * verdict.share, message, printed)
     if test.visibility == VISIBLE:  # hidden tests show nothing a student could copy
-        entry["output"] = _html(entry["output"], verdict.picture)
+        entry["output"] = html_output(entry["output"], verdict.picture)
         entry["output_format"] = "html"
     return entry
-
-
-# what a hidden test may say when the code failed to give results: the grader's own words
-# only (the code's error message, names and sizes could carry the test's inputs out)
-WITHHELD_KINDS = (
-    "not written yet",
-    "your code stopped with an error",
-    "your code used up its CPU time",
-    "your code wrote a file larger than allowed",
-    "your code was killed (too much memory or time?)",
-    "your code crashed",
-    "your code used more memory than allowed",
-    "returned something that is not plain arrays",
-)
-
-
-def _withheld(problem: str) -> str:
-    """A hidden test's problem in the grader's words only: what kind of failure, nothing the
-    code said or chose (names, sizes, its error message)."""
-    for kind in WITHHELD_KINDS:
-        if problem.startswith(kind):
-            return f"{kind} (a hidden test: details are not shown)"
-    if problem.startswith(("took longer than", "returned more than")):
-        return problem  # the grader's limits, in its own words
-    return "your code did not give results (a hidden test: details are not shown)"
-
-
-def _html(text: str, picture: np.ndarray | None) -> str:
-    """A test's output for Gradescope: :func:`feedback_html`, the picture inline."""
-    source = None
-    if picture is not None:
-        from PIL import Image
-
-        png = io.BytesIO()
-        Image.fromarray(picture).save(png, format="PNG", optimize=True)
-        source = "data:image/png;base64," + base64.b64encode(png.getvalue()).decode()
-    return feedback_html(text, source)
-
-
-def _result(test: GradingTest, score: float, message: str, output: str = "") -> dict:
-    if output.strip() and test.visibility == VISIBLE:  # a hidden test's data never shows
-        message = f"{message}\n--- your code printed ---\n{output}"
-    return {
-        "name": test.name,
-        "number": test.key,
-        "score": round(score, 4),
-        "max_score": test.points,
-        "output": message[:OUTPUT_LIMIT],
-        "visibility": test.visibility,
-        "status": "passed" if score >= test.points else "failed",
-    }
-
-
-def write_results(results: dict, path: Path) -> None:
-    """Write results.json whole or not at all."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    handle, temporary = tempfile.mkstemp(prefix=".results.", dir=path.parent)
-    with os.fdopen(handle, "w") as stream:
-        json.dump(results, stream, indent=2)
-    os.replace(temporary, path)
-
-
-def not_graded_results(why: str, tests: list[GradingTest] | None = None) -> dict:
-    """results.json for a run that could grade nothing: it says so on every test (and the
-    command exits non-zero); it is never a score the student earned."""
-    message = f"NOT GRADED: the autograder could not run here ({why}); ask your instructor"
-    return {
-        "score": 0,
-        "execution_time": 0,
-        "output": message,
-        "visibility": "visible",
-        "stdout_visibility": "hidden",
-        "extra_data": {"not_graded": [why]},
-        "tests": [_result(t, 0.0, message) for t in (tests or TESTS)],
-    }
 
 
 def grade_to_file(submission: Path, output: Path, **options) -> int:

@@ -45,7 +45,6 @@ import shutil
 import signal
 import struct
 import subprocess
-import sysconfig
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -363,7 +362,3 @@ def kill_uid(uid: int) -> None:
                 pass
         if not found:
             return
-
-
-def default_tmp() -> Path:
-    return Path(os.environ.get("TMPDIR") or sysconfig.get_config_var("TMPDIR") or "/tmp")

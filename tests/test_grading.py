@@ -344,14 +344,6 @@ def test_grading_command_line_refuses_bad_input_in_one_line(tmp_path, arguments,
     assert not (tmp_path / "out").exists() and not (tmp_path / "r.json").exists()
 
 
-def test_the_old_command_name_says_where_the_grader_went():
-    run = subprocess.run(
-        [sys.executable, "-m", "grading", "tests"], capture_output=True, text=True, cwd=REPO
-    )
-    assert run.returncode == 2
-    assert "python -m raykit_grading tests" in run.stderr
-
-
 def test_graded_draws_differ_from_the_public_ones_and_repeat_under_their_seed():
     for test in TESTS:
         public, graded = test.public_inputs(), test.graded_inputs(7)

@@ -47,9 +47,9 @@ import pytest
 from mistaken_submissions import make_submission
 
 from conftest import REPO
+from raykit_grading.autograder import build_zip
 from raykit_grading.catalog import TESTS
 from raykit_grading.confine import TREES
-from raykit_grading.gradescope import build_zip
 from raykit_grading.release import build_release
 
 pytestmark = pytest.mark.slow

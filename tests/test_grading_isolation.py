@@ -119,14 +119,14 @@ def test_setup_sh_pins_the_versions_the_references_are_made_with(tmp_path):
     import numpy
     import PIL
 
-    from raykit_grading.gradescope import build_zip
+    from raykit_grading.autograder import build_zip
 
     with zipfile.ZipFile(build_zip(tmp_path / "ag.zip")) as archive:
         setup = archive.read("setup.sh").decode()
         names = archive.namelist()
     assert f"numpy=={numpy.__version__}" in setup and f"Pillow=={PIL.__version__}" in setup
     assert "bubblewrap" in setup
-    assert "source/grading-scenes/odd.json" in names
+    assert "source/grading/hidden-scenes/odd.json" in names
     assert not any("__pycache__" in name for name in names)
 
 
@@ -374,7 +374,7 @@ def test_a_normal_user_without_user_namespaces_is_refused_in_one_line(tmp_path, 
 
 def test_setup_sh_builds_the_chroot_tree_the_sandbox_then_uses(tmp_path):
     """setup.sh's line builds the tree at image build time; a grading then finds it built."""
-    from raykit_grading.gradescope import build_zip
+    from raykit_grading.autograder import build_zip
     from raykit_grading.isolation import probe_python
     from raykit_grading.sandbox import Sandbox
 

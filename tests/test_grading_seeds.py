@@ -264,7 +264,7 @@ def test_batch_grades_every_student_under_one_seed_and_regrades_under_another(
 
 
 def test_the_zip_carries_the_seed_kept_beside_it_and_grades_under_it(tmp_path, child_python):
-    from raykit_grading.gradescope import build_zip
+    from raykit_grading.autograder import build_zip
 
     archive = build_zip(tmp_path / "autograder.zip")
     kept = tmp_path / "autograder.grading-seed"

@@ -10,7 +10,9 @@ from raykit.io.scene_json import load_scene, scene_from_dict
 from raykit.render import render
 from raykit.spheres import Sphere
 
-EXAMPLES = sorted(SCENES.glob("*.json")) + sorted((SCENES.parent / "grading-scenes").glob("*.json"))
+EXAMPLES = sorted(SCENES.glob("*.json")) + sorted(
+    (SCENES.parent / "grading/hidden-scenes").glob("*.json")
+)
 
 
 def _same(a, b) -> bool:

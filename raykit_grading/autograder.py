@@ -91,7 +91,7 @@ def build_zip(out: Path, seed_file: Path | None = None) -> Path:
         info = zipfile.ZipInfo("source/grading-seed")
         info.external_attr = 0o600 << 16  # and setup.sh closes source/ to root
         archive.writestr(info, f"{HEADER}{seed}\n")
-        for folder in ("raykit", "raykit_grading", "scenes", "grading-scenes"):
+        for folder in ("raykit", "raykit_grading", "scenes", "grading/hidden-scenes"):
             for path in sorted((REPO / folder).rglob("*")):
                 if path.is_file() and "__pycache__" not in path.parts:
                     archive.write(path, f"source/{path.relative_to(REPO)}")

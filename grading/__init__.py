@@ -1,1 +1,0 @@
-"""The old name of the grader; see ``raykit_grading``."""
