@@ -75,11 +75,12 @@ def cache_folder() -> Path | None:
     return None
 
 
-def marker(entry: str) -> Path | None:
+def marker(entry: str, folder: Path | None = None) -> Path | None:
     """The file that says ``entry``'s kernels (``trace_flat``: a flat scene's, ``trace_lit``: a
-    lit one's) are compiled and cached, which the compiled engine writes after the first render
-    that needed them; None without a cache folder."""
-    folder = cache_folder()
+    lit one's) are compiled and cached in ``folder`` (by default :func:`cache_folder`), which
+    the compiled engine writes after the first render that needed them; None without a cache
+    folder."""
+    folder = cache_folder() if folder is None else folder
     return None if folder is None else folder / f"{entry}.ok"
 
 
@@ -89,7 +90,7 @@ def entry_point(scene: Scene) -> str:
     return "trace_lit" if needs_shading(scene) else "trace_flat"
 
 
-def compiled_once(entry: str = "trace_flat") -> bool:
+def compiled_once(entry: str) -> bool:
     """Whether ``entry``'s kernels (:func:`marker`) are compiled and cached."""
     path = marker(entry)
     return path is not None and path.exists()

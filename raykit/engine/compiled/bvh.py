@@ -8,7 +8,7 @@ import math
 import numpy as np
 from numba import njit
 
-from raykit.engine.compiled.compiling import KERNEL, ONE_RAY
+from raykit.engine.compiled.compiling import MAKES_ARRAYS, ONE_RAY
 from raykit.engine.compiled.hits import offer
 
 STACK = 128  # nodes a ray may have still to visit: a median-split tree of 2^63 objects is 63 deep
@@ -35,7 +35,7 @@ def enters(o0, o1, o2, i0, i1, i2, lower, upper, node, t_max):
     return far >= near and far >= 0 and near <= t_max, near
 
 
-@njit(**KERNEL)
+@njit(**ONE_RAY)  # run once per shadow or mirror ray: inlined, as primary_ray
 def nearest_hit(arrays, tree, stack, o0, o1, o2, d0, d1, d2, t_max, any_blocker=False):
     """Repeats :func:`raykit.render.cast` for one ray, through the BVH: ``(index, t, r, g, b)``,
     the nearest opaque hit with t > 0 (the lower index on a tie), or (-1, inf, background).
@@ -107,7 +107,7 @@ def nearest_hit(arrays, tree, stack, o0, o1, o2, d0, d1, d2, t_max, any_blocker=
     return best, best_t, r, g, b
 
 
-@njit(**KERNEL)
+@njit(**MAKES_ARRAYS)
 def new_stack():
     """Room for :func:`nearest_hit`'s nodes still to visit: ``(nodes (STACK,), nears (STACK,))``."""
     return np.empty(STACK, dtype=np.int64), np.empty(STACK)

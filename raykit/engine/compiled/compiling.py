@@ -35,12 +35,15 @@ from raykit.engine.choice import cache_folder, marker
 
 CACHE = cache_folder()  # keyed on the package's source and where it is
 numba.config.CACHE_DIR = str(CACHE) if CACHE is not None else ""  # read as kernels are made
-# every kernel: cached on disk; x / 0 gives inf as numpy does; no GIL held while it runs
-KERNEL = dict(cache=CACHE is not None, error_model="numpy", nogil=True)
-# a small kernel run once per ray or per object a ray meets is inlined where it is called: a
-# call passes each array it is given with a reference count, which costs more than such a
-# kernel's arithmetic (measured: benchmarks/compile_time.py's renders against the engine that
-# inlined everything); the kernels that run once per ray and call others stay apart, so that
+# a kernel that makes arrays: cached on disk; x / 0 gives inf as numpy does; no GIL held
+MAKES_ARRAYS = dict(cache=CACHE is not None, error_model="numpy", nogil=True)
+# every other kernel: the same, without reference counts (numba's _nrt=False). It only reads
+# and writes arrays its caller holds, and counting each array in and out of every call, on
+# counters that both cores share, cost more than most kernels' arithmetic (measured, with
+# benchmarks/compile_time.py's renders against the engine of one inlined loop)
+KERNEL = dict(MAKES_ARRAYS, _nrt=False)
+# a small kernel run once per ray, or per object a ray meets, is inlined where it is called,
+# so that a loop of it becomes vector instructions; the larger kernels stay apart, so that
 # each compiles once
 ONE_RAY = dict(KERNEL, inline="always")
 SECONDS_TABLE = Path(__file__).with_name("compile_seconds.json")
@@ -145,6 +148,10 @@ def compile_clock(entry: str, show: bool = True):
 
 def finished(entry: str, seconds: float) -> None:
     """Mark ``entry``'s kernels compiled and cached (after its first render)."""
-    path = marker(entry)
-    if path is not None:
-        path.write_text(f"{seconds:.1f} s\n")
+    if CACHE is not None:
+        marker(entry, CACHE).write_text(f"{seconds:.1f} s\n")
+
+
+def marked(entry: str) -> bool:
+    """Whether ``entry``'s kernels are marked compiled and cached (:func:`finished`)."""
+    return CACHE is not None and marker(entry, CACHE).exists()

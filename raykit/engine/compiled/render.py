@@ -19,10 +19,16 @@ from numba.extending import intrinsic
 
 from raykit.camera import centre_sample, sample_offsets
 from raykit.engine.adaptive import edge_pixels, refine
-from raykit.engine.choice import compiled_once
 from raykit.engine.compiled.bvh import nearest_hit, new_stack
 from raykit.engine.compiled.camera import camera_tuple
-from raykit.engine.compiled.compiling import KERNEL, ONE_RAY, compile_clock, finished
+from raykit.engine.compiled.compiling import (
+    KERNEL,
+    MAKES_ARRAYS,
+    ONE_RAY,
+    compile_clock,
+    finished,
+    marked,
+)
 from raykit.engine.compiled.mirrors import bounce_on
 from raykit.engine.compiled.scene import (
     _NO_TREE,
@@ -65,7 +71,7 @@ def take(typingctx, taken, count):
     return types.int64(taken, types.int64), codegen
 
 
-@njit(parallel=True, **KERNEL)
+@njit(parallel=True, **MAKES_ARRAYS)
 def cast_rays(arrays, tree, origins, directions, t_max):
     """:func:`nearest_hit` for each ray ``(N, 3)``: ``index (N,)``, ``t (N,)``, ``color (N, 3)``."""
     count = len(origins)
@@ -164,7 +170,7 @@ def pixel_means(points, first, rows, top, left, across, width, xs, ys, samples, 
             index[p], t[p] = best[i], best_t[i]
 
 
-@njit(**KERNEL)
+@njit(**MAKES_ARRAYS)
 def ray_room(n):
     """Room for a job's ``n`` rays, as the tuple ``(xy, rays, best, best_t, colors, made,
     alive, ts, holding)``: each ray's image point ``xy (2, n)``, origin and direction ``rays
@@ -178,7 +184,7 @@ def ray_room(n):
             np.empty(n), np.empty(HOLDING_CHUNK, dtype=np.int64))  # fmt: skip
 
 
-@njit(**KERNEL)
+@njit(**MAKES_ARRAYS)
 def shading_room(n, lights):
     """Room for shading a job's ``n`` rays, as the tuple ``(stack, box, candidates, counts,
     volume, lanes)``: a tree walk's ``stack`` (:func:`new_stack`), the ``box (2, 3)`` of the
@@ -191,7 +197,7 @@ def shading_room(n, lights):
             new_lanes(n))  # fmt: skip
 
 
-@njit(parallel=True, **KERNEL)
+@njit(parallel=True, **MAKES_ARRAYS)
 def trace_flat(arrays, tiles, camera, width, height, jobs, workers, xs, ys, offsets, centre,
                empty, rgb, index, t):  # fmt: skip
     """The lecture's loop for a flat scene: for each pixel, per sample offset ``offsets (S, 2)``
@@ -271,7 +277,7 @@ def flat_job(arrays, tiles, camera, width, xs, ys, offsets, centre, rgb, index, 
                 best, best_t, rgb, index, t)  # fmt: skip
 
 
-@njit(parallel=True, **KERNEL)
+@njit(parallel=True, **MAKES_ARRAYS)
 def trace_lit(arrays, tiles, tree, lights, camera, width, height, jobs, workers, xs, ys, offsets,
               centre, empty, rgb, index, t):  # fmt: skip
     """:func:`trace_flat` for a shaded scene (:func:`raykit.shading.needs_shading`), with its
@@ -474,10 +480,10 @@ _READY: set[str] = set()  # entry points compiled or loaded from the cache in th
 
 def _call(entry, *arguments) -> None:
     """``entry(*arguments)``; the first time in a process whose cache has no marker for it
-    (:func:`raykit.engine.choice.compiled_once`), with the progress line of its compile
+    (:func:`~raykit.engine.compiled.compiling.marked`), with the progress line of its compile
     (:func:`~raykit.engine.compiled.compiling.compile_clock`), and then the marker."""
     name = entry.__name__
-    if name in _READY or compiled_once(name):
+    if name in _READY or marked(name):
         entry(*arguments)
     else:
         started = time.perf_counter()

@@ -11,7 +11,7 @@ from numba import njit
 
 from raykit.engine.compiled.billboards import billboard_color, hit_billboard
 from raykit.engine.compiled.bvh import nearest_hit
-from raykit.engine.compiled.compiling import KERNEL, ONE_RAY
+from raykit.engine.compiled.compiling import KERNEL, MAKES_ARRAYS, ONE_RAY
 from raykit.engine.compiled.lights import toward_point_light
 from raykit.engine.compiled.shadows import point_light_reach
 from raykit.engine.compiled.spheres import hit_sphere
@@ -35,7 +35,7 @@ def highlight(n0, n1, n2, l0, l1, l2, d0, d1, d2, p):
     return (n_dot_h if n_dot_h > 0 else 0.0) ** p
 
 
-@njit(**KERNEL)
+@njit(**ONE_RAY)  # run once per shadow or mirror ray: inlined, as primary_ray
 def surface_color(
     arrays, tree, lights, stack, hit, p0, p1, p2, n0, n1, n2, d0, d1, d2, error, r, g, b
 ):
@@ -83,7 +83,7 @@ def surface_color(
     return total0, total1, total2
 
 
-@njit(**KERNEL)
+@njit(**MAKES_ARRAYS)
 def new_lanes(count):
     """Room for shading ``count`` viewing rays in lanes (:func:`surface_lanes`,
     :func:`light_lanes`), each a column, as the tuple ``(p, n, error, k, total, l, n_dot_l, s,

@@ -10,7 +10,7 @@ import numpy as np
 from numba import njit
 
 from raykit.engine.compiled.camera import viewing_ray
-from raykit.engine.compiled.compiling import KERNEL
+from raykit.engine.compiled.compiling import KERNEL, MAKES_ARRAYS, ONE_RAY
 from raykit.engine.compiled.hits import offer
 from raykit.engine.compiled.scene import Arrays
 from raykit.engine.compiled.spheres import hit_sphere
@@ -18,7 +18,7 @@ from raykit.engine.screen_bounds import scene_bounds
 from raykit.scene import Scene
 
 
-@njit(**KERNEL)
+@njit(**MAKES_ARRAYS)
 def bin_by_tile(bounds, closest, by_distance, tiles_x, tiles_y, size):
     """Each tile's objects, for primary rays: the objects ``by_distance (K,)`` (nearest first)
     whose screen rectangle ``bounds (K, 4)`` (x0, x1, y0, y1; NaN: never seen,
@@ -76,7 +76,7 @@ class Tiles(NamedTuple):
 HOLDING_CHUNK = 8  # entries of a tile's list that primary_ray checks at a time
 
 
-@njit(**KERNEL)
+@njit(**ONE_RAY)  # run once per ray: inlined, as a call passes a hundred numbers
 def primary_ray(arrays, tiles, camera, x, y, tile, holding):
     """:func:`nearest_hit` for the viewing ray through image point (x, y), from the list of its
     tile (:func:`screen_tiles`; -1: the tile is found from x and y): only the objects whose
