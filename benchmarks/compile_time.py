@@ -1,20 +1,23 @@
 """What the compiled engine's first use costs, and its renders against the engine it replaced.
 
-    python benchmarks/compile_time.py [--quick] [--repeats N] [--before REV] [--before-compile]
+    python benchmarks/compile_time.py [--quick] [--compiles N] [--repeats N] [--before REV]
+        [--before-compile]
 
 1. The first use from an empty cache: whole processes of `raykit render SCENE -o OUT.png
    --engine compiled` on scenes/classic.json (flat) and scenes/classic_lit.json (lit), each
    with a new empty cache folder (RAYKIT_CACHE_DIR), taken in turns: wall time, CPU time (the
    process's user + system seconds: what the compile costs where no neighbour takes a core)
    and peak memory (its largest resident set, from os.wait4). Then the same render again from
-   the cache it left. Each kernel's own compile seconds in those runs (its callees' not
-   counted; numba's compile events) go to raykit/engine/compiled/compile_seconds.json, which
-   the progress line reads while it compiles (not with --quick).
+   the cache it left; --compiles rounds of each (median). Each kernel's own compile seconds in
+   those runs (its callees' not counted; numba's compile events) go to
+   raykit/engine/compiled/compile_seconds.json, which the progress line reads while it
+   compiles (not with --quick).
 2. With --before REV: the compiled engine as it was at git revision REV (one module,
    raykit/engine/compiled.py), loaded from its own cache folder (the first run compiles it),
    and this one, each rendering every example scene and the benchmark scenes prepared, in
-   turns in one process: medians and their ratio. With --before-compile, also REV's first
-   compile of classic.json from an empty cache, as in 1.
+   turns in one process: medians of --repeats renders and their ratio, on every core, then on
+   one (which a neighbour's work on the other core slows less). With --before-compile,
+   also REV's first compile of classic.json from an empty cache, as in 1.
 
 Needs numba (`pip install -e ".[fast]"`).
 """
@@ -140,6 +143,7 @@ def before_engine(revision: str):
 
 def before_and_after(revision: str, repeats: int, quick: bool) -> None:
     """Part 2: prepared renders, this engine and ``revision``'s, in turns in one process."""
+    import numba
     from engines import benchmark_scenes
 
     from raykit.engine import compiled
@@ -154,21 +158,37 @@ def before_and_after(revision: str, repeats: int, quick: bool) -> None:
     }
     for (engine, _), each in prepared.items():
         engines[engine].render(each)  # loads (or compiles) the kernels
-    took = interleaved_medians(
-        {key: (lambda e=engines[key[0]], p=each: e.render(p)) for key, each in prepared.items()},
-        repeats,
-        warm=True,
-    )
+    cores = numba.get_num_threads()
+    took = {}
+    for threads in sorted({cores, 1}, reverse=True):  # one thread: a busy neighbour on one core
+        numba.set_num_threads(threads)  # holds up no render of it
+        took[threads] = interleaved_medians(
+            {
+                key: (lambda e=engines[key[0]], p=each: e.render(p))
+                for key, each in prepared.items()
+            },
+            repeats,
+            warm=True,
+        )
+    numba.set_num_threads(cores)
     print(f"\n2. prepared renders, median of {repeats} in turns in one process\n")
-    print(f"| scene | compiled engine at {revision} | now | now / {revision} |")
-    print("|---|---|---|---|")
+    print(
+        "| scene | "
+        + " | ".join(f"at {revision}, {n} thread(s) | now | now / {revision}" for n in took)
+        + " |"
+    )
+    print("|---|" + "---|---|---|" * len(took))
     for name in scenes:
-        old, new = took[("before", name)], took[("now", name)]
-        print(f"| {name} | {seconds(old, 1)} | {seconds(new, 1)} | {new / old:.2f} |")
+        cells = []
+        for figures in took.values():
+            old, new = figures[("before", name)], figures[("now", name)]
+            cells += [seconds(old, 1), seconds(new, 1), f"{new / old:.2f}"]
+        print(f"| {name} | " + " | ".join(cells) + " |")
 
 
 def main() -> None:
-    parser = arguments(__doc__, "one round of first uses, the example scenes only", repeats=3)
+    parser = arguments(__doc__, "one round of first uses, the example scenes only", repeats=9)
+    parser.add_argument("--compiles", type=int, default=3, help="first uses per scene (median)")
     parser.add_argument("--before", metavar="REV", help="time REV's compiled engine besides")
     parser.add_argument(
         "--before-compile", action="store_true", help="and REV's first compile (minutes)"
@@ -181,7 +201,7 @@ def main() -> None:
 
     print(f"on {multiprocessing.cpu_count()} cores\n")
     with tempfile.TemporaryDirectory() as folder:
-        rounds = 1 if args.quick else args.repeats
+        rounds = 1 if args.quick else args.compiles
         medians, table = first_use(rounds, Path(folder))
         if args.before and args.before_compile:
             code = (

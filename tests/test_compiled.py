@@ -808,10 +808,10 @@ def test_a_second_copy_of_the_same_source_gets_its_own_cache_folder(tmp_path, mo
     monkeypatch.setattr(choice, "COMPILED_SOURCE", one)
     first = choice.cache_folder()
     choice.marker("trace_flat").write_text("20.0 s\n")  # as the first copy's first render leaves it
-    assert choice.compiled_once()
+    assert choice.compiled_once("trace_flat")
     monkeypatch.setattr(choice, "COMPILED_SOURCE", two)
     assert choice.cache_folder() != first
-    assert not choice.compiled_once()
+    assert not choice.compiled_once("trace_flat")
 
 
 def test_an_edited_kernel_is_compiled_again_not_served_from_the_cache(tmp_path):
@@ -829,6 +829,8 @@ def test_an_edited_kernel_is_compiled_again_not_served_from_the_cache(tmp_path):
     first = _run(code, cwd=tmp_path, **env)
     assert first.returncode == 0, first.stderr
     assert "compiling raykit's fast kernels, once" in first.stderr
+    # the progress line names the kernels it compiles: a flat scene's, and no shading
+    assert "trace_flat" in first.stderr and "light_lanes" not in first.stderr
     again = _run(code, cwd=tmp_path, **env)
     assert "compiling" not in again.stderr and again.stdout == first.stdout  # served cached
     stat = kernel.stat()

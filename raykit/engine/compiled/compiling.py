@@ -97,7 +97,7 @@ class CompileClock(event.Listener):
         """The innermost of the package's kernels being compiled, on the progress line."""
         names = [name for name, _, _ in self.open if name is not None]
         if self.bar is not None and names:
-            self.bar.set_postfix_str(names[-1], refresh=True)
+            self.bar.set_description_str(f"{MESSAGE}: {names[-1]}", refresh=True)
 
 
 def _kernel_name(ev) -> str | None:
@@ -110,13 +110,13 @@ def _kernel_name(ev) -> str | None:
 def _progress_line(total: float):
     from tqdm import tqdm
 
-    known = "{desc}: {percentage:3.0f}%|{bar:20}| {postfix} [{elapsed}, ~{remaining} left]"
+    known = "{desc} {percentage:3.0f}%|{bar:20}| [{elapsed}, ~{remaining} left]"
     return tqdm(  # with no table of seconds: what it compiles, and how long so far
         total=round(total, 1) if total > 0 else None,
         desc=MESSAGE,
         unit="s",
         file=sys.stderr,
-        bar_format=known if total > 0 else "{desc}: {postfix} [{elapsed}]",
+        bar_format=known if total > 0 else "{desc} [{elapsed}]",
         leave=True,
     )
 
