@@ -35,7 +35,7 @@ def enters(o0, o1, o2, i0, i1, i2, lower, upper, node, t_max):
     return far >= near and far >= 0 and near <= t_max, near
 
 
-@njit(**ONE_RAY)  # run once per shadow or mirror ray: inlined, as primary_ray
+@njit(**ONE_RAY)
 def nearest_hit(arrays, tree, stack, o0, o1, o2, d0, d1, d2, t_max, any_blocker=False):
     """Repeats :func:`raykit.render.cast` for one ray, through the BVH: ``(index, t, r, g, b)``,
     the nearest opaque hit with t > 0 (the lower index on a tie), or (-1, inf, background).

@@ -1,10 +1,11 @@
 """How the kernels are compiled: numba's options, the cache on disk, and the progress line.
 
-Repeats no reference module: this is the machinery the others share. Every kernel is its own
-numba function (``@njit(**KERNEL)``), compiled the first time a render needs it, with the
-kernels it calls, each once, and cached on disk by itself. So a flat scene compiles only the
-flat scene's kernels (:func:`raykit.engine.compiled.render.trace_flat` names no shading
-kernel), and a lit scene adds its own.
+Repeats no reference module: this is the machinery the others share. A kernel run once per job
+or per tile is its own numba function (``@njit(**KERNEL)``), compiled the first time a render
+needs it, with the kernels it calls, each once, and cached on disk by itself; a kernel run once
+per ray (``ONE_RAY``) is inlined into those. So a flat scene compiles only the flat scene's
+kernels (:func:`raykit.engine.compiled.render.trace_flat` names no shading kernel), and a lit
+scene adds its own.
 
 The cache lives in a folder named after a hash of the package's sources and its folder
 (:func:`raykit.engine.choice.cache_folder`): editing a kernel makes a new folder, so no kernel
@@ -12,7 +13,8 @@ compiled from older source is ever served (numba keeps no account of which kerne
 kernel calls). numba writes each kernel's files whole (a temporary file, then a rename), so
 a compile stopped part way, by Ctrl-C or otherwise, leaves the kernels it finished, usable,
 and the next run compiles the rest. A marker per entry point (:func:`finished`) says that one
-render compiled everything it needs: :func:`raykit.engine.choice.compiled_once` reads it.
+render compiled everything it needs: :func:`marked` and
+:func:`raykit.engine.choice.compiled_once` read it.
 
 While a render compiles, a progress line names the kernel at hand and how much is left, by
 the seconds each kernel took when ``python benchmarks/compile_time.py`` last measured them
@@ -42,9 +44,10 @@ MAKES_ARRAYS = dict(cache=CACHE is not None, error_model="numpy", nogil=True)
 # counters that both cores share, cost more than most kernels' arithmetic (measured, with
 # benchmarks/compile_time.py's renders against the engine of one inlined loop)
 KERNEL = dict(MAKES_ARRAYS, _nrt=False)
-# a small kernel run once per ray, or per object a ray meets, is inlined where it is called,
-# so that a loop of it becomes vector instructions; the larger kernels stay apart, so that
-# each compiles once
+# a kernel run once per ray, or per object a ray meets, is inlined where it is called: a call
+# passes the scene's arrays as a hundred numbers or more, more work than such a kernel does,
+# and inlined, a loop of it becomes vector instructions; the kernels run once per job stay
+# apart, so that each compiles once
 ONE_RAY = dict(KERNEL, inline="always")
 SECONDS_TABLE = Path(__file__).with_name("compile_seconds.json")
 MESSAGE = "compiling raykit's fast kernels, once"

@@ -13,7 +13,7 @@ from raykit.engine.compiled.surfaces import surface_point
 from raykit.surfaces import OFFSET_FACTOR
 
 
-@njit(**ONE_RAY)  # run once per ray that meets a mirror: inlined, as primary_ray
+@njit(**ONE_RAY)
 def bounce_on(arrays, tree, lights, stack, depth, hit, p0, p1, p2, n0, n1, n2, d0, d1, d2, error,
               c0, c1, c2, w0, w1, w2):  # fmt: skip
     """The rest of :func:`shade_ray` after the surface at ``depth`` (object ``hit`` at p, normal

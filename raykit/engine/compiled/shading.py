@@ -35,7 +35,7 @@ def highlight(n0, n1, n2, l0, l1, l2, d0, d1, d2, p):
     return (n_dot_h if n_dot_h > 0 else 0.0) ** p
 
 
-@njit(**ONE_RAY)  # run once per shadow or mirror ray: inlined, as primary_ray
+@njit(**ONE_RAY)
 def surface_color(
     arrays, tree, lights, stack, hit, p0, p1, p2, n0, n1, n2, d0, d1, d2, error, r, g, b
 ):

@@ -76,7 +76,7 @@ class Tiles(NamedTuple):
 HOLDING_CHUNK = 8  # entries of a tile's list that primary_ray checks at a time
 
 
-@njit(**ONE_RAY)  # run once per ray: inlined, as a call passes a hundred numbers
+@njit(**ONE_RAY)
 def primary_ray(arrays, tiles, camera, x, y, tile, holding):
     """:func:`nearest_hit` for the viewing ray through image point (x, y), from the list of its
     tile (:func:`screen_tiles`; -1: the tile is found from x and y): only the objects whose
