@@ -183,7 +183,7 @@ def _engine_option(parser: argparse.ArgumentParser, what: str) -> None:
         help=f"{what}: numpy, compiled (the same picture, faster; "
         + (
             "needs 'pip install \"raykit[fast]\"')"
-            if (Path(__file__).parent / "engine" / "compiled.py").exists()
+            if (Path(__file__).parent / "engine" / "compiled").exists()
             else "not in the starter kit)"
         )
         + ", or auto, compiled only where it pays (default)",

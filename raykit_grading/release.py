@@ -140,7 +140,7 @@ def _lecture_order(function: str) -> int:
 
 
 # the compiled engine repeats the solutions in machine code: students render with their own
-NOT_RELEASED = {REPO / "raykit/engine/compiled.py"}
+NOT_RELEASED = {REPO / "raykit/engine/compiled"}  # the package, and all in it
 
 
 def build_release(out: Path) -> list[str]:
@@ -150,7 +150,7 @@ def build_release(out: Path) -> list[str]:
         raise FileExistsError(f"{out} exists; give a new folder")
     stubbed: list[str] = []
     for source in sorted((REPO / "raykit").rglob("*")):
-        if "__pycache__" in source.parts or source.is_dir() or source in NOT_RELEASED:
+        if "__pycache__" in source.parts or source.is_dir() or NOT_RELEASED & {*source.parents}:
             continue
         target = out / source.relative_to(REPO)
         target.parent.mkdir(parents=True, exist_ok=True)

@@ -11,7 +11,7 @@ import pytest
 from conftest import REPO
 
 # a benchmark's process may first compile the compiled engine's kernels (raykit[fast] installed,
-# nothing of this source cached): over three minutes here, then seconds
+# nothing of this source cached; how long: docs/benchmarks/compile_time.md), then load them
 TIMEOUT = 1200
 
 
@@ -305,3 +305,13 @@ def test_tile_sides_benchmark_marks_the_side_the_compiled_engine_chooses():
         cells = row.strip("| ").split(" | ")[1:]
         assert len(cells) == 8 and all("ms" in cell for cell in cells)
         assert sum(cell.endswith("*") for cell in cells) == 1  # tile_side's choice, once
+
+
+def test_compile_time_times_a_flat_and_a_lit_first_use_from_an_empty_cache():
+    pytest.importorskip("numba")
+    rows = _table_rows("compile_time.py")
+    assert [row.split(" | ")[:2] for row in rows] == [
+        ["| classic", "empty"], ["| classic", "cached"],
+        ["| classic_lit", "empty"], ["| classic_lit", "cached"],
+    ]  # fmt: skip
+    assert all(row.endswith(" MB |") for row in rows)  # each with its peak memory

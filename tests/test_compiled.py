@@ -586,8 +586,8 @@ def test_a_ray_reading_its_list_in_chunks_offers_what_a_scan_entry_by_entry_offe
             return obj, t_of[obj], r, g, b
         return best, best_t, r, g, b
 
-    monkeypatch.setattr(compiled, "offer", recording_offer)
-    monkeypatch.setattr(compiled, "viewing_ray", lambda camera, x, y: (0.0,) * 6)
+    monkeypatch.setattr(compiled.tiles, "offer", recording_offer)  # primary_ray's own module
+    monkeypatch.setattr(compiled.tiles, "viewing_ray", lambda camera, x, y: (0.0,) * 6)
     arrays = compiled.Arrays._make([np.zeros(3)] * len(compiled.Arrays._fields))
     chunk = compiled.HOLDING_CHUNK
     for length in [0, 1, chunk - 1, chunk, chunk + 1, 2 * chunk, 2 * chunk + 1, 5 * chunk + 3]:
@@ -723,10 +723,13 @@ def test_auto_keeps_small_renders_on_numpy_and_an_unknown_engine_is_refused():
 def test_auto_takes_the_compiled_engine_for_large_work_once_it_is_compiled(monkeypatch):
     scene = load_scene(SCENES / "classic.json")
     big = replace(scene, camera=replace(scene.camera, width=1920, height=1080))
-    monkeypatch.setattr(choice, "compiled_once", lambda: True)
+    monkeypatch.setattr(choice, "compiled_once", lambda entry: entry == "trace_flat")
     assert choice.choose("auto", big, samples=3) == "compiled"
     assert choice.choose("auto", big, samples=3, dtype=np.float32) == "numpy"
-    monkeypatch.setattr(choice, "compiled_once", lambda: False)  # a first compile costs more
+    lit = load_scene(SCENES / "classic_lit.json")
+    lit = replace(lit, camera=replace(lit.camera, width=1920, height=1080))
+    assert choice.choose("auto", lit, samples=3) == "numpy"  # its kernels are not compiled yet
+    monkeypatch.setattr(choice, "compiled_once", lambda entry: False)  # a first compile costs more
     assert choice.choose("auto", big, samples=3) == "numpy"
 
 
@@ -777,11 +780,14 @@ def test_small_renders_never_import_numba():
 
 
 def test_cache_folder_is_keyed_on_the_engines_source(tmp_path, monkeypatch):
+    import shutil
+
     monkeypatch.setenv("RAYKIT_CACHE_DIR", str(tmp_path))
-    source = tmp_path / "compiled.py"
-    source.write_text(choice.COMPILED_SOURCE.read_text())
-    monkeypatch.setattr(choice, "COMPILED_SOURCE", source)
+    package = tmp_path / "compiled"
+    shutil.copytree(choice.COMPILED_SOURCE, package, ignore=shutil.ignore_patterns("__py*"))
+    monkeypatch.setattr(choice, "COMPILED_SOURCE", package)
     before = choice.cache_folder()
+    source = package / "spheres.py"  # a kernel that the others call
     text = source.read_text()
     edited = text.replace("if not discriminant >= 0:", "if not discriminant >= 9:")
     assert edited != text
@@ -793,18 +799,19 @@ def test_cache_folder_is_keyed_on_the_engines_source(tmp_path, monkeypatch):
 def test_a_second_copy_of_the_same_source_gets_its_own_cache_folder(tmp_path, monkeypatch):
     # numba keeps each source folder's kernels apart, so a second copy (another checkout, a
     # reinstall elsewhere) compiles again: it must say so, and auto must not count on a cache
+    import shutil
+
     monkeypatch.setenv("RAYKIT_CACHE_DIR", str(tmp_path / "cache"))
-    one, two = tmp_path / "one" / "compiled.py", tmp_path / "two" / "compiled.py"
-    for source in (one, two):
-        source.parent.mkdir()
-        source.write_bytes(choice.COMPILED_SOURCE.read_bytes())
+    one, two = tmp_path / "one" / "compiled", tmp_path / "two" / "compiled"
+    for package in (one, two):
+        shutil.copytree(choice.COMPILED_SOURCE, package, ignore=shutil.ignore_patterns("__py*"))
     monkeypatch.setattr(choice, "COMPILED_SOURCE", one)
     first = choice.cache_folder()
-    (first / "compiled.ok").write_text("200.0 s\n")  # as the first copy's first render leaves it
-    assert choice.compiled_once()
+    choice.marker("trace_flat").write_text("20.0 s\n")  # as the first copy's first render leaves it
+    assert choice.compiled_once("trace_flat")
     monkeypatch.setattr(choice, "COMPILED_SOURCE", two)
     assert choice.cache_folder() != first
-    assert not choice.compiled_once()
+    assert not choice.compiled_once("trace_flat")
 
 
 def test_an_edited_kernel_is_compiled_again_not_served_from_the_cache(tmp_path):
@@ -812,7 +819,7 @@ def test_an_edited_kernel_is_compiled_again_not_served_from_the_cache(tmp_path):
     import shutil
 
     shutil.copytree(REPO / "raykit", tmp_path / "raykit", ignore=shutil.ignore_patterns("__py*"))
-    kernel = tmp_path / "raykit/engine/compiled.py"
+    kernel = tmp_path / "raykit/engine/compiled/spheres.py"
     code = (
         "from raykit.io.scene_json import load_scene; from raykit.render import render\n"
         f"scene = load_scene({str(SCENES / 'classic.json')!r})\n"
@@ -822,6 +829,8 @@ def test_an_edited_kernel_is_compiled_again_not_served_from_the_cache(tmp_path):
     first = _run(code, cwd=tmp_path, **env)
     assert first.returncode == 0, first.stderr
     assert "compiling raykit's fast kernels, once" in first.stderr
+    # the progress line names the kernels it compiles: a flat scene's, and no shading
+    assert "trace_flat" in first.stderr and "light_lanes" not in first.stderr
     again = _run(code, cwd=tmp_path, **env)
     assert "compiling" not in again.stderr and again.stdout == first.stdout  # served cached
     stat = kernel.stat()
@@ -835,6 +844,38 @@ def test_an_edited_kernel_is_compiled_again_not_served_from_the_cache(tmp_path):
     assert int(third.stdout) < int(first.stdout)  # the edit shows: fewer spheres are hit
 
 
+def test_ctrl_c_during_the_first_compile_leaves_a_cache_the_next_run_renders_right_from(tmp_path):
+    """numba writes each kernel's cache files whole; the marker comes only after a render."""
+    import signal
+    import time
+
+    code = (
+        "from raykit.io.scene_json import load_scene; from raykit.render import render\n"
+        f"scene = load_scene({str(SCENES / 'classic.json')!r})\n"
+        "print((render(scene, engine='compiled').object_index >= 0).sum())\n"
+    )
+    cache = tmp_path / "cache"
+    env = {**os.environ, "RAYKIT_CACHE_DIR": str(cache)}
+    child = subprocess.Popen(
+        [sys.executable, "-c", code], cwd=REPO, env=env, stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE, text=True,
+    )  # fmt: skip
+    deadline = time.monotonic() + 300
+    while not list(cache.rglob("*.nbi")) and time.monotonic() < deadline:  # a kernel cached
+        time.sleep(0.05)
+    child.send_signal(signal.SIGINT)
+    _, stderr = child.communicate(timeout=300)
+    assert child.returncode != 0, "the compile finished before it was interrupted"
+    assert "KeyboardInterrupt" in stderr
+    assert list(cache.rglob("*.nbi")) and not list(cache.rglob("*.ok"))
+    again = _run(code, RAYKIT_CACHE_DIR=str(cache))
+    assert again.returncode == 0, again.stderr
+    assert "compiling raykit's fast kernels, once" in again.stderr  # what was not cached
+    expected = (render(load_scene(SCENES / "classic.json")).object_index >= 0).sum()
+    assert int(again.stdout) == expected
+    assert [path.name for path in cache.rglob("*.ok")] == ["trace_flat.ok"]
+
+
 def test_a_wrong_submission_still_renders_wrong_with_numba_installed(tmp_path, child_python):
     """The grader runs the student's own numpy functions: the compiled engine never stands in."""
     from mistaken_submissions import make_submission
@@ -842,7 +883,7 @@ def test_a_wrong_submission_still_renders_wrong_with_numba_installed(tmp_path, c
     from raykit_grading.grade import Options, grade
 
     submission = make_submission(tmp_path, "rows_flipped")
-    assert (submission / "raykit/engine/compiled.py").exists()  # even with it in the package
+    assert (submission / "raykit/engine/compiled/spheres.py").exists()  # even with it there
     results = grade(submission, options=Options(child_python), names=["3.6"])
     (test,) = results["tests"]
     assert test["score"] == 0, test
@@ -852,5 +893,5 @@ def test_the_starter_kit_ships_no_compiled_engine(tmp_path):
     from raykit_grading.release import build_release
 
     build_release(tmp_path / "kit")
-    assert not (tmp_path / "kit/raykit/engine/compiled.py").exists()
+    assert not (tmp_path / "kit/raykit/engine/compiled").exists()
     assert (tmp_path / "kit/raykit/engine/choice.py").exists()

@@ -3,10 +3,11 @@
 ``engine="numpy"`` is the lecture's loop over numpy arrays (:func:`raykit.render.render`), and
 always there. ``engine="compiled"`` needs numba (``pip install "raykit[fast]"``) and renders the
 same bits in machine code. ``engine="auto"`` (the default) takes the compiled engine only when
-the whole process is faster with it: numba is installed, its kernels are already compiled and
-cached (a first compile takes longer than most renders), the render is float64, and the numpy
-engine would take longer than loading numba and the kernels costs (``AUTO_FROM``, measured by
-``raykit bench``). So a small render never pays for numba, and nothing here imports it.
+the whole process is faster with it: numba is installed, the kernels the scene needs are
+already compiled and cached (a first compile takes longer than most renders), the render is
+float64, and the numpy engine would take longer than loading numba and the kernels costs
+(``AUTO_FROM``, measured by ``raykit bench``). So a small render never pays for numba, and
+nothing here imports it.
 """
 
 from __future__ import annotations
@@ -29,7 +30,7 @@ STARTER_KIT = (
     "functions, --engine numpy (what auto picks here); for a quicker look, make the picture "
     "smaller (the camera's width and height in the scene file)"
 )
-COMPILED_SOURCE = Path(__file__).with_name("compiled.py")
+COMPILED_SOURCE = Path(__file__).with_name("compiled")  # the package of kernels
 # The numpy engine's time per ray, flat and shaded, and what loading numba and the cached
 # kernels costs a process: measured on the 2-core machine by benchmarks/engines.py
 # (`raykit bench` prints them again on yours)
@@ -57,16 +58,17 @@ def compiled_available() -> bool:
 def cache_folder() -> Path | None:
     """Where numba keeps the compiled kernels: ``$RAYKIT_CACHE_DIR``, else ``$XDG_CACHE_HOME``
     or ``~/.cache``, else the temporary folder, under ``raykit/numba-<hash of the compiled
-    engine's source and its folder>``: the first of them that can be written, so a read-only
+    engine's sources and its folder>``: the first of them that can be written, so a read-only
     install still caches. Editing a kernel makes a new folder, so no kernel compiled from older
-    source is ever loaded. The folder counts too because numba keeps the kernels of each source
-    folder apart: a second copy of raykit compiles its own, and must find no ``compiled.ok``
-    saying it need not (:func:`compiled_once`). None when no folder can be written (the kernels
-    then compile in every process)."""
-    source = (
-        COMPILED_SOURCE.read_bytes() + os.path.dirname(os.path.abspath(COMPILED_SOURCE)).encode()
-    )
-    key = hashlib.sha256(source).hexdigest()[:16]
+    source is ever loaded (numba checks a kernel's own file, not the files of the kernels it
+    calls). The folder counts too because numba keeps the kernels of each source folder apart:
+    a second copy of raykit compiles its own, and must find no marker saying it need not
+    (:func:`compiled_once`). None when no folder can be written (the kernels then compile in
+    every process)."""
+    digest = hashlib.sha256(os.path.abspath(COMPILED_SOURCE).encode())
+    for source in sorted(COMPILED_SOURCE.glob("*.py")):
+        digest.update(source.name.encode() + b"\0" + source.read_bytes())
+    key = digest.hexdigest()[:16]
     bases = [
         os.environ.get("RAYKIT_CACHE_DIR"),
         os.environ.get("XDG_CACHE_HOME"),
@@ -85,11 +87,25 @@ def cache_folder() -> Path | None:
     return None
 
 
-def compiled_once() -> bool:
-    """Whether the kernels of this source are compiled and cached (a marker the compiled engine
-    writes after its first render)."""
-    folder = cache_folder()
-    return folder is not None and (folder / "compiled.ok").exists()
+def marker(entry: str, folder: Path | None = None) -> Path | None:
+    """The file that says ``entry``'s kernels (``trace_flat``: a flat scene's, ``trace_lit``: a
+    lit one's) are compiled and cached in ``folder`` (by default :func:`cache_folder`), which
+    the compiled engine writes after the first render that needed them; None without a cache
+    folder."""
+    folder = cache_folder() if folder is None else folder
+    return None if folder is None else folder / f"{entry}.ok"
+
+
+def entry_point(scene: Scene) -> str:
+    """The compiled engine's entry point that renders ``scene``: a lit scene's kernels, or a
+    flat one's only."""
+    return "trace_lit" if needs_shading(scene) else "trace_flat"
+
+
+def compiled_once(entry: str) -> bool:
+    """Whether ``entry``'s kernels (:func:`marker`) are compiled and cached."""
+    path = marker(entry)
+    return path is not None and path.exists()
 
 
 def numpy_seconds(scene: Scene, samples: int) -> float:
@@ -113,5 +129,5 @@ def choose(engine: str, scene: Scene, samples: int = 1, dtype: type = np.float64
         if dtype != np.float64:
             raise ValueError("the compiled engine renders in float64 only; use engine='numpy'")
         return "compiled"
-    fast = compiled_available() and dtype == np.float64 and compiled_once()
+    fast = compiled_available() and dtype == np.float64 and compiled_once(entry_point(scene))
     return "compiled" if fast and numpy_seconds(scene, samples) >= AUTO_FROM else "numpy"

@@ -1,0 +1,243 @@
+"""What the compiled engine's first use costs, and its renders against the engine it replaced.
+
+    python benchmarks/compile_time.py [--quick] [--compiles N] [--repeats N] [--before REV]
+        [--before-compile]
+
+1. The first use from an empty cache: whole processes of `raykit render SCENE -o OUT.png
+   --engine compiled` on scenes/classic.json (flat) and scenes/classic_lit.json (lit), each
+   with a new empty cache folder (RAYKIT_CACHE_DIR), taken in turns: wall time, CPU time (the
+   process's user + system seconds: what the compile costs where no neighbour takes a core)
+   and peak memory (its largest resident set, from os.wait4). Then the same render again from
+   the cache it left; --compiles rounds of each (median). Each kernel's own compile seconds in
+   those runs (its callees' not counted; numba's compile events) go to
+   raykit/engine/compiled/compile_seconds.json, which the progress line reads while it
+   compiles (not with --quick).
+2. With --before REV: the compiled engine as it was at git revision REV (one module,
+   raykit/engine/compiled.py), loaded from its own cache folder (the first run compiles it),
+   and this one, each rendering every example scene and the benchmark scenes prepared, in
+   turns in one process: medians of --repeats renders and their ratio, on every core, then on
+   one (which a neighbour's work on the other core slows less). With --before-compile,
+   also REV's first compile of classic.json from an empty cache, as in 1.
+
+Needs numba (`pip install -e ".[fast]"`).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib.util
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+
+from common import arguments, interleaved_medians, parse, seconds  # noqa: E402
+
+from raykit.engine import choice  # noqa: E402
+
+REPO = HERE.parent
+SCENES = REPO / "scenes"
+FIRST_USE = {"classic": "trace_flat", "classic_lit": "trace_lit"}  # scene: its entry point
+
+# a child's render, with each kernel's own compile seconds written to the file given
+_CHILD = """
+import json, sys
+from raykit.cli import main
+from raykit.engine.compiled.compiling import compile_clock
+with compile_clock({entry!r}, show=False) as clock:
+    status = main(["render", {scene!r}, "-o", {out!r}, "--engine", "compiled"])
+open({seconds!r}, "w").write(json.dumps(clock.own))
+sys.exit(status)
+"""
+
+
+def run_child(code: str, **env) -> dict:
+    """Run ``python -c code`` and wait for it: its wall seconds, CPU seconds (user + system)
+    and peak resident memory in MB, from the kernel's account of that one process."""
+    started = time.perf_counter()
+    child = subprocess.Popen(
+        [sys.executable, "-c", code],
+        cwd=REPO,
+        env={**os.environ, **env},
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+    )
+    stderr = child.stderr.read()
+    _, status, usage = os.wait4(child.pid, 0)
+    wall = time.perf_counter() - started
+    child.returncode = os.waitstatus_to_exitcode(status)
+    if child.returncode != 0:
+        raise SystemExit(f"a child failed:\n{stderr.decode()[-2000:]}")
+    return {
+        "wall": wall,
+        "cpu": usage.ru_utime + usage.ru_stime,
+        "peak_mb": usage.ru_maxrss / 1024,  # Linux gives kilobytes
+    }
+
+
+def first_use(repeats: int, folder: Path) -> tuple[dict, dict]:
+    """Part 1: per scene, the medians of its first use and of a run from the cache it left;
+    and each entry point's kernels' own compile seconds (median per kernel)."""
+    runs: dict = {(name, when): [] for name in FIRST_USE for when in ("empty", "cached")}
+    own: dict = {entry: {} for entry in FIRST_USE.values()}
+    for round_ in range(repeats):
+        names = list(FIRST_USE) if round_ % 2 == 0 else list(FIRST_USE)[::-1]
+        for name in names:
+            cache = folder / f"cache-{name}-{round_}"
+            spent = folder / f"seconds-{name}-{round_}.json"
+            code = _CHILD.format(
+                entry=FIRST_USE[name],
+                scene=str(SCENES / f"{name}.json"),
+                out=str(folder / f"{name}.png"),
+                seconds=str(spent),
+            )
+            runs[(name, "empty")].append(run_child(code, RAYKIT_CACHE_DIR=str(cache)))
+            for kernel, took in json.loads(spent.read_text()).items():
+                own[FIRST_USE[name]].setdefault(kernel, []).append(took)
+            runs[(name, "cached")].append(run_child(code, RAYKIT_CACHE_DIR=str(cache)))
+    medians = {
+        key: {figure: statistics.median(run[figure] for run in values) for figure in values[0]}
+        for key, values in runs.items()
+    }
+    table = {
+        entry: {kernel: round(statistics.median(spent), 2) for kernel, spent in kernels.items()}
+        for entry, kernels in own.items()
+    }
+    return medians, table
+
+
+def before_engine(revision: str):
+    """The compiled engine as it was at git ``revision`` (one module), imported under the name
+    raykit_compiled_before, with its own cache folder under ~/.cache/raykit (keyed on its
+    source, so that it compiles once, then loads)."""
+    source = subprocess.run(
+        ["git", "show", f"{revision}:raykit/engine/compiled.py"],
+        cwd=REPO,
+        check=True,
+        capture_output=True,
+        text=True,
+    ).stdout
+    key = hashlib.sha256(source.encode()).hexdigest()[:12]
+    folder = Path(os.path.expanduser("~/.cache")) / "raykit" / f"before-{key}"
+    folder.mkdir(parents=True, exist_ok=True)
+    cache = os.environ.get("RAYKIT_BEFORE_CACHE", str(folder))  # --before-compile: a new one
+    source = source.replace(
+        "_CACHE = cache_folder()", f"_CACHE = __import__('pathlib').Path({cache!r})"
+    )
+    path = folder / "raykit_compiled_before.py"
+    if not path.exists() or path.read_text() != source:  # numba's cache keys on the file's time
+        path.write_text(source)
+    spec = importlib.util.spec_from_file_location("raykit_compiled_before", path)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+def before_and_after(revision: str, repeats: int, quick: bool) -> None:
+    """Part 2: prepared renders, this engine and ``revision``'s, in turns in one process."""
+    import numba
+    from engines import benchmark_scenes
+
+    from raykit.engine import compiled
+
+    before = before_engine(revision)
+    scenes = benchmark_scenes(quick)
+    engines = {"before": before, "now": compiled}
+    prepared = {
+        (engine, name): module.prepare(scene)
+        for engine, module in engines.items()
+        for name, scene in scenes.items()
+    }
+    for (engine, _), each in prepared.items():
+        engines[engine].render(each)  # loads (or compiles) the kernels
+    cores = numba.get_num_threads()
+    took = {}
+    for threads in sorted({cores, 1}, reverse=True):  # one thread: a busy neighbour on one core
+        numba.set_num_threads(threads)  # holds up no render of it
+        took[threads] = interleaved_medians(
+            {
+                key: (lambda e=engines[key[0]], p=each: e.render(p))
+                for key, each in prepared.items()
+            },
+            repeats,
+            warm=True,
+        )
+    numba.set_num_threads(cores)
+    print(f"\n2. prepared renders, median of {repeats} in turns in one process\n")
+    print(
+        "| scene | "
+        + " | ".join(f"at {revision}, {n} thread(s) | now | now / {revision}" for n in took)
+        + " |"
+    )
+    print("|---|" + "---|---|---|" * len(took))
+    for name in scenes:
+        cells = []
+        for figures in took.values():
+            old, new = figures[("before", name)], figures[("now", name)]
+            cells += [seconds(old, 1), seconds(new, 1), f"{new / old:.2f}"]
+        print(f"| {name} | " + " | ".join(cells) + " |")
+
+
+def main() -> None:
+    parser = arguments(__doc__, "one round of first uses, the example scenes only", repeats=9)
+    parser.add_argument("--compiles", type=int, default=3, help="first uses per scene (median)")
+    parser.add_argument("--before", metavar="REV", help="time REV's compiled engine besides")
+    parser.add_argument(
+        "--before-compile", action="store_true", help="and REV's first compile (minutes)"
+    )
+    args = parse(parser)
+    if not choice.compiled_available():
+        print('numba is not installed (pip install -e ".[fast]"): nothing to time.')
+        return
+    import multiprocessing
+
+    print(f"on {multiprocessing.cpu_count()} cores\n")
+    with tempfile.TemporaryDirectory() as folder:
+        rounds = 1 if args.quick else args.compiles
+        medians, table = first_use(rounds, Path(folder))
+        if args.before and args.before_compile:
+            code = (
+                f"import sys; sys.path.insert(0, {str(HERE)!r})\n"
+                "from compile_time import before_engine\n"
+                "from raykit.io.scene_json import load_scene\n"
+                f"scene = load_scene({str(SCENES / 'classic.json')!r})\n"
+                f"before_engine({args.before!r}).render(scene)\n"
+            )
+            cache = str(Path(folder) / "before-cache")
+            medians[("classic", f"empty, at {args.before}")] = run_child(
+                code, RAYKIT_BEFORE_CACHE=cache
+            )
+    print(f"1. raykit render SCENE --engine compiled, whole processes, median of {rounds}\n")
+    print("| scene | cache | wall time | CPU time | peak memory |")
+    print("|---|---|---|---|---|")
+    for (name, when), figures in medians.items():
+        print(
+            f"| {name} | {when} | {figures['wall']:.1f} s | {figures['cpu']:.1f} s "
+            f"| {figures['peak_mb']:.0f} MB |"
+        )
+    for entry, kernels in table.items():
+        slowest = sorted(kernels.items(), key=lambda item: -item[1])[:5]
+        listed = ", ".join(f"{kernel} {took:.1f} s" for kernel, took in slowest)
+        print(
+            f"\n{entry}: {len(kernels)} kernels, {sum(kernels.values()):.1f} s of compile; "
+            f"the slowest: {listed}."
+        )
+    if not args.quick:
+        from raykit.engine.compiled.compiling import SECONDS_TABLE
+
+        SECONDS_TABLE.write_text(json.dumps(table, indent=1) + "\n")
+        print(f"\nwrote {SECONDS_TABLE.relative_to(REPO)}")
+    if args.before:
+        before_and_after(args.before, args.repeats, args.quick)
+
+
+if __name__ == "__main__":
+    main()

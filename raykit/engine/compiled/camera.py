@@ -1,0 +1,42 @@
+"""Repeats :mod:`raykit.camera` for one image point: its viewing ray, from the camera's
+numbers as plain floats."""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from raykit.engine.compiled.compiling import ONE_RAY
+from raykit.scene import Scene
+
+
+@njit(**ONE_RAY)
+def viewing_ray(camera, x, y):
+    """Repeats :func:`raykit.camera.rays_through` for one image point (x, y): ``(o0, o1, o2,
+    d0, d1, d2)``. ``camera`` is the eye e, u, v, w, then -Wp/2, Wp/width, Hp/2, Hp/height, d
+    and whether it is orthographic (1.0) or not (0.0), as 18 numbers: :func:`camera_tuple`."""
+    e0, e1, e2, u0, u1, u2, v0, v1, v2, w0, w1, w2, left, across, top, down, d, ortho = camera
+    s = left + x * across
+    t = top - y * down
+    p0 = s * u0 + t * v0
+    p1 = s * u1 + t * v1
+    p2 = s * u2 + t * v2
+    if ortho != 0:  # orthographic: origin e + s·u + t·v, direction -w
+        return e0 + p0, e1 + p1, e2 + p2, -w0, -w1, -w2
+    x0 = p0 - d * w0
+    x1 = p1 - d * w1
+    x2 = p2 - d * w2
+    length = math.sqrt(x0 * x0 + x1 * x1 + x2 * x2)
+    return e0, e1, e2, x0 / length, x1 / length, x2 / length
+
+
+def camera_tuple(scene: Scene) -> tuple:
+    """The camera's numbers as :func:`rays_through` computes them, as plain floats (a tuple of
+    numbers, not arrays, so that a loop of :func:`viewing_ray` keeps them in registers)."""
+    camera = scene.camera
+    u, v, w = camera.frame
+    Wp, Hp = camera.plane_size
+    plane = (-Wp / 2, Wp / camera.width, Hp / 2, Hp / camera.height, camera.d,
+             float(camera.projection == "orthographic"))  # fmt: skip
+    return tuple(float(x) for x in (*camera.eye, *u, *v, *w, *plane))

@@ -1,0 +1,160 @@
+"""How the kernels are compiled: numba's options, the cache on disk, and the progress line.
+
+Repeats no reference module: this is the machinery the others share. A kernel run once per job
+or per tile is its own numba function (``@njit(**KERNEL)``), compiled the first time a render
+needs it, with the kernels it calls, each once, and cached on disk by itself; a kernel run once
+per ray (``ONE_RAY``) is inlined into those. So a flat scene compiles only the flat scene's
+kernels (:func:`raykit.engine.compiled.render.trace_flat` names no shading kernel), and a lit
+scene adds its own.
+
+The cache lives in a folder named after a hash of the package's sources and its folder
+(:func:`raykit.engine.choice.cache_folder`): editing a kernel makes a new folder, so no kernel
+compiled from older source is ever served (numba keeps no account of which kernels a cached
+kernel calls). numba writes each kernel's files whole (a temporary file, then a rename), so
+a compile stopped part way, by Ctrl-C or otherwise, leaves the kernels it finished, usable,
+and the next run compiles the rest. A marker per entry point (:func:`finished`) says that one
+render compiled everything it needs: :func:`marked` and
+:func:`raykit.engine.choice.compiled_once` read it.
+
+While a render compiles, a progress line names the kernel at hand and how much is left, by
+the seconds each kernel took when ``python benchmarks/compile_time.py`` last measured them
+(``compile_seconds.json``, written by that command), scaled to this machine's pace so far.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+import threading
+import time
+from contextlib import contextmanager
+from pathlib import Path
+
+import numba
+from numba.core import event
+
+from raykit.engine.choice import cache_folder, marker
+
+CACHE = cache_folder()  # keyed on the package's source and where it is
+numba.config.CACHE_DIR = str(CACHE) if CACHE is not None else ""  # read as kernels are made
+# a kernel that makes arrays: cached on disk; x / 0 gives inf as numpy does; no GIL held
+MAKES_ARRAYS = dict(cache=CACHE is not None, error_model="numpy", nogil=True)
+# every other kernel: the same, without reference counts (numba's _nrt=False). It only reads
+# and writes arrays its caller holds, and counting each array in and out of every call, on
+# counters that both cores share, cost more than most kernels' arithmetic (measured, with
+# benchmarks/compile_time.py's renders against the engine of one inlined loop)
+KERNEL = dict(MAKES_ARRAYS, _nrt=False)
+# a kernel run once per ray, or per object a ray meets, is inlined where it is called: a call
+# passes the scene's arrays as a hundred numbers or more, more work than such a kernel does,
+# and inlined, a loop of it becomes vector instructions; the kernels run once per job stay
+# apart, so that each compiles once
+ONE_RAY = dict(KERNEL, inline="always")
+SECONDS_TABLE = Path(__file__).with_name("compile_seconds.json")
+MESSAGE = "compiling raykit's fast kernels, once"
+
+
+def measured_seconds() -> dict[str, dict[str, float]]:
+    """Per entry point (``trace_flat``, ``trace_lit``), the seconds each kernel's own compile
+    took (its callees' not counted) when benchmarks/compile_time.py last ran; empty if no
+    table."""
+    try:
+        return json.loads(SECONDS_TABLE.read_text())
+    except (OSError, ValueError):
+        return {}
+
+
+class CompileClock(event.Listener):
+    """Listens to numba's compile events: each kernel's own compile seconds (``own``, by
+    name), and a progress line on standard error from the first compile on (``bar``), moved
+    on by each kernel's measured seconds (:func:`measured_seconds`) as it finishes."""
+
+    def __init__(self, entry: str, show: bool):
+        self.expected = measured_seconds().get(entry, {})
+        self.show = show
+        self.own: dict[str, float] = {}
+        self.open: list[list] = []  # [name, started, seconds of its callees' compiles]
+        self.bar = None
+        self.done = 0.0
+
+    def on_start(self, ev) -> None:
+        name = _kernel_name(ev)
+        if self.show and self.bar is None:
+            self.bar = _progress_line(sum(self.expected.values()))
+        self.open.append([name, time.perf_counter(), 0.0])
+        self._show()
+
+    def on_end(self, ev) -> None:
+        name, started, inner = self.open.pop()
+        took = time.perf_counter() - started
+        if name is None:  # a helper of numba's: its time is its caller's own
+            took = inner
+        else:
+            self.own[name] = self.own.get(name, 0.0) + took - inner
+        if self.open:
+            self.open[-1][2] += took
+        if self.bar is not None and name is not None:
+            self.bar.update(self.expected.get(name, 0.0))
+        self._show()
+
+    def _show(self) -> None:
+        """The innermost of the package's kernels being compiled, on the progress line."""
+        names = [name for name, _, _ in self.open if name is not None]
+        if self.bar is not None and names:
+            self.bar.set_description_str(f"{MESSAGE}: {names[-1]}", refresh=True)
+
+
+def _kernel_name(ev) -> str | None:
+    """The kernel a compile event is about, or None for numba's own helpers (which it compiles
+    for a kernel that uses them: their seconds count as that kernel's)."""
+    function = ev.data["dispatcher"].py_func
+    return function.__name__ if function.__module__.startswith(__package__) else None
+
+
+def _progress_line(total: float):
+    from tqdm import tqdm
+
+    known = "{desc} {percentage:3.0f}%|{bar:20}| [{elapsed}, ~{remaining} left]"
+    return tqdm(  # with no table of seconds: what it compiles, and how long so far
+        total=round(total, 1) if total > 0 else None,
+        desc=MESSAGE,
+        unit="s",
+        file=sys.stderr,
+        bar_format=known if total > 0 else "{desc} [{elapsed}]",
+        leave=True,
+    )
+
+
+@contextmanager
+def compile_clock(entry: str, show: bool = True):
+    """Around a call that may compile: the :class:`CompileClock` of ``entry`` listening to
+    numba, with a thread that redraws the progress line each second (numba's compiles leave
+    Python for long stretches of LLVM, where no event comes)."""
+    clock = CompileClock(entry, show)
+    stop = threading.Event()
+
+    def redraw():
+        while not stop.wait(1.0):
+            if clock.bar is not None:
+                clock.bar.refresh()
+
+    ticker = threading.Thread(target=redraw, daemon=True)
+    ticker.start()
+    try:
+        with event.install_listener("numba:compile", clock):
+            yield clock
+    finally:
+        stop.set()
+        ticker.join()
+        if clock.bar is not None:
+            clock.bar.close()
+
+
+def finished(entry: str, seconds: float) -> None:
+    """Mark ``entry``'s kernels compiled and cached (after its first render)."""
+    if CACHE is not None:
+        marker(entry, CACHE).write_text(f"{seconds:.1f} s\n")
+
+
+def marked(entry: str) -> bool:
+    """Whether ``entry``'s kernels are marked compiled and cached (:func:`finished`)."""
+    return CACHE is not None and marker(entry, CACHE).exists()

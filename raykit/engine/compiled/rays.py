@@ -1,0 +1,30 @@
+"""Repeats :mod:`raykit.rays` for one ray: the nearer positive root."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from raykit.engine.compiled.compiling import ONE_RAY
+
+
+@njit(**ONE_RAY)
+def nearest_positive(t0: float, t1: float) -> float:
+    """Repeats :func:`raykit.rays.nearest_positive` for one ray (np.fmin/np.fmax ignore a NaN
+    partner, as here)."""
+    if math.isnan(t0):
+        t_near = t1
+        t_far = t1
+    elif math.isnan(t1):
+        t_near = t0
+        t_far = t0
+    else:
+        t_near = min(t0, t1)
+        t_far = max(t0, t1)
+    if t_near > 0:
+        return t_near
+    if t_far > 0:
+        return t_far
+    return np.inf

@@ -1,0 +1,493 @@
+"""Repeats :func:`raykit.render.render` and :mod:`raykit.engine.regions`: the lecture's loop
+over pixels, as jobs (a screen tile's pixels, or a row of points) that both cores take in turn,
+with :func:`trace_flat` for a flat scene and :func:`trace_lit` for a shaded one (two entry
+points, so that a flat scene never compiles shading); and :func:`raykit.render.cast` for any
+rays (:func:`cast_rays`, :func:`caster`). :func:`prepare` makes a scene ready once, and
+:func:`render` renders it."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from typing import NamedTuple
+
+import numba
+import numpy as np
+from numba import njit, prange
+from numba.core import types
+from numba.extending import intrinsic
+
+from raykit.camera import centre_sample, sample_offsets
+from raykit.engine.adaptive import edge_pixels, refine
+from raykit.engine.compiled.bvh import nearest_hit, new_stack
+from raykit.engine.compiled.camera import camera_tuple
+from raykit.engine.compiled.compiling import (
+    KERNEL,
+    MAKES_ARRAYS,
+    ONE_RAY,
+    compile_clock,
+    finished,
+    marked,
+)
+from raykit.engine.compiled.mirrors import bounce_on
+from raykit.engine.compiled.scene import (
+    _NO_TREE,
+    Arrays,
+    Lights,
+    Tree,
+    scene_arrays,
+    scene_lights,
+    scene_tree,
+)
+from raykit.engine.compiled.shading import light_lanes, new_lanes, surface_lanes
+from raykit.engine.compiled.shadows import SHADOW_CANDIDATES, shadow_lists
+from raykit.engine.compiled.tiles import (
+    HOLDING_CHUNK,
+    Tiles,
+    primary_ray,
+    primary_rays,
+    screen_tiles,
+)
+from raykit.engine.tiles import regions
+from raykit.hits import Hits
+from raykit.scene import Scene
+from raykit.surfaces import OFFSET_FACTOR
+
+ROWS_PER_CALL = 32  # rows of pixels per kernel call when a progress bar is to move
+CHUNK = 256  # rays or pixels per parallel step: many per core, and one stack each
+GRAINS_PER_WORKER = 16  # takes of jobs per core: few enough that taking costs nothing, and
+# many enough that a core slowed by other work leaves little for the other to wait on
+
+
+@intrinsic
+def take(typingctx, taken, count):
+    """Atomically add ``count`` to ``taken[0]`` and return its value before: the first of the
+    ``count`` jobs a worker takes (numba offers no atomic add on the CPU)."""
+
+    def codegen(context, builder, signature, args):
+        counter = context.make_array(signature.args[0])(context, builder, args[0])
+        return builder.atomic_rmw("add", counter.data, args[1], "monotonic")
+
+    return types.int64(taken, types.int64), codegen
+
+
+@njit(parallel=True, **MAKES_ARRAYS)
+def cast_rays(arrays, tree, origins, directions, t_max):
+    """:func:`nearest_hit` for each ray ``(N, 3)``: ``index (N,)``, ``t (N,)``, ``color (N, 3)``."""
+    count = len(origins)
+    index = np.empty(count, dtype=np.int64)
+    t = np.empty(count)
+    color = np.empty((count, 3))
+    for chunk in prange((count + CHUNK - 1) // CHUNK):
+        stack = new_stack()
+        for i in range(chunk * CHUNK, min(count, (chunk + 1) * CHUNK)):
+            o, d = origins[i], directions[i]
+            index[i], t[i], color[i, 0], color[i, 1], color[i, 2] = nearest_hit(
+                arrays, tree, stack, o[0], o[1], o[2], d[0], d[1], d[2], t_max[i]
+            )
+    return index, t, color
+
+
+@njit(**ONE_RAY)
+def job_pixel(down, along, points, first, top, left, across, width, xs, ys):
+    """The pixel ``down`` rows and ``along`` columns into a job of :func:`trace` (``across``
+    columns wide): ``(p, x, y)``, where its results go and its upper-left corner. (Rows and
+    columns, not a running count: an integer division per pixel cost more than its ray.)"""
+    if points:
+        q = first + down * across + along
+        return q, xs[q], ys[q]
+    return (top + down) * width + left + along, float(left + along), float(top + down)
+
+
+@njit(**KERNEL)
+def job_of(jobs, j, points, tiles, width, height):
+    """Job ``jobs[j]`` of :func:`trace_flat` or :func:`trace_lit`: ``(first, rows, top, left,
+    across, tile)``, its first point and ``rows`` x ``across`` pixels, in ``tile`` (-1: a row of
+    ``points``, each in whichever tile holds it), the upper-left one at (``left``, ``top``)."""
+    if points:
+        first = jobs[j] * CHUNK
+        return first, 1, 0, 0, min(CHUNK, points - first), -1
+    size = tiles.size
+    tile = jobs[j]
+    top = (tile // tiles.tiles_x) * size
+    left = (tile % tiles.tiles_x) * size
+    return 0, min(size, height - top), top, left, min(size, width - left), tile
+
+
+@njit(**KERNEL)
+def background_job(empty, width, top, left, rows, across, rgb, index, t):
+    """A tile that no object's screen rectangle meets: its pixels get ``empty (3,)``, index -1
+    and t = inf, and no ray."""
+    for down in range(rows):
+        for along in range(across):
+            p = (top + down) * width + left + along
+            rgb[p, 0], rgb[p, 1], rgb[p, 2] = empty[0], empty[1], empty[2]
+            index[p], t[p] = -1, np.inf
+
+
+@njit(**KERNEL)
+def job_points(points, first, rows, top, left, across, width, xs, ys, offsets, centre, xy):
+    """Each of a job's rays' image points into ``xy (2, N)``: ray i is sample i % S of the
+    job's pixel i // S; the rays through the pixel centres, if cast apart (``centre`` -1), come
+    after all those. Returns how many rays."""
+    samples = len(offsets)
+    pixels = rows * across
+    extra = 1 if centre < 0 else 0
+    for down in range(rows):
+        for along in range(across):
+            q = down * across + along
+            _, px, py = job_pixel(down, along, points, first, top, left, across, width, xs, ys)
+            for sample in range(samples):  # offsets in [0, 1): the point stays in its tile
+                i = q * samples + sample
+                xy[0, i], xy[1, i] = px + offsets[sample, 0], py + offsets[sample, 1]
+            if extra:
+                i = pixels * samples + q
+                xy[0, i], xy[1, i] = px + 0.5, py + 0.5
+    return pixels * (samples + extra)
+
+
+@njit(**KERNEL)
+def pixel_means(points, first, rows, top, left, across, width, xs, ys, samples, centre, colors,
+                best, best_t, rgb, index, t):  # fmt: skip
+    """Each of a job's pixels: the mean of its samples' ``colors (3, N)`` (laid out as
+    :func:`job_points` lays out the rays) into ``rgb``, and the object index and t of the ray
+    through its centre into ``index`` and ``t``."""
+    pixels = rows * across
+    for down in range(rows):
+        for along in range(across):
+            q = down * across + along
+            p, _, _ = job_pixel(down, along, points, first, top, left, across, width, xs, ys)
+            r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
+            for sample in range(samples):
+                i = q * samples + sample
+                r_sum += colors[0, i]
+                g_sum += colors[1, i]
+                b_sum += colors[2, i]
+            rgb[p, 0] = r_sum / samples
+            rgb[p, 1] = g_sum / samples
+            rgb[p, 2] = b_sum / samples
+            i = pixels * samples + q if centre < 0 else q * samples + centre
+            index[p], t[p] = best[i], best_t[i]
+
+
+@njit(**MAKES_ARRAYS)
+def ray_room(n):
+    """Room for a job's ``n`` rays, as the tuple ``(xy, rays, best, best_t, colors, made,
+    alive, ts, holding)``: each ray's image point ``xy (2, n)``, origin and direction ``rays
+    (6, n)``, its hit's object index ``best (n,)`` and ``best_t (n,)``, colour ``colors (3,
+    n)``, whether it was ``made`` (:func:`primary_ray`), room ``alive``, ``ts`` for
+    :func:`primary_rays`, and ``holding (HOLDING_CHUNK,)`` for :func:`primary_ray`. A plain
+    tuple: inside a parallel loop, writes through a NamedTuple's fields are lost (numba issue
+    #7135)."""
+    return (np.empty((2, n)), np.empty((6, n)), np.empty(n, dtype=np.int64), np.empty(n),
+            np.empty((3, n)), np.empty(n, dtype=np.bool_), np.empty(n, dtype=np.bool_),
+            np.empty(n), np.empty(HOLDING_CHUNK, dtype=np.int64))  # fmt: skip
+
+
+@njit(**MAKES_ARRAYS)
+def shading_room(n, lights):
+    """Room for shading a job's ``n`` rays, as the tuple ``(stack, box, candidates, counts,
+    volume, lanes)``: a tree walk's ``stack`` (:func:`new_stack`), the ``box (2, 3)`` of the
+    surface points, each light's shadow list ``candidates (L, SHADOW_CANDIDATES)`` and
+    ``counts (L,)`` (-1: no list, walk the tree), a shadow ``volume (6, 5)``
+    (:func:`shadow_lists`), and the ``lanes`` (:func:`new_lanes`)."""
+    lists = len(lights.point) if lights.shadows else 0
+    return (new_stack(), np.empty((2, 3)), np.empty((lists, SHADOW_CANDIDATES), dtype=np.int64),
+            np.full(len(lights.point), -1, dtype=np.int64), np.empty((6, 5)),
+            new_lanes(n))  # fmt: skip
+
+
+@njit(parallel=True, **MAKES_ARRAYS)
+def trace_flat(arrays, tiles, camera, width, height, jobs, workers, xs, ys, offsets, centre,
+               empty, rgb, index, t):  # fmt: skip
+    """The lecture's loop for a flat scene: for each pixel, per sample offset ``offsets (S, 2)``
+    in order, the viewing ray and its nearest hit (:func:`primary_ray`, or a packet of them:
+    :func:`primary_rays`) and its flat colour, summed and divided by S as
+    :class:`raykit.engine.regions.Image` takes the mean; and the object index and t of the ray
+    through the pixel centre, which is sample ``centre`` (-1: cast one more ray there).
+    Results go to ``rgb (P, 3)``, ``index``, ``t (P,)``. Which pixels, either way:
+
+    * whole tiles (``xs`` empty): ``jobs (J,)`` are tile numbers (:func:`screen_tiles`), and
+      their pixels are the image's, row by row (P = ``height`` x ``width``) with their upper-left
+      corners at (column, row). A tile that no object's screen rectangle meets sees only the
+      background: its pixels are given ``empty (3,)`` (the background's mean over the samples,
+      :func:`_mean_of_samples`), index -1 and t = inf, and no ray;
+    * points (``xs``, ``ys (P,)``, the upper-left corners): ``jobs`` are CHUNKs of them.
+
+    One worker per core (``workers``: numba.get_num_threads()), each with its own room for a
+    job's rays (making it for each job cost more than a small tile's rays), takes the next
+    grain of jobs whenever it is free: a core slowed by other work takes fewer. Each job runs
+    on one core, whole (:func:`flat_job`)."""
+    points = len(xs)
+    grain = max(1, len(jobs) // (workers * GRAINS_PER_WORKER))
+    taken = np.zeros(1, dtype=np.int64)
+    for _ in prange(workers):
+        room = ray_room((CHUNK if points else tiles.size * tiles.size) * (len(offsets) + 1))
+        while True:
+            first_job = take(taken, grain)
+            if first_job >= len(jobs):
+                break
+            for j in range(first_job, min(len(jobs), first_job + grain)):
+                first, rows, top, left, across, tile = job_of(jobs, j, points, tiles, width,
+                                                              height)  # fmt: skip
+                if points or tiles.start[tile] < tiles.start[tile + 1]:
+                    flat_job(arrays, tiles, camera, width, xs, ys, offsets, centre, rgb, index,
+                             t, first, rows, top, left, across, tile, room)  # fmt: skip
+                else:
+                    background_job(empty, width, top, left, rows, across, rgb, index, t)
+
+
+@njit(**KERNEL)
+def flat_job(arrays, tiles, camera, width, xs, ys, offsets, centre, rgb, index, t, first, rows,
+             top, left, across, tile, room):  # fmt: skip
+    """One job of :func:`trace_flat`: its ``rows`` x ``across`` pixels (:func:`job_pixel`), all
+    in ``tile`` (-1: points, each in its own), with the worker's ``room`` (:func:`ray_room`).
+    One ray at a time, each colour goes straight into its pixel's sum and no ray is kept; in
+    packets, the rays are traced together (:func:`primary_rays`), then summed."""
+    xy, rays, best, best_t, colors, made, alive, ts, holding = room
+    points = len(xs)
+    samples = len(offsets)
+    if tile < 0 or not tiles.packets:
+        for down in range(rows):
+            for along in range(across):
+                p, px, py = job_pixel(down, along, points, first, top, left, across, width, xs, ys)
+                r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
+                for sample in range(samples):
+                    x, y = px + offsets[sample, 0], py + offsets[sample, 1]
+                    _, hit, t_hit, r, g, b, _, _, _, _, _, _ = primary_ray(
+                        arrays, tiles, camera, x, y, tile, holding
+                    )
+                    if sample == centre:
+                        index[p], t[p] = hit, t_hit
+                    r_sum += r
+                    g_sum += g
+                    b_sum += b
+                rgb[p, 0] = r_sum / samples
+                rgb[p, 1] = g_sum / samples
+                rgb[p, 2] = b_sum / samples
+                if centre < 0:
+                    _, hit, t_hit, _, _, _, _, _, _, _, _, _ = primary_ray(
+                        arrays, tiles, camera, px + 0.5, py + 0.5, tile, holding
+                    )
+                    index[p], t[p] = hit, t_hit
+        return
+    n = job_points(points, first, rows, top, left, across, width, xs, ys, offsets, centre, xy)
+    primary_rays(arrays, tiles, camera, tile, n, xy, rays, best, best_t, colors, made, alive, ts)
+    pixel_means(points, first, rows, top, left, across, width, xs, ys, samples, centre, colors,
+                best, best_t, rgb, index, t)  # fmt: skip
+
+
+@njit(parallel=True, **MAKES_ARRAYS)
+def trace_lit(arrays, tiles, tree, lights, camera, width, height, jobs, workers, xs, ys, offsets,
+              centre, empty, rgb, index, t):  # fmt: skip
+    """:func:`trace_flat` for a shaded scene (:func:`raykit.shading.needs_shading`), with its
+    BVH ``tree`` and ``lights``: each job's pixels (:func:`lit_job`) take the colour
+    :func:`raykit.shading.shade` gives them."""
+    points = len(xs)
+    grain = max(1, len(jobs) // (workers * GRAINS_PER_WORKER))
+    taken = np.zeros(1, dtype=np.int64)
+    for _ in prange(workers):
+        n = (CHUNK if points else tiles.size * tiles.size) * (len(offsets) + 1)
+        rooms = (ray_room(n), shading_room(n, lights))
+        while True:
+            first_job = take(taken, grain)
+            if first_job >= len(jobs):
+                break
+            for j in range(first_job, min(len(jobs), first_job + grain)):
+                first, rows, top, left, across, tile = job_of(jobs, j, points, tiles, width,
+                                                              height)  # fmt: skip
+                if points or tiles.start[tile] < tiles.start[tile + 1]:
+                    lit_job(arrays, tiles, tree, lights, camera, width, xs, ys, offsets, centre,
+                            rgb, index, t, first, rows, top, left, across, tile,
+                            rooms)  # fmt: skip
+                else:
+                    background_job(empty, width, top, left, rows, across, rgb, index, t)
+
+
+@njit(**KERNEL)
+def lit_job(arrays, tiles, tree, lights, camera, width, xs, ys, offsets, centre, rgb, index, t,
+            first, rows, top, left, across, tile, rooms):  # fmt: skip
+    """One job of :func:`trace_lit`, with the worker's ``rooms`` (:func:`ray_room`,
+    :func:`shading_room`): all its viewing rays' hits first, then each light's
+    :func:`shadow_lists` for the box their surface points lie in, each light for all the
+    points at once (:func:`surface_lanes`, :func:`light_lanes`), then mirrors ray by ray
+    (:func:`bounce_on`), and the pixels' means (:func:`pixel_means`)."""
+    xy, rays, best, best_t, colors, made, alive, ts, holding = rooms[0]
+    stack, box, candidates, counts, volume, lanes = rooms[1]
+    points = len(xs)
+    samples = len(offsets)
+    n = job_points(points, first, rows, top, left, across, width, xs, ys, offsets, centre, xy)
+    if tile >= 0 and tiles.packets:
+        primary_rays(
+            arrays, tiles, camera, tile, n, xy, rays, best, best_t, colors, made, alive, ts
+        )
+    else:
+        for i in range(n):
+            made[i], best[i], best_t[i], colors[0, i], colors[1, i], colors[2, i], rays[0, i], \
+                rays[1, i], rays[2, i], rays[3, i], rays[4, i], rays[5, i] = primary_ray(
+                    arrays, tiles, camera, xy[0, i], xy[1, i], tile, holding
+                )  # fmt: skip
+    shaded = rows * across * samples
+    largest = surface_lanes(arrays, lights, rays, best, best_t, colors, shaded, lanes, box)
+    if lights.shadows:
+        # shadow rays start off the surface by OFFSET_FACTOR x error x |n|, and |n| < 2 but
+        # for a sphere smaller than its own rounding
+        pad = 2.0 * OFFSET_FACTOR * largest
+        shadow_lists(arrays, tree, lights, stack, box, pad, volume, candidates, counts)
+    if lights.lit:
+        light_lanes(arrays, tree, lights, stack, rays, best, shaded, lanes, candidates, counts)
+    point, normal, error, total = lanes[0], lanes[1], lanes[2], lanes[4]
+    for i in range(shaded):
+        if not made[i]:
+            continue
+        if best[i] < 0:  # as shade_ray gives the background
+            colors[0, i], colors[1, i], colors[2, i] = (
+                0.0 + 1.0 * colors[0, i],
+                0.0 + 1.0 * colors[1, i],
+                0.0 + 1.0 * colors[2, i],
+            )
+            continue
+        c0, c1, c2 = 0.0 + 1.0 * total[0, i], 0.0 + 1.0 * total[1, i], 0.0 + 1.0 * total[2, i]
+        if lights.max_depth > 0 and lights.mirrors[best[i]]:  # else bounce_on adds nothing
+            c0, c1, c2 = bounce_on(
+                arrays, tree, lights, stack, 0, best[i], point[0, i], point[1, i], point[2, i],
+                normal[0, i], normal[1, i], normal[2, i], rays[3, i], rays[4, i], rays[5, i],
+                error[i], c0, c1, c2, 1.0, 1.0, 1.0,
+            )  # fmt: skip
+        colors[0, i], colors[1, i], colors[2, i] = c0, c1, c2
+    pixel_means(points, first, rows, top, left, across, width, xs, ys, samples, centre, colors,
+                best, best_t, rgb, index, t)  # fmt: skip
+
+
+def caster(scene: Scene, arrays: Arrays | None = None) -> Callable[..., Hits]:
+    """A :data:`raykit.shadows.Caster` over the whole scene: the nearest hits of any rays, as
+    :func:`raykit.render.secondary_caster` gives them, found by :func:`cast_rays`."""
+    arrays = arrays or scene_arrays(scene)
+    tree = scene_tree(scene)
+
+    def cast(origins, directions, t_max=None) -> Hits:
+        t_max = np.full(len(origins), np.inf) if t_max is None else t_max
+        # arrays of one kind, as _one_kind makes them: a new kind is a new compile
+        origins, directions, t_max = (
+            np.require(x, float, "CAW") for x in (origins, directions, t_max)
+        )
+        return Hits(*cast_rays(arrays, tree, origins, directions, t_max))
+
+    return cast
+
+
+class Prepared(NamedTuple):
+    """A scene made ready for the kernels (:func:`prepare`): its :class:`Arrays`, screen tiles
+    (:func:`screen_tiles`), BVH (:class:`Tree`, for shadow and mirror rays; empty when the
+    scene has none), :class:`Lights` and camera (:func:`camera_tuple`)."""
+
+    scene: Scene
+    arrays: Arrays
+    tiles: Tiles
+    tree: Tree
+    lights: Lights
+    camera: tuple
+
+
+def prepare(scene: Scene) -> Prepared:
+    """Everything the kernels need of ``scene`` that does not depend on the samples: made once,
+    it can be rendered many times (:func:`render`). It is what Mitsuba's ``load_dict`` does when
+    it builds its BVH, and the camera's screen tiles besides (a raykit scene holds its camera)."""
+    arrays = scene_arrays(scene)
+    lights = scene_lights(scene)
+    tree = scene_tree(scene) if lights.shaded else _NO_TREE
+    return Prepared(scene, arrays, screen_tiles(scene, arrays), tree, lights, camera_tuple(scene))
+
+
+def render(scene: Scene | Prepared, samples: int = 1, *, adaptive: bool = False, progress=None):
+    """What :func:`raykit.render.render` renders, with the kernels above:
+    ``(rgb (H, W, 3), object_index (H, W), t (H, W))``, of a scene or of a :class:`Prepared`
+    one. ``progress`` is told each band of finished pixels, as the numpy engine tells it each
+    tile."""
+    sample_offsets(samples)  # refuses n < 1 before any work
+    n = 1 if adaptive else samples  # adaptive: one ray per pixel first, as the numpy engine
+    prepared = scene if isinstance(scene, Prepared) else prepare(scene)
+    scene, arrays, tiles = prepared.scene, prepared.arrays, prepared.tiles
+    trace, kernels = _entry(prepared)
+    width, height = scene.camera.width, scene.camera.height
+    offsets = sample_offsets(n)
+    centre = centre_sample(n)
+    empty = _mean_of_samples(arrays.background, len(offsets))
+    rgb = np.empty((height * width, 3))  # first written by both cores: faster than by numpy
+    index = np.empty(height * width, dtype=np.int64)
+    t = np.empty(height * width)
+    tiles_x, size = tiles.tiles_x, tiles.size
+    tile_count = -(-height // size) * tiles_x
+    # tiles per kernel call: bands of rows for a progress bar, else all at once (each call
+    # starts both cores anew, and waits for the slower)
+    band = max(1, ROWS_PER_CALL // size) * tiles_x if progress is not None else tile_count
+    nothing = np.zeros(0)
+    for first in range(0, tile_count, band):
+        jobs = np.arange(first, min(first + band, tile_count))
+        _call(trace, *kernels, width, height, jobs, _workers(jobs), nothing, nothing, offsets,
+              -1 if centre is None else centre, empty, rgb, index, t)  # fmt: skip
+        if progress is not None:
+            rows = min(height, (first + band) // tiles_x * size) - first // tiles_x * size
+            progress(rows * width)
+    rgb, index, t = (
+        rgb.reshape(height, width, 3),
+        index.reshape(height, width),
+        t.reshape(height, width),
+    )
+    if adaptive and samples > 1:  # the numpy engine's refinement, with these colours
+        edge = edge_pixels(rgb, index)
+        at_the_point = np.zeros((1, 2))  # each point its own one sample
+
+        def colors(region, x, y):
+            x, y = np.asarray(x, float), np.asarray(y, float)
+            out = np.empty((len(x), 3))
+            jobs = np.arange(-(-len(x) // CHUNK))
+            _call(trace, *kernels, width, height, jobs, _workers(jobs), x, y, at_the_point, 0,
+                  empty, out, np.empty(len(x), np.int64), np.empty(len(x)))  # fmt: skip
+            return out
+
+        refine(regions(scene, skip_hidden=False), colors, rgb, edge, samples)
+    return rgb, index, t
+
+
+def _mean_of_samples(color: np.ndarray, count: int) -> np.ndarray:
+    """``color (3,)`` summed ``count`` times and divided by it, as :func:`pixel_means` takes the
+    mean of a pixel's samples (the result may differ from ``color`` in its last bit)."""
+    total = np.zeros(3)
+    for _ in range(count):
+        total = total + color
+    return total / count
+
+
+def _workers(jobs: np.ndarray) -> int:
+    """How many cores :func:`trace_flat` or :func:`trace_lit` share ``jobs`` among (one at
+    least)."""
+    return max(1, min(numba.get_num_threads(), len(jobs)))
+
+
+def _entry(prepared: Prepared) -> tuple:
+    """``(entry point, its leading arguments)`` for a prepared scene: :func:`trace_lit` with
+    the tree and lights for a shaded scene, else :func:`trace_flat`, which compiles no
+    shading."""
+    if prepared.lights.shaded:
+        return trace_lit, (prepared.arrays, prepared.tiles, prepared.tree, prepared.lights,
+                           prepared.camera)  # fmt: skip
+    return trace_flat, (prepared.arrays, prepared.tiles, prepared.camera)
+
+
+_READY: set[str] = set()  # entry points compiled or loaded from the cache in this process
+
+
+def _call(entry, *arguments) -> None:
+    """``entry(*arguments)``; the first time in a process whose cache has no marker for it
+    (:func:`~raykit.engine.compiled.compiling.marked`), with the progress line of its compile
+    (:func:`~raykit.engine.compiled.compiling.compile_clock`), and then the marker."""
+    name = entry.__name__
+    if name in _READY or marked(name):
+        entry(*arguments)
+    else:
+        started = time.perf_counter()
+        with compile_clock(name):
+            entry(*arguments)
+        finished(name, time.perf_counter() - started)
+    _READY.add(name)

@@ -1,0 +1,186 @@
+"""The scene as flat arrays for the kernels: repeats :mod:`raykit.engine.arrays` (the
+spheres' columns), the billboards' numbers of :mod:`raykit.billboards`, the BVH of
+:mod:`raykit.engine.bvh` and the materials and lights of :mod:`raykit.materials` and
+:mod:`raykit.lights`, each number computed by the reference's own code, so the kernels start
+from the same bits. Plain numpy: nothing here is compiled."""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from raykit.billboards import colors_and_opacity
+from raykit.engine.arrays import SceneArrays
+from raykit.engine.bvh import BVH
+from raykit.lights import PointLight, toward_light
+from raykit.rays import normalize
+from raykit.scene import Scene
+from raykit.shading import casts_shadows, needs_shading
+
+
+class Tree(NamedTuple):
+    """A BVH (:class:`raykit.engine.bvh.BVH`, :func:`scene_tree`) as the kernels walk it, with
+    the objects' own boxes it was built from, ``object_lower``, ``object_upper (K, 3)``."""
+
+    lower: np.ndarray
+    upper: np.ndarray
+    children: np.ndarray
+    first: np.ndarray
+    count: np.ndarray
+    order: np.ndarray
+    object_lower: np.ndarray
+    object_upper: np.ndarray
+
+
+class Arrays(NamedTuple):
+    """A scene as flat arrays for the kernels, in object index order (:mod:`raykit.scene`):
+    spheres ``centers (S, 3)``, ``radii (S,)``, ``sphere_colors (S, 3)``
+    (:class:`raykit.engine.arrays.SceneArrays`); billboards' ``corners (B, 3)`` (upper_left),
+    normals ``n (B, 3)`` (a × b), ``alpha_axes``, ``beta_axes (B, 3)``
+    (:attr:`raykit.billboards.Billboard.dual_axes`), flat ``board_colors (B, 3)``, and textures:
+    ``texture_start (B,)`` (-1: none) into the texels of all textures, row by row, as
+    :func:`raykit.billboards.colors_and_opacity` reads them: ``texel_colors (T, 3)``,
+    ``texel_opaque (T,)``; ``texture_width``, ``texture_height (B,)``; the ``background (3,)``."""
+
+    centers: np.ndarray
+    radii: np.ndarray
+    sphere_colors: np.ndarray
+    corners: np.ndarray
+    n: np.ndarray
+    alpha_axes: np.ndarray
+    beta_axes: np.ndarray
+    board_colors: np.ndarray
+    texture_start: np.ndarray
+    texture_width: np.ndarray
+    texture_height: np.ndarray
+    texel_colors: np.ndarray
+    texel_opaque: np.ndarray
+    background: np.ndarray
+
+
+def scene_arrays(scene: Scene) -> Arrays:
+    """The scene's :class:`Arrays`, each number computed by the reference's own code (the
+    spheres' :class:`~raykit.engine.arrays.SceneArrays`, the billboards' cached edges and dual
+    axes), so the kernels start from the same bits. A texture is decoded here only if it is on
+    a billboard."""
+    spheres = SceneArrays.of(scene)
+    boards = scene.billboards
+    f3 = lambda rows: np.array(rows, dtype=float).reshape(-1, 3)  # noqa: E731
+    starts, widths, heights, texels, used = [], [], [], [], 0
+    for board in boards:
+        if board.texture is None:
+            starts.append(-1), widths.append(0), heights.append(0)
+            continue
+        rgba = board.texture.rgba
+        starts.append(used), widths.append(rgba.shape[1]), heights.append(rgba.shape[0])
+        texels.append(rgba.reshape(-1, 4))
+        used += rgba.shape[0] * rgba.shape[1]
+    return _one_kind(
+        Arrays(
+            spheres.centers.astype(float).reshape(-1, 3),
+            spheres.radii.astype(float),
+            spheres.sphere_colors,
+            f3([np.asarray(b.upper_left, float) for b in boards]),
+            f3([b.n for b in boards]),
+            f3([b.dual_axes[0] for b in boards]),
+            f3([b.dual_axes[1] for b in boards]),
+            f3([b.color if b.color is not None else np.zeros(3) for b in boards]),
+            np.array(starts, dtype=np.int64),
+            np.array(widths, dtype=np.int64),
+            np.array(heights, dtype=np.int64),
+            *colors_and_opacity(np.concatenate(texels) if texels else np.zeros((0, 4), np.uint8)),
+            np.asarray(scene.background, dtype=float),
+        )
+    )
+
+
+def _one_kind(parts):
+    """``parts`` (a NamedTuple) with every array C-contiguous, aligned and writeable, copied
+    where it is not: numba compiles each kernel again for every new kind of
+    array it is given, and a read-only one is another kind (a scene file's plain spheres come
+    as read-only columns, :class:`raykit.spheres.SphereTable`). So every scene renders with
+    the kernels the first compile made."""
+    arrays = {
+        name: np.require(value, requirements="CAW")
+        for name, value in parts._asdict().items()
+        if isinstance(value, np.ndarray)
+    }
+    return parts._replace(**arrays)
+
+
+class Lights(NamedTuple):
+    """What shading needs (:mod:`raykit.shading`), as arrays: ``shaded`` (anything beyond flat
+    colours: :func:`raykit.shading.needs_shading`), ``lit`` (lights or ambient), ``shadows``
+    (:func:`raykit.shading.casts_shadows`), ``max_depth``; per light ``point (L,)`` (False:
+    directional), ``vectors (L, 3)`` (a point light's position, or a directional light's l, made
+    by :func:`raykit.lights.toward_light`), intensity ``colors (L, 3)``; ``ambient (3,)``; per
+    object the material table (:class:`raykit.materials.MaterialTable`) and whether it is
+    ``shiny`` or a ``mirror (K,)``; the billboards' unit ``board_normals (B, 3)``."""
+
+    shaded: bool
+    lit: bool
+    shadows: bool
+    max_depth: int
+    point: np.ndarray
+    vectors: np.ndarray
+    colors: np.ndarray
+    ambient: np.ndarray
+    diffuse: np.ndarray
+    has_diffuse: np.ndarray
+    specular: np.ndarray
+    shininess: np.ndarray
+    mirror: np.ndarray
+    shiny: np.ndarray
+    mirrors: np.ndarray
+    board_normals: np.ndarray
+
+
+def scene_lights(scene: Scene) -> Lights:
+    """The scene's :class:`Lights`, from the reference's own functions and tables."""
+    table = scene.materials
+    point = np.array([isinstance(light, PointLight) for light in scene.lights], dtype=np.bool_)
+    origin = np.zeros((1, 3))
+    vectors = [
+        np.asarray(light.position, float) if isinstance(light, PointLight)
+        else toward_light(light, origin)[0][0]
+        for light in scene.lights
+    ]  # fmt: skip
+    return _one_kind(
+        Lights(
+            needs_shading(scene),
+            scene.lit,
+            casts_shadows(scene),
+            scene.max_depth,
+            point,
+            np.array(vectors, dtype=float).reshape(-1, 3),
+            np.array([light.color for light in scene.lights], dtype=float).reshape(-1, 3),
+            np.asarray(scene.ambient if scene.ambient is not None else np.zeros(3), dtype=float),
+            table.diffuse.astype(float).reshape(-1, 3),
+            table.has_diffuse,
+            table.specular.reshape(-1, 3),
+            table.shininess,
+            table.mirror.reshape(-1, 3),
+            table.specular.reshape(-1, 3).any(axis=1),
+            table.mirror.reshape(-1, 3).any(axis=1),
+            np.array([normalize(b.n) for b in scene.billboards], dtype=float).reshape(-1, 3),
+        )
+    )
+
+
+_NO_TREE = Tree(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 2), np.int64),
+                *[np.zeros(0, np.int64)] * 3, np.zeros((0, 3)), np.zeros((0, 3)))  # fmt: skip
+
+
+def scene_tree(scene: Scene) -> Tree:
+    """The scene's BVH, built by the numpy engine's own builder, as a :class:`Tree`."""
+    bvh = BVH.build(scene)
+    object_lower, object_upper = bvh.arrays.boxes
+    return Tree(
+        bvh.lower.astype(float).reshape(-1, 3),
+        bvh.upper.astype(float).reshape(-1, 3),
+        bvh.children.astype(np.int64).reshape(-1, 2),
+        *(part.astype(np.int64) for part in (bvh.first, bvh.count, bvh.order)),
+        object_lower.astype(float).reshape(-1, 3),
+        object_upper.astype(float).reshape(-1, 3),
+    )

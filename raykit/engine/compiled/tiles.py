@@ -1,0 +1,277 @@
+"""Repeats :mod:`raykit.engine.tiles` and :mod:`raykit.engine.screen_bounds` for primary
+rays: each screen tile's objects, nearest first, and the viewing rays of a tile traced
+against them, one at a time (:func:`primary_ray`) or in packets (:func:`primary_rays`)."""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+from raykit.engine.compiled.camera import viewing_ray
+from raykit.engine.compiled.compiling import KERNEL, MAKES_ARRAYS, ONE_RAY
+from raykit.engine.compiled.hits import offer
+from raykit.engine.compiled.scene import Arrays
+from raykit.engine.compiled.spheres import hit_sphere
+from raykit.engine.screen_bounds import scene_bounds
+from raykit.rays import dot, length
+from raykit.scene import Scene
+
+
+@njit(**MAKES_ARRAYS)
+def bin_by_tile(bounds, closest, by_distance, tiles_x, tiles_y, size):
+    """Each tile's objects, for primary rays: the objects ``by_distance (K,)`` (nearest first)
+    whose screen rectangle ``bounds (K, 4)`` (x0, x1, y0, y1; NaN: never seen,
+    :func:`raykit.engine.screen_bounds.scene_bounds`) meets the tile of ``size`` x ``size``
+    pixels. Returns ``start (tiles + 1,)``, ``objects (E,)``: tile k's are
+    objects[start[k]:start[k+1]], nearest first; and each of those entries' rectangle and
+    ``closest`` t, ``entries (E, 5)``, kept beside it so that a pixel reads its tile's list
+    straight through."""
+    count = np.zeros(tiles_x * tiles_y + 1, dtype=np.int64)
+    for fill in (False, True):  # count, then fill
+        if fill:
+            start = np.cumsum(count)
+            cursor = start[:-1].copy()
+            objects = np.empty(start[-1], dtype=np.int64)
+            entries = np.empty((start[-1], 5))
+        else:
+            start = count
+            cursor = count[:0]
+            objects = np.empty(0, dtype=np.int64)
+            entries = np.empty((0, 5))
+        for obj in by_distance:
+            x0, x1, y0, y1 = bounds[obj, 0], bounds[obj, 1], bounds[obj, 2], bounds[obj, 3]
+            if not (x0 <= x1 and y0 <= y1):
+                continue
+            left, right = max(0, int(x0 // size)), min(tiles_x - 1, int(x1 // size))
+            top, bottom = max(0, int(y0 // size)), min(tiles_y - 1, int(y1 // size))
+            for ty in range(top, bottom + 1):
+                for tx in range(left, right + 1):
+                    tile = ty * tiles_x + tx
+                    if fill:
+                        k = cursor[tile]
+                        objects[k] = obj
+                        entries[k, 0], entries[k, 1], entries[k, 2], entries[k, 3] = x0, x1, y0, y1
+                        entries[k, 4] = closest[obj]
+                        cursor[tile] += 1
+                    else:
+                        count[tile + 1] += 1
+    return start, objects, entries
+
+
+class Tiles(NamedTuple):
+    """The primary rays' skip (:func:`screen_tiles`): tile k (``size`` x ``size`` pixels,
+    ``tiles_x`` to a row) lists the objects ``objects[start[k]:start[k + 1]]``, nearest first,
+    each with its screen rectangle and closest t in ``entries (E, 5)``: (x0, x1, y0, y1,
+    closest); a tile's rays go in ``packets`` (:func:`primary_rays`) or one at a time."""
+
+    start: np.ndarray
+    objects: np.ndarray
+    entries: np.ndarray
+    tiles_x: int
+    size: int
+    packets: bool
+
+
+HOLDING_CHUNK = 8  # entries of a tile's list that primary_ray checks at a time
+
+
+@njit(**ONE_RAY)
+def primary_ray(arrays, tiles, camera, x, y, tile, holding):
+    """:func:`nearest_hit` for the viewing ray through image point (x, y), from the list of its
+    tile (:func:`screen_tiles`; -1: the tile is found from x and y): only the objects whose
+    screen rectangle holds the point (as :meth:`raykit.engine.tiles.Region.holding` decides),
+    nearest first, until the next can only be farther than the hit found. The ray is made at
+    the first rectangle that holds the point: if none does, it would see the background, and is
+    not made at all (as in :meth:`raykit.engine.regions.Plan.viewing_rays`). Returns ``(made,
+    index, t, r, g, b, o0, o1, o2, d0, d1, d2)`` (the ray 0 if not made).
+
+    The list is read HOLDING_CHUNK entries at a time: first which of them hold the point, into
+    ``holding (HOLDING_CHUNK,)``, with no branch, then those in order. In a crowded picture an
+    entry holds the point one time in two or three, and a branch per entry, guessed wrong that
+    often, cost more than the checks (measured on sphereflake 6). The
+    objects offered are the same, in the same order: the lists are sorted by closest t, which
+    is not NaN where the scene's numbers are finite (as :mod:`raykit.io` checks every scene
+    file's), and the nearest hit only comes nearer, so an entry checked past the one a scan
+    entry by entry stops at can only be farther than the hit, and is not offered either
+    (tests/test_compiled.py compares the two scans)."""
+    size, entries, objects = tiles.size, tiles.entries, tiles.objects
+    background = arrays.background
+    best, best_t = -1, np.inf
+    r, g, b = background[0], background[1], background[2]
+    made = False
+    o0, o1, o2, d0, d1, d2 = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    if tile < 0:
+        tile = (int(y) // size) * tiles.tiles_x + int(x) // size
+    first, end = tiles.start[tile], tiles.start[tile + 1]
+    while first < end:
+        stop = min(end, first + HOLDING_CHUNK)
+        held = 0
+        for k in range(first, stop):  # & not `and`: no branch
+            holding[held] = k
+            held += (
+                (entries[k, 0] <= x)
+                & (x <= entries[k, 1])
+                & (entries[k, 2] <= y)
+                & (y <= entries[k, 3])
+            )
+        for i in range(held):
+            k = holding[i]
+            if entries[k, 4] > best_t:
+                break  # every object from here on is farther than the hit
+            if not made:
+                o0, o1, o2, d0, d1, d2 = viewing_ray(camera, x, y)
+                made = True
+            best, best_t, r, g, b = offer(
+                arrays, objects[k], o0, o1, o2, d0, d1, d2, best, best_t, r, g, b
+            )
+        if entries[stop - 1, 4] > best_t:
+            break
+        first = stop
+    return made, best, best_t, r, g, b, o0, o1, o2, d0, d1, d2
+
+
+@njit(**KERNEL)
+def primary_rays(arrays, tiles, camera, tile, n, xy, rays, best, best_t, colors, made, alive, ts):
+    """:func:`primary_ray` for the ``n`` image points of ``lanes`` at once, all in ``tile``: a
+    packet of rays, each a lane of arrays (as :func:`trace` makes them: points ``xy (2, L)`` in,
+    ``rays (6, L)``, ``best (L,)``, ``best_t``, ``colors (3, L)``, ``made`` out; ``alive``,
+    ``ts`` room). The tile's objects are taken in turn, and each is tested against
+    every lane with one loop of :func:`hit_sphere` that the compiler turns into vector
+    instructions (8 lanes at a time with AVX-512); masks then keep, for each lane, only what
+    :func:`primary_ray` would: a lane whose rectangle does not hold its point, or that has
+    stopped (its next object can only be farther than its hit), takes nothing from the test.
+    So each lane offers the same objects in the same order as :func:`primary_ray` and gets the
+    same bits; the other lanes' answers are computed and thrown away, which costs less than a
+    branch per ray when the tile's list is short. Billboards are offered lane by lane.
+    Every lane's ray is made (a lane that no rectangle holds is not ``made``, as in
+    :func:`primary_ray`, and its ray is not used)."""
+    background = arrays.background
+    for i in range(n):
+        rays[0, i], rays[1, i], rays[2, i], rays[3, i], rays[4, i], rays[5, i] = viewing_ray(
+            camera, xy[0, i], xy[1, i]
+        )
+    for i in range(n):
+        best[i], best_t[i] = -1, np.inf
+        colors[0, i], colors[1, i], colors[2, i] = background[0], background[1], background[2]
+        alive[i], made[i] = True, False
+    spheres = len(arrays.radii)
+    entries, objects = tiles.entries, tiles.objects
+    centers, radii, sphere_colors = arrays.centers, arrays.radii, arrays.sphere_colors
+    for k in range(tiles.start[tile], tiles.start[tile + 1]):
+        closest = entries[k, 4]
+        x0, x1, y0, y1 = entries[k, 0], entries[k, 1], entries[k, 2], entries[k, 3]
+        obj = objects[k]
+        alive_lanes = 0
+        if obj < spheres:
+            c0, c1, c2, R = centers[obj, 0], centers[obj, 1], centers[obj, 2], radii[obj]
+            r, g, b = sphere_colors[obj, 0], sphere_colors[obj, 1], sphere_colors[obj, 2]
+            for i in range(n):  # the vector loop: it writes one array only
+                ts[i] = hit_sphere(
+                    rays[0, i], rays[1, i], rays[2, i], rays[3, i], rays[4, i], rays[5, i],
+                    c0, c1, c2, R,
+                )  # fmt: skip
+            for i in range(n):  # offer's rule, with masks
+                nearest = best_t[i]
+                still = alive[i] & (closest <= nearest)
+                x, y = xy[0, i], xy[1, i]
+                holds = still & (x0 <= x) & (x <= x1) & (y0 <= y) & (y <= y1)
+                t = ts[i]
+                nearer = holds & ((t < nearest) | ((t == nearest) & (t < np.inf) & (obj < best[i])))
+                if nearer:
+                    best[i], best_t[i] = obj, t
+                    colors[0, i], colors[1, i], colors[2, i] = r, g, b
+                made[i] = made[i] | holds
+                alive[i] = still
+                alive_lanes += still
+        else:
+            for i in range(n):
+                still = alive[i] and closest <= best_t[i]
+                alive[i] = still
+                alive_lanes += still
+                x, y = xy[0, i], xy[1, i]
+                if still and x0 <= x and x <= x1 and y0 <= y and y <= y1:
+                    made[i] = True
+                    best[i], best_t[i], colors[0, i], colors[1, i], colors[2, i] = offer(
+                        arrays, obj, rays[0, i], rays[1, i], rays[2, i], rays[3, i], rays[4, i],
+                        rays[5, i], best[i], best_t[i], colors[0, i], colors[1, i], colors[2, i],
+                    )  # fmt: skip
+        if alive_lanes == 0:
+            break
+
+
+def screen_tiles(
+    scene: Scene, arrays: Arrays, size: int | None = None, packets: bool | None = None
+) -> Tiles:
+    """The primary rays' skip: every object's screen rectangle
+    (:func:`raykit.engine.screen_bounds.scene_bounds`, conservative), a lower bound on the t
+    at which a viewing ray can meet it (``closest (K,)``: a sphere's distance from the eye less
+    its radius, or in front of the image plane for orthographic rays, less a rounding margin; 0
+    for a billboard), and each ``size`` x ``size`` tile's objects nearest first
+    (:func:`bin_by_tile`), as :class:`Tiles`, whose rays go in ``packets``
+    (:func:`primary_rays`) or one at a time (:func:`primary_ray`). Not given, both are
+    :func:`tile_side`'s choice; a size given alone goes in packets from PACKET_SIDE up."""
+    camera = scene.camera
+    bounds = scene_bounds(camera, arrays.centers, arrays.radii, scene.billboards)
+    if size is None:
+        size, packets = tile_side(bounds, camera.width, camera.height)
+    elif packets is None:
+        packets = size >= PACKET_SIDE
+    closest = np.zeros(scene.object_count)
+    if scene.spheres:
+        centers, radii = arrays.centers, arrays.radii
+        eye = np.asarray(camera.eye, dtype=float)
+        if camera.projection == "orthographic":
+            distance = -dot(centers - eye, camera.frame[2])
+        else:
+            distance = length(centers - eye)
+        margin = 1e-9 * (np.abs(distance) + radii + np.abs(eye).max() + np.abs(centers).max(axis=1))
+        closest[: len(radii)] = np.maximum(0.0, distance - radii - margin)
+    tiles_x = -(-camera.width // size)
+    tiles_y = -(-camera.height // size)
+    by_distance = np.argsort(closest, kind="stable")
+    start, objects, entries = bin_by_tile(bounds, closest, by_distance, tiles_x, tiles_y, size)
+    return Tiles(start, objects, entries, tiles_x, size, packets)
+
+
+# which tiles primary rays take their objects from, and whether in packets (tile_side; timed by
+# python benchmarks/engines.py --tile-sides, docs/benchmarks/tile_sides.md):
+WIDE_SIDE = 16  # packets of 16 pixels a side where such tiles list on average
+
+
+SPARSE_OBJECTS = 4  # this many objects or fewer;
+
+
+PACKET_SIDE = 8  # else of 8 pixels a side (fewer than 64 rays fill too few vectors) where
+
+
+PACKET_OBJECTS = 12  # such tiles list this many or fewer;
+
+
+CROWDED_SIDE = 4  # else one ray at a time, in tiles of 4 pixels a side
+
+
+def tile_side(bounds: np.ndarray, width: int, height: int) -> tuple[int, bool]:
+    """``(side, packets)`` for the objects' screen rectangles ``bounds (K, 4)`` on a ``width``
+    x ``height`` image. A packet (:func:`primary_rays`) tests each object of its tile against
+    all its rays, 8 to a vector instruction, where one ray at a time (:func:`primary_ray`)
+    tests only the objects whose rectangle holds the ray's point, with a branch each (on the
+    objects, not on the entries checked for them, :func:`primary_ray`): packets win while a
+    tile's list is short, and the larger the packet the fewer tiles' overheads, as
+    long as the list stays short. So: WIDE_SIDE packets where those tiles list SPARSE_OBJECTS
+    or fewer on average, PACKET_SIDE packets where those list PACKET_OBJECTS or fewer, and
+    else one ray at a time in CROWDED_SIDE tiles. ``python benchmarks/engines.py
+    --tile-sides`` times each choice (docs/benchmarks/tile_sides.md)."""
+    seen = bounds[~np.isnan(bounds).any(axis=1)]
+
+    def listed(side: int) -> float:  # objects in an average tile of this side
+        across = np.floor(seen[:, 1] / side) - np.floor(seen[:, 0] / side) + 1
+        down = np.floor(seen[:, 3] / side) - np.floor(seen[:, 2] / side) + 1
+        return (across * down).sum() / (-(-width // side) * -(-height // side))
+
+    if listed(WIDE_SIDE) <= SPARSE_OBJECTS:
+        return WIDE_SIDE, True
+    if listed(PACKET_SIDE) <= PACKET_OBJECTS:
+        return PACKET_SIDE, True
+    return CROWDED_SIDE, False
