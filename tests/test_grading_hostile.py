@@ -457,7 +457,8 @@ def test_4_a_test_that_kills_its_own_child_costs_only_that_test(release, autogra
 
 def test_5_a_hidden_test_cannot_leave_its_inputs_for_a_visible_one(release, autograder, tmp_path):
     """The hidden ray-sphere tests (2.4, 2.5) hide their inputs everywhere they can write; the
-    visible ray-plane test (2.1, graded after them here) prints whatever it finds."""
+    visible plane-side test (2.6, graded after them: tests run in the catalogue's order)
+    prints whatever it finds."""
     stash = ["/tmp/stash", "/dev/shm/stash", "/var/tmp/stash", "/work/stash"]
     code = (
         "def hit_sphere(origins, directions, center, radius):\n    import os\n"
@@ -468,19 +469,20 @@ def test_5_a_hidden_test_cannot_leave_its_inputs_for_a_visible_one(release, auto
         "    return _hit_sphere(origins, directions, center, radius)\n"
     )
     peek = (
-        "def hit_plane(origins, directions, a, n):\n    import os\n"
+        "def plane_side(p, a, n):\n    import os\n"
         f"    for path in {stash!r} + [os.path.expanduser('~/stash')]:\n"
         "        try:\n            print(open(path).read())\n"
         "        except OSError:\n            pass\n"
         "    print('uid', os.getuid())\n"
-        "    return _hit_plane(origins, directions, a, n)\n"
+        "    return _plane_side(p, a, n)\n"
     )
     submission = submission_wrapping(
-        tmp_path, {"spheres.py": ("hit_sphere", code), "planes.py": ("hit_plane", peek)}
+        tmp_path, {"spheres.py": ("hit_sphere", code), "planes.py": ("plane_side", peek)}
     )
-    results, run = grade_as_deployed(autograder, submission, ["2.4", "2.5", "2.1"], tmp_path)
-    assert scores(results) == {"2.4": 1, "2.5": 2, "2.1": 2}, results
-    visible = next(t for t in results["tests"] if t["number"] == "2.1")["output"]
+    results, run = grade_as_deployed(autograder, submission, ["2.4", "2.5", "2.6"], tmp_path)
+    assert [t["number"] for t in results["tests"]] == ["2.4", "2.5", "2.6"]  # hidden first
+    assert scores(results) == {"2.4": 1, "2.5": 2, "2.6": 1}, results
+    visible = next(t for t in results["tests"] if t["number"] == "2.6")["output"]
     assert "uid" in visible  # what it printed does show (a visible test)
     assert "HIDDEN-INPUTS" not in everything_visible(results)
 
@@ -500,21 +502,21 @@ def test_5_kernel_keyrings_carry_nothing_from_a_hidden_test(release, autograder,
         "    return _hit_sphere(origins, directions, center, radius)\n"
     )
     fetch = (
-        "def hit_plane(origins, directions, a, n):\n"
+        "def plane_side(p, a, n):\n"
         "    import ctypes\n    libc = ctypes.CDLL(None, use_errno=True)\n"
         "    for ring in (-4, -3):\n"
         f"        key = libc.syscall({calls['request_key']}, b'user', b'stash', None, ring)\n"
         "        buffer = ctypes.create_string_buffer(4096)\n"
         f"        got = libc.syscall({calls['keyctl']}, 11, key, buffer, 4096)\n"
         "        print('keyring', ring, key, got, ctypes.get_errno(), buffer.value[:200])\n"
-        "    return _hit_plane(origins, directions, a, n)\n"
+        "    return _plane_side(p, a, n)\n"
     )
     submission = submission_wrapping(
-        tmp_path, {"spheres.py": ("hit_sphere", keep), "planes.py": ("hit_plane", fetch)}
+        tmp_path, {"spheres.py": ("hit_sphere", keep), "planes.py": ("plane_side", fetch)}
     )
-    results, run = grade_as_deployed(autograder, submission, ["2.4", "2.5", "2.1"], tmp_path)
-    assert scores(results) == {"2.4": 1, "2.5": 2, "2.1": 2}, results
-    visible = next(t for t in results["tests"] if t["number"] == "2.1")["output"]
+    results, run = grade_as_deployed(autograder, submission, ["2.4", "2.5", "2.6"], tmp_path)
+    assert scores(results) == {"2.4": 1, "2.5": 2, "2.6": 1}, results
+    visible = next(t for t in results["tests"] if t["number"] == "2.6")["output"]
     assert "keyring -4 -1 -1 1" in visible  # refused: EPERM
     assert "HIDDEN-INPUTS" not in everything_visible(results)
 
