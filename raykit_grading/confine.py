@@ -20,7 +20,7 @@ test's child makes for itself between ``fork`` and ``exec`` (:func:`confine_chil
    read its own folder, write only its ``tmp/``; from ABI 6 also no signal to, and no abstract
    unix socket of, any process outside its domain;
 5. the seccomp filter of :func:`raykit_grading.isolation.seccomp_filter` (no socket but
-   AF_UNIX, no keyrings, ptrace, bpf, namespaces, mounts...);
+   AF_UNIX, no keyrings, System V IPC, ptrace, bpf, namespaces, mounts...);
 
 then ``exec`` of the child Python. After the test every process of its uid is killed
 (:func:`raykit_grading.isolation.kill_uid`) before the uid is leased again.

@@ -521,6 +521,102 @@ def test_5_kernel_keyrings_carry_nothing_from_a_hidden_test(release, autograder,
     assert "HIDDEN-INPUTS" not in everything_visible(results)
 
 
+def test_5_system_v_ipc_carries_nothing_from_a_hidden_test(release, autograder, tmp_path):
+    """A System V shared memory segment (like a message queue or a semaphore set) outlives
+    its processes, and without an ipc namespace of its own (the chroot kind) every later
+    test's uid could open one made mode 666; the sandbox refuses the System V and POSIX
+    message queue calls (seccomp), so a hidden test cannot leave its inputs there."""
+    shmget, msgget = {"x86_64": (29, 68), "aarch64": (194, 186)}[platform.machine()]
+    key = 0x7A170000 + os.getpid() % 0x10000
+    keep = (
+        "def hit_sphere(origins, directions, center, radius):\n"
+        "    import ctypes\n    libc = ctypes.CDLL(None, use_errno=True)\n"
+        "    libc.syscall.restype = ctypes.c_long\n    libc.shmat.restype = ctypes.c_void_p\n"
+        "    data = b'HIDDEN-INPUTS ' + repr(center.tolist()).encode() + b'\\0'\n"
+        f"    shm = libc.syscall({shmget}, {key}, 4096, 0o1666)\n"
+        "    if shm >= 0:\n"
+        "        address = libc.shmat(int(shm), None, 0)\n"
+        "        if address not in (None, 2**64 - 1):\n"
+        "            ctypes.memmove(address, data, len(data))\n"
+        f"    libc.syscall({msgget}, {key}, 0o1666)\n"
+        "    return _hit_sphere(origins, directions, center, radius)\n"
+    )
+    fetch = (
+        "def plane_side(p, a, n):\n"
+        "    import ctypes\n    libc = ctypes.CDLL(None, use_errno=True)\n"
+        "    libc.syscall.restype = ctypes.c_long\n    libc.shmat.restype = ctypes.c_void_p\n"
+        f"    shm = libc.syscall({shmget}, {key}, 0, 0)\n"
+        "    print('shm', shm, ctypes.get_errno())\n"
+        "    if shm >= 0:\n"
+        "        address = libc.shmat(int(shm), None, 0o10000)\n"
+        "        if address not in (None, 2**64 - 1):\n"
+        "            print(ctypes.string_at(address)[:200])\n"
+        f"    print('msg', libc.syscall({msgget}, {key}, 0), ctypes.get_errno())\n"
+        "    return _plane_side(p, a, n)\n"
+    )
+    submission = submission_wrapping(
+        tmp_path, {"spheres.py": ("hit_sphere", keep), "planes.py": ("plane_side", fetch)}
+    )
+    try:
+        results, run = grade_as_deployed(autograder, submission, ["2.4", "2.5", "2.6"], tmp_path)
+    finally:  # were the defence gone, what it made would outlive the test on this machine
+        for kind in ("-M", "-Q"):
+            subprocess.run(["ipcrm", kind, hex(key)], capture_output=True)
+    assert scores(results) == {"2.4": 1, "2.5": 2, "2.6": 1}, results
+    visible = next(t for t in results["tests"] if t["number"] == "2.6")["output"]
+    assert "shm -1 1" in visible and "msg -1 1" in visible  # refused: EPERM
+    assert "HIDDEN-INPUTS" not in everything_visible(results)
+
+
+def test_9_no_namespace_of_its_own_so_no_memory_beyond_its_limits(release, autograder, tmp_path):
+    """clone(CLONE_NEWUSER | CLONE_NEWNS) would make the child root of a user namespace of
+    its own (bubblewrap as root leaves that to the kernel), where the new mount API mounts a
+    tmpfs that neither the 64 MB /tmp nor the address-space limit bounds. The seccomp filter
+    refuses a clone with any CLONE_NEW* flag and the new mount API; the code answers right
+    only if it stored nothing."""
+    code = (
+        "def hit_plane(origins, directions, a, n):\n"
+        "    import os, ctypes, platform\n"
+        "    libc = ctypes.CDLL(None, use_errno=True)\n"
+        "    libc.syscall.restype = ctypes.c_long\n"
+        "    clone = {'x86_64': 56, 'aarch64': 220}[platform.machine()]\n"
+        "    libc.prctl(4, 1, 0, 0, 0)  # PR_SET_DUMPABLE: its own /proc files, for uid_map\n"
+        "    uid, gid = os.getuid(), os.getgid()\n"
+        "    said_r, said_w = os.pipe()\n    go_r, go_w = os.pipe()\n"
+        "    pid = libc.syscall(clone, 0x10000000 | 0x00020000 | 17, 0, 0, 0, 0)\n"
+        "    if pid == 0:\n"
+        "        os.read(go_r, 1)\n        stored = 0\n"
+        "        fs = libc.syscall(430, b'tmpfs', 0)  # fsopen\n"
+        "        if fs >= 0:\n"
+        "            libc.syscall(431, fs, 6, None, None, 0)  # FSCONFIG_CMD_CREATE\n"
+        "            mnt = libc.syscall(432, fs, 0, 0)  # fsmount\n"
+        "            try:\n"
+        "                out = os.open('big', os.O_CREAT | os.O_WRONLY, 0o600, dir_fd=mnt)\n"
+        "                for _ in range(200):\n"
+        "                    os.write(out, b'x' * 2**20)\n                    stored += 1\n"
+        "            except OSError:\n                pass\n"
+        "        os.write(said_w, str(stored).encode())\n        os._exit(0)\n"
+        "    print('clone', pid, ctypes.get_errno())\n"
+        "    stored = 0\n"
+        "    if pid > 0:\n"
+        "        for name, text in (('setgroups', 'deny'), ('uid_map', f'0 {uid} 1'),\n"
+        "                           ('gid_map', f'0 {gid} 1')):\n"
+        "            try:\n                open(f'/proc/{pid}/{name}', 'w').write(text)\n"
+        "            except OSError:\n                pass\n"
+        "        os.write(go_w, b'g')\n        os.waitpid(pid, 0)\n"
+        "        stored = int(os.read(said_r, 20) or 0)\n"
+        "    print('stored', stored, 'MB')\n"
+        "    return _hit_plane(origins, directions, a, n) if not stored else origins[:, 0]\n"
+    )
+    submission = make_submission(tmp_path / "submission")
+    planes = submission / "raykit" / "planes.py"
+    planes.write_text(planes.read_text().replace("def hit_plane(", "def _hit_plane(", 1) + code)
+    results, run = grade_as_deployed(autograder, submission, ["2.1"], tmp_path)
+    assert scores(results) == {"2.1": 2}, results
+    assert "clone -1 " in results["tests"][0]["output"]  # refused: EPERM, or ENOSPC as a user
+    assert "stored 0 MB" in results["tests"][0]["output"]
+
+
 def test_9_no_memory_is_there_to_fill_but_a_small_tmp(release, autograder, tmp_path):
     """Writing 100 MB anywhere fails: the tree is read-only but /tmp, which is 64 MB. The code
     answers right only if every big write failed."""
