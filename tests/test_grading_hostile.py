@@ -908,6 +908,22 @@ def test_a_slow_submission_is_stopped_by_the_total_budget(release, autograder, t
     assert any("not run: all tests together" in t["output"] for t in results["tests"])
 
 
+def test_a_right_submission_that_writes_to_devnull_keeps_its_score(autograder, tmp_path):
+    """Quieting output into os.devnull works in every sandbox: the chroot tree's /dev/null is
+    mode 666 (mknod took the umask) and Landlock lets the child write it, so Gradescope's
+    sandbox scores this as bubblewrap does."""
+    code = (
+        "def hit_plane(origins, directions, a, n):\n    import os\n"
+        "    with open(os.devnull, 'w') as quiet:\n        quiet.write('progress')\n"
+        "    return _hit_plane(origins, directions, a, n)\n"
+    )
+    submission = make_submission(tmp_path / "submission")
+    planes = submission / "raykit" / "planes.py"
+    planes.write_text(planes.read_text().replace("def hit_plane(", "def _hit_plane(", 1) + code)
+    results, run = grade_as_deployed(autograder, submission, ["2.1"], tmp_path)
+    assert scores(results) == {"2.1": 2}, results
+
+
 def test_a_correct_submission_scores_full_marks_as_deployed(autograder, tmp_path):
     results, run = grade_as_deployed(
         autograder, make_submission(tmp_path / "submission"), [t.key for t in TESTS], tmp_path
