@@ -142,7 +142,8 @@ def _shared_libraries(binaries: list[str], packages: list[str]) -> tuple[tuple[s
 # handles that bypass paths, and System V IPC and POSIX message queues: without an ipc
 # namespace of its own (the chroot kind) a segment or queue outlives its test, open to every
 # later test's uid (a hidden test's inputs, read by a visible one) and holding memory no
-# process owns.
+# process owns; and memfd_create, whose files hold memory the address-space limit does not
+# count (each is cut at the file size limit, but there may be many).
 SECCOMP_ARCHES = {
     "x86_64": (0xC000003E, {
         "add_key": 248, "request_key": 249, "keyctl": 250, "bpf": 321, "perf_event_open": 298,
@@ -157,6 +158,7 @@ SECCOMP_ARCHES = {
         "semctl": 66, "semtimedop": 220, "msgget": 68, "msgsnd": 69, "msgrcv": 70,
         "msgctl": 71, "mq_open": 240, "mq_unlink": 241, "mq_timedsend": 242,
         "mq_timedreceive": 243, "mq_notify": 244, "mq_getsetattr": 245,
+        "memfd_create": 319, "memfd_secret": 447,
     }),
     "aarch64": (0xC00000B7, {
         "add_key": 217, "request_key": 218, "keyctl": 219, "bpf": 280, "perf_event_open": 241,
@@ -171,6 +173,7 @@ SECCOMP_ARCHES = {
         "semctl": 191, "semtimedop": 192, "msgget": 186, "msgsnd": 189, "msgrcv": 188,
         "msgctl": 187, "mq_open": 180, "mq_unlink": 181, "mq_timedsend": 182,
         "mq_timedreceive": 183, "mq_notify": 184, "mq_getsetattr": 185,
+        "memfd_create": 279, "memfd_secret": 447,
     }),
 }  # fmt: skip
 SOCKET_CALL = {"x86_64": 41, "aarch64": 198}  # socket(2): only AF_UNIX is let through

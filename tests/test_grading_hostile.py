@@ -617,6 +617,46 @@ def test_9_no_namespace_of_its_own_so_no_memory_beyond_its_limits(release, autog
     assert "stored 0 MB" in results["tests"][0]["output"]
 
 
+def test_9_no_gigabyte_held_by_the_kernel_outside_the_memory_limit(release, autograder, tmp_path):
+    """The address-space limit does not count what the kernel holds for a process: memfd
+    files (never mapped) and socket buffers. It tries to hold 1 GB in each: memfd_create is
+    refused (seccomp) and 64 open files bound the sockets to about half of that. The code
+    answers right only if it never held 1 GB."""
+    code = (
+        "def hit_plane(origins, directions, a, n):\n"
+        "    import os, socket\n"
+        "    GB, chunk, held, keep = 2**30, b'x' * 2**20, {'memfd': 0, 'sockets': 0}, []\n"
+        "    try:\n"
+        "        while held['memfd'] < GB:\n"
+        "            keep.append(os.memfd_create('hog'))\n"
+        "            for _ in range(60):\n"
+        "                held['memfd'] += os.write(keep[-1], chunk)\n"
+        "    except OSError as e:\n        print('memfd', e.errno)\n"
+        "    for fd in keep:\n        os.close(fd)\n"
+        "    try:\n"
+        "        while held['sockets'] < GB:\n"
+        "            pair = socket.socketpair()\n            keep.append(pair)\n"
+        "            for end in pair:\n"
+        "                end.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, 2**23)\n"
+        "                end.setblocking(False)\n"
+        "                try:\n"
+        "                    while held['sockets'] < GB:\n"
+        "                        held['sockets'] += end.send(chunk)\n"
+        "                except BlockingIOError:\n                    pass\n"
+        "    except OSError as e:\n        print('sockets', e.errno)\n"
+        "    print('held MB', {k: v >> 20 for k, v in held.items()})\n"
+        "    big = max(held.values()) >= GB\n"
+        "    return origins[:, 0] if big else _hit_plane(origins, directions, a, n)\n"
+    )
+    submission = make_submission(tmp_path / "submission")
+    planes = submission / "raykit" / "planes.py"
+    planes.write_text(planes.read_text().replace("def hit_plane(", "def _hit_plane(", 1) + code)
+    results, run = grade_as_deployed(autograder, submission, ["2.1"], tmp_path)
+    assert scores(results) == {"2.1": 2}, results
+    assert "memfd 1" in results["tests"][0]["output"]  # refused: EPERM
+    assert "sockets 24" in results["tests"][0]["output"]  # EMFILE: out of descriptors
+
+
 def test_9_no_memory_is_there_to_fill_but_a_small_tmp(release, autograder, tmp_path):
     """Writing 100 MB anywhere fails: the tree is read-only but /tmp, which is 64 MB. The code
     answers right only if every big write failed."""

@@ -153,7 +153,7 @@ for name, family in (("inet", socket.AF_INET), ("inet6", socket.AF_INET6),
         said[name] = "made"
     except OSError as exc:
         said[name] = errno.errorcode[exc.errno]
-for name in ("keyctl", "ptrace", "unshare", "bpf", "shmget", "mq_open", "fsopen"):
+for name in ("keyctl", "ptrace", "unshare", "bpf", "shmget", "mq_open", "fsopen", "memfd_create"):
     libc.syscall(calls[name], 0, 0, 0, 0)
     said[name] = errno.errorcode.get(ctypes.get_errno(), "none")
 clone, clone3 = CLONE_CALLS[platform.machine()]
@@ -180,7 +180,8 @@ def test_the_seccomp_filter_refuses_the_network_kernel_state_and_namespaces_not_
     assert json.loads(run.stdout) == {
         "inet": "EPERM", "inet6": "EPERM", "netlink": "EPERM", "unix": "made",
         "keyctl": "EPERM", "ptrace": "EPERM", "unshare": "EPERM", "bpf": "EPERM",
-        "shmget": "EPERM", "mq_open": "EPERM", "fsopen": "EPERM", "clone_newuser": "EPERM",
+        "shmget": "EPERM", "mq_open": "EPERM", "fsopen": "EPERM", "memfd_create": "EPERM",
+        "clone_newuser": "EPERM",
         "clone_newns": "EPERM", "fork": "made", "clone3": "ENOSYS",
     }  # fmt: skip
 
