@@ -8,8 +8,10 @@ Every task runs in a sandbox made by bubblewrap (``bwrap``, Debian/Ubuntu packag
   libraries those load, the task's own work folder (read-only, at :data:`WORK`), and a private
   ``/tmp`` of :attr:`Limits.tmp_bytes`. No other file of the machine exists in there: not the
   grader, not the reference raykit, not the hidden scenes, not a classmate's folder.
-* **pid**: the child sees only its own processes, so it cannot signal or trace the grader or
-  read another process's command line; when the task ends every process in it is killed.
+* **pid**: the child can name only its own processes, so it cannot signal or trace the grader
+  or read another process's command line; when the task ends every process in it is killed.
+  No ``/proc`` is mounted (as a normal user bwrap's init has the child's uid, and its
+  ``/proc/1/mem`` would be writable).
 * **network** (none but a loopback of its own), **ipc** and **uts**.
 
 As root (Gradescope), bwrap needs no user namespace; the child's first act (in
@@ -292,7 +294,10 @@ def sandbox_arguments(
         bind("/etc/ld.so.cache", "/etc/ld.so.cache")
     bind(str(work), WORK)
     bind(str(submission), f"{WORK}/submission")
-    arguments += ["--proc", "/proc", "--dev", "/dev", "--remount-ro", "/dev"]
+    # no /proc: as a normal user, bwrap's own init (pid 1 in the sandbox) is the child's uid,
+    # and /proc/1/mem would let the child write its code (leave the process group, drop
+    # --die-with-parent, outlive the test); nothing the child runs needs /proc
+    arguments += ["--dev", "/dev", "--remount-ro", "/dev"]
     private_tmp = ["--size", str(tmp_bytes), "--perms", "01777", "--tmpfs", "/tmp"]
     arguments += [*private_tmp, "--chdir", "/tmp"]
     arguments += ["--remount-ro", "/"]  # nothing but /tmp (of a fixed size) can be written

@@ -657,6 +657,33 @@ def test_9_no_gigabyte_held_by_the_kernel_outside_the_memory_limit(release, auto
     assert "sockets 24" in results["tests"][0]["output"]  # EMFILE: out of descriptors
 
 
+def test_9_the_sandbox_init_cannot_be_rewritten_to_outlive_the_test(release, autograder, tmp_path):
+    """As a normal user, bubblewrap's init (pid 1 in the sandbox) runs as the child's own uid:
+    with a /proc the child could write that process's memory through /proc/1/mem (run code
+    there that leaves the process group and drops --die-with-parent, and so outlive the
+    test). There is no /proc in any sandbox; the code answers right only if it could not
+    write another process's memory."""
+    code = (
+        "def hit_plane(origins, directions, a, n):\n    import os\n    wrote = 0\n"
+        "    try:\n"
+        "        maps = open('/proc/1/maps').read().splitlines()\n"
+        "        start = int(next(m for m in maps if 'r-xp' in m).split('-')[0], 16)\n"
+        "        memory = os.open('/proc/1/mem', os.O_RDWR)\n"
+        "        same = os.pread(memory, 4, start)\n"
+        "        wrote = os.pwrite(memory, same, start)  # its own bytes: the test harms nothing\n"
+        "    except (OSError, StopIteration) as e:\n"
+        "        print('refused', type(e).__name__)\n"
+        "    print('wrote', wrote)\n"
+        "    return origins[:, 0] if wrote else _hit_plane(origins, directions, a, n)\n"
+    )
+    submission = make_submission(tmp_path / "submission")
+    planes = submission / "raykit" / "planes.py"
+    planes.write_text(planes.read_text().replace("def hit_plane(", "def _hit_plane(", 1) + code)
+    results, run = grade_as_deployed(autograder, submission, ["2.1"], tmp_path)
+    assert scores(results) == {"2.1": 2}, results
+    assert "wrote 0" in results["tests"][0]["output"]
+
+
 def test_9_no_memory_is_there_to_fill_but_a_small_tmp(release, autograder, tmp_path):
     """Writing 100 MB anywhere fails: the tree is read-only but /tmp, which is 64 MB. The code
     answers right only if every big write failed."""
