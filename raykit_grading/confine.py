@@ -17,10 +17,10 @@ test's child makes for itself between ``fork`` and ``exec`` (:func:`confine_chil
 3. the test's own uid and gid, leased (``setgroups([])``, ``setgid``, ``setuid``: a process
    that leaves uid 0 this way keeps no capability), then ``PR_SET_NO_NEW_PRIVS``;
 4. Landlock where the kernel has it (:func:`landlock_restrict`): read and execute the tree,
-   read its own folder, write only its ``tmp/``; from ABI 6 also no signal to, and no abstract
-   unix socket of, any process outside its domain;
+   read its own folder, write only its ``tmp/`` (and ``/dev/null``); from ABI 6 also no
+   signal to, and no abstract unix socket of, any process outside its domain;
 5. the seccomp filter of :func:`raykit_grading.isolation.seccomp_filter` (no socket but
-   AF_UNIX, no keyrings, ptrace, bpf, namespaces, mounts...);
+   AF_UNIX, no keyrings, System V IPC, ptrace, bpf, namespaces, mounts...);
 
 then ``exec`` of the child Python. After the test every process of its uid is killed
 (:func:`raykit_grading.isolation.kill_uid`) before the uid is leased again.
@@ -46,10 +46,11 @@ from pathlib import Path
 from raykit_grading.isolation import SITE, ChildPython, IsolationUnavailable
 
 TREES = Path("/var/cache/raykit-grading")  # root only (mode 700)
-TREE_LAYOUT = 1  # raise when what goes into a tree changes: old trees are then not used
+TREE_LAYOUT = 2  # raise when what goes into a tree changes: old trees are then not used
 LEFT_OUT = {"site-packages", "dist-packages", "test", "idlelib", "tkinter", "turtledemo",
             "ensurepip", "lib2to3", "pydoc_data"}  # fmt: skip
 TASKS = "tasks"  # the tree's folder of test folders (mode 711: entered, never listed)
+DEVICES_WRITTEN = ("/dev/null",)  # what code may write beside its tmp/ (os.devnull, as anywhere)
 
 _libc = ctypes.CDLL(None, use_errno=True)
 _libc.syscall.restype = ctypes.c_long
@@ -307,6 +308,8 @@ def _build_tree(python: ChildPython, tree: Path) -> None:
                 os.chmod(path, 0o711 if name == TASKS and folder == str(tree) else 0o755)
             elif stat.S_ISREG(info.st_mode):  # readable by all, writable by none but root
                 os.chmod(path, 0o755 if info.st_mode & 0o111 else 0o644)
+            elif stat.S_ISCHR(info.st_mode):  # /dev/null as everywhere (mknod took the umask)
+                os.chmod(path, 0o666)
     os.chown(tree, 0, 0)
     os.chmod(tree, 0o755)
 
@@ -363,7 +366,7 @@ def confine_child(plan: ChildConfinement) -> None:
             plan.landlock_abi,
             list(plan.landlock_read_execute),
             [plan.folder],
-            [f"{plan.folder}/tmp"],
+            [f"{plan.folder}/tmp", *DEVICES_WRITTEN],
         )
     install_seccomp(plan.seccomp)
 

@@ -8,8 +8,10 @@ Every task runs in a sandbox made by bubblewrap (``bwrap``, Debian/Ubuntu packag
   libraries those load, the task's own work folder (read-only, at :data:`WORK`), and a private
   ``/tmp`` of :attr:`Limits.tmp_bytes`. No other file of the machine exists in there: not the
   grader, not the reference raykit, not the hidden scenes, not a classmate's folder.
-* **pid**: the child sees only its own processes, so it cannot signal or trace the grader or
-  read another process's command line; when the task ends every process in it is killed.
+* **pid**: the child can name only its own processes, so it cannot signal or trace the grader
+  or read another process's command line; when the task ends every process in it is killed.
+  No ``/proc`` is mounted (as a normal user bwrap's init has the child's uid, and its
+  ``/proc/1/mem`` would be writable).
 * **network** (none but a loopback of its own), **ipc** and **uts**.
 
 As root (Gradescope), bwrap needs no user namespace; the child's first act (in
@@ -137,7 +139,12 @@ def _shared_libraries(binaries: list[str], packages: list[str]) -> tuple[tuple[s
 
 # system calls refused in the sandbox, by architecture: (AUDIT_ARCH, {name: number}). Besides
 # the kernel state above: tracing and reading other processes (ptrace, process_vm_*), making or
-# entering namespaces and mounting (a chroot's way out), and handles that bypass paths.
+# entering namespaces and mounting, by the old calls or the new mount API (a chroot's way out),
+# handles that bypass paths, and System V IPC and POSIX message queues: without an ipc
+# namespace of its own (the chroot kind) a segment or queue outlives its test, open to every
+# later test's uid (a hidden test's inputs, read by a visible one) and holding memory no
+# process owns; and memfd_create, whose files hold memory the address-space limit does not
+# count (each is cut at the file size limit, but there may be many).
 SECCOMP_ARCHES = {
     "x86_64": (0xC000003E, {
         "add_key": 248, "request_key": 249, "keyctl": 250, "bpf": 321, "perf_event_open": 298,
@@ -146,6 +153,13 @@ SECCOMP_ARCHES = {
         "kexec_file_load": 320, "ptrace": 101, "process_vm_readv": 310,
         "process_vm_writev": 311, "unshare": 272, "setns": 308, "mount": 165, "umount2": 166,
         "pivot_root": 155, "chroot": 161, "name_to_handle_at": 303, "open_by_handle_at": 304,
+        "open_tree": 428, "move_mount": 429, "fsopen": 430, "fsconfig": 431, "fsmount": 432,
+        "fspick": 433, "mount_setattr": 442,
+        "shmget": 29, "shmat": 30, "shmctl": 31, "shmdt": 67, "semget": 64, "semop": 65,
+        "semctl": 66, "semtimedop": 220, "msgget": 68, "msgsnd": 69, "msgrcv": 70,
+        "msgctl": 71, "mq_open": 240, "mq_unlink": 241, "mq_timedsend": 242,
+        "mq_timedreceive": 243, "mq_notify": 244, "mq_getsetattr": 245,
+        "memfd_create": 319, "memfd_secret": 447,
     }),
     "aarch64": (0xC00000B7, {
         "add_key": 217, "request_key": 218, "keyctl": 219, "bpf": 280, "perf_event_open": 241,
@@ -154,12 +168,25 @@ SECCOMP_ARCHES = {
         "kexec_file_load": 294, "ptrace": 117, "process_vm_readv": 270,
         "process_vm_writev": 271, "unshare": 97, "setns": 268, "mount": 40, "umount2": 39,
         "pivot_root": 41, "chroot": 51, "name_to_handle_at": 264, "open_by_handle_at": 265,
+        "open_tree": 428, "move_mount": 429, "fsopen": 430, "fsconfig": 431, "fsmount": 432,
+        "fspick": 433, "mount_setattr": 442,
+        "shmget": 194, "shmat": 196, "shmctl": 195, "shmdt": 197, "semget": 190, "semop": 193,
+        "semctl": 191, "semtimedop": 192, "msgget": 186, "msgsnd": 189, "msgrcv": 188,
+        "msgctl": 187, "mq_open": 180, "mq_unlink": 181, "mq_timedsend": 182,
+        "mq_timedreceive": 183, "mq_notify": 184, "mq_getsetattr": 185,
+        "memfd_create": 279, "memfd_secret": 447,
     }),
 }  # fmt: skip
 SOCKET_CALL = {"x86_64": 41, "aarch64": 198}  # socket(2): only AF_UNIX is let through
 AF_UNIX = 1
+# clone(2) with a CLONE_NEW* flag would make namespaces unshare(2) may not (a user namespace
+# is root in a world of its own: mounts through the new mount API, a tmpfs outside every
+# limit); clone3(2) hides its flags in memory seccomp cannot read, so it fails with ENOSYS
+# and the C library falls back to clone, as under Docker's own profile
+CLONE_CALLS = {"x86_64": (56, 435), "aarch64": (220, 435)}  # clone, clone3
+CLONE_NEW_FLAGS = 0x7E020000  # CLONE_NEWNS|NEWCGROUP|NEWUTS|NEWIPC|NEWUSER|NEWPID|NEWNET
 X32_SYSCALL_BIT = 0x40000000
-SECCOMP_RET_ALLOW, SECCOMP_RET_ERRNO, EPERM = 0x7FFF0000, 0x00050000, 1
+SECCOMP_RET_ALLOW, SECCOMP_RET_ERRNO, EPERM, ENOSYS = 0x7FFF0000, 0x00050000, 1, 38
 
 
 def bpf_program(steps: list[tuple]) -> bytes:
@@ -194,18 +221,24 @@ def bpf_program(steps: list[tuple]) -> bytes:
 def seccomp_filter(machine: str | None = None) -> bytes:
     """The sandbox's seccomp program, classic BPF as bwrap's ``--seccomp`` and
     ``PR_SET_SECCOMP`` read it: a call of another architecture, an x32 call, one of
-    :data:`SECCOMP_ARCHES`, or a socket of any family but AF_UNIX (no network: IPv4, IPv6,
-    netlink, packet...) fails with EPERM; everything else is allowed."""
+    :data:`SECCOMP_ARCHES`, a socket of any family but AF_UNIX (no network: IPv4, IPv6,
+    netlink, packet...) or a ``clone`` with a ``CLONE_NEW*`` flag fails with EPERM;
+    ``clone3`` with ENOSYS; everything else is allowed."""
     machine = machine or platform.machine()
     if machine not in SECCOMP_ARCHES:
         raise IsolationUnavailable(f"no seccomp filter for {machine} machines; grade on x86_64")
     arch, calls = SECCOMP_ARCHES[machine]
+    clone, clone3 = CLONE_CALLS[machine]
     steps: list[tuple] = [("ld", 4), ("jeq", arch, None, "deny"), ("ld", 0)]
     steps += [("jge", X32_SYSCALL_BIT, "deny", None), ("jeq", SOCKET_CALL[machine], "socket", None)]
+    steps += [("jeq", clone, "clone", None), ("jeq", clone3, "enosys", None)]
     steps += [("jeq", number, "deny", None) for number in sorted(calls.values())]
     steps += [("ret", SECCOMP_RET_ALLOW), ("label", "socket"), ("ld", 16)]  # args[0], low word
-    steps += [("jeq", AF_UNIX, "allow", "deny"), ("label", "allow"), ("ret", SECCOMP_RET_ALLOW)]
+    steps += [("jeq", AF_UNIX, "allow", "deny"), ("label", "clone"), ("ld", 16)]  # its flags
+    steps += [("jset", CLONE_NEW_FLAGS, "deny", "allow")]
+    steps += [("label", "allow"), ("ret", SECCOMP_RET_ALLOW)]
     steps += [("label", "deny"), ("ret", SECCOMP_RET_ERRNO | EPERM)]
+    steps += [("label", "enosys"), ("ret", SECCOMP_RET_ERRNO | ENOSYS)]
     return bpf_program(steps)
 
 
@@ -260,7 +293,10 @@ def sandbox_arguments(
         bind("/etc/ld.so.cache", "/etc/ld.so.cache")
     bind(str(work), WORK)
     bind(str(submission), f"{WORK}/submission")
-    arguments += ["--proc", "/proc", "--dev", "/dev", "--remount-ro", "/dev"]
+    # no /proc: as a normal user, bwrap's own init (pid 1 in the sandbox) is the child's uid,
+    # and /proc/1/mem would let the child write its code (leave the process group, drop
+    # --die-with-parent, outlive the test); nothing the child runs needs /proc
+    arguments += ["--dev", "/dev", "--remount-ro", "/dev"]
     private_tmp = ["--size", str(tmp_bytes), "--perms", "01777", "--tmpfs", "/tmp"]
     arguments += [*private_tmp, "--chdir", "/tmp"]
     arguments += ["--remount-ro", "/"]  # nothing but /tmp (of a fixed size) can be written

@@ -8,7 +8,8 @@ child gets:
 * Python in isolated mode without ``site`` (``-I -S -B``): its path is the submission, then
   numpy and Pillow, then the standard library. The grader's reference raykit is not in its world.
 * limits (:class:`Limits`): wall-clock time (then the whole sandbox is killed), CPU seconds,
-  address space, processes, the size of a file, a private ``/tmp`` of a fixed size, no cores.
+  address space, processes, open files, the size of a file, a private ``/tmp`` of a fixed
+  size, no cores.
 * a work folder of its own, made for that task and removed after it: a hidden test's inputs
   are never where a later (visible) test's child could find them.
 
@@ -68,6 +69,9 @@ class Limits:
     cpu_seconds: int = 20
     memory_bytes: int = 2 * 1024**3
     processes: int = 16
+    # descriptors: each socket may hold up to 2 x net.core.wmem_max (8 MB) of kernel memory
+    # that the address-space limit does not count, so their number bounds that memory
+    open_files: int = 64
     file_bytes: int = 64 * 1024**2
     tmp_bytes: int = 64 * 1024**2
     returned_bytes: int = 64 * 1024**2
@@ -298,6 +302,7 @@ class Sandbox:
             (resource.RLIMIT_AS, limits.memory_bytes),
             (resource.RLIMIT_FSIZE, limits.file_bytes),
             (resource.RLIMIT_CORE, 0),
+            (resource.RLIMIT_NOFILE, limits.open_files),
             (resource.RLIMIT_NPROC, limits.processes),  # counted for the task's own uid
         )
 
@@ -354,6 +359,7 @@ class Sandbox:
         resource.setrlimit(resource.RLIMIT_AS, (limits.memory_bytes, limits.memory_bytes))
         resource.setrlimit(resource.RLIMIT_FSIZE, (limits.file_bytes, limits.file_bytes))
         resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
+        resource.setrlimit(resource.RLIMIT_NOFILE, (limits.open_files, limits.open_files))
         if self.as_root:  # counted for the task's own uid, once the child has dropped to it
             resource.setrlimit(resource.RLIMIT_NPROC, (limits.processes, limits.processes))
         else:  # processes count per user: leave room for the ones the user already runs

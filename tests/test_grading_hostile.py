@@ -457,7 +457,8 @@ def test_4_a_test_that_kills_its_own_child_costs_only_that_test(release, autogra
 
 def test_5_a_hidden_test_cannot_leave_its_inputs_for_a_visible_one(release, autograder, tmp_path):
     """The hidden ray-sphere tests (2.4, 2.5) hide their inputs everywhere they can write; the
-    visible ray-plane test (2.1, graded after them here) prints whatever it finds."""
+    visible plane-side test (2.6, graded after them: tests run in the catalogue's order)
+    prints whatever it finds."""
     stash = ["/tmp/stash", "/dev/shm/stash", "/var/tmp/stash", "/work/stash"]
     code = (
         "def hit_sphere(origins, directions, center, radius):\n    import os\n"
@@ -468,19 +469,20 @@ def test_5_a_hidden_test_cannot_leave_its_inputs_for_a_visible_one(release, auto
         "    return _hit_sphere(origins, directions, center, radius)\n"
     )
     peek = (
-        "def hit_plane(origins, directions, a, n):\n    import os\n"
+        "def plane_side(p, a, n):\n    import os\n"
         f"    for path in {stash!r} + [os.path.expanduser('~/stash')]:\n"
         "        try:\n            print(open(path).read())\n"
         "        except OSError:\n            pass\n"
         "    print('uid', os.getuid())\n"
-        "    return _hit_plane(origins, directions, a, n)\n"
+        "    return _plane_side(p, a, n)\n"
     )
     submission = submission_wrapping(
-        tmp_path, {"spheres.py": ("hit_sphere", code), "planes.py": ("hit_plane", peek)}
+        tmp_path, {"spheres.py": ("hit_sphere", code), "planes.py": ("plane_side", peek)}
     )
-    results, run = grade_as_deployed(autograder, submission, ["2.4", "2.5", "2.1"], tmp_path)
-    assert scores(results) == {"2.4": 1, "2.5": 2, "2.1": 2}, results
-    visible = next(t for t in results["tests"] if t["number"] == "2.1")["output"]
+    results, run = grade_as_deployed(autograder, submission, ["2.4", "2.5", "2.6"], tmp_path)
+    assert [t["number"] for t in results["tests"]] == ["2.4", "2.5", "2.6"]  # hidden first
+    assert scores(results) == {"2.4": 1, "2.5": 2, "2.6": 1}, results
+    visible = next(t for t in results["tests"] if t["number"] == "2.6")["output"]
     assert "uid" in visible  # what it printed does show (a visible test)
     assert "HIDDEN-INPUTS" not in everything_visible(results)
 
@@ -500,23 +502,186 @@ def test_5_kernel_keyrings_carry_nothing_from_a_hidden_test(release, autograder,
         "    return _hit_sphere(origins, directions, center, radius)\n"
     )
     fetch = (
-        "def hit_plane(origins, directions, a, n):\n"
+        "def plane_side(p, a, n):\n"
         "    import ctypes\n    libc = ctypes.CDLL(None, use_errno=True)\n"
         "    for ring in (-4, -3):\n"
         f"        key = libc.syscall({calls['request_key']}, b'user', b'stash', None, ring)\n"
         "        buffer = ctypes.create_string_buffer(4096)\n"
         f"        got = libc.syscall({calls['keyctl']}, 11, key, buffer, 4096)\n"
         "        print('keyring', ring, key, got, ctypes.get_errno(), buffer.value[:200])\n"
-        "    return _hit_plane(origins, directions, a, n)\n"
+        "    return _plane_side(p, a, n)\n"
     )
     submission = submission_wrapping(
-        tmp_path, {"spheres.py": ("hit_sphere", keep), "planes.py": ("hit_plane", fetch)}
+        tmp_path, {"spheres.py": ("hit_sphere", keep), "planes.py": ("plane_side", fetch)}
     )
-    results, run = grade_as_deployed(autograder, submission, ["2.4", "2.5", "2.1"], tmp_path)
-    assert scores(results) == {"2.4": 1, "2.5": 2, "2.1": 2}, results
-    visible = next(t for t in results["tests"] if t["number"] == "2.1")["output"]
+    results, run = grade_as_deployed(autograder, submission, ["2.4", "2.5", "2.6"], tmp_path)
+    assert scores(results) == {"2.4": 1, "2.5": 2, "2.6": 1}, results
+    visible = next(t for t in results["tests"] if t["number"] == "2.6")["output"]
     assert "keyring -4 -1 -1 1" in visible  # refused: EPERM
     assert "HIDDEN-INPUTS" not in everything_visible(results)
+
+
+def test_5_system_v_ipc_carries_nothing_from_a_hidden_test(release, autograder, tmp_path):
+    """A System V shared memory segment (like a message queue or a semaphore set) outlives
+    its processes, and without an ipc namespace of its own (the chroot kind) every later
+    test's uid could open one made mode 666; the sandbox refuses the System V and POSIX
+    message queue calls (seccomp), so a hidden test cannot leave its inputs there."""
+    shmget, msgget = {"x86_64": (29, 68), "aarch64": (194, 186)}[platform.machine()]
+    key = 0x7A170000 + os.getpid() % 0x10000
+    keep = (
+        "def hit_sphere(origins, directions, center, radius):\n"
+        "    import ctypes\n    libc = ctypes.CDLL(None, use_errno=True)\n"
+        "    libc.syscall.restype = ctypes.c_long\n    libc.shmat.restype = ctypes.c_void_p\n"
+        "    data = b'HIDDEN-INPUTS ' + repr(center.tolist()).encode() + b'\\0'\n"
+        f"    shm = libc.syscall({shmget}, {key}, 4096, 0o1666)\n"
+        "    if shm >= 0:\n"
+        "        address = libc.shmat(int(shm), None, 0)\n"
+        "        if address not in (None, 2**64 - 1):\n"
+        "            ctypes.memmove(address, data, len(data))\n"
+        f"    libc.syscall({msgget}, {key}, 0o1666)\n"
+        "    return _hit_sphere(origins, directions, center, radius)\n"
+    )
+    fetch = (
+        "def plane_side(p, a, n):\n"
+        "    import ctypes\n    libc = ctypes.CDLL(None, use_errno=True)\n"
+        "    libc.syscall.restype = ctypes.c_long\n    libc.shmat.restype = ctypes.c_void_p\n"
+        f"    shm = libc.syscall({shmget}, {key}, 0, 0)\n"
+        "    print('shm', shm, ctypes.get_errno())\n"
+        "    if shm >= 0:\n"
+        "        address = libc.shmat(int(shm), None, 0o10000)\n"
+        "        if address not in (None, 2**64 - 1):\n"
+        "            print(ctypes.string_at(address)[:200])\n"
+        f"    print('msg', libc.syscall({msgget}, {key}, 0), ctypes.get_errno())\n"
+        "    return _plane_side(p, a, n)\n"
+    )
+    submission = submission_wrapping(
+        tmp_path, {"spheres.py": ("hit_sphere", keep), "planes.py": ("plane_side", fetch)}
+    )
+    try:
+        results, run = grade_as_deployed(autograder, submission, ["2.4", "2.5", "2.6"], tmp_path)
+    finally:  # were the defence gone, what it made would outlive the test on this machine
+        for kind in ("-M", "-Q"):
+            subprocess.run(["ipcrm", kind, hex(key)], capture_output=True)
+    assert scores(results) == {"2.4": 1, "2.5": 2, "2.6": 1}, results
+    visible = next(t for t in results["tests"] if t["number"] == "2.6")["output"]
+    assert "shm -1 1" in visible and "msg -1 1" in visible  # refused: EPERM
+    assert "HIDDEN-INPUTS" not in everything_visible(results)
+
+
+def test_9_no_namespace_of_its_own_so_no_memory_beyond_its_limits(release, autograder, tmp_path):
+    """clone(CLONE_NEWUSER | CLONE_NEWNS) would make the child root of a user namespace of
+    its own (bubblewrap as root leaves that to the kernel), where the new mount API mounts a
+    tmpfs that neither the 64 MB /tmp nor the address-space limit bounds. The seccomp filter
+    refuses a clone with any CLONE_NEW* flag and the new mount API; the code answers right
+    only if it stored nothing."""
+    code = (
+        "def hit_plane(origins, directions, a, n):\n"
+        "    import os, ctypes, platform\n"
+        "    libc = ctypes.CDLL(None, use_errno=True)\n"
+        "    libc.syscall.restype = ctypes.c_long\n"
+        "    clone = {'x86_64': 56, 'aarch64': 220}[platform.machine()]\n"
+        "    libc.prctl(4, 1, 0, 0, 0)  # PR_SET_DUMPABLE: its own /proc files, for uid_map\n"
+        "    uid, gid = os.getuid(), os.getgid()\n"
+        "    said_r, said_w = os.pipe()\n    go_r, go_w = os.pipe()\n"
+        "    pid = libc.syscall(clone, 0x10000000 | 0x00020000 | 17, 0, 0, 0, 0)\n"
+        "    if pid == 0:\n"
+        "        os.read(go_r, 1)\n        stored = 0\n"
+        "        fs = libc.syscall(430, b'tmpfs', 0)  # fsopen\n"
+        "        if fs >= 0:\n"
+        "            libc.syscall(431, fs, 6, None, None, 0)  # FSCONFIG_CMD_CREATE\n"
+        "            mnt = libc.syscall(432, fs, 0, 0)  # fsmount\n"
+        "            try:\n"
+        "                out = os.open('big', os.O_CREAT | os.O_WRONLY, 0o600, dir_fd=mnt)\n"
+        "                for _ in range(200):\n"
+        "                    os.write(out, b'x' * 2**20)\n                    stored += 1\n"
+        "            except OSError:\n                pass\n"
+        "        os.write(said_w, str(stored).encode())\n        os._exit(0)\n"
+        "    print('clone', pid, ctypes.get_errno())\n"
+        "    stored = 0\n"
+        "    if pid > 0:\n"
+        "        for name, text in (('setgroups', 'deny'), ('uid_map', f'0 {uid} 1'),\n"
+        "                           ('gid_map', f'0 {gid} 1')):\n"
+        "            try:\n                open(f'/proc/{pid}/{name}', 'w').write(text)\n"
+        "            except OSError:\n                pass\n"
+        "        os.write(go_w, b'g')\n        os.waitpid(pid, 0)\n"
+        "        stored = int(os.read(said_r, 20) or 0)\n"
+        "    print('stored', stored, 'MB')\n"
+        "    return _hit_plane(origins, directions, a, n) if not stored else origins[:, 0]\n"
+    )
+    submission = make_submission(tmp_path / "submission")
+    planes = submission / "raykit" / "planes.py"
+    planes.write_text(planes.read_text().replace("def hit_plane(", "def _hit_plane(", 1) + code)
+    results, run = grade_as_deployed(autograder, submission, ["2.1"], tmp_path)
+    assert scores(results) == {"2.1": 2}, results
+    assert "clone -1 " in results["tests"][0]["output"]  # refused: EPERM, or ENOSPC as a user
+    assert "stored 0 MB" in results["tests"][0]["output"]
+
+
+def test_9_no_gigabyte_held_by_the_kernel_outside_the_memory_limit(release, autograder, tmp_path):
+    """The address-space limit does not count what the kernel holds for a process: memfd
+    files (never mapped) and socket buffers. It tries to hold 1 GB in each: memfd_create is
+    refused (seccomp) and 64 open files bound the sockets to about half of that. The code
+    answers right only if it never held 1 GB."""
+    code = (
+        "def hit_plane(origins, directions, a, n):\n"
+        "    import os, socket\n"
+        "    GB, chunk, held, keep = 2**30, b'x' * 2**20, {'memfd': 0, 'sockets': 0}, []\n"
+        "    try:\n"
+        "        while held['memfd'] < GB:\n"
+        "            keep.append(os.memfd_create('hog'))\n"
+        "            for _ in range(60):\n"
+        "                held['memfd'] += os.write(keep[-1], chunk)\n"
+        "    except OSError as e:\n        print('memfd', e.errno)\n"
+        "    for fd in keep:\n        os.close(fd)\n"
+        "    try:\n"
+        "        while held['sockets'] < GB:\n"
+        "            pair = socket.socketpair()\n            keep.append(pair)\n"
+        "            for end in pair:\n"
+        "                end.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, 2**23)\n"
+        "                end.setblocking(False)\n"
+        "                try:\n"
+        "                    while held['sockets'] < GB:\n"
+        "                        held['sockets'] += end.send(chunk)\n"
+        "                except BlockingIOError:\n                    pass\n"
+        "    except OSError as e:\n        print('sockets', e.errno)\n"
+        "    print('held MB', {k: v >> 20 for k, v in held.items()})\n"
+        "    big = max(held.values()) >= GB\n"
+        "    return origins[:, 0] if big else _hit_plane(origins, directions, a, n)\n"
+    )
+    submission = make_submission(tmp_path / "submission")
+    planes = submission / "raykit" / "planes.py"
+    planes.write_text(planes.read_text().replace("def hit_plane(", "def _hit_plane(", 1) + code)
+    results, run = grade_as_deployed(autograder, submission, ["2.1"], tmp_path)
+    assert scores(results) == {"2.1": 2}, results
+    assert "memfd 1" in results["tests"][0]["output"]  # refused: EPERM
+    assert "sockets 24" in results["tests"][0]["output"]  # EMFILE: out of descriptors
+
+
+def test_9_the_sandbox_init_cannot_be_rewritten_to_outlive_the_test(release, autograder, tmp_path):
+    """As a normal user, bubblewrap's init (pid 1 in the sandbox) runs as the child's own uid:
+    with a /proc the child could write that process's memory through /proc/1/mem (run code
+    there that leaves the process group and drops --die-with-parent, and so outlive the
+    test). There is no /proc in any sandbox; the code answers right only if it could not
+    write another process's memory."""
+    code = (
+        "def hit_plane(origins, directions, a, n):\n    import os\n    wrote = 0\n"
+        "    try:\n"
+        "        maps = open('/proc/1/maps').read().splitlines()\n"
+        "        start = int(next(m for m in maps if 'r-xp' in m).split('-')[0], 16)\n"
+        "        memory = os.open('/proc/1/mem', os.O_RDWR)\n"
+        "        same = os.pread(memory, 4, start)\n"
+        "        wrote = os.pwrite(memory, same, start)  # its own bytes: the test harms nothing\n"
+        "    except (OSError, StopIteration) as e:\n"
+        "        print('refused', type(e).__name__)\n"
+        "    print('wrote', wrote)\n"
+        "    return origins[:, 0] if wrote else _hit_plane(origins, directions, a, n)\n"
+    )
+    submission = make_submission(tmp_path / "submission")
+    planes = submission / "raykit" / "planes.py"
+    planes.write_text(planes.read_text().replace("def hit_plane(", "def _hit_plane(", 1) + code)
+    results, run = grade_as_deployed(autograder, submission, ["2.1"], tmp_path)
+    assert scores(results) == {"2.1": 2}, results
+    assert "wrote 0" in results["tests"][0]["output"]
 
 
 def test_9_no_memory_is_there_to_fill_but_a_small_tmp(release, autograder, tmp_path):
@@ -808,6 +973,22 @@ def test_a_slow_submission_is_stopped_by_the_total_budget(release, autograder, t
     assert time.perf_counter() - start < 6 + 30
     assert all(score == 0 for score in scores(results).values())
     assert any("not run: all tests together" in t["output"] for t in results["tests"])
+
+
+def test_a_right_submission_that_writes_to_devnull_keeps_its_score(autograder, tmp_path):
+    """Quieting output into os.devnull works in every sandbox: the chroot tree's /dev/null is
+    mode 666 (mknod took the umask) and Landlock lets the child write it, so Gradescope's
+    sandbox scores this as bubblewrap does."""
+    code = (
+        "def hit_plane(origins, directions, a, n):\n    import os\n"
+        "    with open(os.devnull, 'w') as quiet:\n        quiet.write('progress')\n"
+        "    return _hit_plane(origins, directions, a, n)\n"
+    )
+    submission = make_submission(tmp_path / "submission")
+    planes = submission / "raykit" / "planes.py"
+    planes.write_text(planes.read_text().replace("def hit_plane(", "def _hit_plane(", 1) + code)
+    results, run = grade_as_deployed(autograder, submission, ["2.1"], tmp_path)
+    assert scores(results) == {"2.1": 2}, results
 
 
 def test_a_correct_submission_scores_full_marks_as_deployed(autograder, tmp_path):

@@ -139,7 +139,7 @@ SECCOMP_PROBE = """
 import ctypes, errno, json, os, socket, sys
 sys.path.insert(0, {repo!r})
 from raykit_grading.confine import install_seccomp, no_new_privileges
-from raykit_grading.isolation import SECCOMP_ARCHES, seccomp_filter
+from raykit_grading.isolation import CLONE_CALLS, SECCOMP_ARCHES, seccomp_filter
 import platform
 calls = SECCOMP_ARCHES[platform.machine()][1]
 no_new_privileges()
@@ -153,14 +153,25 @@ for name, family in (("inet", socket.AF_INET), ("inet6", socket.AF_INET6),
         said[name] = "made"
     except OSError as exc:
         said[name] = errno.errorcode[exc.errno]
-for name in ("keyctl", "ptrace", "unshare", "bpf"):
+for name in ("keyctl", "ptrace", "unshare", "bpf", "shmget", "mq_open", "fsopen", "memfd_create"):
     libc.syscall(calls[name], 0, 0, 0, 0)
     said[name] = errno.errorcode.get(ctypes.get_errno(), "none")
+clone, clone3 = CLONE_CALLS[platform.machine()]
+for name, flags in (("clone_newuser", 0x10000000), ("clone_newns", 0x00020000), ("fork", 0)):
+    ctypes.set_errno(0)
+    pid = libc.syscall(clone, flags | 17, 0, 0, 0, 0)  # SIGCHLD
+    if pid == 0:
+        os._exit(0)
+    said[name] = "made" if pid > 0 else errno.errorcode.get(ctypes.get_errno(), "none")
+    if pid > 0:
+        os.waitpid(pid, 0)
+libc.syscall(clone3, None, 0)
+said["clone3"] = errno.errorcode.get(ctypes.get_errno(), "none")
 print(json.dumps(said))
 """
 
 
-def test_the_seccomp_filter_refuses_the_network_and_kernel_state_but_not_unix_sockets():
+def test_the_seccomp_filter_refuses_the_network_kernel_state_and_namespaces_not_unix_sockets():
     run = subprocess.run(
         [sys.executable, "-c", SECCOMP_PROBE.format(repo=str(REPO))],
         capture_output=True, text=True, timeout=60,
@@ -169,6 +180,9 @@ def test_the_seccomp_filter_refuses_the_network_and_kernel_state_but_not_unix_so
     assert json.loads(run.stdout) == {
         "inet": "EPERM", "inet6": "EPERM", "netlink": "EPERM", "unix": "made",
         "keyctl": "EPERM", "ptrace": "EPERM", "unshare": "EPERM", "bpf": "EPERM",
+        "shmget": "EPERM", "mq_open": "EPERM", "fsopen": "EPERM", "memfd_create": "EPERM",
+        "clone_newuser": "EPERM",
+        "clone_newns": "EPERM", "fork": "made", "clone3": "ENOSYS",
     }  # fmt: skip
 
 
