@@ -4,7 +4,8 @@ One module per job, each named for the reference module it repeats: :mod:`.scene
 arrays), :mod:`.rays`, :mod:`.spheres`, :mod:`.billboards`, :mod:`.camera`, :mod:`.hits`,
 :mod:`.bvh` (the tree walk), :mod:`.surfaces`, :mod:`.lights`, :mod:`.shadows` (and the shadow
 lists), :mod:`.shading` (per ray and in lanes), :mod:`.mirrors`, :mod:`.tiles` (screen tiles and
-packets) and :mod:`.render` (the parallel loop); :mod:`.compiling` is the machinery.
+packets) and :mod:`.driver` (the parallel loop, :mod:`raykit.render` repeated); :mod:`.compiling`
+is the machinery.
 
 Install with ``pip install "raykit[fast]"``; :func:`raykit.render.render` takes it with
 ``engine="compiled"``, or by itself for large renders (``engine="auto"``,
@@ -61,9 +62,7 @@ from raykit.engine.compiled.billboards import billboard_color, hit_billboard
 from raykit.engine.compiled.bvh import DIRECT_HITS, nearest_hit, new_stack
 from raykit.engine.compiled.camera import camera_tuple, viewing_ray
 from raykit.engine.compiled.compiling import KERNEL
-from raykit.engine.compiled.hits import offer
-from raykit.engine.compiled.mirrors import bounce_on, shade_ray
-from raykit.engine.compiled.render import (
+from raykit.engine.compiled.driver import (
     CHUNK,
     Prepared,
     cast_rays,
@@ -74,6 +73,8 @@ from raykit.engine.compiled.render import (
     trace_flat,
     trace_lit,
 )
+from raykit.engine.compiled.hits import offer
+from raykit.engine.compiled.mirrors import bounce_on, shade_ray
 from raykit.engine.compiled.scene import (
     Arrays,
     Lights,

@@ -4,7 +4,7 @@ Repeats no reference module: this is the machinery the others share. A kernel ru
 or per tile is its own numba function (``@njit(**KERNEL)``), compiled the first time a render
 needs it, with the kernels it calls, each once, and cached on disk by itself; a kernel run once
 per ray (``ONE_RAY``) is inlined into those. So a flat scene compiles only the flat scene's
-kernels (:func:`raykit.engine.compiled.render.trace_flat` names no shading kernel), and a lit
+kernels (:func:`raykit.engine.compiled.driver.trace_flat` names no shading kernel), and a lit
 scene adds its own.
 
 The cache lives in a folder named after a hash of the package's sources and its folder
