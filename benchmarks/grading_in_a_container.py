@@ -3,7 +3,7 @@
     python benchmarks/grading_in_a_container.py [--memory-mb 768] [--cpus 0.5] [--quick]
         [--page docs/benchmarks/grading_in_a_container.md]
 
-As root: ``python -m raykit_grading grade`` under ``tests/docker_confinement.py`` (Docker's
+As root: ``python -m raykit_grading grade`` under ``tests/support/docker_confinement.py`` (Docker's
 default capabilities and seccomp rules, a cgroup v1 memory limit and CPU quota of its own), on
 
 * the full solution, and
@@ -29,12 +29,13 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 REPO = HERE.parent
 sys.path.insert(0, str(HERE))
-sys.path.insert(0, str(REPO / "tests"))
+sys.path.insert(0, str(REPO / "tests" / "support"))
 
 from common import arguments, parse  # noqa: E402
+
 from mistaken_submissions import make_submission  # noqa: E402
 
-EMULATION = REPO / "tests" / "docker_confinement.py"
+EMULATION = REPO / "tests" / "support" / "docker_confinement.py"
 PAGE = REPO / "docs/benchmarks/grading_in_a_container.md"
 
 
@@ -77,7 +78,7 @@ def main() -> None:
     lines = [" ".join(["$ python", "benchmarks/grading_in_a_container.py", *sys.argv[1:]]), ""]
     lines += [
         f"`python -m raykit_grading grade` as root under Docker's default confinement with "
-        f"{args.memory_mb} MB and {args.cpus:g} of a CPU (tests/docker_confinement.py), on "
+        f"{args.memory_mb} MB and {args.cpus:g} of a CPU (tests/support/docker_confinement.py), on "
         f"{os.cpu_count()} CPUs with a load average of {load} as the run ended.",
         "",
         "| submission | score | grade's exit | sandbox | whole grading | the container's peak "

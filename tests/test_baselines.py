@@ -1,5 +1,5 @@
-"""Every figure in tests/baselines.py looks as its baseline image does (within a tolerance);
-regenerate the baselines with ``python tests/baselines.py`` after a deliberate change."""
+"""Every figure in tests/support/baselines.py looks as its baseline image does (within a tolerance);
+regenerate the baselines with ``python tests/support/baselines.py`` after a deliberate change."""
 
 import pytest
 from matplotlib.testing.compare import compare_images

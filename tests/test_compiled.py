@@ -879,7 +879,6 @@ def test_ctrl_c_during_the_first_compile_leaves_a_cache_the_next_run_renders_rig
 def test_a_wrong_submission_still_renders_wrong_with_numba_installed(tmp_path, child_python):
     """The grader runs the student's own numpy functions: the compiled engine never stands in."""
     from mistaken_submissions import make_submission
-
     from raykit_grading.grade import Options, grade
 
     submission = make_submission(tmp_path, "rows_flipped")

@@ -10,7 +10,7 @@ kernel per processor and a thread count per machine). Two rules keep the kit's n
   numpy's own, whose last bit differs between AVX-512 and the rest; lit pictures are therefore
   compared within a stated tolerance, everything else bit for bit.
 
-The second test runs ``tests/machine_outputs.py`` as other machines would: with BLAS told to
+The second test runs ``tests/support/machine_outputs.py`` as other machines would: with BLAS told to
 use another processor's kernels and thread counts, and with numpy's AVX-512 loops switched off.
 """
 
@@ -33,7 +33,7 @@ KIT_CODE = [
     "benchmarks/scenes.py",
     "docs",
     "scenes",
-    "tests/baselines.py",
+    "tests/support/baselines.py",
 ]
 BLAS_NAMES = {"dot", "vdot", "inner", "matmul", "einsum", "tensordot", "linalg", "multi_dot"}
 
@@ -93,7 +93,7 @@ def _outputs(tmp_path, name: str, overrides: dict[str, str]) -> dict[str, np.nda
     env.update(overrides)
     out = tmp_path / f"{len(list(tmp_path.iterdir()))}.npz"
     subprocess.run(
-        [sys.executable, str(REPO / "tests/machine_outputs.py"), str(out)],
+        [sys.executable, str(REPO / "tests/support/machine_outputs.py"), str(out)],
         env=env,
         check=True,
         capture_output=True,

@@ -9,9 +9,9 @@ import sys
 import jsonschema
 import numpy as np
 import pytest
-from mistaken_submissions import EDITS, make_submission
 
 from conftest import REPO
+from mistaken_submissions import EDITS, make_submission
 from raykit_grading.catalog import HIDDEN, TESTS, VISIBLE
 from raykit_grading.compare import check_arrays, compare_images, feedback_picture, strict_fraction
 from raykit_grading.grade import Options, grade, grade_to_file

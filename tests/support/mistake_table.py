@@ -1,6 +1,6 @@
-"""Where each classic mistake of tests/mistaken_submissions.py must be named: the tests of the
-function it is made in (and of its callers that have array tests), and one render or scan that
-shows it."""
+"""Where each classic mistake of tests/support/mistaken_submissions.py must be named: the tests
+of the function it is made in (and of its callers that have array tests), and one render or scan
+that shows it."""
 
 NAMED_IN = {
     "rows_flipped": ["3.2", "3.6"],

@@ -8,8 +8,8 @@ fixture's parameter), each skipped with its reason where this machine cannot mak
 * ``root``: the autograder zip's own ``run_autograder`` as root, in a Gradescope-like folder
   layout (``source/`` closed to everyone but root): bubblewrap's sandbox;
 * ``docker``: the same ``run_autograder`` as root under an emulation of Docker's default
-  confinement with a 768 MB memory limit (``tests/docker_confinement.py``), as Gradescope runs
-  it: no namespaces, so the chroot sandbox (:mod:`raykit_grading.confine`);
+  confinement with a 768 MB memory limit (``tests/support/docker_confinement.py``), as
+  Gradescope runs it: no namespaces, so the chroot sandbox (:mod:`raykit_grading.confine`);
 * ``user``: the README's ``python -m raykit_grading grade`` as a normal user (this one, or as
   root ``setpriv`` to uid 65534 with a Python that uid can run: ``RAYKIT_USER_PYTHON``).
 
@@ -44,9 +44,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from mistaken_submissions import make_submission
 
 from conftest import REPO
+from mistaken_submissions import make_submission
 from raykit_grading.autograder import build_zip
 from raykit_grading.catalog import TESTS
 from raykit_grading.confine import TREES
@@ -57,7 +57,7 @@ pytestmark = pytest.mark.slow
 AS_ROOT = os.geteuid() == 0
 WALL = 4.0
 NOBODY = 65534
-EMULATION = REPO / "tests" / "docker_confinement.py"
+EMULATION = REPO / "tests" / "support" / "docker_confinement.py"
 DEPLOYMENTS = ("root", "docker", "user")
 POINTS = {t.key: t.points for t in TESTS}
 SEED = 20261123

@@ -1,6 +1,6 @@
-"""The figures whose pictures are pinned as baselines in tests/baseline_images/.
+"""The figures whose pictures are pinned as baselines in tests/support/baseline_images/.
 
-    python tests/baselines.py        # regenerate every baseline after a deliberate change
+    python tests/support/baselines.py        # regenerate every baseline after a deliberate change
 
 The tests draw each figure again and compare it with its baseline using matplotlib's own
 ``compare_images`` (RMS tolerance ``TOLERANCE``), so small anti-aliasing differences pass and

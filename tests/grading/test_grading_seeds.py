@@ -15,9 +15,9 @@ import zipfile
 
 import numpy as np
 import pytest
-from mistaken_submissions import make_submission
 
 from conftest import REPO
+from mistaken_submissions import make_submission
 from raykit_grading.catalog import TESTS
 from raykit_grading.grade import Options, grade
 from raykit_grading.seeds import (
@@ -50,7 +50,7 @@ DIGEST_IN_A_CHILD = f"""
 import json
 import sys
 
-sys.path[:0] = [{str(REPO / "tests")!r}, {str(REPO)!r}]
+sys.path[:0] = [{str(REPO / "tests" / "grading")!r}, {str(REPO / "tests")!r}, {str(REPO)!r}]
 from numpy._core import _multiarray_umath as umath
 from test_grading_seeds import draw_digest
 

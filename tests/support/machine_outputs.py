@@ -1,7 +1,7 @@
 """What raykit computes from its committed inputs, written to one ``.npz`` for comparison across
 kinds of processor (``tests/test_machine_independent.py`` runs it under several).
 
-    python tests/machine_outputs.py OUT.npz
+    python tests/support/machine_outputs.py OUT.npz
 
 It holds the sphereflake scene the gallery writes, every example scene rendered small by the
 numpy engine, a forward (photon) render and every line-scan sweep.
@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-REPO = Path(__file__).resolve().parent.parent
+REPO = Path(__file__).resolve().parents[2]
 SMALL = 0.25  # of each example scene's width and height: the same rays' arithmetic, fewer rays
 
 

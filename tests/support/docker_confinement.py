@@ -1,6 +1,7 @@
 """Run a command as root the way Docker's default confinement would (Gradescope's container).
 
-    python tests/docker_confinement.py [--memory-mb 768] [--cpus 0.5] [--report] -- COMMAND...
+    python tests/support/docker_confinement.py [--memory-mb 768] [--cpus 0.5] [--report] \
+        -- COMMAND...
 
 The command runs with:
 
@@ -29,7 +30,7 @@ import sys
 import time
 from pathlib import Path
 
-REPO = Path(__file__).resolve().parent.parent
+REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO))
 
 from raykit_grading.confine import _cgroup_folders, install_seccomp  # noqa: E402

@@ -8,8 +8,8 @@ import re
 
 import numpy as np
 import pytest
-from mistake_table import NAMED_IN
 
+from mistake_table import NAMED_IN
 from raykit_grading.catalog import TESTS, VISIBLE, by_name
 from raykit_grading.compare import (
     feedback_html,

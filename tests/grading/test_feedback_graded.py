@@ -11,9 +11,9 @@ import subprocess
 import sys
 
 import pytest
+
 from mistake_table import NAMED_IN
 from mistaken_submissions import make_submission
-
 from raykit_grading.catalog import VISIBLE, by_name
 from raykit_grading.grade import Options, grade
 from raykit_grading.mistakes import MISTAKES

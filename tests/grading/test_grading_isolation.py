@@ -132,7 +132,7 @@ def test_setup_sh_pins_the_versions_the_references_are_made_with(tmp_path):
 
 # ---- the sandboxes' kernel pieces, and where each is used -----------------------------------
 
-EMULATION = REPO / "tests" / "docker_confinement.py"
+EMULATION = REPO / "tests" / "support" / "docker_confinement.py"
 NOBODY = 65534
 
 SECCOMP_PROBE = """
@@ -235,7 +235,7 @@ def test_a_childs_memory_is_cut_to_what_the_container_leaves_beside_the_grader()
 
 
 def _emulated(command: list[str], memory_mb: int | None = 768, **kw) -> subprocess.CompletedProcess:
-    """``command`` as root under Docker's default confinement (tests/docker_confinement.py);
+    """``command`` as root under Docker's default confinement (tests/support/docker_confinement.py);
     skips, saying why, where this machine cannot make it."""
     if not AS_ROOT:
         pytest.skip("emulating Docker's confinement needs root")
