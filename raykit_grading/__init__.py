@@ -24,7 +24,8 @@ Running a submission
       untrusted; which kind of sandbox is used.
     * :mod:`~raykit_grading.isolation`: the bubblewrap sandbox, and the seccomp filter.
     * :mod:`~raykit_grading.confine`: the sandbox without namespaces (chroot, own uid, Landlock).
-    * :mod:`~raykit_grading.child`: what runs inside the sandbox, and the tasks it can run.
+    * :mod:`~raykit_grading.tasks`: what a test runs, the same in the grader and the sandbox.
+    * :mod:`~raykit_grading.child`: what runs inside the sandbox: one task, arrays out.
 
 Grading
     * :mod:`~raykit_grading.grade`: one submission, every test.

@@ -1,6 +1,6 @@
 """The grading tests: per stage, with points and Gradescope visibility.
 
-Each test names a task of :mod:`raykit_grading.child` and builds its inputs from a seed or a
+Each test names a task of :mod:`raykit_grading.tasks` and builds its inputs from a seed or a
 scene file. The expected result is that task run with the reference raykit; the submission's
 result is the same task run in the child. Array tests compare every number within the stated
 tolerance (a miss may be NaN or inf); image tests compare renders with

@@ -1,240 +1,23 @@
-"""What runs inside the child process: one task of the submission's code, arrays out.
+"""What runs inside the sandbox's child process: one task of the submission's code, arrays out.
 
     python -I -S child.py WORK_FOLDER
 
-runs inside the sandbox (:mod:`raykit_grading.isolation`). It reads ``task.json`` and
+runs inside the sandbox (:mod:`raykit_grading.sandbox`). It reads ``task.json`` and
 ``inputs.npz`` from WORK_FOLDER (read-only), drops root if it has it, puts the submission and
-the allowed libraries (numpy, Pillow) on ``sys.path`` and nothing else, runs the task, and
-writes the results as an ``.npz`` of plain arrays to a pipe the grader holds (never to a file:
-the grader reads nothing back from the sandbox's disk).
-
-The same :data:`TASKS` run in the grader with the reference raykit, to make the expected
-results; so a task is written once and means the same on both sides. This file imports only
-numpy and raykit, and only inside the tasks, so the child imports whichever raykit comes first
-on its path: the submission's.
+the allowed libraries (numpy, Pillow) on ``sys.path`` and nothing else, runs the task (from
+``tasks.py`` beside it, :mod:`raykit_grading.tasks`, loaded by its path), and writes the results
+as an ``.npz`` of plain arrays to a pipe the grader holds (never to a file: the grader reads
+nothing back from the sandbox's disk).
 """
 
 from __future__ import annotations
 
+import importlib.util
 import io
 import json
 import os
 import sys
 from pathlib import Path
-
-
-def _line_camera(spec: dict):
-    import numpy as np
-
-    from raykit.linescan.camera import LineCamera
-
-    return LineCamera(
-        np.array(spec["e"], float),
-        np.array(spec["w"], float),
-        spec["fov_angle"],
-        spec["pixels"],
-        spec.get("projection", "perspective"),
-        spec.get("width", 2.0),
-    )
-
-
-def _camera(spec: dict):
-    import numpy as np
-
-    from raykit.camera import Camera
-
-    return Camera(
-        np.array(spec["eye"], float),
-        np.array(spec["lookat"], float),
-        np.array(spec["up"], float),
-        spec["fov_angle"],
-        spec["width"],
-        spec["height"],
-        spec.get("projection", "perspective"),
-    )
-
-
-def task_probe(spec, arrays):
-    """The grader's preflight: the sandbox's Python imports numpy and Pillow."""
-    import numpy as np
-    import PIL.Image  # noqa: F401
-
-    return {"ok": np.ones(1)}
-
-
-def task_pixel_x(spec, arrays):
-    from raykit.linescan.camera import pixel_x
-
-    return {"x": pixel_x(spec["pixels"], spec.get("samples", 1))}
-
-
-def task_line_rays(spec, arrays):
-    from raykit.linescan.camera import line_rays
-
-    origins, directions = line_rays(_line_camera(spec["camera"]), spec.get("samples", 1))
-    return {"origins": origins, "directions": directions}
-
-
-def task_hit_segment(spec, arrays):
-    import numpy as np
-
-    from raykit.linescan.objects import Billboard, hit_segment
-
-    board = Billboard(
-        np.array(spec["start"], float), np.array(spec["end"], float), color=np.ones(3)
-    )
-    t, s = hit_segment(arrays["origins"], arrays["directions"], board)
-    return {"t": t, "s": np.where(np.isfinite(t), s, np.nan)}
-
-
-def task_hit_plane(spec, arrays):
-    from raykit.planes import hit_plane
-
-    return {"t": hit_plane(arrays["origins"], arrays["directions"], arrays["a"], arrays["n"])}
-
-
-def task_plane_side(spec, arrays):
-    from raykit.planes import plane_side
-
-    return {"side": plane_side(arrays["p"], arrays["a"], arrays["n"])}
-
-
-def task_normal_from_points(spec, arrays):
-    from raykit.planes import normal_from_points
-
-    return {"n": normal_from_points(arrays["a"], arrays["p"], arrays["q"])}
-
-
-def task_hit_sphere(spec, arrays):
-    from raykit.spheres import hit_sphere
-
-    return {
-        "t": hit_sphere(
-            arrays["origins"], arrays["directions"], arrays["center"], float(spec["radius"])
-        )
-    }
-
-
-def task_camera_frame(spec, arrays):
-    import numpy as np
-
-    from raykit.camera import camera_frame
-
-    u, v, w = camera_frame(*(np.array(spec[k], float) for k in ("eye", "lookat", "up")))
-    return {"u": u, "v": v, "w": w}
-
-
-def task_rays_through(spec, arrays):
-    from raykit.camera import rays_through
-
-    origins, directions = rays_through(_camera(spec["camera"]), arrays["x"], arrays["y"])
-    return {"origins": origins, "directions": directions}
-
-
-def task_in_plane(spec, arrays):
-    from raykit.camera import _in_plane
-
-    return {"in_plane": _in_plane(_camera(spec["camera"]), arrays["x"], arrays["y"])}
-
-
-def task_hit_billboard(spec, arrays):
-    import numpy as np
-
-    from raykit.billboards import Billboard, hit_billboard
-
-    board = Billboard(
-        *(np.array(spec[k], float) for k in ("upper_left", "lower_left", "upper_right")),
-        color=np.ones(3),
-    )
-    t, alpha, beta = hit_billboard(arrays["origins"], arrays["directions"], board)
-    hit = np.isfinite(t)
-    return {"t": t, "alpha": np.where(hit, alpha, np.nan), "beta": np.where(hit, beta, np.nan)}
-
-
-def task_texel_indices(spec, arrays):
-    from raykit.billboards import texel_indices
-
-    row, column = texel_indices(arrays["alpha"], arrays["beta"], spec["width"], spec["height"])
-    return {"row": row, "column": column}
-
-
-def task_sphere_normals(spec, arrays):
-    from raykit.spheres import sphere_normals
-
-    return {"n": sphere_normals(arrays["points"], arrays["center"], float(spec["radius"]))}
-
-
-def task_toward_light(spec, arrays):
-    import numpy as np
-
-    from raykit.lights import DirectionalLight, PointLight, toward_light
-
-    place = np.array(spec.get("direction", spec.get("position")), float)
-    light = (DirectionalLight if "direction" in spec else PointLight)(place, np.ones(3))
-    l, distance = toward_light(light, arrays["points"])
-    return {"l": l, "distance": distance}
-
-
-def task_lambert(spec, arrays):
-    from raykit.shading import lambert
-
-    return {"L": lambert(arrays["kd"], arrays["intensity"], arrays["n"], arrays["l"])}
-
-
-def task_blinn_phong(spec, arrays):
-    from raykit.shading import blinn_phong
-
-    return {
-        "L": blinn_phong(
-            arrays["ks"], arrays["intensity"], arrays["n"], arrays["l"], arrays["v"], arrays["p"]
-        )
-    }
-
-
-def task_reflect(spec, arrays):
-    from raykit.mirrors import reflect
-
-    return {"r": reflect(arrays["d"], arrays["n"])}
-
-
-def task_in_shadow(spec, arrays):
-    from raykit.io.scene_json import scene_from_dict
-    from raykit.render import secondary_caster
-    from raykit.shadows import in_shadow
-    from raykit.surfaces import SurfacePoints
-
-    scene = scene_from_dict(spec["scene"])
-    surface = SurfacePoints(arrays["points"], arrays["normals"], arrays["error"])
-    blocked = in_shadow(secondary_caster(scene), surface, arrays["l"], arrays["distance"])
-    return {"blocked": blocked.astype(float)}
-
-
-def task_render(spec, arrays):
-    from raykit.io.scene_json import scene_from_dict
-    from raykit.render import render
-
-    scene = scene_from_dict(spec["scene"], folder=spec["folder"])
-    # every object against every ray: skipping assumes right answers (t > 0), and a student's
-    # wrong ones must show in the image
-    return {"rgb": render(scene, samples=spec.get("samples", 1), skip_hidden=False).rgb}
-
-
-def task_scan(spec, arrays):
-    from raykit.io.linescan_json import line_scene_from_dict
-    from raykit.linescan.scan import scan
-
-    return {"rgb": scan(line_scene_from_dict(spec["scene"], folder=spec["folder"])).colors[None]}
-
-
-def task_sweep(spec, arrays):
-    from raykit.io.linescan_json import line_scene_from_dict
-    from raykit.linescan.scan import sweep
-
-    scene = line_scene_from_dict(spec["scene"], folder=spec["folder"])
-    return {"rgb": sweep(scene, spec.get("scans")).image}
-
-
-TASKS = {name[len("task_") :]: f for name, f in dict(globals()).items() if name.startswith("task_")}
 
 
 def _drop_privileges(uid: int | None) -> None:
@@ -252,6 +35,15 @@ def _drop_privileges(uid: int | None) -> None:
     ctypes.CDLL(None, use_errno=True).prctl(PR_SET_NO_NEW_PRIVS, 1, 0, 0, 0)
 
 
+def _tasks(work: Path) -> dict:
+    """:data:`raykit_grading.tasks.TASKS`, from the copy the grader put in the work folder (the
+    child runs isolated, ``-I``: no folder of its own is on its path)."""
+    spec = importlib.util.spec_from_file_location("raykit_grading_tasks", work / "tasks.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module.TASKS
+
+
 def main(work: Path) -> int:
     order = json.loads((work / "task.json").read_text())
     _drop_privileges(order.get("uid"))
@@ -264,7 +56,7 @@ def main(work: Path) -> int:
     spec = order["spec"]
     if "folder" in spec:
         spec["folder"] = str(work / spec["folder"])
-    outputs = TASKS[order["task"]](spec, arrays)
+    outputs = _tasks(work)[order["task"]](spec, arrays)
     packed = io.BytesIO()
     np.savez(packed, **{k: np.asarray(v) for k, v in outputs.items()})
     returned.write(packed.getvalue())

@@ -36,7 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from raykit.io.images import quantize, save_image
-from raykit_grading import child
+from raykit_grading import tasks
 from raykit_grading.catalog import HIDDEN_SCENES, SCENES, TESTS, VISIBLE, GradingTest, by_name
 from raykit_grading.compare import (
     DEFAULT_SCORING,
@@ -262,7 +262,7 @@ def _callees(sandbox, test, spec, arrays, files, deadline, options) -> list:
             files,
             wall_seconds=min(options.limits.wall_seconds, left),
         )
-        want = child.TASKS[callee.task](json.loads(json.dumps(their_spec)), their_arrays)
+        want = tasks.TASKS[callee.task](json.loads(json.dumps(their_spec)), their_arrays)
         found.append((callee.name, ran.outputs, {k: np.asarray(v) for k, v in want.items()}))
     return found
 
@@ -287,11 +287,11 @@ def reference_results(test: GradingTest, spec, arrays, files, mistake: str | Non
                 target.write_bytes(source.read_bytes())
             spec["folder"] = str(Path(folder) / spec["folder"])
         if mistake is None:
-            return child.TASKS[test.task](spec, arrays)
+            return tasks.TASKS[test.task](spec, arrays)
         wrong = next(m for m in MISTAKES if m.key == mistake)
         image = test.kind == "image"
         with wrong.active(arrays=not image):
-            outputs = child.TASKS[test.task](spec, arrays)
+            outputs = tasks.TASKS[test.task](spec, arrays)
         if not image:
             return {k: np.asarray(v) for k, v in outputs.items()}
         return {k: wrong.after(v) for k, v in outputs.items()}

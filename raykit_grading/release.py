@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from raykit.io.images import quantize, save_image
-from raykit_grading import child
+from raykit_grading import tasks
 from raykit_grading.cases import located
 from raykit_grading.catalog import REPO, TESTS, VISIBLE
 from raykit_grading.markers import strip_solutions
@@ -40,7 +40,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from _grading.cases import read_case
-from _grading.child import TASKS
+from _grading.tasks import TASKS
 from _grading.compare import check_arrays, compare_images
 
 from raykit.io.images import quantize
@@ -221,7 +221,7 @@ def _visible_tests(tests: Path) -> None:
     helpers = tests / "_grading"
     helpers.mkdir(parents=True)
     (helpers / "__init__.py").write_text("")
-    for name in ("cases.py", "child.py", "compare.py"):
+    for name in ("cases.py", "tasks.py", "compare.py"):
         shutil.copy(Path(__file__).with_name(name), helpers / name)
     (tests / "test_visible.py").write_text(VISIBLE_TESTS)
     (tests / "conftest.py").write_text(
@@ -241,7 +241,7 @@ def _visible_tests(tests: Path) -> None:
                  "points": test.points, "callees": callees}  # fmt: skip
         (folder / "task.json").write_text(json.dumps(order, indent=1))
         np.savez(folder / "inputs.npz", **arrays)
-        want = child.TASKS[test.task](located(spec, folder), arrays)
+        want = tasks.TASKS[test.task](located(spec, folder), arrays)
         np.savez(folder / "expected.npz", **{k: np.asarray(v) for k, v in want.items()})
         if test.kind == "image":
             save_image(quantize(want["rgb"]), folder / "reference.png")
@@ -258,7 +258,7 @@ def _callees(test, spec: dict, arrays: dict, folder: Path) -> list[dict]:
     found = []
     for callee in test.callees:
         their_spec, their_arrays = callee.inputs(spec, arrays)
-        want = child.TASKS[callee.task](json.loads(json.dumps(their_spec)), their_arrays)
+        want = tasks.TASKS[callee.task](json.loads(json.dumps(their_spec)), their_arrays)
         (folder / "callees").mkdir(exist_ok=True)
         np.savez(
             folder / "callees" / f"{callee.name}.npz",

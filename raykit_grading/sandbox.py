@@ -55,6 +55,7 @@ from raykit_grading.isolation import (
 )
 
 CHILD_SCRIPT = Path(__file__).with_name("child.py")
+TASKS_SCRIPT = Path(__file__).with_name("tasks.py")  # the child loads it by path
 OUTPUT_EXCERPT = 2000
 KINDS = ("bubblewrap", "chroot")  # strongest first; RAYKIT_SANDBOX=KIND asks for one
 GRADER_MEMORY = 320 * 2**20  # what the grader itself may need beside one child
@@ -178,7 +179,7 @@ class Sandbox:
         files: dict[str, Path] | None = None,
         wall_seconds: float | None = None,
     ) -> ChildResult:
-        """Run ``task`` of :mod:`raykit_grading.child` on the submission, in a sandbox."""
+        """Run ``task`` of :mod:`raykit_grading.tasks` on the submission, in a sandbox."""
         if self.kind is None:
             self.check()
         if self.kind == "chroot":
@@ -308,6 +309,7 @@ class Sandbox:
 
     def _fill(self, work: Path, order: dict, arrays, files: dict[str, Path]) -> None:
         shutil.copyfile(CHILD_SCRIPT, work / "child.py")
+        shutil.copyfile(TASKS_SCRIPT, work / "tasks.py")
         (work / "submission").mkdir()  # where the staged submission is mounted, read-only
         for relative, source in files.items():
             (work / relative).parent.mkdir(parents=True, exist_ok=True)

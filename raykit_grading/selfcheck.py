@@ -26,13 +26,13 @@ sys.path[:0] = [str(HERE), str(HERE / "tests")]
 
 import numpy as np  # noqa: E402
 from _grading.cases import read_case  # noqa: E402
-from _grading.child import TASKS  # noqa: E402
 from _grading.compare import (  # noqa: E402
     describe_inputs,
     feedback_html,
     judge_arrays,
     judge_image,
 )
+from _grading.tasks import TASKS  # noqa: E402
 from PIL import Image  # noqa: E402
 
 from raykit.io.images import quantize  # noqa: E402

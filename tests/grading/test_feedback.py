@@ -169,11 +169,11 @@ def test_the_self_check_page_starts_with_the_summary_and_lists_failures_first(mo
     import sys
 
     import raykit_grading
-    from raykit_grading import cases, child, compare
+    from raykit_grading import cases, compare, tasks
 
     monkeypatch.setattr(sys, "path", list(sys.path))  # check.py puts its folders first
     # check.py imports the grader's modules as the release's tests/_grading package
-    for name, module in {"": raykit_grading, ".cases": cases, ".child": child,
+    for name, module in {"": raykit_grading, ".cases": cases, ".tasks": tasks,
                          ".compare": compare}.items():  # fmt: skip
         monkeypatch.setitem(sys.modules, f"_grading{name}", module)
     monkeypatch.delitem(sys.modules, "raykit_grading.selfcheck", raising=False)
