@@ -608,9 +608,7 @@ def test_9_no_namespace_of_its_own_so_no_memory_beyond_its_limits(release, autog
         "    print('stored', stored, 'MB')\n"
         "    return _hit_plane(origins, directions, a, n) if not stored else origins[:, 0]\n"
     )
-    submission = make_submission(tmp_path / "submission")
-    planes = submission / "raykit" / "planes.py"
-    planes.write_text(planes.read_text().replace("def hit_plane(", "def _hit_plane(", 1) + code)
+    submission = submission_wrapping(tmp_path, {"planes.py": ("hit_plane", code)})
     results, run = grade_as_deployed(autograder, submission, ["2.1"], tmp_path)
     assert scores(results) == {"2.1": 2}, results
     assert "clone -1 " in results["tests"][0]["output"]  # refused: EPERM, or ENOSPC as a user
@@ -648,9 +646,7 @@ def test_9_no_gigabyte_held_by_the_kernel_outside_the_memory_limit(release, auto
         "    big = max(held.values()) >= GB\n"
         "    return origins[:, 0] if big else _hit_plane(origins, directions, a, n)\n"
     )
-    submission = make_submission(tmp_path / "submission")
-    planes = submission / "raykit" / "planes.py"
-    planes.write_text(planes.read_text().replace("def hit_plane(", "def _hit_plane(", 1) + code)
+    submission = submission_wrapping(tmp_path, {"planes.py": ("hit_plane", code)})
     results, run = grade_as_deployed(autograder, submission, ["2.1"], tmp_path)
     assert scores(results) == {"2.1": 2}, results
     assert "memfd 1" in results["tests"][0]["output"]  # refused: EPERM
@@ -676,9 +672,7 @@ def test_9_the_sandbox_init_cannot_be_rewritten_to_outlive_the_test(release, aut
         "    print('wrote', wrote)\n"
         "    return origins[:, 0] if wrote else _hit_plane(origins, directions, a, n)\n"
     )
-    submission = make_submission(tmp_path / "submission")
-    planes = submission / "raykit" / "planes.py"
-    planes.write_text(planes.read_text().replace("def hit_plane(", "def _hit_plane(", 1) + code)
+    submission = submission_wrapping(tmp_path, {"planes.py": ("hit_plane", code)})
     results, run = grade_as_deployed(autograder, submission, ["2.1"], tmp_path)
     assert scores(results) == {"2.1": 2}, results
     assert "wrote 0" in results["tests"][0]["output"]
@@ -700,9 +694,7 @@ def test_9_no_memory_is_there_to_fill_but_a_small_tmp(release, autograder, tmp_p
         "    print('stored', stored)\n"
         "    return _hit_plane(origins, directions, a, n) if not stored else origins[:, 0]\n"
     )
-    submission = make_submission(tmp_path / "submission")
-    planes = submission / "raykit" / "planes.py"
-    planes.write_text(planes.read_text().replace("def hit_plane(", "def _hit_plane(", 1) + code)
+    submission = submission_wrapping(tmp_path, {"planes.py": ("hit_plane", code)})
     results, run = grade_as_deployed(autograder, submission, ["2.1"], tmp_path)
     assert scores(results) == {"2.1": 2}, results
     assert "stored []" in results["tests"][0]["output"]
@@ -782,9 +774,7 @@ def test_6_nothing_outside_the_sandbox_is_written(release, autograder, canary, t
         "        except OSError:\n            pass\n"
         "    return _hit_plane(origins, directions, a, n)\n"
     )
-    submission = make_submission(tmp_path / "submission")
-    planes = submission / "raykit" / "planes.py"
-    planes.write_text(planes.read_text().replace("def hit_plane(", "def _hit_plane(", 1) + code)
+    submission = submission_wrapping(tmp_path, {"planes.py": ("hit_plane", code)})
     results, run = grade_as_deployed(autograder, submission, ["2.1"], tmp_path)
     assert scores(results) == {"2.1": 2}, results
     assert [path for path in targets if os.path.exists(path)] == []
@@ -984,9 +974,7 @@ def test_a_right_submission_that_writes_to_devnull_keeps_its_score(autograder, t
         "    with open(os.devnull, 'w') as quiet:\n        quiet.write('progress')\n"
         "    return _hit_plane(origins, directions, a, n)\n"
     )
-    submission = make_submission(tmp_path / "submission")
-    planes = submission / "raykit" / "planes.py"
-    planes.write_text(planes.read_text().replace("def hit_plane(", "def _hit_plane(", 1) + code)
+    submission = submission_wrapping(tmp_path, {"planes.py": ("hit_plane", code)})
     results, run = grade_as_deployed(autograder, submission, ["2.1"], tmp_path)
     assert scores(results) == {"2.1": 2}, results
 
