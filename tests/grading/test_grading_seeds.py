@@ -50,7 +50,7 @@ DIGEST_IN_A_CHILD = f"""
 import json
 import sys
 
-sys.path[:0] = [{str(REPO / "tests" / "grading")!r}, {str(REPO / "tests")!r}, {str(REPO)!r}]
+sys.path[:0] = {[str(REPO / "tests" / f) for f in ("grading", "support", "")] + [str(REPO)]!r}
 from numpy._core import _multiarray_umath as umath
 from test_grading_seeds import draw_digest
 

@@ -26,7 +26,7 @@ from raykit.io.scene_json import load_scene  # noqa: E402
 from raykit.linescan.diagrams import ray_diagram, sweep_diagram  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
-SCENES = HERE.parent / "scenes"
+SCENES = HERE.parents[1] / "scenes"
 FOLDER = HERE / "baseline_images"
 TOLERANCE = 3.0
 DPI = 60
