@@ -590,8 +590,12 @@ def run_for(cpu: str, args: argparse.Namespace) -> list[dict]:
     env = dict(os.environ)
     if cpu == "haswell":
         env.update(NUMBA_CPU_NAME="haswell", NUMBA_CPU_FEATURES="")
+    from raykit.engine.choice import compiled_available
+
     # the AVX2 run times raykit's compiled engine alone: numpy's own SIMD dispatch is as shipped
-    engine = "compiled" if cpu == "haswell" and args.engine == "auto" else args.engine
+    engine = args.engine
+    if cpu == "haswell" and engine == "auto" and compiled_available():
+        engine = "compiled"
     command = [sys.executable, __file__, "--repeats", str(args.repeats), "--engine", engine]
     command += ["--quick"] * args.quick + (
         ["--pictures", str(args.pictures)] if args.pictures else []
