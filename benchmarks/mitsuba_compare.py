@@ -1,7 +1,8 @@
 """raykit against Mitsuba 3 on the same scenes, in one run: load and render times, 1 sample
-per pixel, pure ray casting.
+per pixel, pure ray casting (flat scenes) and direct lighting with shadows (lit scenes).
 
     python benchmarks/mitsuba_compare.py [--quick] [--repeats N] [--plot mitsuba_compare.png]
+        [--cpu native haswell] [--pictures FOLDER]
 
 Mitsuba is an optional benchmark dependency, never a runtime one (``pip install mitsuba``).
 Its ``llvm_ad_rgb`` variant needs an LLVM it can load: on Debian 12, ``apt install libllvm19``
@@ -16,6 +17,43 @@ distance to the nearest hit: the same ray casting as raykit's object image, with
 lookups); raykit renders its flat colours, textures included. Mitsuba's sampler jitters each
 pixel's one sample, raykit takes the pixel centre, so their hit masks differ at silhouettes:
 the table gives the share of pixels on which both agree whether anything is hit.
+
+Lit scenes (a second table): classic, sphereflake 4 and 1,000 spheres, each with two point
+lights (:data:`LIGHTS`), shadows on, no ambient light, and diffuse surfaces only (each object's
+colour its kd; a textured billboard plain grey, :func:`lit`), so that both renderers do the
+same work: a viewing ray, then per hit one shadow ray per light and a Lambert term. Mitsuba
+renders them with its ``direct`` integrator, ``emitter_samples`` = 2 (the number of lights),
+``bsdf_samples`` = 0, ``point`` emitters and ``diffuse`` BSDFs (``twosided`` on billboards,
+which raykit lights on the side the ray comes from). The radiometry differs, and is matched
+only at one distance: raykit's point light does not fall off and its Lambert term is
+kd·I·cos; Mitsuba's falls off with r² and its diffuse BSDF is kd/π, so its intensity is
+π·I·r0², r0 the light's distance to the camera's lookat point (:func:`mitsuba_intensity`).
+And Mitsuba's direct integrator picks a light at random for each emitter sample (weighted by
+the count): the same two shadow rays per hit, but a noisy picture, where raykit's takes each
+light once. The pictures' check (untimed) therefore renders in Mitsuba each pixel's centre
+(``stratified``, no jitter) with each light alone, multiplies each by (r/r0)², r the distance
+from the light to raykit's hit point, adds them, and compares with raykit's render:
+the table gives the hit masks' agreement and the mean absolute difference of linear colours
+over the pixels both hit (:func:`agreement`). ``--pictures FOLDER`` saves raykit's picture,
+Mitsuba's timed one and Mitsuba's as raykit's radiometry would make it, per lit scene.
+Mitsuba's ``llvm_ad_rgb`` direct render of a scene of many shapes costs a time per render that
+grows with the number of shapes and hardly with the pixels (lit sphereflake 4 takes about as
+long at 128x128 as at 512x512; its depth render does not): its lit sphereflake row measures
+that more than ray work, which its ``scalar_rgb`` row shows better. Giving the spheres of one
+colour one shared BSDF did not change it.
+
+Instruction sets. ``--cpu native haswell`` makes a run for each, one after the other, each
+in a process of its own, on one page (``--cpu haswell`` alone: the AVX2 run only). native: every
+compiler picks the processor it finds. haswell (AVX2, no AVX-512, as on the AMD EPYC the
+issue quotes): numba compiles for haswell with haswell's own features (``NUMBA_CPU_NAME``,
+``NUMBA_CPU_FEATURES``, set before numba is imported: :func:`run_for`; numba caches these
+kernels apart from the native ones), Dr.Jit's LLVM backend targets haswell with 8 lanes
+(:func:`drjit_target`, through its core library: its Python API has no call for it), and
+Mitsuba's Embree, which does the BVH walk of both variants and picks its instruction set at
+run time, is told ``isa=avx2`` by a small library preloaded into Mitsuba's children
+(:func:`embree_avx2`, compiled with the C compiler; without one, Embree keeps its own pick and
+the page says so). Mitsuba's other ahead-compiled code, all of ``scalar_rgb`` but Embree, is
+as shipped. Each run's page section names the processor and the instruction set.
 
 Load: raykit from its JSON data (validation included), Mitsuba ``load_dict`` (which builds
 its BVH). Prepare, raykit's compiled engine only: ``raykit.engine.compiled.prepare``, the
@@ -63,8 +101,11 @@ from common import (  # noqa: E402
     timer,
 )
 
+from raykit.camera import rays_through  # noqa: E402
 from raykit.engine.choice import ENGINES  # noqa: E402
 from raykit.io.scene_json import load_scene, scene_from_dict  # noqa: E402
+from raykit.lights import PointLight  # noqa: E402
+from raykit.rays import dot  # noqa: E402
 from raykit.render import render  # noqa: E402
 from raykit.scene import Scene  # noqa: E402
 from scenes import many_spheres, sphereflake  # noqa: E402
@@ -87,6 +128,39 @@ def benchmark_scenes(quick: bool) -> dict[str, Scene]:
     }
 
 
+# Two point lights per lit scene, by the start of the flat scene's name: (position, intensity
+# I in raykit's sense, no fall-off), placed above and to the sides of what the camera sees
+LIGHTS = {
+    "classic": (([4.0, 6.0, 5.0], [0.6, 0.6, 0.55]), ([-5.0, 4.0, 3.0], [0.35, 0.35, 0.4])),
+    "sphereflake": (([4.0, 6.0, 2.0], [0.6, 0.6, 0.55]), ([-3.0, 4.0, 4.0], [0.35, 0.35, 0.4])),
+    "1,000 spheres": (([-6.0, 8.0, 0.0], [0.6, 0.6, 0.55]), ([8.0, 2.0, -12.0], [0.35, 0.35, 0.4])),
+}
+STAND_IN = [0.6, 0.6, 0.6]  # a textured billboard's diffuse colour in a lit scene
+
+
+def lit_scenes(quick: bool) -> dict[str, Scene]:
+    """The lit versions of the bench scenes (sphereflake 6 aside: its Mitsuba BVH alone takes a
+    minute), each with the two point lights of :data:`LIGHTS` (:func:`lit`)."""
+    return {
+        f"{name} lit": lit(scene, next(v for k, v in LIGHTS.items() if name.startswith(k)))
+        for name, scene in benchmark_scenes(quick).items()
+        if not name.startswith("sphereflake 6")
+    }
+
+
+def lit(scene: Scene, lights) -> Scene:
+    """``scene`` lit by point ``lights`` ((position, intensity), ...), shadows on, no ambient
+    light, and diffuse only: each object's flat colour is its kd, no highlight, no mirror. A
+    textured billboard takes the plain colour :data:`STAND_IN` instead of its texture: its
+    cut-out texels would need an alpha-masked BSDF in Mitsuba, work of another kind."""
+    data = scene_data(scene)
+    for board in data["billboards"]:
+        if board.pop("image", None) is not None:
+            board["color"] = STAND_IN
+    data["lights"] = [{"type": "point", "position": p, "color": c} for p, c in lights]
+    return scene_from_dict(data)
+
+
 def _sized(scene: Scene, width: int, height: int) -> Scene:
     from dataclasses import replace
 
@@ -95,7 +169,8 @@ def _sized(scene: Scene, width: int, height: int) -> Scene:
 
 def scene_data(scene: Scene) -> dict:
     """The scene as plain data: raykit's JSON fields (flat colours; textures as their
-    paths), enough to rebuild it with ``scene_from_dict`` and to convert it for Mitsuba."""
+    paths; point lights), enough to rebuild it with ``scene_from_dict`` and to convert it for
+    Mitsuba."""
     camera = scene.camera
     return {
         "camera": {
@@ -128,15 +203,47 @@ def scene_data(scene: Scene) -> dict:
             }
             for b in scene.billboards
         ],
+        **({"lights": _point_lights(scene), "shadows": scene.shadows} if scene.lights else {}),
     }
 
 
-def mitsuba_dict(data: dict, mi) -> dict:
-    """Mitsuba's scene description of raykit scene data (see the module page)."""
+def _point_lights(scene: Scene) -> list[dict]:
+    """The scene's lights as data: point lights only, the kind the lit scenes have."""
+    if scene.ambient is not None or not all(isinstance(x, PointLight) for x in scene.lights):
+        raise ValueError("only point lights, without ambient light, are converted for Mitsuba")
+    return [
+        {
+            "type": "point",
+            "position": list(map(float, x.position)),
+            "color": list(map(float, x.color)),
+        }
+        for x in scene.lights
+    ]
+
+
+def mitsuba_dict(
+    data: dict, mi, *, only_light: int | None = None, depth: bool = False, centres: bool = False
+) -> dict:
+    """Mitsuba's scene description of raykit scene data (see the module page): a flat scene for
+    the ``depth`` integrator, a lit one for ``direct`` with one shadow ray per light per hit.
+    For the pictures' check only: ``only_light`` keeps that light alone, ``depth`` renders
+    distances whatever the scene, ``centres`` samples each pixel at its centre, as raykit does,
+    instead of at a random point."""
     camera = data["camera"]
+    lights = data.get("lights", [])
+    if lights and not depth:
+        count = len(lights) if only_light is None else 1
+        integrator = {"type": "direct", "emitter_samples": count, "bsdf_samples": 0}
+    else:
+        integrator = {"type": "depth"}
+    sampler = (
+        {"type": "stratified", "sample_count": 1, "jitter": False}
+        if centres
+        else {"type": "independent", "sample_count": 1}
+    )
     scene = {
         "type": "scene",
-        "integrator": {"type": "depth"},
+        "integrator": integrator,
         "sensor": {
             "type": "perspective",
             "fov": camera["fov_angle"],
@@ -150,11 +257,17 @@ def mitsuba_dict(data: dict, mi) -> dict:
                 "height": camera["height"],
                 "rfilter": {"type": "box"},
             },
-            "sampler": {"type": "independent", "sample_count": 1},
+            "sampler": sampler,
         },
     }
+
+    def diffuse(color: list) -> dict:
+        return {"type": "diffuse", "reflectance": {"type": "rgb", "value": color}}
+
     for i, s in enumerate(data["spheres"]):
         scene[f"sphere{i}"] = {"type": "sphere", "center": s["center"], "radius": s["radius"]}
+        if lights:
+            scene[f"sphere{i}"]["bsdf"] = diffuse(s["color"])
     for i, b in enumerate(data["billboards"]):
         ul, ll, ur = (np.array(b[k]) for k in ("upper_left", "lower_left", "upper_right"))
         a, bb = ur - ul, ll - ul
@@ -167,21 +280,49 @@ def mitsuba_dict(data: dict, mi) -> dict:
             "type": "rectangle",
             "to_world": mi.ScalarTransform4f(matrix.tolist()),
         }
+        if lights:  # a billboard is lit on the side its ray comes from, as raykit's
+            scene[f"billboard{i}"]["bsdf"] = {"type": "twosided", "bsdf": diffuse(b["color"])}
+    for i, light in enumerate(lights):
+        if only_light is None or i == only_light:
+            intensity = mitsuba_intensity(light, camera)
+            scene[f"light{i}"] = {
+                "type": "point",
+                "position": light["position"],
+                "intensity": {"type": "rgb", "value": intensity.tolist()},
+            }
     return scene
 
 
-def mitsuba_child(variant: str) -> None:
+def mitsuba_intensity(light: dict, camera: dict) -> np.ndarray:
+    """The intensity of Mitsuba's point light ``(3,)`` that matches raykit's ``light`` at the
+    camera's lookat point. raykit's point light does not fall off (:mod:`raykit.lights`), and
+    its Lambert term is kd·I·cos; Mitsuba's falls off with the squared distance r², and its
+    diffuse BSDF is kd/π, so it gives kd·I'·cos/(π r²). I' = π·I·r0², r0 the light's distance
+    to lookat, makes them equal at that distance; at a point r away Mitsuba's is (r0/r)² of
+    raykit's (:func:`agreement` undoes that factor per pixel)."""
+    r0 = _distance2(light["position"], camera["lookat"])
+    return np.pi * np.asarray(light["color"], float) * r0
+
+
+def _distance2(a, b) -> float:
+    return sum((float(x) - float(y)) ** 2 for x, y in zip(a, b, strict=True))
+
+
+def mitsuba_child(variant: str, cpu: str) -> None:
     """In a child process: load the scene (JSON, the first line of standard input) with one
-    Mitsuba variant and render it once; print ``{"load", "first", "hit"}`` as a line of JSON;
-    then for each line ``render`` read, render once more and print the seconds it took. The
-    lines go to what was standard output when the child started; anything a library prints
-    there goes to standard error instead, so it cannot be read as an answer."""
+    Mitsuba variant and render it once; print ``{"load", "first", "hit", "target"}`` as a line
+    of JSON; then for each line ``render`` read, render once more and print the seconds it
+    took; for a line ``check PATH``, write the pictures of :func:`check_pictures` to PATH (an
+    .npz file) and print 1. The lines go to what was standard output when the child started;
+    anything a library prints there goes to standard error instead, so it cannot be read as
+    an answer. ``cpu``: "haswell" restricts Dr.Jit's kernels to AVX2 (:func:`drjit_target`)."""
     answers = os.fdopen(os.dup(sys.stdout.fileno()), "w")
     sys.stdout.flush()
     os.dup2(sys.stderr.fileno(), sys.stdout.fileno())
     import mitsuba as mi
 
     mi.set_variant(variant)
+    target = drjit_target(cpu) if variant.startswith("llvm") else None
     data = json.loads(sys.stdin.readline())
     start = time.perf_counter()
     scene = mi.load_dict(mitsuba_dict(data, mi))
@@ -190,12 +331,98 @@ def mitsuba_child(variant: str) -> None:
     image = np.array(mi.render(scene, spp=1))
     first = time.perf_counter() - start
     hit = (image[..., 0] > 0).tolist()
-    print(json.dumps({"load": load, "first": first, "hit": hit}), file=answers, flush=True)
+    made = {"load": load, "first": first, "hit": hit, "target": target}
+    print(json.dumps(made), file=answers, flush=True)
     for line in sys.stdin:
-        if line.strip() == "render":
+        request = line.split()
+        if request == ["render"]:
             start = time.perf_counter()
             np.array(mi.render(scene, spp=1))
             print(time.perf_counter() - start, file=answers, flush=True)
+        elif request[:1] == ["check"]:
+            np.savez(request[1], image=image[..., :3], **check_pictures(data, mi))
+            print(1, file=answers, flush=True)
+
+
+def check_pictures(data: dict, mi) -> dict:
+    """What :func:`agreement` compares, rendered with each pixel sampled at its centre:
+    ``depth (H, W)`` (0 where nothing is hit), and ``lights (L, H, W, 3)``, the picture lit by
+    each light alone (one light: no random choice of light, so no noise)."""
+
+    def picture(**kind) -> np.ndarray:
+        return np.array(mi.render(mi.load_dict(mitsuba_dict(data, mi, centres=True, **kind))))
+
+    lights = [picture(only_light=i)[..., :3] for i in range(len(data.get("lights", [])))]
+    return {"depth": picture(depth=True)[..., 0], "lights": np.array(lights)}
+
+
+HASWELL_FEATURES = b"+avx,+avx2,+bmi,+bmi2,+cx16,+f16c,+fma,+lzcnt,+movbe,+popcnt,+sse4.2"
+
+
+def drjit_target(cpu: str) -> str:
+    """Dr.Jit's LLVM target, set first for ``cpu``: "haswell" is AVX2 and 8 lanes (the native
+    target on an AVX-512 machine has 16). Dr.Jit's Python API has no call for it; its core
+    library's ``jit_llvm_set_target`` does (C++ linkage, so by its mangled name), and takes
+    effect once the LLVM backend has started, for every kernel compiled after it."""
+    import ctypes
+
+    import drjit as dr
+
+    dr.eval(dr.llvm.Float([0.0]))  # starts the LLVM backend
+    core = ctypes.CDLL(str(Path(dr.__file__).with_name("libdrjit-core.so")))
+    if cpu == "haswell":
+        set_target = core._Z19jit_llvm_set_targetPKcS0_j
+        set_target.argtypes = [ctypes.c_char_p, ctypes.c_char_p, ctypes.c_uint32]
+        set_target(b"haswell", HASWELL_FEATURES, 8)
+    target_cpu, lanes = core._Z19jit_llvm_target_cpuv, core._Z21jit_llvm_vector_widthv
+    target_cpu.restype, lanes.restype = ctypes.c_char_p, ctypes.c_uint32
+    return f"{target_cpu().decode()}, {lanes()} lanes"
+
+
+# Mitsuba's BVH walk is Embree's, compiled ahead for every instruction set and picked by the
+# processor it finds; Mitsuba makes Embree's device with a fixed configuration, and Embree
+# reads no file or variable, so the haswell run puts "isa=avx2" into that configuration with
+# this library, preloaded in Mitsuba's child (LD_PRELOAD)
+EMBREE_SHIM = r"""
+#define _GNU_SOURCE
+#include <dlfcn.h>
+#include <stdio.h>
+#include <stdlib.h>
+typedef void *(*new_device)(const char *);
+void *_ZN7mitsuba12rtcNewDeviceEPKc(const char *config) {
+    void *embree = dlopen(getenv("RAYKIT_EMBREE_LIBRARY"), RTLD_NOW | RTLD_NOLOAD);
+    new_device real = embree ? (new_device) dlsym(embree, "_ZN7mitsuba12rtcNewDeviceEPKc") : 0;
+    if (!real) { fprintf(stderr, "embree shim: %s\n", dlerror()); abort(); }
+    char joined[1024];
+    snprintf(joined, sizeof joined, "%s,%s", config, getenv("RAYKIT_EMBREE_CONFIG"));
+    return real(joined);
+}
+"""
+
+
+def embree_avx2(folder: Path) -> dict | None:
+    """The environment that restricts a Mitsuba child's Embree to AVX2 (:data:`EMBREE_SHIM`,
+    compiled into ``folder`` with the C compiler), or None without a compiler or Mitsuba."""
+    import shutil
+
+    try:
+        import mitsuba
+    except ImportError:
+        return None
+    compiler = shutil.which("cc") or shutil.which("gcc")
+    if compiler is None:
+        return None
+    source, shim = folder / "embree_shim.c", folder / "embree_shim.so"
+    source.write_text(EMBREE_SHIM)
+    made = subprocess.run([compiler, "-shared", "-fPIC", "-O2", "-o", shim, source, "-ldl"])
+    if made.returncode != 0:
+        return None
+    library = Path(mitsuba.__file__).with_name("libembree3.so")
+    return {
+        "LD_PRELOAD": str(shim),
+        "RAYKIT_EMBREE_LIBRARY": str(library),
+        "RAYKIT_EMBREE_CONFIG": "isa=avx2",
+    }
 
 
 CHILD_SECONDS = 600  # for one answer of a Mitsuba child: a child slower than that has hung
@@ -203,18 +430,19 @@ CHILD_SECONDS = 600  # for one answer of a Mitsuba child: a child slower than th
 
 class MitsubaChild:
     """One Mitsuba variant in a child process of its own (a variant that aborts takes only
-    its child with it), set up on ``data`` (:func:`mitsuba_child`): ``load``, ``first``,
-    ``hit``, and :meth:`render_once`. ``failure``: a one-line message, once the child has
+    its child with it), set up on ``data`` (:func:`mitsuba_child`) for ``cpu``, with ``env``
+    added to its environment: ``load``, ``first``, ``hit``, ``target`` (Dr.Jit's), and
+    :meth:`render_once`. ``failure``: a one-line message, once the child has
     failed to start, died, answered nonsense or taken longer than CHILD_SECONDS for an
     answer; it is then killed, and its row gives the message."""
 
-    def __init__(self, variant: str, data: dict) -> None:
-        env = dict(os.environ)
+    def __init__(self, variant: str, data: dict, cpu: str = "native", env: dict | None = None):
+        env = {**os.environ, **(env or {})}
         if variant.startswith("llvm") and Path(LLVM_19).exists():
             env.setdefault("DRJIT_LIBLLVM_PATH", LLVM_19)
         self.errors = tempfile.TemporaryFile(mode="w+")
         self.process = subprocess.Popen(
-            [sys.executable, __file__, "--child", variant],
+            [sys.executable, __file__, "--child", variant, "--cpu", cpu],
             stdin=subprocess.PIPE,
             stdout=subprocess.PIPE,
             stderr=self.errors,
@@ -225,6 +453,17 @@ class MitsubaChild:
         made = self._ask(json.dumps(data), json.loads)
         if made is not None:
             self.load, self.first, self.hit = made["load"], made["first"], made["hit"]
+            self.target = made["target"]
+
+    def check(self) -> dict | None:
+        """The child's pictures for :func:`agreement` (:func:`check_pictures`, and its first
+        render as ``image``), or None once it has failed."""
+        with tempfile.TemporaryDirectory() as folder:
+            path = Path(folder) / "check.npz"
+            if self.failure is None and self._ask(f"check {path}", int) == 1:
+                with np.load(path) as pictures:
+                    return dict(pictures)
+        return None
 
     def render_once(self) -> float:
         """Render once in the child: the seconds it took, by the child's clock (NaN once the
@@ -280,7 +519,13 @@ def _engines(engine: str) -> list[str]:
     from raykit.engine.choice import compiled_available
 
     if engine == "auto":
-        return ["numpy", "compiled"] if compiled_available() else ["numpy"]
+        if compiled_available():
+            return ["numpy", "compiled"]
+        print(
+            'numba is not installed (pip install "raykit[fast]"): the compiled engine is not'
+            " timed.\n"
+        )
+        return ["numpy"]
     return [engine]
 
 
@@ -300,10 +545,23 @@ def plot(path: Path, rows: list[dict]) -> None:
     )
 
 
+CPUS = ("native", "haswell")
+AVX2 = " (AVX2)"  # the haswell run's renderers, in the plot
+
+
 def main() -> None:
     parser = arguments(__doc__, "small scenes")
     parser.add_argument("--plot", type=Path, help="write the render medians as bars here")
+    parser.add_argument(
+        "--cpu",
+        nargs="+",
+        choices=CPUS,
+        default=["native"],
+        help="instruction sets, a run for each: native (the default), haswell (AVX2)",
+    )
+    parser.add_argument("--pictures", type=Path, help="save the lit scenes' pictures here (PNG)")
     parser.add_argument("--child", help=argparse.SUPPRESS)
+    parser.add_argument("--rows", type=Path, help=argparse.SUPPRESS)
     parser.add_argument(
         "--engine",
         choices=ENGINES,
@@ -311,9 +569,54 @@ def main() -> None:
         help="raykit's engine: numpy, compiled, or auto: both side by side (default)",
     )
     if "--child" in sys.argv:  # one Mitsuba variant, for the parent (MitsubaChild)
-        mitsuba_child(parser.parse_args().child)
+        args = parser.parse_args()
+        mitsuba_child(args.child, args.cpu[0])
+        return
+    if "--rows" in sys.argv:  # one instruction set's run, for the parent (run_for)
+        args = parser.parse_args()
+        args.rows.write_text(json.dumps(run(args, args.cpu[0])))
         return
     args = parse(parser)
+    if args.pictures:
+        args.pictures.mkdir(parents=True, exist_ok=True)
+    if args.cpu == ["native"]:
+        rows = run(args, "native")
+    else:
+        rows = [row for cpu in args.cpu for row in run_for(cpu, args)]
+    if args.plot:
+        plot(args.plot, rows)
+
+
+def run_for(cpu: str, args: argparse.Namespace) -> list[dict]:
+    """:func:`run` for ``cpu`` in a process of its own, since numba reads its target from the
+    environment once, as it is imported: "haswell" is numba's AVX2 (its CPU name and that
+    CPU's own features, not the host's, which it would otherwise add). Its tables go to
+    standard output as they are printed; the plot's rows come back."""
+    env = dict(os.environ)
+    if cpu == "haswell":
+        env.update(NUMBA_CPU_NAME="haswell", NUMBA_CPU_FEATURES="")
+    from raykit.engine.choice import compiled_available
+
+    # the AVX2 run times raykit's compiled engine alone: numpy's own SIMD dispatch is as shipped
+    engine = args.engine
+    if cpu == "haswell" and engine == "auto" and compiled_available():
+        engine = "compiled"
+    command = [sys.executable, __file__, "--repeats", str(args.repeats), "--engine", engine]
+    command += ["--quick"] * args.quick + (
+        ["--pictures", str(args.pictures)] if args.pictures else []
+    )
+    with tempfile.TemporaryDirectory() as folder:
+        rows = Path(folder) / "rows.json"
+        sys.stdout.flush()
+        if subprocess.run([*command, "--cpu", cpu, "--rows", str(rows)], env=env).returncode:
+            raise SystemExit(f"the {cpu} run failed")
+        return json.loads(rows.read_text())
+
+
+def run(args: argparse.Namespace, cpu: str) -> list[dict]:
+    """Both tables, flat and lit scenes, for one instruction set (``cpu``); the plot's rows."""
+    print(f"## {'Native instruction set' if cpu == 'native' else 'AVX2 (haswell)'}\n")
+    print(machine_line(cpu) + "\n")
     try:
         import mitsuba
 
@@ -322,31 +625,135 @@ def main() -> None:
         print("Mitsuba 3 is not installed (pip install mitsuba): raykit alone is timed.\n")
         version = None
     engines = _engines(args.engine)
+    with tempfile.TemporaryDirectory() as folder:
+        env = embree_avx2(Path(folder)) if cpu == "haswell" and version else None
+        if cpu == "haswell" and version and env is None:
+            print("No C compiler: Mitsuba's Embree takes the widest instruction set it finds.\n")
+        timing = Timing(args, version, engines, cpu, env)
+        flat = timing.table(benchmark_scenes(args.quick))
+        print(
+            f"\nMedians of {args.repeats} renders after a warm-up, every renderer of a scene in"
+            " turns (each timed render right after an untimed one of its own); Mitsuba's"
+            " variants in child processes that time their own renders. raykit compiled:"
+            " prepare is raykit.engine.compiled.prepare (arrays, screen tiles, BVH for lit"
+            " scenes), made once per scene as Mitsuba builds its BVH in load_dict; render"
+            " renders the prepared scene. raykit.render.render(scene) does both; the numpy"
+            " engine prepares inside its render.\n"
+        )
+        lit_rows = timing.table(lit_scenes(args.quick), lit=True)
     print(
-        "| scene | renderer | load | prepare | first render | render (median) "
-        "| load + prepare + render | render / Mitsuba llvm | hit masks agree |"
+        "\nLit scenes: two point lights, shadows, diffuse only, no ambient light; Mitsuba's"
+        " direct integrator with one shadow ray per light per hit (emitter_samples 2,"
+        " bsdf_samples 0). Timed as above. The pictures' check renders each pixel's centre"
+        " with each light alone (untimed), brings Mitsuba's fall-off to raykit's"
+        " (mitsuba_intensity) and compares linear colours over the pixels both hit."
+        " Mitsuba llvm's lit render of many shapes has a cost per render that grows with the"
+        " shapes, not the pixels (see the script's docstring): scalar_rgb is the better measure"
+        " of its ray work there."
     )
-    print("|---|---|---|---|---|---|---|---|---|")
-    rows, compiled_renders = [], {}
-    for name, scene in benchmark_scenes(args.quick).items():
+    if timing.targets:
+        print(f"Dr.Jit's LLVM backend compiled for: {'; '.join(sorted(timing.targets))}.")
+    growth(timing.compiled_renders, args.repeats)
+    rows = flat + lit_rows
+    if cpu == "native":
+        return rows
+    return [
+        {**row, "renderer": row["renderer"] + AVX2}
+        for row in rows
+        if row["renderer"] == "raykit compiled" or row["renderer"].endswith("llvm_ad_rgb")
+    ]
+
+
+def machine_line(cpu: str) -> str:
+    """The processor, and the instruction set this run's compiled code was made for."""
+    info = Path("/proc/cpuinfo").read_text() if Path("/proc/cpuinfo").exists() else ""
+    fields = dict(
+        line.split(":", 1) for line in reversed(info.splitlines()) if ":" in line
+    )  # the first processor's, by key
+    fields = {key.strip(): value.strip() for key, value in fields.items()}
+    flags = set(fields.get("flags", "").split())
+    widest = (
+        "AVX-512"
+        if "avx512f" in flags
+        else "AVX2"
+        if "avx2" in flags
+        else "neither AVX2 nor AVX-512"
+    )
+    model = fields.get("model name", "an unnamed processor")
+    if cpu == "native":
+        how = (
+            f"native: numba, Dr.Jit and Embree each compile for, or pick, the processor they find"
+            f" ({widest})"
+        )
+    else:
+        how = (
+            "AVX2: numba for haswell (NUMBA_CPU_NAME=haswell, NUMBA_CPU_FEATURES empty: haswell's"
+            " own), Dr.Jit's LLVM backend for haswell with 8 lanes (drjit_target), Mitsuba's"
+            " Embree restricted to isa=avx2 (embree_avx2); numpy, and Mitsuba's other"
+            " ahead-compiled code, are as shipped"
+        )
+    return (
+        f"Machine: {model}, {os.cpu_count()} cores, {widest}. Instruction set of this run: {how}."
+    )
+
+
+class Timing:
+    """Times every renderer of each scene in turns and prints a table; keeps what the growth
+    line and the plot need (``compiled_renders``, rows) and Dr.Jit's targets."""
+
+    def __init__(self, args, version: str | None, engines: list[str], cpu: str, env: dict | None):
+        self.args, self.version, self.engines, self.cpu, self.env = args, version, engines, cpu, env
+        self.compiled_renders: dict = {}
+        self.targets: set[str] = set()
+
+    def table(self, scenes: dict[str, Scene], lit: bool = False) -> list[dict]:
+        """One table, a row per scene and renderer; for ``lit`` scenes, with the pictures'
+        agreement (:func:`agreement`). The plot's rows: ``{"scene", "renderer", "render"}``."""
+        extra = " colours: mean abs. difference, pixels off by > 0.01 |" if lit else ""
+        print(
+            "| scene | renderer | load | prepare | first render | render (median) "
+            "| load + prepare + render | render / Mitsuba llvm "
+            f"| load + prepare + render / Mitsuba llvm | hit masks agree |{extra}"
+        )
+        print("|---|---|---|---|---|---|---|---|---|---|" + "---|" * lit)
+        rows = []
+        for name, scene in scenes.items():
+            rows += self.scene_rows(name, scene, lit)
+        return rows
+
+    def scene_rows(self, name: str, scene: Scene, lit: bool) -> list[dict]:
         data = scene_data(scene)
-        renderers, ours, children = {}, None, []
-        for engine in engines:
-            load, prepare, first, render_once, mask = set_up_raykit(engine, data)
-            renderers[f"raykit {engine}"] = (load, prepare, first, render_once, "-")
-            ours = mask  # the last engine's (all give the same mask)
-        for variant in VARIANTS if version is not None else ():
-            child = MitsubaChild(variant, data)
-            renderer = f"Mitsuba {version} {variant}"
+        renderers, picture, children = {}, None, []
+        blank = "-" + " | -" * lit
+        for engine in self.engines:
+            load, prepare, first, render_once, picture = set_up_raykit(engine, data)
+            renderers[f"raykit {engine}"] = (load, prepare, first, render_once, blank)
+        if lit and self.args.pictures:
+            _save(self.args.pictures / f"{_slug(name)}_raykit.png", picture[0])
+        ours = picture[1] >= 0  # the last engine's (all give the same picture)
+        for variant in VARIANTS if self.version is not None else ():
+            child = MitsubaChild(variant, data, self.cpu, self.env)
+            renderer = f"Mitsuba {self.version} {variant}"
+            check = child.check() if lit and child.failure is None else None
             if child.failure:
                 renderers[renderer] = (child.failure, None, None, None, "")
                 continue
             children.append((child, renderer))
-            agree = f"{np.mean(np.array(child.hit) == ours):.1%}"
+            if child.target:
+                self.targets.add(child.target)
+            if lit:
+                hits, mean, off, converted = agreement(scene, picture, check)
+                agree = f"{hits:.1%} | {mean:.1e}, {off:.1%}"
+                if self.args.pictures:
+                    stem = self.args.pictures / f"{_slug(name)}_{variant}"
+                    _save(stem.with_name(stem.name + ".png"), check["image"])
+                    _save(stem.with_name(stem.name + "_as_raykit.png"), converted)
+            else:
+                agree = f"{np.mean(np.array(child.hit) == ours):.1%}"
             renderers[renderer] = (child.load, 0.0, child.first, child.render_once, agree)
         medians = medians_in_turns(
             {key: r[3] for key, r in renderers.items() if r[3] is not None},
-            args.repeats,
+            self.args.repeats,
             warm=True,
         )
         for child, renderer in children:
@@ -355,57 +762,89 @@ def main() -> None:
                 renderers[renderer] = (child.failure, None, None, None, "")
                 medians.pop(renderer)
         llvm = next((t for key, t in medians.items() if key.endswith("llvm_ad_rgb")), None)
+        llvm_whole = next(
+            (r[0] + medians[key] for key, r in renderers.items() if key.endswith("llvm_ad_rgb")),
+            None,
+        )  # Mitsuba's load (its BVH) and render
+        rows = []
         for renderer, (load, prepare, first, render_once, agree) in renderers.items():
             took = medians.get(renderer)
             rows.append({"scene": name, "renderer": renderer, "render": took})
             if isinstance(load, str):
-                print(f"| {name} | {renderer} | {load} | | | | | | |")
+                print(f"| {name} | {renderer} | {load} | | | | | | | |" + " |" * lit)
                 continue
             if renderer == "raykit compiled":
-                compiled_renders[name] = (load + prepare, took, render_once)
+                self.compiled_renders[name] = (load + prepare, took, render_once)
+            whole = load + prepare + took
             ratio = f"{took / llvm:.2f}" if llvm else "-"
+            whole_ratio = f"{whole / llvm_whole:.2f}" if llvm_whole else "-"
             print(
                 f"| {name} | {renderer} | {seconds(load, 1)} "
                 f"| {seconds(prepare, 1) if prepare else '-'} | {seconds(first, 1)} "
-                f"| {seconds(took, 1)} | {seconds(load + prepare + took, 1)} | {ratio} | {agree} |"
+                f"| {seconds(took, 1)} | {seconds(whole, 1)} | {ratio} | {whole_ratio} | {agree} |"
             )
-    print(
-        f"\nMedians of {args.repeats} renders after a warm-up, every renderer of a scene in turns"
-        " (each timed render right after an untimed one of its own); Mitsuba's variants in"
-        " child processes that time their own renders."
-        " raykit compiled: prepare is raykit.engine.compiled.prepare (arrays, screen tiles, BVH"
-        " for lit scenes), made once per scene as Mitsuba builds its BVH in load_dict; render"
-        " renders the prepared scene. raykit.render.render(scene) does both; the numpy engine"
-        " prepares inside its render."
-    )
-    growth(compiled_renders, args.repeats)
-    if args.plot:
-        plot(args.plot, rows)
+        return rows
+
+
+def agreement(scene: Scene, picture: tuple, check: dict) -> tuple:
+    """How near Mitsuba's lit picture is to raykit's ``picture`` (rgb, object index, t):
+    ``(hits, mean, off, converted)``, the share of pixels on which both agree whether anything
+    is hit, the mean absolute difference of linear colours (over the channels of the pixels both
+    hit), the share of those pixels off by more than 0.01 in a channel, and Mitsuba's picture as
+    raykit's radiometry would make it ``(H, W, 3)``. ``check``: :func:`check_pictures`, every
+    pixel sampled at its centre as raykit's. Each light's picture is multiplied by (r/r0)²
+    (:func:`mitsuba_intensity`), r the distance from the light to raykit's hit point."""
+    rgb, index, t = picture
+    ours, theirs = index >= 0, check["depth"] > 0
+    both = ours & theirs
+    rows, cols = np.nonzero(both)
+    origins, directions = rays_through(scene.camera, cols + 0.5, rows + 0.5)
+    points = origins + t[both][:, None] * directions
+    converted = np.zeros(rgb.shape)
+    for light, alone in zip(scene.lights, check["lights"], strict=True):
+        to_light = np.asarray(light.position) - points
+        r0 = _distance2(light.position, scene.camera.lookat)
+        converted[both] += alone[both] * (dot(to_light, to_light) / r0)[:, None]
+    difference = np.abs(rgb[both] - converted[both])
+    off = np.mean(difference.max(axis=1) > 0.01) if len(difference) else 0.0
+    return np.mean(ours == theirs), float(difference.mean()), off, converted
+
+
+def _slug(name: str) -> str:
+    return "_".join(name.replace(",", "").split())
+
+
+def _save(path: Path, rgb: np.ndarray) -> None:
+    """A linear picture as an 8-bit PNG, clamped to [0, 1], no gamma (as raykit's)."""
+    from raykit.io.images import quantize, save_image
+
+    save_image(quantize(np.asarray(rgb, float)), path)
 
 
 def set_up_raykit(engine: str, data: dict) -> tuple:
-    """raykit on one scene: ``(load, prepare, first render, render_once, hit mask)``, times in
-    seconds; ``render_once()`` renders once more and returns the seconds it took. The compiled
-    engine's first render is a whole ``render(scene)`` (it loads the cached kernels, as
-    Mitsuba's first render compiles its own); then it renders the prepared scene, whose
-    ``prepare`` is a median of 3. The numpy engine prepares inside its render (prepare 0)."""
+    """raykit on one scene: ``(load, prepare, first render, render_once, picture)``, times in
+    seconds; ``render_once()`` renders once more and returns the seconds it took; ``picture``:
+    the first render's ``(rgb, object_index, t)``. The compiled engine's first render is a whole
+    ``render(scene)`` (it loads the cached kernels, as Mitsuba's first render compiles its
+    own); then it renders the prepared scene, whose ``prepare`` is a median of 3. The numpy
+    engine prepares inside its render (prepare 0)."""
     start = time.perf_counter()
     loaded = scene_from_dict(data)
     load = time.perf_counter() - start
 
     if engine != "compiled":
         start = time.perf_counter()
-        first_image = render(loaded, engine=engine)
-        first = time.perf_counter() - start
+        first = render(loaded, engine=engine)
+        took = time.perf_counter() - start
         call = timer(lambda: render(loaded, engine=engine))
-        return load, 0.0, first, call, first_image.object_index >= 0
+        return load, 0.0, took, call, (first.rgb, first.object_index, first.t)
     from raykit.engine import compiled
 
     start = time.perf_counter()
-    _, index, _ = compiled.render(loaded)
+    picture = compiled.render(loaded)
     first = time.perf_counter() - start
     prepared, prepare = median_time(lambda: compiled.prepare(loaded), 3)
-    return load, prepare, first, timer(lambda: compiled.render(prepared)), index >= 0
+    return load, prepare, first, timer(lambda: compiled.render(prepared)), picture
 
 
 def growth(compiled_renders: dict, repeats: int) -> None:

@@ -120,20 +120,70 @@ def test_raykit_bench_runs_every_benchmark_and_writes_the_plots(tmp_path):
 
 
 def test_mitsuba_comparison_times_raykit_and_mitsuba_when_installed():
-    rows = _table_rows("mitsuba_compare.py")
-    renderers = [row.split(" | ")[1] for row in rows]
-    assert renderers.count("raykit numpy") == 2  # one row per quick scene
-    try:
-        import numba  # noqa: F401
+    run = subprocess.run(
+        [sys.executable, str(REPO / "benchmarks/mitsuba_compare.py"), "--quick", "--repeats", "1"],
+        capture_output=True,
+        text=True,
+        timeout=TIMEOUT,
+    )
+    assert run.returncode == 0, run.stderr
+    tables = [t.splitlines() for t in run.stdout.split("\n\n") if t.startswith("| scene |")]
+    flat, lit = ([line.split(" | ") for line in t[2:]] for t in tables)
+    assert [row[0] for row in lit] == [row[0] + " lit" for row in flat]  # the same scenes, lit
+    for rows in (flat, lit):
+        renderers = [row[1] for row in rows]
+        assert renderers.count("raykit numpy") == 2  # one row per quick scene
+        try:
+            import numba  # noqa: F401
 
-        assert renderers.count("raykit compiled") == 2  # side by side, in the same run
-    except ImportError:
-        assert "raykit compiled" not in renderers
-    try:
-        import mitsuba  # noqa: F401
-    except ImportError:
-        return  # an optional benchmark dependency: raykit alone is timed
-    assert sum(r.startswith("Mitsuba") for r in renderers) == 4
+            assert renderers.count("raykit compiled") == 2  # side by side, in the same run
+        except ImportError:
+            assert "raykit compiled" not in renderers
+        try:
+            import mitsuba  # noqa: F401
+        except ImportError:
+            continue  # an optional benchmark dependency: raykit alone is timed
+        assert sum(r.startswith("Mitsuba") for r in renderers) == 4
+
+
+def test_lit_scene_in_mitsuba_is_raykits_picture_once_its_fall_off_is_undone():
+    mi = pytest.importorskip("mitsuba")
+    sys.path.insert(0, str(REPO / "benchmarks"))
+    from mitsuba_compare import agreement, check_pictures, lit, scene_data
+
+    from raykit.io.scene_json import scene_from_dict
+    from raykit.render import render
+
+    mi.set_variant("scalar_rgb")
+    camera = {"eye": [0, 2, 6], "lookat": [0, 0.5, 0], "up": [0, 1, 0], "fov_angle": 40}
+    flat = scene_from_dict(
+        {
+            "camera": {**camera, "width": 48, "height": 36},
+            "spheres": [
+                {"center": [0, 0.6, 0], "radius": 0.6, "color": [0.8, 0.3, 0.2]},
+                {"center": [1.2, 0.3, 0.8], "radius": 0.3, "color": [0.2, 0.5, 0.9]},
+            ],
+            "billboards": [  # its corners make its normal point down, away from the camera
+                {
+                    "upper_left": [-3, 0, -3],
+                    "upper_right": [3, 0, -3],
+                    "lower_left": [-3, 0, 3],
+                    "color": [0.6, 0.6, 0.5],
+                }
+            ],
+        }
+    )
+    scene = lit(flat, (([2, 4, 3], [0.7, 0.6, 0.5]), ([-3, 3, 1], [0.3, 0.3, 0.4])))
+    image = render(scene, engine="numpy")
+    pictures = check_pictures(scene_data(scene), mi)
+    hits, mean, off, converted = agreement(
+        scene, (image.rgb, image.object_index, image.t), pictures
+    )
+    assert hits == 1.0
+    assert mean < 1e-4 and off == 0.0  # Mitsuba computes in float32
+    assert converted[image.object_index >= 0].mean() > 0.05  # lit, not black on both sides
+    unlit = check_pictures(scene_data(flat), mi)
+    assert (unlit["lights"].shape[0], unlit["depth"].shape) == (0, (36, 48))  # no light: depth only
 
 
 def test_billboard_becomes_a_mitsuba_rectangle_with_the_same_corners():
@@ -198,9 +248,9 @@ def test_a_mitsuba_variant_that_cannot_start_is_a_failed_row_and_the_run_goes_on
     module.main()
     rows = [line for line in capsys.readouterr().out.splitlines() if line.startswith("| ")]
     failed = [row for row in rows if "Mitsuba 0.0 no_such_variant" in row]
-    assert len(failed) == 2  # one per quick scene
+    assert len(failed) == 4  # one per quick scene, flat and lit
     assert all(row.split(" | ")[2].startswith("failed: ") for row in failed)
-    assert sum(" | raykit numpy | " in row for row in rows) == 2
+    assert sum(" | raykit numpy | " in row for row in rows) == 4
 
 
 def test_a_mitsuba_child_that_dies_during_the_renders_is_a_failure_not_a_crash():
