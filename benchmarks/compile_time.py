@@ -15,8 +15,13 @@
 2. With --before REV: the compiled engine as it was at git revision REV (one module,
    raykit/engine/compiled.py), loaded from its own cache folder (the first run compiles it),
    and this one, each rendering every example scene and the benchmark scenes prepared, in
-   turns in one process: medians of --repeats renders and their ratio, on every core, then on
-   one (which a neighbour's work on the other core slows less). With --before-compile,
+   one process: medians of --repeats renders and their ratio, on every core, then on one
+   (which a neighbour's work on the other core slows less). Scene by scene, the two engines'
+   renders in turns: the renders that follow a render of a large image (1,000 spheres at
+   1080p) take longer, by the writes of their own image into caches the large one filled
+   (classic at 640x480, the next three renders of either engine), so when every scene took
+   its turn in one round, an engine whose small scene came after the other engine's large
+   one lost up to 1.2x, depending only on the order of the rounds. With --before-compile,
    also REV's first compile of classic.json from an empty cache, as in 1.
 
 Needs numba (`pip install -e ".[fast]"`).
@@ -162,14 +167,18 @@ def before_and_after(revision: str, repeats: int, quick: bool) -> None:
     took = {}
     for threads in sorted({cores, 1}, reverse=True):  # one thread: a busy neighbour on one core
         numba.set_num_threads(threads)  # holds up no render of it
-        took[threads] = interleaved_medians(
-            {
-                key: (lambda e=engines[key[0]], p=each: e.render(p))
-                for key, each in prepared.items()
-            },
-            repeats,
-            warm=True,
-        )
+        took[threads] = {}
+        for name in scenes:  # scene by scene: see the docstring
+            took[threads].update(
+                interleaved_medians(
+                    {
+                        (engine, name): (lambda m=module, p=prepared[(engine, name)]: m.render(p))
+                        for engine, module in engines.items()
+                    },
+                    repeats,
+                    warm=True,
+                )
+            )
     numba.set_num_threads(cores)
     print(f"\n2. prepared renders, median of {repeats} in turns in one process\n")
     print(
