@@ -30,7 +30,8 @@
    not this machine's: haswell is AVX2 without AVX-512; native is this machine; each CPU's
    kernels are compiled once into the cache beside the others), with the tiles
    raykit.engine.compiled.tile_side chooses and with each layout of CPU_LAYOUTS, all taken in
-   turns (each child times its own renders, each timed render right after an untimed one):
+   turns (each child times its own renders, each timed render right after CPU_UNTIMED
+   untimed ones):
    medians of --repeats renders, on every core, then on one; and which instructions the packet
    loop compiles to (the vector registers primary_rays' code names: ymm is 4 float64, zmm 8).
 
@@ -213,6 +214,9 @@ def before_and_after(revision: str, repeats: int, quick: bool) -> None:
 
 CPU_SCENES = ["classic", "classic_lit", "sphereflake 4", "1,000 spheres 1080p"]
 CPU_LAYOUTS = [(4, False), (8, True), (16, True)]  # (tile side, packets) besides the choice
+# untimed renders before each timed one in part 3: after the other child's renders, a child's
+# next two or three took longer (one untimed was not enough; part 2 keeps to one process)
+CPU_UNTIMED = 3
 
 # a child of part 3: the scenes prepared with each layout (None: tile_side's), then a render
 # (an untimed one and a timed one) per line of its standard input, its seconds on its output
@@ -235,13 +239,15 @@ registers = {{}}
 for asm in compiled.primary_rays.inspect_asm().values():
     for kind in ("xmm", "ymm", "zmm"):
         registers[kind] = registers.get(kind, 0) + len(re.findall(kind, asm))
-chosen = {{name: [base.tiles.size, base.tiles.packets] for (name, _), base in prepared.items()}}
+chosen = {{name: [each.tiles.size, each.tiles.packets]
+          for (name, layout), each in prepared.items() if layout is None}}
 print(json.dumps([registers, chosen]), flush=True)
 for line in sys.stdin:
     name, layout, threads = json.loads(line)
     numba.set_num_threads(threads)
     each = prepared[name, None if layout is None else tuple(layout)]
-    compiled.render(each)
+    for _ in range({untimed}):
+        compiled.render(each)
     started = time.perf_counter()
     compiled.render(each)
     print(time.perf_counter() - started, flush=True)
@@ -252,7 +258,7 @@ def cpu_children(names: list[str], folder: Path) -> dict:
     """Part 3's children, one per CPU name, ready (kernels loaded or compiled), each with what
     its first line told: the vector registers of its packet loop and the tiles chosen."""
     layouts = [None, *CPU_LAYOUTS]
-    code = _CPU_CHILD.format(here=str(HERE), names=CPU_SCENES, layouts=layouts)
+    code = _CPU_CHILD.format(here=str(HERE), names=CPU_SCENES, layouts=layouts, untimed=CPU_UNTIMED)
     children = {}
     for name in names:
         cpu = {} if name == "native" else {"NUMBA_CPU_NAME": name, "NUMBA_CPU_FEATURES": ""}
