@@ -878,9 +878,12 @@ def test_ctrl_c_during_the_first_compile_leaves_a_cache_the_next_run_renders_rig
     )
     cache = tmp_path / "cache"
     env = {**os.environ, "RAYKIT_CACHE_DIR": str(cache)}
+    # Ctrl-C as in a terminal: a child started where SIGINT is ignored (a shell's background
+    # job) would inherit that, and finish its compile
     child = subprocess.Popen(
         [sys.executable, "-c", code], cwd=REPO, env=env, stdout=subprocess.PIPE,
         stderr=subprocess.PIPE, text=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )  # fmt: skip
     deadline = time.monotonic() + 300
     while not list(cache.rglob("*.nbi")) and time.monotonic() < deadline:  # a kernel cached
