@@ -32,8 +32,10 @@
    raykit.engine.compiled.tile_side chooses and with each layout of CPU_LAYOUTS, all taken in
    turns (each child times its own renders, each timed render right after CPU_UNTIMED
    untimed ones):
-   medians of --repeats renders, on every core, then on one; and which instructions the packet
-   loop compiles to (the vector registers primary_rays' code names: ymm is 4 float64, zmm 8).
+   medians of --repeats renders on one core (on both cores, two children's thread pools stood
+   in each other's way: classic took 16 ms where one process alone took 3);
+   and which instructions the packet loop compiles to (the vector registers primary_rays' code
+   names: ymm is 4 float64, zmm 8).
 
 Needs numba (`pip install -e ".[fast]"`).
 """
@@ -282,8 +284,6 @@ def cpu_children(names: list[str], folder: Path) -> dict:
 
 def cpus(names: list[str], repeats: int) -> None:
     """Part 3: the compiled engine's prepared renders, compiled for each CPU of ``names``."""
-    import multiprocessing
-
     layouts = [None, *CPU_LAYOUTS]
     with tempfile.TemporaryDirectory() as folder:
         children = cpu_children(names, Path(folder))
@@ -298,7 +298,7 @@ def cpus(names: list[str], repeats: int) -> None:
             return timed
 
         took = {}
-        for threads in sorted({multiprocessing.cpu_count(), 1}, reverse=True):
+        for threads in [1]:  # see the docstring
             for scene in CPU_SCENES:  # scene by scene, as part 2
                 took.update(
                     medians_in_turns(
