@@ -17,25 +17,20 @@
    and this one, each rendering every example scene and the benchmark scenes prepared, in
    one process: medians of --repeats renders and their ratio, on every core, then on one
    (which a neighbour's work on the other core slows less). Scene by scene, the two engines'
-   renders in turns: the renders that follow a render of a large image (1,000 spheres at
-   1080p) take longer, by the writes of their own image into caches the large one filled
-   (classic at 640x480, the next three renders of either engine), so when every scene took
-   its turn in one round, an engine whose small scene came after the other engine's large
-   one lost up to 1.2x, depending only on the order of the rounds. With --before-compile,
-   also REV's first compile of classic.json from an empty cache, as in 1.
-
+   renders in turns: the next few renders after one of a large image (1,000 spheres at 1080p)
+   take longer, whichever engine made either, so in rounds of every scene an engine whose
+   small scene came right after the other engine's large one lost, by the order alone. With
+   --before-compile, also REV's first compile of classic.json from an empty cache, as in 1.
 3. With --cpus NAME,NAME (e.g. native,haswell): the compiled engine's prepared renders of the
    benchmark scenes (CPU_SCENES) compiled for each CPU, in one child process per CPU
    (NUMBA_CPU_NAME=NAME and NUMBA_CPU_FEATURES empty, so that the features are NAME's own and
-   not this machine's: haswell is AVX2 without AVX-512; native is this machine; each CPU's
-   kernels are compiled once into the cache beside the others), with the tiles
-   raykit.engine.compiled.tile_side chooses and with each layout of CPU_LAYOUTS, all taken in
-   turns (each child times its own renders, each timed render right after CPU_UNTIMED
-   untimed ones):
-   medians of --repeats renders on one core (on both cores, two children's thread pools stood
-   in each other's way: classic took 16 ms where one process alone took 3);
-   and which instructions the packet loop compiles to (the vector registers primary_rays' code
-   names: ymm is 4 float64, zmm 8).
+   not this machine's: haswell is AVX2 without AVX-512; native is this machine), each
+   compiling into a new cache folder of its own (numba shows the code only of what it
+   compiled), with the tiles raykit.engine.compiled.tile_side chooses and with each layout of
+   CPU_LAYOUTS, all taken in turns (each child times its own renders, each timed render right
+   after CPU_UNTIMED untimed ones): medians of --repeats renders on one core (on both, the two
+   children's thread pools stood in each other's way); and which instructions the packet loop
+   compiles to (the vector registers primary_rays' code names: ymm holds 4 float64, zmm 8).
 
 Needs numba (`pip install -e ".[fast]"`).
 """
