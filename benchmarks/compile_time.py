@@ -1,7 +1,7 @@
 """What the compiled engine's first use costs, and its renders against the engine it replaced.
 
     python benchmarks/compile_time.py [--quick] [--compiles N] [--repeats N] [--before REV]
-        [--before-compile]
+        [--before-compile] [--cpus NAME,NAME]
 
 1. The first use from an empty cache: whole processes of `raykit render SCENE -o OUT.png
    --engine compiled` on scenes/classic.json (flat) and scenes/classic_lit.json (lit), each
@@ -15,9 +15,22 @@
 2. With --before REV: the compiled engine as it was at git revision REV (one module,
    raykit/engine/compiled.py), loaded from its own cache folder (the first run compiles it),
    and this one, each rendering every example scene and the benchmark scenes prepared, in
-   turns in one process: medians of --repeats renders and their ratio, on every core, then on
-   one (which a neighbour's work on the other core slows less). With --before-compile,
-   also REV's first compile of classic.json from an empty cache, as in 1.
+   one process: medians of --repeats renders and their ratio, on every core, then on one
+   (which a neighbour's work on the other core slows less). Scene by scene, the two engines'
+   renders in turns: the next few renders after one of a large image (1,000 spheres at 1080p)
+   take longer, whichever engine made either, so in rounds of every scene an engine whose
+   small scene came right after the other engine's large one lost, by the order alone. With
+   --before-compile, also REV's first compile of classic.json from an empty cache, as in 1.
+3. With --cpus NAME,NAME (e.g. native,haswell): the compiled engine's prepared renders of the
+   benchmark scenes (CPU_SCENES) compiled for each CPU, in one child process per CPU
+   (NUMBA_CPU_NAME=NAME and NUMBA_CPU_FEATURES empty, so that the features are NAME's own and
+   not this machine's: haswell is AVX2 without AVX-512; native is this machine), each
+   compiling into a new cache folder of its own (numba shows the code only of what it
+   compiled), with the tiles raykit.engine.compiled.tile_side chooses and with each layout of
+   CPU_LAYOUTS, all taken in turns (each child times its own renders, each timed render right
+   after CPU_UNTIMED untimed ones): medians of --repeats renders on one core (on both, the two
+   children's thread pools stood in each other's way); and which instructions the packet loop
+   compiles to (the vector registers primary_rays' code names: ymm holds 4 float64, zmm 8).
 
 Needs numba (`pip install -e ".[fast]"`).
 """
@@ -38,7 +51,13 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-from common import arguments, interleaved_medians, parse, seconds  # noqa: E402
+from common import (  # noqa: E402
+    arguments,
+    interleaved_medians,
+    medians_in_turns,
+    parse,
+    seconds,
+)
 
 from raykit.engine import choice  # noqa: E402
 
@@ -162,14 +181,18 @@ def before_and_after(revision: str, repeats: int, quick: bool) -> None:
     took = {}
     for threads in sorted({cores, 1}, reverse=True):  # one thread: a busy neighbour on one core
         numba.set_num_threads(threads)  # holds up no render of it
-        took[threads] = interleaved_medians(
-            {
-                key: (lambda e=engines[key[0]], p=each: e.render(p))
-                for key, each in prepared.items()
-            },
-            repeats,
-            warm=True,
-        )
+        took[threads] = {}
+        for name in scenes:  # scene by scene: see the docstring
+            took[threads].update(
+                interleaved_medians(
+                    {
+                        (engine, name): (lambda m=module, p=prepared[(engine, name)]: m.render(p))
+                        for engine, module in engines.items()
+                    },
+                    repeats,
+                    warm=True,
+                )
+            )
     numba.set_num_threads(cores)
     print(f"\n2. prepared renders, median of {repeats} in turns in one process\n")
     print(
@@ -186,6 +209,127 @@ def before_and_after(revision: str, repeats: int, quick: bool) -> None:
         print(f"| {name} | " + " | ".join(cells) + " |")
 
 
+CPU_SCENES = ["classic", "classic_lit", "sphereflake 4", "1,000 spheres 1080p"]
+CPU_LAYOUTS = [(4, False), (8, True), (16, True)]  # (tile side, packets) besides the choice
+# untimed renders before each timed one in part 3: after the other child's renders, a child's
+# next two or three took longer (one untimed was not enough; part 2 keeps to one process)
+CPU_UNTIMED = 3
+
+# a child of part 3: the scenes prepared with each layout (None: tile_side's), then a render
+# (an untimed one and a timed one) per line of its standard input, its seconds on its output
+_CPU_CHILD = """
+import json, re, sys, time
+sys.path.insert(0, {here!r})
+import numba
+from engines import benchmark_scenes
+from raykit.engine import compiled
+scenes = benchmark_scenes(False)
+prepared = {{}}
+for name in {names!r}:
+    base = compiled.prepare(scenes[name])
+    for layout in {layouts!r}:
+        tiles = base.tiles if layout is None else compiled.screen_tiles(
+            scenes[name], base.arrays, *layout)
+        prepared[name, layout] = base._replace(tiles=tiles)
+        compiled.render(prepared[name, layout])
+registers = {{}}
+for asm in compiled.primary_rays.inspect_asm().values():
+    for kind in ("xmm", "ymm", "zmm"):
+        registers[kind] = registers.get(kind, 0) + len(re.findall(kind, asm))
+chosen = {{name: [each.tiles.size, each.tiles.packets]
+          for (name, layout), each in prepared.items() if layout is None}}
+print(json.dumps([registers, chosen]), flush=True)
+for line in sys.stdin:
+    name, layout, threads = json.loads(line)
+    numba.set_num_threads(threads)
+    each = prepared[name, None if layout is None else tuple(layout)]
+    for _ in range({untimed}):
+        compiled.render(each)
+    started = time.perf_counter()
+    compiled.render(each)
+    print(time.perf_counter() - started, flush=True)
+"""
+
+
+def cpu_children(names: list[str], folder: Path) -> dict:
+    """Part 3's children, one per CPU name, ready (kernels loaded or compiled), each with what
+    its first line told: the vector registers of its packet loop and the tiles chosen."""
+    layouts = [None, *CPU_LAYOUTS]
+    code = _CPU_CHILD.format(here=str(HERE), names=CPU_SCENES, layouts=layouts, untimed=CPU_UNTIMED)
+    children = {}
+    for name in names:
+        cpu = {} if name == "native" else {"NUMBA_CPU_NAME": name, "NUMBA_CPU_FEATURES": ""}
+        # a cache of its own: the inspected code is there only when compiled in the process
+        cache = str(folder / f"cpu-cache-{name}")
+        child = subprocess.Popen(
+            [sys.executable, "-c", code],
+            cwd=REPO,
+            env={**os.environ, **cpu, "RAYKIT_CACHE_DIR": cache},
+            stdin=subprocess.PIPE,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.DEVNULL,
+            text=True,
+        )
+        line = child.stdout.readline()
+        if not line:
+            raise SystemExit(f"the child compiled for {name} failed")
+        children[name] = (child, *json.loads(line))
+    return children
+
+
+def cpus(names: list[str], repeats: int) -> None:
+    """Part 3: the compiled engine's prepared renders, compiled for each CPU of ``names``."""
+    layouts = [None, *CPU_LAYOUTS]
+    with tempfile.TemporaryDirectory() as folder:
+        children = cpu_children(names, Path(folder))
+
+        def render_in(cpu, scene, layout, threads):
+            def timed() -> float:
+                child = children[cpu][0]
+                child.stdin.write(json.dumps([scene, layout, threads]) + "\n")
+                child.stdin.flush()
+                return float(child.stdout.readline())
+
+            return timed
+
+        took = {}
+        for threads in [1]:  # see the docstring
+            for scene in CPU_SCENES:  # scene by scene, as part 2
+                took.update(
+                    medians_in_turns(
+                        {
+                            (cpu, scene, layout, threads): render_in(cpu, scene, layout, threads)
+                            for cpu in names
+                            for layout in layouts
+                        },
+                        repeats,
+                    )
+                )
+        for child, *_ in children.values():
+            child.stdin.close()
+            child.wait()
+    print(f"\n3. prepared renders compiled for each CPU, median of {repeats} in turns\n")
+    for cpu, (_, registers, _) in children.items():
+        listed = ", ".join(f"{count} {kind}" for kind, count in registers.items())
+        print(f"- {cpu}: the packet loop (primary_rays) names {listed}")
+    first = names[0]
+    print(
+        "\n| scene | threads | CPU | tile_side's choice | "
+        + " | ".join(f"{side} px{', packets' if packets else ''}" for side, packets in CPU_LAYOUTS)
+        + f" | choice / {first}'s |"
+    )
+    print("|---|---|---|---|" + "---|" * len(CPU_LAYOUTS) + "---|")
+    for threads in sorted({key[3] for key in took}, reverse=True):
+        for scene in CPU_SCENES:
+            for cpu in names:
+                side, packets = children[cpu][2][scene]
+                choice_ = f"{side} px{', packets' if packets else ''}: "
+                cells = [choice_ + seconds(took[(cpu, scene, None, threads)], 1)]
+                cells += [seconds(took[(cpu, scene, layout, threads)], 1) for layout in CPU_LAYOUTS]
+                ratio = took[(cpu, scene, None, threads)] / took[(first, scene, None, threads)]
+                print(f"| {scene} | {threads} | {cpu} | " + " | ".join(cells) + f" | {ratio:.2f} |")
+
+
 def main() -> None:
     parser = arguments(__doc__, "one round of first uses, the example scenes only", repeats=9)
     parser.add_argument("--compiles", type=int, default=3, help="first uses per scene (median)")
@@ -193,6 +337,10 @@ def main() -> None:
     parser.add_argument(
         "--before-compile", action="store_true", help="and REV's first compile (minutes)"
     )
+    parser.add_argument(
+        "--cpus", metavar="NAME,NAME", help="time renders compiled for these CPUs (3.)"
+    )
+    parser.add_argument("--cpus-only", action="store_true", help="only part 3")
     args = parse(parser)
     if not choice.compiled_available():
         print('numba is not installed (pip install -e ".[fast]"): nothing to time.')
@@ -200,6 +348,8 @@ def main() -> None:
     import multiprocessing
 
     print(f"on {multiprocessing.cpu_count()} cores\n")
+    if args.cpus_only and args.cpus:
+        return cpus(args.cpus.split(","), args.repeats)
     with tempfile.TemporaryDirectory() as folder:
         rounds = 1 if args.quick else args.compiles
         medians, table = first_use(rounds, Path(folder))
@@ -237,6 +387,8 @@ def main() -> None:
         print(f"\nwrote {SECONDS_TABLE.relative_to(REPO)}")
     if args.before:
         before_and_after(args.before, args.repeats, args.quick)
+    if args.cpus:
+        cpus(args.cpus.split(","), args.repeats)
 
 
 if __name__ == "__main__":

@@ -704,7 +704,29 @@ def test_tile_side_sends_rays_in_packets_unless_the_picture_is_crowded():
     assert compiled.tile_side(bounds, width, height) == (compiled.CROWDED_SIDE, False)
     few = bounds[:160] / 4  # 160 squares 4 pixels wide: 10 to a 16-pixel tile, 4 to an 8
     assert compiled.tile_side(few, width, height) == (compiled.PACKET_SIDE, True)
-    assert compiled.tile_side(few[:40], width, height) == (compiled.WIDE_SIDE, True)
+    # 40 such squares leave most 8-pixel tiles empty, and an empty tile costs no ray
+    assert compiled.tile_side(few[:40], width, height) == (compiled.PACKET_SIDE, True)
+    # one square over most of the picture: every tile lists it, and fewer tiles cost less
+    whole = np.array([[5.0, 60.0, 3.0, 58.0]])
+    assert compiled.tile_side(whole, width, height) == (compiled.WIDE_SIDE, True)
+
+
+@pytest.mark.parametrize("side", [4, 8, 16])
+def test_packet_cost_counts_the_lists_the_tiles_get(side):
+    """packet_cost's running sums count each tile's objects as bin_by_tile lists them (what
+    it clips to the picture, what it leaves out), on 300 seeded rectangles, some off it."""
+    rng = np.random.default_rng(11)
+    width, height = 100, 70
+    x0, y0 = rng.uniform(-30, 110, 300), rng.uniform(-30, 80, 300)
+    bounds = np.column_stack([x0, x0 + rng.uniform(0, 40, 300), y0, y0 + rng.uniform(0, 40, 300)])
+    order = np.arange(len(bounds))
+    tiles_x, tiles_y = -(-width // side), -(-height // side)
+    start, _, _ = compiled.tiles.bin_by_tile(
+        bounds, np.zeros(len(bounds)), order, tiles_x, tiles_y, side
+    )
+    listed = np.diff(start)
+    expected = (side * side * (1.0 + listed[listed > 0]) + compiled.tiles.TILE_COST).sum()
+    assert compiled.tiles.packet_cost(bounds, width, height, side) == expected
 
 
 # ---- the engine choice -----------------------------------------------------------------------
@@ -856,9 +878,12 @@ def test_ctrl_c_during_the_first_compile_leaves_a_cache_the_next_run_renders_rig
     )
     cache = tmp_path / "cache"
     env = {**os.environ, "RAYKIT_CACHE_DIR": str(cache)}
+    # Ctrl-C as in a terminal: a child started where SIGINT is ignored (a shell's background
+    # job) would inherit that, and finish its compile
     child = subprocess.Popen(
         [sys.executable, "-c", code], cwd=REPO, env=env, stdout=subprocess.PIPE,
         stderr=subprocess.PIPE, text=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )  # fmt: skip
     deadline = time.monotonic() + 300
     while not list(cache.rglob("*.nbi")) and time.monotonic() < deadline:  # a kernel cached

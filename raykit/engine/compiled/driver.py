@@ -404,13 +404,14 @@ def render(scene: Scene | Prepared, samples: int = 1, *, adaptive: bool = False,
     ``(rgb (H, W, 3), object_index (H, W), t (H, W))``, of a scene or of a :class:`Prepared`
     one. ``progress`` is told each band of finished pixels, as the numpy engine tells it each
     tile."""
-    sample_offsets(samples)  # refuses n < 1 before any work
+    offsets = sample_offsets(samples)  # refuses n < 1 before any work
     n = 1 if adaptive else samples  # adaptive: one ray per pixel first, as the numpy engine
+    if n != samples:
+        offsets = sample_offsets(n)
     prepared = scene if isinstance(scene, Prepared) else prepare(scene)
     scene, arrays, tiles = prepared.scene, prepared.arrays, prepared.tiles
     trace, kernels = _entry(prepared)
     width, height = scene.camera.width, scene.camera.height
-    offsets = sample_offsets(n)
     centre = centre_sample(n)
     empty = _mean_of_samples(arrays.background, len(offsets))
     rgb = np.empty((height * width, 3))  # first written by both cores: faster than by numpy

@@ -153,8 +153,8 @@ def light_lanes(arrays, tree, lights, stack, rays, best, count, lanes, candidate
     highlight. Each point's operations are :func:`surface_color`'s, in its order, so its bits
     are the same; a step that is the same for every point (l, n·l, the start of a shadow ray,
     a sphere or a billboard's plane tested against every shadow ray, the Lambert term, kept or
-    not) is one loop the compiler turns into vector instructions, 8 points at a time with
-    AVX-512. A point with no hit or facing away from the light takes nothing from them."""
+    not) is one loop the compiler turns into vector instructions, 4 points at a time with
+    AVX2 or AVX-512. A point with no hit or facing away from the light takes nothing from them."""
     spheres = len(arrays.radii)
     centers, radii, corners, planes = arrays.centers, arrays.radii, arrays.corners, arrays.n
     p, n, error, k, total, l, n_dot_l, s, reach, t, lit = lanes

@@ -46,7 +46,9 @@ def box_extent(lower, upper, i, e0, e1, e2):
     )
 
 
-@njit(**KERNEL)
+# box_apart, sphere_apart and candidate run once per object or node a light's list looks at,
+# in every job: inlined where they are called, as a test of one ray against an object is
+@njit(**ONE_RAY)
 def box_apart(volume, lower, upper, i) -> bool:
     """Whether box i (of ``lower``, ``upper (M, 3)``) lies wholly beyond the shadow volume
     along one of its axes (:func:`shadow_volume`): x, y and z first, where a box's extent is
@@ -61,7 +63,7 @@ def box_apart(volume, lower, upper, i) -> bool:
     return False
 
 
-@njit(**KERNEL)
+@njit(**ONE_RAY)
 def sphere_apart(volume, centers, radii, i) -> bool:
     """Whether sphere i lies wholly beyond the shadow volume along one of its axes."""
     R = radii[i]
@@ -129,7 +131,7 @@ def shadow_volume(lights, j, box, pad, scale, volume):
         volume[row, 3], volume[row, 4] = low - margin, high + margin
 
 
-@njit(**KERNEL)
+@njit(**ONE_RAY)
 def candidate(arrays, tree, volume, obj, candidates, j, count) -> int:
     """Adds object ``obj`` to light j's ``candidates`` unless it is apart from the shadow volume
     (a sphere: itself; a billboard: its box): the new count, or -1 past SHADOW_CANDIDATES."""

@@ -139,8 +139,8 @@ def primary_rays(arrays, tiles, camera, tile, n, xy, rays, best, best_t, colors,
     ``rays (6, L)``, ``best (L,)``, ``best_t``, ``colors (3, L)``, ``made`` out; ``alive``,
     ``ts`` room). The tile's objects are taken in turn, and each is tested against
     every lane with one loop of :func:`hit_sphere` that the compiler turns into vector
-    instructions (8 lanes at a time with AVX-512); masks then keep, for each lane, only what
-    :func:`primary_ray` would: a lane whose rectangle does not hold its point, or that has
+    instructions (4 lanes at a time, with AVX2 or AVX-512); masks then keep, for each lane,
+    only what :func:`primary_ray` would: a lane whose rectangle does not hold its point, or that has
     stopped (its next object can only be farther than its hit), takes nothing from the test.
     So each lane offers the same objects in the same order as :func:`primary_ray` and gets the
     same bits; the other lanes' answers are computed and thrown away, which costs less than a
@@ -237,32 +237,55 @@ def screen_tiles(
 
 # which tiles primary rays take their objects from, and whether in packets (tile_side; timed by
 # python benchmarks/engines.py --tile-sides, docs/benchmarks/tile_sides.md):
-WIDE_SIDE = 16  # packets of 16 pixels a side where such tiles list on average
-
-
-SPARSE_OBJECTS = 4  # this many objects or fewer;
-
-
-PACKET_SIDE = 8  # else of 8 pixels a side (fewer than 64 rays fill too few vectors) where
-
-
-PACKET_OBJECTS = 12  # such tiles list this many or fewer;
-
-
+WIDE_SIDE = 16  # packets of 16 pixels a side
+PACKET_SIDE = 8  # or of 8 (fewer than 64 rays fill too few vectors), whichever costs less,
+PACKET_OBJECTS = 12  # where tiles of PACKET_SIDE list this many objects or fewer on average;
 CROWDED_SIDE = 4  # else one ray at a time, in tiles of 4 pixels a side
+# what a packet costs besides its rays' tests (its rays' image points, set-up, the call), in
+# tests of one object against one ray: fitted to the 1-thread renders of classic and 1,000
+# spheres at 1080p in packets of both sides (python benchmarks/compile_time.py --cpus native)
+TILE_COST = 28
+
+
+def packet_cost(bounds: np.ndarray, width: int, height: int, side: int) -> float:
+    """What primary rays in packets of ``side`` x ``side`` pixels cost, in tests of one object
+    against one ray, for the objects' screen rectangles ``bounds (K, 4)`` (those seen): each
+    tile that lists objects (as :func:`bin_by_tile` lists them) tests each against all its
+    side² rays, each ray costs one test more (made and summed into its pixel), and the tile
+    TILE_COST; a tile that lists none costs nothing (its pixels get the background)."""
+    tiles_x, tiles_y = -(-width // side), -(-height // side)
+    left = np.maximum(0, np.floor(bounds[:, 0] / side)).astype(np.int64)
+    right = np.minimum(tiles_x - 1, np.floor(bounds[:, 1] / side)).astype(np.int64)
+    top = np.maximum(0, np.floor(bounds[:, 2] / side)).astype(np.int64)
+    bottom = np.minimum(tiles_y - 1, np.floor(bounds[:, 3] / side)).astype(np.int64)
+    meets = (left <= right) & (top <= bottom)
+    left, right, top, bottom = left[meets], right[meets], top[meets], bottom[meets]
+    # each rectangle +1 from its first tile on, a 2-D running sum: the objects each tile lists
+    across = tiles_x + 1
+    corners = np.concatenate(
+        [top * across + left, top * across + right + 1, (bottom + 1) * across + left,
+         (bottom + 1) * across + right + 1]
+    )  # fmt: skip
+    signs = np.repeat([1.0, -1.0, -1.0, 1.0], len(left))
+    steps = np.bincount(corners, signs, minlength=(tiles_y + 1) * across)
+    listed = steps.reshape(tiles_y + 1, across).cumsum(axis=0).cumsum(axis=1)[:tiles_y, :tiles_x]
+    listing = listed[listed > 0]
+    return float((side * side * (1.0 + listing) + TILE_COST).sum())
 
 
 def tile_side(bounds: np.ndarray, width: int, height: int) -> tuple[int, bool]:
     """``(side, packets)`` for the objects' screen rectangles ``bounds (K, 4)`` on a ``width``
     x ``height`` image. A packet (:func:`primary_rays`) tests each object of its tile against
-    all its rays, 8 to a vector instruction, where one ray at a time (:func:`primary_ray`)
-    tests only the objects whose rectangle holds the ray's point, with a branch each (on the
-    objects, not on the entries checked for them, :func:`primary_ray`): packets win while a
-    tile's list is short, and the larger the packet the fewer tiles' overheads, as
-    long as the list stays short. So: WIDE_SIDE packets where those tiles list SPARSE_OBJECTS
-    or fewer on average, PACKET_SIDE packets where those list PACKET_OBJECTS or fewer, and
-    else one ray at a time in CROWDED_SIDE tiles. ``python benchmarks/engines.py
-    --tile-sides`` times each choice (docs/benchmarks/tile_sides.md)."""
+    all its rays, 4 to a vector instruction (LLVM keeps to 256-bit vectors on AVX-512 too, as
+    on AVX2), where one ray at a time (:func:`primary_ray`) tests only the objects whose
+    rectangle holds the ray's point, with a branch each (on the objects, not on the entries
+    checked for them, :func:`primary_ray`): packets win while a tile's list is short. The
+    larger the packet, the fewer tiles' costs, but the more rays each object is tested
+    against, and the fewer tiles see nothing. So: packets where tiles of PACKET_SIDE list
+    PACKET_OBJECTS or fewer on average, of WIDE_SIDE or PACKET_SIDE, whichever
+    :func:`packet_cost` finds cheaper, and else one ray at a time in CROWDED_SIDE tiles.
+    ``python benchmarks/engines.py --tile-sides`` times each choice
+    (docs/benchmarks/tile_sides.md)."""
     seen = bounds[~np.isnan(bounds).any(axis=1)]
 
     def listed(side: int) -> float:  # objects in an average tile of this side
@@ -270,8 +293,9 @@ def tile_side(bounds: np.ndarray, width: int, height: int) -> tuple[int, bool]:
         down = np.floor(seen[:, 3] / side) - np.floor(seen[:, 2] / side) + 1
         return (across * down).sum() / (-(-width // side) * -(-height // side))
 
-    if listed(WIDE_SIDE) <= SPARSE_OBJECTS:
+    if listed(PACKET_SIDE) > PACKET_OBJECTS:
+        return CROWDED_SIDE, False
+    wide = packet_cost(seen, width, height, WIDE_SIDE)
+    if wide <= packet_cost(seen, width, height, PACKET_SIDE):
         return WIDE_SIDE, True
-    if listed(PACKET_SIDE) <= PACKET_OBJECTS:
-        return PACKET_SIDE, True
-    return CROWDED_SIDE, False
+    return PACKET_SIDE, True
