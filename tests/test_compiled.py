@@ -256,13 +256,13 @@ def test_bvh_caster_answers_what_cast_answers_with_ties_and_holes(objects):
 
 
 @numba.njit
-def _shade(arrays, tree, lights, origins, directions, index, t, color):
+def _shade(arrays, tree, shading, origins, directions, index, t, color):
     out = np.empty((len(origins), 3))
     stack = compiled.new_stack()
     for i in range(len(origins)):
         o, d, c = origins[i], directions[i], color[i]
         out[i, 0], out[i, 1], out[i, 2] = compiled.shade_ray(
-            arrays, tree, lights, stack, o[0], o[1], o[2], d[0], d[1], d[2],
+            arrays, tree, shading, stack, o[0], o[1], o[2], d[0], d[1], d[2],
             index[i], t[i], c[0], c[1], c[2],
         )  # fmt: skip
     return out
@@ -304,7 +304,7 @@ def test_shading_kernel_repeats_shade_bit_for_bit_with_the_same_pow():
     with _libm_power():
         expected = shading.shade(scene, secondary_caster(scene), origins, directions, hits)
     got = _shade(
-        compiled.scene_arrays(scene), compiled.scene_tree(scene), compiled.scene_lights(scene),
+        compiled.scene_arrays(scene), compiled.scene_tree(scene), compiled.scene_shading(scene),
         origins, directions, hits.index, hits.t, hits.color,
     )  # fmt: skip
     _exactly(got, expected)
@@ -327,43 +327,43 @@ def _awkward_lights(rng, scene):
 
 
 @numba.njit(error_model="numpy")  # as the engine's: x / 0 is inf (a light along an axis)
-def _in_lanes_and_one_by_one(arrays, tree, lights, p, n, d, error, lists):
+def _in_lanes_and_one_by_one(arrays, tree, shading, p, n, d, error, lists):
     """Each tile's surface points ``p (T, P, 3)`` (normals n, view directions d, rounding
     bounds ``error (T, P)``; hits on object 0, flat colour 0.5) shaded in lanes as trace_job
     shades them (surface_lanes' start, then light_lanes), with the tile's shadow lists if
     ``lists``, else with every shadow ray walking the tree; and one by one by surface_color:
     both colours, and the lists' counts."""
     tiles, count = p.shape[0], p.shape[1]
-    L = len(lights.point)
+    L = len(shading.point_light)
     in_lanes, one_by_one = np.empty((tiles, count, 3)), np.empty((tiles, count, 3))
     stack = compiled.new_stack()
     volume, box = np.empty((6, 5)), np.empty((2, 3))
     candidates = np.empty((L, compiled.SHADOW_CANDIDATES), dtype=np.int64)
     counts = np.full((tiles, L), -1, dtype=np.int64)
     lanes = compiled.new_lanes(count)
-    lane_p, lane_n, lane_error, lane_k, lane_total = lanes[0], lanes[1], lanes[2], lanes[3], \
-        lanes[4]  # fmt: skip
+    lane_p, lane_n, lane_error = lanes.p, lanes.n, lanes.error
+    lane_k, lane_total = lanes.k, lanes.total
     rays, best = np.zeros((6, count)), np.zeros(count, dtype=np.int64)
-    k = lights.diffuse[0] if lights.has_diffuse[0] else np.full(3, 0.5)
+    k = shading.diffuse[0] if shading.has_diffuse[0] else np.full(3, 0.5)
     for tile in range(tiles):
         for axis in range(3):
             box[0, axis], box[1, axis] = p[tile, :, axis].min(), p[tile, :, axis].max()
             lane_p[axis], lane_n[axis], rays[3 + axis] = p[tile, :, axis], n[tile, :, axis], \
                 d[tile, :, axis]  # fmt: skip
-            lane_k[axis], lane_total[axis] = k[axis], k[axis] * lights.ambient[axis]
+            lane_k[axis], lane_total[axis] = k[axis], k[axis] * shading.ambient[axis]
         lane_error[:] = error[tile]
-        if lists and lights.shadows:
+        if lists and shading.shadows:
             pad = 2.0 * compiled.OFFSET_FACTOR * error[tile].max()
-            compiled.shadow_lists(arrays, tree, lights, stack, box, pad, volume, candidates,
+            compiled.shadow_lists(arrays, tree, shading, stack, box, pad, volume, candidates,
                                   counts[tile])  # fmt: skip
         compiled.light_lanes(
-            arrays, tree, lights, stack, rays, best, count, lanes, candidates, counts[tile]
+            arrays, tree, shading, stack, rays, best, count, lanes, candidates, counts[tile]
         )
         for i in range(count):
             in_lanes[tile, i] = lane_total[:, i]
             one_by_one[tile, i, 0], one_by_one[tile, i, 1], one_by_one[tile, i, 2] = \
                 compiled.surface_color(
-                    arrays, tree, lights, stack, 0, p[tile, i, 0], p[tile, i, 1], p[tile, i, 2],
+                    arrays, tree, shading, stack, 0, p[tile, i, 0], p[tile, i, 1], p[tile, i, 2],
                     n[tile, i, 0], n[tile, i, 1], n[tile, i, 2], d[tile, i, 0], d[tile, i, 1],
                     d[tile, i, 2], error[tile, i], 0.5, 0.5, 0.5,
                 )  # fmt: skip
@@ -405,8 +405,8 @@ def test_shading_in_lanes_gives_every_surface_point_the_colour_surface_color_giv
     people = _lit_crowd(rng, crowd)
     scene = shifted_scene(replace(people, lights=_awkward_lights(rng, people)), [offset] * 3)
     assert (scene.object_count <= compiled.DIRECT_LISTS) == (crowd == 40)
-    arrays, lights, tree = (
-        compiled.scene_arrays(scene), compiled.scene_lights(scene), compiled.scene_tree(scene)
+    arrays, shading, tree = (
+        compiled.scene_arrays(scene), compiled.scene_shading(scene), compiled.scene_tree(scene)
     )  # fmt: skip
     tiles, count = 1200, 64  # 76,800 points, four shadow rays each
     p = _grazing_tiles(rng, scene, scene.lights, tiles, count)
@@ -414,14 +414,14 @@ def test_shading_in_lanes_gives_every_surface_point_the_colour_surface_color_giv
     d = normalize(rng.normal(size=(tiles, count, 3)))
     error = EPS * (np.abs(p).max(axis=2) + rng.uniform(1, 30, size=(tiles, count)))
     listed, one_by_one, counts = _in_lanes_and_one_by_one(
-        arrays, tree, lights, p, n, d, error, True
+        arrays, tree, shading, p, n, d, error, True
     )
     _exactly(listed, one_by_one)
     # the lists were used, and the shadows they decide differ from point to point
     assert (counts >= 0).mean() > 0.5 and (counts == -1).any()
-    walked, _, _ = _in_lanes_and_one_by_one(arrays, tree, lights, p, n, d, error, False)
+    walked, _, _ = _in_lanes_and_one_by_one(arrays, tree, shading, p, n, d, error, False)
     _exactly(walked, one_by_one)
-    unshadowed = lights._replace(shadows=False)
+    unshadowed = shading._replace(shadows=False)
     lit, _, _ = _in_lanes_and_one_by_one(arrays, tree, unshadowed, p, n, d, error, True)
     in_shadow = (lit != one_by_one).any(axis=2)
     assert 0.05 < in_shadow.mean() < 0.95

@@ -65,6 +65,8 @@ from raykit.engine.compiled.compiling import KERNEL
 from raykit.engine.compiled.driver import (
     CHUNK,
     Prepared,
+    RayRoom,
+    ShadingRoom,
     cast_rays,
     caster,
     prepare,
@@ -77,13 +79,14 @@ from raykit.engine.compiled.hits import offer
 from raykit.engine.compiled.mirrors import bounce_on, shade_ray
 from raykit.engine.compiled.scene import (
     Arrays,
-    Lights,
+    Shading,
     Tree,
     scene_arrays,
-    scene_lights,
+    scene_shading,
     scene_tree,
 )
 from raykit.engine.compiled.shading import (
+    Lanes,
     highlight,
     light_lanes,
     new_lanes,
@@ -107,11 +110,11 @@ from raykit.surfaces import OFFSET_FACTOR
 
 __all__ = [
     "CHUNK", "CROWDED_SIDE", "DIRECT_HITS", "DIRECT_LISTS", "HOLDING_CHUNK", "KERNEL",
-    "OFFSET_FACTOR", "PACKET_SIDE", "SHADOW_CANDIDATES", "WIDE_SIDE", "Arrays", "Lights",
-    "Prepared", "Tiles", "Tree", "billboard_color", "bounce_on", "camera_tuple", "cast_rays",
-    "caster", "hit_billboard", "hit_sphere", "highlight", "light_lanes", "nearest_hit",
-    "new_lanes", "new_stack", "offer", "prepare", "primary_ray", "primary_rays", "render",
-    "scene_arrays", "scene_lights", "scene_tree", "screen_tiles", "shade_ray", "shadow_lists",
-    "surface_color", "surface_lanes", "take", "tile_side", "trace_flat", "trace_lit",
-    "viewing_ray",
+    "OFFSET_FACTOR", "PACKET_SIDE", "SHADOW_CANDIDATES", "WIDE_SIDE", "Arrays", "Lanes",
+    "Prepared", "RayRoom", "Shading", "ShadingRoom", "Tiles", "Tree", "billboard_color",
+    "bounce_on", "camera_tuple", "cast_rays", "caster", "hit_billboard", "hit_sphere",
+    "highlight", "light_lanes", "nearest_hit", "new_lanes", "new_stack", "offer", "prepare",
+    "primary_ray", "primary_rays", "render", "scene_arrays", "scene_shading", "scene_tree",
+    "screen_tiles", "shade_ray", "shadow_lists", "surface_color", "surface_lanes", "take",
+    "tile_side", "trace_flat", "trace_lit", "viewing_ray",
 ]  # fmt: skip

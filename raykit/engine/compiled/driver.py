@@ -33,13 +33,13 @@ from raykit.engine.compiled.mirrors import bounce_on
 from raykit.engine.compiled.scene import (
     _NO_TREE,
     Arrays,
-    Lights,
+    Shading,
     Tree,
     scene_arrays,
-    scene_lights,
+    scene_shading,
     scene_tree,
 )
-from raykit.engine.compiled.shading import light_lanes, new_lanes, surface_lanes
+from raykit.engine.compiled.shading import Lanes, light_lanes, new_lanes, surface_lanes
 from raykit.engine.compiled.shadows import SHADOW_CANDIDATES, shadow_lists
 from raykit.engine.compiled.tiles import (
     HOLDING_CHUNK,
@@ -170,31 +170,57 @@ def pixel_means(points, first, rows, top, left, across, width, xs, ys, samples, 
             index[p], t[p] = best[i], best_t[i]
 
 
-@njit(**MAKES_ARRAYS)
-def ray_room(n):
-    """Room for a job's ``n`` rays, as the tuple ``(xy, rays, best, best_t, colors, made,
-    alive, ts, holding)``: each ray's image point ``xy (2, n)``, origin and direction ``rays
-    (6, n)``, its hit's object index ``best (n,)`` and ``best_t (n,)``, colour ``colors (3,
-    n)``, whether it was ``made`` (:func:`primary_ray`), room ``alive``, ``ts`` for
-    :func:`primary_rays`, and ``holding (HOLDING_CHUNK,)`` for :func:`primary_ray`. A plain
-    tuple: inside a parallel loop, writes through a NamedTuple's fields are lost (numba issue
-    #7135)."""
-    return (np.empty((2, n)), np.empty((6, n)), np.empty(n, dtype=np.int64), np.empty(n),
-            np.empty((3, n)), np.empty(n, dtype=np.bool_), np.empty(n, dtype=np.bool_),
-            np.empty(n), np.empty(HOLDING_CHUNK, dtype=np.int64))  # fmt: skip
+class RayRoom(NamedTuple):
+    """Room for a job's N rays: each ray's image point ``xy (2, N)``, origin and direction
+    ``rays (6, N)``, its hit's object index ``best (N,)`` and ``best_t (N,)``, colour ``colors
+    (3, N)``, whether it was ``made`` (:func:`primary_ray`), room ``alive`` and ``ts`` for
+    :func:`primary_rays`, and ``holding (HOLDING_CHUNK,)`` for :func:`primary_ray`. Each
+    worker makes its own inside the parallel loop (:func:`new_ray_room`), as :class:`Lanes` says
+    why."""
+
+    xy: np.ndarray
+    rays: np.ndarray
+    best: np.ndarray
+    best_t: np.ndarray
+    colors: np.ndarray
+    made: np.ndarray
+    alive: np.ndarray
+    ts: np.ndarray
+    holding: np.ndarray
+
+
+class ShadingRoom(NamedTuple):
+    """Room for shading a job's rays: a tree walk's ``stack`` (:func:`new_stack`), the ``box
+    (2, 3)`` of the surface points, each light's shadow list ``candidates (L,
+    SHADOW_CANDIDATES)`` and ``counts (L,)`` (-1: no list, walk the tree), a shadow ``volume
+    (6, 5)`` (:func:`shadow_lists`), and the ``lanes`` (:class:`Lanes`)."""
+
+    stack: np.ndarray
+    box: np.ndarray
+    candidates: np.ndarray
+    counts: np.ndarray
+    volume: np.ndarray
+    lanes: Lanes
 
 
 @njit(**MAKES_ARRAYS)
-def shading_room(n, lights):
-    """Room for shading a job's ``n`` rays, as the tuple ``(stack, box, candidates, counts,
-    volume, lanes)``: a tree walk's ``stack`` (:func:`new_stack`), the ``box (2, 3)`` of the
-    surface points, each light's shadow list ``candidates (L, SHADOW_CANDIDATES)`` and
-    ``counts (L,)`` (-1: no list, walk the tree), a shadow ``volume (6, 5)``
-    (:func:`shadow_lists`), and the ``lanes`` (:func:`new_lanes`)."""
-    lists = len(lights.point) if lights.shadows else 0
-    return (new_stack(), np.empty((2, 3)), np.empty((lists, SHADOW_CANDIDATES), dtype=np.int64),
-            np.full(len(lights.point), -1, dtype=np.int64), np.empty((6, 5)),
-            new_lanes(n))  # fmt: skip
+def new_ray_room(n):
+    """A :class:`RayRoom` for ``n`` rays."""
+    return RayRoom(np.empty((2, n)), np.empty((6, n)), np.empty(n, dtype=np.int64),
+                   np.empty(n), np.empty((3, n)), np.empty(n, dtype=np.bool_),
+                   np.empty(n, dtype=np.bool_), np.empty(n),
+                   np.empty(HOLDING_CHUNK, dtype=np.int64))  # fmt: skip
+
+
+@njit(**MAKES_ARRAYS)
+def new_shading_room(n, shading):
+    """A :class:`ShadingRoom` for shading ``n`` rays of a scene with ``shading``
+    (:class:`Shading`)."""
+    lists = len(shading.point_light) if shading.shadows else 0
+    return ShadingRoom(new_stack(), np.empty((2, 3)),
+                       np.empty((lists, SHADOW_CANDIDATES), dtype=np.int64),
+                       np.full(len(shading.point_light), -1, dtype=np.int64), np.empty((6, 5)),
+                       new_lanes(n))  # fmt: skip
 
 
 @njit(parallel=True, **MAKES_ARRAYS)
@@ -222,7 +248,7 @@ def trace_flat(arrays, tiles, camera, width, height, jobs, workers, xs, ys, offs
     grain = max(1, len(jobs) // (workers * GRAINS_PER_WORKER))
     taken = np.zeros(1, dtype=np.int64)
     for _ in prange(workers):
-        room = ray_room((CHUNK if points else tiles.size * tiles.size) * (len(offsets) + 1))
+        room = new_ray_room((CHUNK if points else tiles.size * tiles.size) * (len(offsets) + 1))
         while True:
             first_job = take(taken, grain)
             if first_job >= len(jobs):
@@ -241,10 +267,11 @@ def trace_flat(arrays, tiles, camera, width, height, jobs, workers, xs, ys, offs
 def flat_job(arrays, tiles, camera, width, xs, ys, offsets, centre, rgb, index, t, first, rows,
              top, left, across, tile, room):  # fmt: skip
     """One job of :func:`trace_flat`: its ``rows`` x ``across`` pixels (:func:`job_pixel`), all
-    in ``tile`` (-1: points, each in its own), with the worker's ``room`` (:func:`ray_room`).
+    in ``tile`` (-1: points, each in its own), with the worker's ``room`` (:func:`new_ray_room`).
     One ray at a time, each colour goes straight into its pixel's sum and no ray is kept; in
     packets, the rays are traced together (:func:`primary_rays`), then summed."""
-    xy, rays, best, best_t, colors, made, alive, ts, holding = room
+    xy, rays, best, best_t, colors = room.xy, room.rays, room.best, room.best_t, room.colors
+    made, alive, ts, holding = room.made, room.alive, room.ts, room.holding
     points = len(xs)
     samples = len(offsets)
     if tile < 0 or not tiles.packets:
@@ -278,17 +305,17 @@ def flat_job(arrays, tiles, camera, width, xs, ys, offsets, centre, rgb, index, 
 
 
 @njit(parallel=True, **MAKES_ARRAYS)
-def trace_lit(arrays, tiles, tree, lights, camera, width, height, jobs, workers, xs, ys, offsets,
+def trace_lit(arrays, tiles, tree, shading, camera, width, height, jobs, workers, xs, ys, offsets,
               centre, empty, rgb, index, t):  # fmt: skip
     """:func:`trace_flat` for a shaded scene (:func:`raykit.shading.needs_shading`), with its
-    BVH ``tree`` and ``lights``: each job's pixels (:func:`lit_job`) take the colour
-    :func:`raykit.shading.shade` gives them."""
+    BVH ``tree`` and its :class:`Shading`: each job's pixels (:func:`lit_job`) take the
+    colour :func:`raykit.shading.shade` gives them."""
     points = len(xs)
     grain = max(1, len(jobs) // (workers * GRAINS_PER_WORKER))
     taken = np.zeros(1, dtype=np.int64)
     for _ in prange(workers):
         n = (CHUNK if points else tiles.size * tiles.size) * (len(offsets) + 1)
-        rooms = (ray_room(n), shading_room(n, lights))
+        room, shading_room = new_ray_room(n), new_shading_room(n, shading)
         while True:
             first_job = take(taken, grain)
             if first_job >= len(jobs):
@@ -297,23 +324,27 @@ def trace_lit(arrays, tiles, tree, lights, camera, width, height, jobs, workers,
                 first, rows, top, left, across, tile = job_of(jobs, j, points, tiles, width,
                                                               height)  # fmt: skip
                 if points or tiles.start[tile] < tiles.start[tile + 1]:
-                    lit_job(arrays, tiles, tree, lights, camera, width, xs, ys, offsets, centre,
+                    lit_job(arrays, tiles, tree, shading, camera, width, xs, ys, offsets, centre,
                             rgb, index, t, first, rows, top, left, across, tile,
-                            rooms)  # fmt: skip
+                            room, shading_room)  # fmt: skip
                 else:
                     background_job(empty, width, top, left, rows, across, rgb, index, t)
 
 
 @njit(**KERNEL)
-def lit_job(arrays, tiles, tree, lights, camera, width, xs, ys, offsets, centre, rgb, index, t,
-            first, rows, top, left, across, tile, rooms):  # fmt: skip
-    """One job of :func:`trace_lit`, with the worker's ``rooms`` (:func:`ray_room`,
-    :func:`shading_room`): all its viewing rays' hits first, then each light's
+def lit_job(arrays, tiles, tree, shading, camera, width, xs, ys, offsets, centre, rgb, index, t,
+            first, rows, top, left, across, tile, room, shading_room):  # fmt: skip
+    """One job of :func:`trace_lit`, with the worker's ``room`` (:class:`RayRoom`) and
+    ``shading_room`` (:class:`ShadingRoom`): all its viewing rays' hits first, then each light's
     :func:`shadow_lists` for the box their surface points lie in, each light for all the
     points at once (:func:`surface_lanes`, :func:`light_lanes`), then mirrors ray by ray
     (:func:`bounce_on`), and the pixels' means (:func:`pixel_means`)."""
-    xy, rays, best, best_t, colors, made, alive, ts, holding = rooms[0]
-    stack, box, candidates, counts, volume, lanes = rooms[1]
+    xy, rays, best, best_t, colors = room.xy, room.rays, room.best, room.best_t, room.colors
+    made, alive, ts, holding = room.made, room.alive, room.ts, room.holding
+    stack, box, volume, lanes = (
+        shading_room.stack, shading_room.box, shading_room.volume, shading_room.lanes
+    )  # fmt: skip
+    candidates, counts = shading_room.candidates, shading_room.counts
     points = len(xs)
     samples = len(offsets)
     n = job_points(points, first, rows, top, left, across, width, xs, ys, offsets, centre, xy)
@@ -328,15 +359,15 @@ def lit_job(arrays, tiles, tree, lights, camera, width, xs, ys, offsets, centre,
                     arrays, tiles, camera, xy[0, i], xy[1, i], tile, holding
                 )  # fmt: skip
     shaded = rows * across * samples
-    largest = surface_lanes(arrays, lights, rays, best, best_t, colors, shaded, lanes, box)
-    if lights.shadows:
+    largest = surface_lanes(arrays, shading, rays, best, best_t, colors, shaded, lanes, box)
+    if shading.shadows:
         # shadow rays start off the surface by OFFSET_FACTOR x error x |n|, and |n| < 2 but
         # for a sphere smaller than its own rounding
         pad = 2.0 * OFFSET_FACTOR * largest
-        shadow_lists(arrays, tree, lights, stack, box, pad, volume, candidates, counts)
-    if lights.lit:
-        light_lanes(arrays, tree, lights, stack, rays, best, shaded, lanes, candidates, counts)
-    point, normal, error, total = lanes[0], lanes[1], lanes[2], lanes[4]
+        shadow_lists(arrays, tree, shading, stack, box, pad, volume, candidates, counts)
+    if shading.lit:
+        light_lanes(arrays, tree, shading, stack, rays, best, shaded, lanes, candidates, counts)
+    point, normal, error, total = lanes.p, lanes.n, lanes.error, lanes.total
     for i in range(shaded):
         if not made[i]:
             continue
@@ -348,9 +379,9 @@ def lit_job(arrays, tiles, tree, lights, camera, width, xs, ys, offsets, centre,
             )
             continue
         c0, c1, c2 = 0.0 + 1.0 * total[0, i], 0.0 + 1.0 * total[1, i], 0.0 + 1.0 * total[2, i]
-        if lights.max_depth > 0 and lights.mirrors[best[i]]:  # else bounce_on adds nothing
+        if shading.max_depth > 0 and shading.is_mirror[best[i]]:  # else bounce_on adds nothing
             c0, c1, c2 = bounce_on(
-                arrays, tree, lights, stack, 0, best[i], point[0, i], point[1, i], point[2, i],
+                arrays, tree, shading, stack, 0, best[i], point[0, i], point[1, i], point[2, i],
                 normal[0, i], normal[1, i], normal[2, i], rays[3, i], rays[4, i], rays[5, i],
                 error[i], c0, c1, c2, 1.0, 1.0, 1.0,
             )  # fmt: skip
@@ -379,13 +410,13 @@ def caster(scene: Scene, arrays: Arrays | None = None) -> Callable[..., Hits]:
 class Prepared(NamedTuple):
     """A scene made ready for the kernels (:func:`prepare`): its :class:`Arrays`, screen tiles
     (:func:`screen_tiles`), BVH (:class:`Tree`, for shadow and mirror rays; empty when the
-    scene has none), :class:`Lights` and camera (:func:`camera_tuple`)."""
+    scene has none), :class:`Shading` (lights and materials) and camera (:func:`camera_tuple`)."""
 
     scene: Scene
     arrays: Arrays
     tiles: Tiles
     tree: Tree
-    lights: Lights
+    shading: Shading
     camera: tuple
 
 
@@ -394,9 +425,9 @@ def prepare(scene: Scene) -> Prepared:
     it can be rendered many times (:func:`render`). It is what Mitsuba's ``load_dict`` does when
     it builds its BVH, and the camera's screen tiles besides (a raykit scene holds its camera)."""
     arrays = scene_arrays(scene)
-    lights = scene_lights(scene)
-    tree = scene_tree(scene) if lights.shaded else _NO_TREE
-    return Prepared(scene, arrays, screen_tiles(scene, arrays), tree, lights, camera_tuple(scene))
+    shading = scene_shading(scene)
+    tree = scene_tree(scene) if shading.shaded else _NO_TREE
+    return Prepared(scene, arrays, screen_tiles(scene, arrays), tree, shading, camera_tuple(scene))
 
 
 def render(scene: Scene | Prepared, samples: int = 1, *, adaptive: bool = False, progress=None):
@@ -468,10 +499,10 @@ def _workers(jobs: np.ndarray) -> int:
 
 def _entry(prepared: Prepared) -> tuple:
     """``(entry point, its leading arguments)`` for a prepared scene: :func:`trace_lit` with
-    the tree and lights for a shaded scene, else :func:`trace_flat`, which compiles no
+    the tree and :class:`Shading` for a shaded scene, else :func:`trace_flat`, which compiles no
     shading."""
-    if prepared.lights.shaded:
-        return trace_lit, (prepared.arrays, prepared.tiles, prepared.tree, prepared.lights,
+    if prepared.shading.shaded:
+        return trace_lit, (prepared.arrays, prepared.tiles, prepared.tree, prepared.shading,
                            prepared.camera)  # fmt: skip
     return trace_flat, (prepared.arrays, prepared.tiles, prepared.camera)
 

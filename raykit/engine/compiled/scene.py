@@ -109,35 +109,39 @@ def _one_kind(parts):
     return parts._replace(**arrays)
 
 
-class Lights(NamedTuple):
-    """What shading needs (:mod:`raykit.shading`), as arrays: ``shaded`` (anything beyond flat
-    colours: :func:`raykit.shading.needs_shading`), ``lit`` (lights or ambient), ``shadows``
-    (:func:`raykit.shading.casts_shadows`), ``max_depth``; per light ``point (L,)`` (False:
-    directional), ``vectors (L, 3)`` (a point light's position, or a directional light's l, made
-    by :func:`raykit.lights.toward_light`), intensity ``colors (L, 3)``; ``ambient (3,)``; per
-    object the material table (:class:`raykit.materials.MaterialTable`) and whether it is
-    ``shiny`` or a ``mirror (K,)``; the billboards' unit ``board_normals (B, 3)``."""
+class Shading(NamedTuple):
+    """What shading needs of a scene (:mod:`raykit.shading`), as arrays. Its switches:
+    ``shaded`` (anything beyond flat colours: :func:`raykit.shading.needs_shading`), ``lit``
+    (lights or ambient), ``shadows`` (:func:`raykit.shading.casts_shadows`), ``max_depth``
+    (mirror bounces). Its lights (:mod:`raykit.lights`): per light ``point_light (L,)``
+    (False: directional), ``light_vectors (L, 3)`` (a point light's position, or a directional
+    light's l, made by :func:`raykit.lights.toward_light`) and intensity ``light_colors (L,
+    3)``; and ``ambient (3,)``. Its materials, per object (K): the material table's columns
+    (:class:`raykit.materials.MaterialTable`: ``diffuse``, ``has_diffuse``, ``specular``,
+    ``shininess``, ``mirror``) and whether each ``is_shiny`` or ``is_mirror (K,)``. And the
+    billboards' unit normals ``board_normals (B, 3)``, which shading uses and hitting does
+    not."""
 
     shaded: bool
     lit: bool
     shadows: bool
     max_depth: int
-    point: np.ndarray
-    vectors: np.ndarray
-    colors: np.ndarray
+    point_light: np.ndarray
+    light_vectors: np.ndarray
+    light_colors: np.ndarray
     ambient: np.ndarray
     diffuse: np.ndarray
     has_diffuse: np.ndarray
     specular: np.ndarray
     shininess: np.ndarray
     mirror: np.ndarray
-    shiny: np.ndarray
-    mirrors: np.ndarray
+    is_shiny: np.ndarray
+    is_mirror: np.ndarray
     board_normals: np.ndarray
 
 
-def scene_lights(scene: Scene) -> Lights:
-    """The scene's :class:`Lights`, from the reference's own functions and tables."""
+def scene_shading(scene: Scene) -> Shading:
+    """The scene's :class:`Shading`, from the reference's own functions and tables."""
     table = scene.materials
     point = np.array([isinstance(light, PointLight) for light in scene.lights], dtype=np.bool_)
     origin = np.zeros((1, 3))
@@ -147,7 +151,7 @@ def scene_lights(scene: Scene) -> Lights:
         for light in scene.lights
     ]  # fmt: skip
     return _one_kind(
-        Lights(
+        Shading(
             needs_shading(scene),
             scene.lit,
             casts_shadows(scene),

@@ -5,6 +5,7 @@
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
@@ -37,34 +38,34 @@ def highlight(n0, n1, n2, l0, l1, l2, d0, d1, d2, p):
 
 @njit(**ONE_RAY)
 def surface_color(
-    arrays, tree, lights, stack, hit, p0, p1, p2, n0, n1, n2, d0, d1, d2, error, r, g, b
+    arrays, tree, shading, stack, hit, p0, p1, p2, n0, n1, n2, d0, d1, d2, error, r, g, b
 ):
     """Repeats :func:`raykit.shading.surface_color` for one hit: object ``hit`` at point p
     with unit normal n, seen along d, its flat colour (r, g, b); ``error`` is the point's
     rounding bound (:func:`surface_point`). Shadow rays (:mod:`raykit.shadows`) walk the tree.
     A tile's viewing rays are shaded in lanes instead (:func:`light_lanes`), the same
     operations in the same order for each."""
-    if not lights.lit:
+    if not shading.lit:
         return r, g, b
-    if lights.has_diffuse[hit]:
-        k0, k1, k2 = lights.diffuse[hit, 0], lights.diffuse[hit, 1], lights.diffuse[hit, 2]
+    if shading.has_diffuse[hit]:
+        k0, k1, k2 = shading.diffuse[hit, 0], shading.diffuse[hit, 1], shading.diffuse[hit, 2]
     else:
         k0, k1, k2 = r, g, b
-    ambient = lights.ambient
+    ambient = shading.ambient
     total0, total1, total2 = k0 * ambient[0], k1 * ambient[1], k2 * ambient[2]
-    vectors, intensity = lights.vectors, lights.colors
-    for j in range(len(lights.point)):
+    vectors, intensity = shading.light_vectors, shading.light_colors
+    for j in range(len(shading.point_light)):
         v0, v1, v2 = vectors[j, 0], vectors[j, 1], vectors[j, 2]
-        if lights.point[j]:  # raykit.lights.toward_light
+        if shading.point_light[j]:  # raykit.lights.toward_light
             l0, l1, l2 = toward_point_light(v0, v1, v2, p0, p1, p2)
         else:
             l0, l1, l2 = v0, v1, v2
         n_dot_l = n0 * l0 + n1 * l1 + n2 * l2
         if not n_dot_l > 0:
             continue
-        if lights.shadows:  # raykit.shadows.light_reach and in_shadow
+        if shading.shadows:  # raykit.shadows.light_reach and in_shadow
             s0, s1, s2 = off_surface(p0, p1, p2, n0, n1, n2, error)
-            reach = point_light_reach(v0, v1, v2, s0, s1, s2) if lights.point[j] else np.inf
+            reach = point_light_reach(v0, v1, v2, s0, s1, s2) if shading.point_light[j] else np.inf
             _, blocker, _, _, _ = nearest_hit(
                 arrays, tree, stack, s0, s1, s2, l0, l1, l2, reach, True
             )
@@ -73,43 +74,60 @@ def surface_color(
         total0 += k0 * intensity[j, 0] * n_dot_l  # raykit.shading.lambert
         total1 += k1 * intensity[j, 1] * n_dot_l
         total2 += k2 * intensity[j, 2] * n_dot_l
-        if lights.shiny[hit]:
-            power = highlight(n0, n1, n2, l0, l1, l2, d0, d1, d2, lights.shininess[hit])
+        if shading.is_shiny[hit]:
+            power = highlight(n0, n1, n2, l0, l1, l2, d0, d1, d2, shading.shininess[hit])
             if power >= 0:  # raykit.shading.blinn_phong
-                ks = lights.specular
+                ks = shading.specular
                 total0 += ks[hit, 0] * intensity[j, 0] * power
                 total1 += ks[hit, 1] * intensity[j, 1] * power
                 total2 += ks[hit, 2] * intensity[j, 2] * power
     return total0, total1, total2
 
 
+class Lanes(NamedTuple):
+    """Room for shading a job's N viewing rays in lanes (:func:`surface_lanes`,
+    :func:`light_lanes`), a column per ray: the surface point ``p (3, N)``, its normal ``n (3,
+    N)`` and rounding bound ``error (N,)`` (:func:`surface_point`), the colour k that light
+    scales ``k (3, N)`` and the colour so far ``total (3, N)``; toward the light at hand, ``l
+    (3, N)``, ``n_dot_l (N,)``, the shadow ray's start ``s (3, N)`` and ``reach (N,)``, room
+    ``t (N,)``, and whether the light reaches the point, ``lit (N,)``. Each worker makes its
+    own inside the parallel loop (:func:`new_lanes`): a NamedTuple passed into a parallel loop
+    loses the writes through its fields (numba issue #7135), one made inside it does not."""
+
+    p: np.ndarray
+    n: np.ndarray
+    error: np.ndarray
+    k: np.ndarray
+    total: np.ndarray
+    l: np.ndarray  # noqa: E741 (the slides' l)
+    n_dot_l: np.ndarray
+    s: np.ndarray
+    reach: np.ndarray
+    t: np.ndarray
+    lit: np.ndarray
+
+
 @njit(**MAKES_ARRAYS)
 def new_lanes(count):
-    """Room for shading ``count`` viewing rays in lanes (:func:`surface_lanes`,
-    :func:`light_lanes`), each a column, as the tuple ``(p, n, error, k, total, l, n_dot_l, s,
-    reach, t, lit)``: the surface point ``p (3, N)``, its normal ``n (3, N)`` and rounding bound
-    ``error (N,)`` (:func:`surface_point`), the colour k that light scales ``k (3, N)`` and the
-    colour so far ``total (3, N)``; toward the light at hand, ``l (3, N)``, ``n_dot_l (N,)``,
-    the shadow ray's start ``s (3, N)`` and ``reach (N,)``, room ``t (N,)``, and whether the
-    light reaches the point, ``lit (N,)``. A plain tuple: inside a parallel loop, writes
-    through a NamedTuple's fields are lost (numba issue #7135, open in numba 0.68.1)."""
-    return (np.empty((3, count)), np.empty((3, count)), np.empty(count), np.empty((3, count)),
-            np.empty((3, count)), np.empty((3, count)), np.empty(count), np.empty((3, count)),
-            np.empty(count), np.empty(count), np.empty(count, dtype=np.bool_))  # fmt: skip
+    """:class:`Lanes` for ``count`` viewing rays."""
+    return Lanes(np.empty((3, count)), np.empty((3, count)), np.empty(count),
+                 np.empty((3, count)), np.empty((3, count)), np.empty((3, count)),
+                 np.empty(count), np.empty((3, count)), np.empty(count), np.empty(count),
+                 np.empty(count, dtype=np.bool_))  # fmt: skip
 
 
 @njit(**KERNEL)
-def surface_lanes(arrays, lights, rays, best, best_t, colors, count, lanes, box):
+def surface_lanes(arrays, shading, rays, best, best_t, colors, count, lanes, box):
     """The first part of :func:`surface_color` for each of ``count`` viewing rays ``rays (6,
     N)`` (origins, then directions) with a hit (``best`` >= 0, at ``best_t``; flat colours
     ``colors (3, N)``): its surface point, normal and rounding bound (:func:`surface_point`),
     k and the ambient term (in an unlit scene, the flat colour), into ``lanes``; and the box
     of the points into ``box (2, 3)`` (empty: lower > upper). Returns the largest rounding
     bound."""
-    p, n, error_of, k, total = lanes[0], lanes[1], lanes[2], lanes[3], lanes[4]
+    p, n, error_of, k, total = lanes.p, lanes.n, lanes.error, lanes.k, lanes.total
     box[0, :], box[1, :] = np.inf, -np.inf
     largest = 0.0
-    ambient = lights.ambient
+    ambient = shading.ambient
     for i in range(count):
         hit = best[i]
         if hit < 0:  # zeros, not whatever the room held: arithmetic on them is thrown away
@@ -118,18 +136,18 @@ def surface_lanes(arrays, lights, rays, best, best_t, colors, count, lanes, box)
             error_of[i] = 0.0
             continue
         p0, p1, p2, n0, n1, n2, error = surface_point(
-            arrays, lights, rays[0, i], rays[1, i], rays[2, i], rays[3, i], rays[4, i],
+            arrays, shading, rays[0, i], rays[1, i], rays[2, i], rays[3, i], rays[4, i],
             rays[5, i], hit, best_t[i],
         )  # fmt: skip
         p[0, i], p[1, i], p[2, i] = p0, p1, p2
         n[0, i], n[1, i], n[2, i] = n0, n1, n2
         error_of[i] = error
-        if lights.has_diffuse[hit]:
-            k0, k1, k2 = lights.diffuse[hit, 0], lights.diffuse[hit, 1], lights.diffuse[hit, 2]
+        if shading.has_diffuse[hit]:
+            k0, k1, k2 = shading.diffuse[hit, 0], shading.diffuse[hit, 1], shading.diffuse[hit, 2]
         else:
             k0, k1, k2 = colors[0, i], colors[1, i], colors[2, i]
         k[0, i], k[1, i], k[2, i] = k0, k1, k2
-        if lights.lit:
+        if shading.lit:
             total[0, i] = k0 * ambient[0]
             total[1, i] = k1 * ambient[1]
             total[2, i] = k2 * ambient[2]
@@ -144,7 +162,7 @@ def surface_lanes(arrays, lights, rays, best, best_t, colors, count, lanes, box)
 
 
 @njit(**KERNEL)  # called once a job: compiled apart, which keeps trace's compile shorter
-def light_lanes(arrays, tree, lights, stack, rays, best, count, lanes, candidates, counts):
+def light_lanes(arrays, tree, shading, stack, rays, best, count, lanes, candidates, counts):
     """The lights' part of :func:`surface_color` for ``count`` surface points in ``lanes``
     (:func:`surface_lanes`; those of ``best`` >= 0), seen along the directions in ``rays (6,
     N)``, light by light, each step for all points at once: l and n·l; whether the light
@@ -157,10 +175,12 @@ def light_lanes(arrays, tree, lights, stack, rays, best, count, lanes, candidate
     AVX2 or AVX-512. A point with no hit or facing away from the light takes nothing from them."""
     spheres = len(arrays.radii)
     centers, radii, corners, planes = arrays.centers, arrays.radii, arrays.corners, arrays.n
-    p, n, error, k, total, l, n_dot_l, s, reach, t, lit = lanes
-    for j in range(len(lights.point)):
-        v0, v1, v2 = lights.vectors[j, 0], lights.vectors[j, 1], lights.vectors[j, 2]
-        if lights.point[j]:  # raykit.lights.toward_light; the shadow rays' start and reach
+    p, n, error, k, total = lanes.p, lanes.n, lanes.error, lanes.k, lanes.total
+    l, n_dot_l, s, reach, t, lit = lanes.l, lanes.n_dot_l, lanes.s, lanes.reach, lanes.t, lanes.lit
+    vectors, intensity = shading.light_vectors, shading.light_colors
+    for j in range(len(shading.point_light)):
+        v0, v1, v2 = vectors[j, 0], vectors[j, 1], vectors[j, 2]
+        if shading.point_light[j]:  # raykit.lights.toward_light; the shadow rays' start and reach
             for i in range(count):
                 l[0, i], l[1, i], l[2, i] = toward_point_light(v0, v1, v2, p[0, i], p[1, i],
                                                                p[2, i])  # fmt: skip
@@ -178,7 +198,7 @@ def light_lanes(arrays, tree, lights, stack, rays, best, count, lanes, candidate
         for i in range(count):
             n_dot_l[i] = n[0, i] * l[0, i] + n[1, i] * l[1, i] + n[2, i] * l[2, i]
             lit[i] = (best[i] >= 0) & (n_dot_l[i] > 0)
-        if lights.shadows and counts[j] < 0:  # raykit.shadows.in_shadow, through the tree
+        if shading.shadows and counts[j] < 0:  # raykit.shadows.in_shadow, through the tree
             for i in range(count):
                 if lit[i]:
                     _, blocker, _, _, _ = nearest_hit(
@@ -186,7 +206,7 @@ def light_lanes(arrays, tree, lights, stack, rays, best, count, lanes, candidate
                         l[2, i], reach[i], True,
                     )  # fmt: skip
                     lit[i] = not blocker < reach[i]
-        elif lights.shadows:  # against the list: a point is dark if any opaque hit is nearer
+        elif shading.shadows:  # against the list: a point is dark if any opaque hit is nearer
             for m in range(counts[j]):  # than the light, whichever is nearest
                 obj = candidates[j, m]
                 if obj < spheres:
@@ -214,7 +234,7 @@ def light_lanes(arrays, tree, lights, stack, rays, best, count, lanes, candidate
                         )
                         if t_hit < reach[i] and billboard_color(arrays, board, alpha, beta)[3]:
                             lit[i] = False
-        I0, I1, I2 = lights.colors[j, 0], lights.colors[j, 1], lights.colors[j, 2]
+        I0, I1, I2 = intensity[j, 0], intensity[j, 1], intensity[j, 2]
         for i in range(count):  # raykit.shading.lambert, where the light reaches
             sum0 = total[0, i] + k[0, i] * I0 * n_dot_l[i]
             sum1 = total[1, i] + k[1, i] * I1 * n_dot_l[i]
@@ -224,12 +244,12 @@ def light_lanes(arrays, tree, lights, stack, rays, best, count, lanes, candidate
             total[2, i] = sum2 if lit[i] else total[2, i]
         for i in range(count):  # raykit.shading.blinn_phong
             hit = best[i]
-            if not lit[i] or not lights.shiny[hit]:
+            if not lit[i] or not shading.is_shiny[hit]:
                 continue
             power = highlight(n[0, i], n[1, i], n[2, i], l[0, i], l[1, i], l[2, i], rays[3, i],
-                              rays[4, i], rays[5, i], lights.shininess[hit])  # fmt: skip
+                              rays[4, i], rays[5, i], shading.shininess[hit])  # fmt: skip
             if power >= 0:
-                ks = lights.specular
+                ks = shading.specular
                 total[0, i] += ks[hit, 0] * I0 * power
                 total[1, i] += ks[hit, 1] * I1 * power
                 total[2, i] += ks[hit, 2] * I2 * power

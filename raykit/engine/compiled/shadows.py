@@ -79,7 +79,7 @@ def sphere_apart(volume, centers, radii, i) -> bool:
 
 
 @njit(**KERNEL)
-def shadow_volume(lights, j, box, pad, scale, volume):
+def shadow_volume(shading, j, box, pad, scale, volume):
     """Fills ``volume (6, 5)``, rows (e0, e1, e2, lowest, highest): six axes e, and along each
     the interval that holds every shadow ray toward light j from a point of the box ``box (2,
     3)`` (lower and upper corners) widened by ``pad``: a directional light's rays sweep the box
@@ -90,8 +90,9 @@ def shadow_volume(lights, j, box, pad, scale, volume):
     and that direction. The box and each interval are
     widened by CULL_MARGIN x the largest coordinate of the scene (``scale``), the box or the
     light."""
-    point = lights.point[j]
-    v0, v1, v2 = lights.vectors[j, 0], lights.vectors[j, 1], lights.vectors[j, 2]
+    point = shading.point_light[j]
+    vectors = shading.light_vectors
+    v0, v1, v2 = vectors[j, 0], vectors[j, 1], vectors[j, 2]
     largest = scale
     for k in range(3):  # (scalars: an array expression here would allocate, once per tile)
         largest = max(largest, abs(box[0, k]), abs(box[1, k]))
@@ -181,7 +182,7 @@ def shadow_candidates(arrays, tree, volume, nodes, candidates, j) -> int:
 
 
 @njit(**KERNEL)
-def shadow_lists(arrays, tree, lights, stack, box, pad, volume, candidates, counts):
+def shadow_lists(arrays, tree, shading, stack, box, pad, volume, candidates, counts):
     """Each light j's :func:`shadow_candidates` for the shadow rays from the surface points in
     ``box (2, 3)`` (lower, upper corners; empty if lower > upper), which start within ``pad``
     of them, into ``candidates[j]`` (L x
@@ -202,5 +203,5 @@ def shadow_lists(arrays, tree, lights, stack, box, pad, volume, candidates, coun
         scale = max(scale, abs(tree.lower[0, k]), abs(tree.upper[0, k]))
     nodes, _ = stack
     for j in range(len(counts)):
-        shadow_volume(lights, j, box, pad, scale, volume)
+        shadow_volume(shading, j, box, pad, scale, volume)
         counts[j] = shadow_candidates(arrays, tree, volume, nodes, candidates, j)

@@ -13,7 +13,7 @@ EPS = float(np.finfo(np.float64).eps)  # the rounding unit of raykit.surfaces' e
 
 
 @njit(**ONE_RAY)
-def surface_point(arrays, lights, o0, o1, o2, d0, d1, d2, hit, t):
+def surface_point(arrays, shading, o0, o1, o2, d0, d1, d2, hit, t):
     """Repeats :func:`raykit.surfaces.surface_points` for one ray and its hit (object ``hit`` at
     ``t``): ``(p0, p1, p2, n0, n1, n2, error)``, the point p = o + t·d, the unit normal n on the
     side the ray arrives at, and the point's rounding bound."""
@@ -26,7 +26,7 @@ def surface_point(arrays, lights, o0, o1, o2, d0, d1, d2, hit, t):
         n1 = (p1 - centers[hit, 1]) / R
         n2 = (p2 - centers[hit, 2]) / R
     else:  # raykit.billboards.billboard_normals: the side the ray arrives at
-        normals, board = lights.board_normals, hit - spheres
+        normals, board = shading.board_normals, hit - spheres
         m0, m1, m2 = normals[board, 0], normals[board, 1], normals[board, 2]
         facing = -1.0 if d0 * m0 + d1 * m1 + d2 * m2 > 0 else 1.0
         n0, n1, n2 = facing * m0, facing * m1, facing * m2
