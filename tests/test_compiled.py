@@ -836,6 +836,41 @@ def test_a_second_copy_of_the_same_source_gets_its_own_cache_folder(tmp_path, mo
     assert not choice.compiled_once("trace_flat")
 
 
+def test_the_progress_line_counts_a_kernel_as_it_compiles_up_to_its_measured_seconds(
+    monkeypatch,
+):
+    """The line moves while a long kernel compiles, never past the kernel's measured seconds
+    before it ends, and the whole table once every kernel has ended."""
+    from types import SimpleNamespace
+
+    from raykit.engine.compiled import compiling
+
+    now = [100.0]
+    monkeypatch.setattr(compiling.time, "perf_counter", lambda: now[0])
+
+    def event(name):
+        kernel = SimpleNamespace(__name__=name, __module__="raykit.engine.compiled.driver")
+        return SimpleNamespace(data={"dispatcher": SimpleNamespace(py_func=kernel)})
+
+    clock = compiling.CompileClock("trace_lit", show=False)
+    clock.expected = {"lit_job": 20.0, "light_lanes": 6.0}
+    clock.on_start(event("lit_job"))
+    now[0] += 3.0
+    assert clock.progress(now[0]) == 3.0  # lit_job's own seconds so far
+    clock.on_start(event("light_lanes"))
+    now[0] += 2.0
+    assert clock.progress(now[0]) == 3.0 + 2.0  # lit_job's 3 s are kept, and light_lanes' 2 s
+    now[0] += 10.0
+    assert clock.progress(now[0]) == 3.0 + 6.0  # up to its measured 6 s, however slow this is
+    clock.on_end(event("light_lanes"))
+    assert clock.progress(now[0]) == 6.0 + 3.0  # lit_job's own 3 s, not the 12 s in its callee
+    now[0] += 30.0
+    assert clock.progress(now[0]) == 6.0 + 20.0
+    clock.on_end(event("lit_job"))
+    assert clock.progress(now[0]) == 26.0
+    assert clock.own == {"light_lanes": 12.0, "lit_job": 33.0}
+
+
 def test_an_edited_kernel_is_compiled_again_not_served_from_the_cache(tmp_path):
     """The edit keeps the file's size and time, which numba's own cache check would miss."""
     import shutil

@@ -66,7 +66,11 @@ def measured_seconds() -> dict[str, dict[str, float]]:
 class CompileClock(event.Listener):
     """Listens to numba's compile events: each kernel's own compile seconds (``own``, by
     name), and a progress line on standard error from the first compile on (``bar``), moved
-    on by each kernel's measured seconds (:func:`measured_seconds`) as it finishes."""
+    on by each kernel's measured seconds (:func:`measured_seconds`): all of them as it
+    finishes, and while it compiles, the seconds it has taken so far, up to them
+    (:meth:`progress`). The time left is the table's seconds not yet done at the pace so far
+    (tqdm's average rate, unsmoothed): a kernel credited only as it ended made the line jump
+    from a few seconds left to many minutes and back."""
 
     def __init__(self, entry: str, show: bool):
         self.expected = measured_seconds().get(entry, {})
@@ -92,15 +96,32 @@ class CompileClock(event.Listener):
             self.own[name] = self.own.get(name, 0.0) + took - inner
         if self.open:
             self.open[-1][2] += took
-        if self.bar is not None and name is not None:
-            self.bar.update(self.expected.get(name, 0.0))
+        if name is not None:
+            self.done += self.expected.get(name, 0.0)
         self._show()
 
+    def progress(self, now: float) -> float:
+        """Seconds of the table done at time ``now`` (:func:`time.perf_counter`): the
+        finished kernels' measured seconds, and each open kernel's own seconds so far (not
+        those in the callee it is compiling), up to its measured seconds."""
+        done, until = self.done, now
+        for name, started, inner in reversed(list(self.open)):  # the ticker thread reads it too
+            if name is not None:
+                done += min(max(0.0, until - started - inner), self.expected.get(name, 0.0))
+                until = started
+        return done
+
     def _show(self) -> None:
-        """The innermost of the package's kernels being compiled, on the progress line."""
+        """The innermost of the package's kernels being compiled, and the progress, on the
+        progress line."""
+        if self.bar is None:
+            return
+        if self.bar.total:
+            self.bar.n = min(self.bar.total, round(self.progress(time.perf_counter()), 1))
         names = [name for name, _, _ in self.open if name is not None]
-        if self.bar is not None and names:
-            self.bar.set_description_str(f"{MESSAGE}: {names[-1]}", refresh=True)
+        if names:
+            self.bar.set_description_str(f"{MESSAGE}: {names[-1]}", refresh=False)
+        self.bar.refresh()
 
 
 def _kernel_name(ev) -> str | None:
@@ -120,6 +141,7 @@ def _progress_line(total: float):
         unit="s",
         file=sys.stderr,
         bar_format=known if total > 0 else "{desc} [{elapsed}]",
+        smoothing=0,  # the pace over the whole compile, not the last few kernels
         leave=True,
     )
 
@@ -134,8 +156,7 @@ def compile_clock(entry: str, show: bool = True):
 
     def redraw():
         while not stop.wait(1.0):
-            if clock.bar is not None:
-                clock.bar.refresh()
+            clock._show()
 
     ticker = threading.Thread(target=redraw, daemon=True)
     ticker.start()
