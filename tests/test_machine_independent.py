@@ -17,6 +17,7 @@ use another processor's kernels and thread counts, and with numpy's AVX-512 loop
 from __future__ import annotations
 
 import ast
+import json
 import os
 import subprocess
 import sys
@@ -26,7 +27,8 @@ import pytest
 
 from conftest import REPO
 
-# the code whose results reach a file, a picture or a grade
+# the code whose results reach a file, a picture or a grade; and the notebooks, whose stored
+# outputs nbval compares as text
 KIT_CODE = [
     "raykit",
     "raykit_grading",
@@ -38,16 +40,26 @@ KIT_CODE = [
 BLAS_NAMES = {"dot", "vdot", "inner", "matmul", "einsum", "tensordot", "linalg", "multi_dot"}
 
 
-def _python_files():
+def _sources():
+    """``(where, Python source)`` of every file of KIT_CODE and every notebook's code cell
+    (its IPython magics left out)."""
     for entry in KIT_CODE:
         path = REPO / entry
-        yield from sorted(path.rglob("*.py")) if path.is_dir() else [path]
+        for file in sorted(path.rglob("*.py")) if path.is_dir() else [path]:
+            yield str(file.relative_to(REPO)), file.read_text()
+    for notebook in sorted((REPO / "notebooks").glob("*.ipynb")):
+        for number, cell in enumerate(json.loads(notebook.read_text())["cells"]):
+            if cell["cell_type"] == "code":
+                lines = "".join(cell["source"]).splitlines()
+                code = "\n".join("" if line.lstrip().startswith(("%", "!")) else line
+                                 for line in lines)  # fmt: skip
+                yield f"{notebook.relative_to(REPO)} cell {number}", code
 
 
 def test_no_matrix_product_or_linalg_in_the_kits_code():
     found = []
-    for path in _python_files():
-        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+    for where, source in _sources():
+        for node in ast.walk(ast.parse(source, where)):
             matmul = isinstance(node, ast.BinOp | ast.AugAssign) and isinstance(
                 node.op, ast.MatMult
             )
@@ -58,7 +70,7 @@ def test_no_matrix_product_or_linalg_in_the_kits_code():
                 and node.value.id in {"np", "numpy"}
             )
             if matmul or numpy_blas:
-                found.append(f"{path.relative_to(REPO)}:{node.lineno}")
+                found.append(f"{where}:{node.lineno}")
     assert not found, "use raykit.rays.dot / length instead of BLAS at " + ", ".join(found)
 
 
