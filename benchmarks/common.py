@@ -10,6 +10,13 @@ import time
 from pathlib import Path
 
 
+def sized(scene, width: int, height: int):
+    """``scene`` with its camera's image ``width`` x ``height`` pixels, all else the same."""
+    from dataclasses import replace
+
+    return replace(scene, camera=replace(scene.camera, width=width, height=height))
+
+
 def arguments(doc: str, quick: str, repeats: int = 5) -> argparse.ArgumentParser:
     """The options every benchmark takes, ``--quick`` and ``--repeats``; ``doc`` is the
     script's docstring, whose first paragraph describes it."""

@@ -98,6 +98,7 @@ from common import (  # noqa: E402
     medians_in_turns,
     parse,
     seconds,
+    sized,
     timer,
 )
 
@@ -117,7 +118,7 @@ LLVM_19 = "/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1"
 def benchmark_scenes(quick: bool) -> dict[str, Scene]:
     if quick:
         return {
-            "classic 160x120": _sized(load_scene(HERE.parent / "scenes/classic.json"), 160, 120),
+            "classic 160x120": sized(load_scene(HERE.parent / "scenes/classic.json"), 160, 120),
             "sphereflake 2 128x128": sphereflake(2, 128, 128),
         }
     return {
@@ -159,12 +160,6 @@ def lit(scene: Scene, lights) -> Scene:
             board["color"] = STAND_IN
     data["lights"] = [{"type": "point", "position": p, "color": c} for p, c in lights]
     return scene_from_dict(data)
-
-
-def _sized(scene: Scene, width: int, height: int) -> Scene:
-    from dataclasses import replace
-
-    return replace(scene, camera=replace(scene.camera, width=width, height=height))
 
 
 def scene_data(scene: Scene) -> dict:

@@ -27,7 +27,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-from common import arguments, bar_plot, median_time, parse, seconds  # noqa: E402
+from common import arguments, bar_plot, median_time, parse, seconds, sized  # noqa: E402
 
 import raykit.engine.regions  # noqa: E402
 import raykit.render  # noqa: E402
@@ -54,10 +54,6 @@ def unlit(scene: Scene) -> Scene:
         spheres=tuple(replace(s, **plain) for s in scene.spheres),
         billboards=tuple(replace(b, **plain) for b in scene.billboards),
     )
-
-
-def sized(scene: Scene, width: int, height: int) -> Scene:
-    return replace(scene, camera=replace(scene.camera, width=width, height=height))
 
 
 def secondary_rays(scene: Scene) -> dict[str, int]:

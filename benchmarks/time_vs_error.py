@@ -12,7 +12,6 @@ sphereflake, where thousands of small spheres make edges of a fifth of them.
 from __future__ import annotations
 
 import sys
-from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -25,13 +24,9 @@ from raykit.scene import Scene
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-from common import arguments, loglog_plot, median_time, parse  # noqa: E402
+from common import arguments, loglog_plot, median_time, parse, sized  # noqa: E402
 
 from scenes import sphereflake  # noqa: E402
-
-
-def sized(scene: Scene, width: int, height: int) -> Scene:
-    return replace(scene, camera=replace(scene.camera, width=width, height=height))
 
 
 def measure(scene: Scene, repeats: int) -> list[tuple[str, int, float, float]]:
