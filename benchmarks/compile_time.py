@@ -14,13 +14,19 @@
    compiles (not with --quick).
 2. With --before REV: the compiled engine as it was at git revision REV (one module,
    raykit/engine/compiled.py), loaded from its own cache folder (the first run compiles it),
-   and this one, each rendering every example scene and the benchmark scenes prepared, in
-   one process: medians of --repeats renders and their ratio, on every core, then on one
-   (which a neighbour's work on the other core slows less). Scene by scene, the two engines'
-   renders in turns: the next few renders after one of a large image (1,000 spheres at 1080p)
-   take longer, whichever engine made either, so in rounds of every scene an engine whose
-   small scene came right after the other engine's large one lost, by the order alone. With
-   --before-compile, also REV's first compile of classic.json from an empty cache, as in 1.
+   and this one, each in a child process of its own, rendering every example scene and the
+   benchmark scenes prepared: medians of --repeats renders and their ratio, on every core,
+   then on one (which a neighbour's work on the other core slows less). Not in one process:
+   both engines pass NamedTuples of the same names and fields (Arrays, Tiles, Tree) to their
+   kernels, and numba's dispatcher, which finds the compiled code for a call's arguments by a
+   fingerprint of their types, gives two such classes one fingerprint, so the engine that
+   rendered second in the process took numba's slow path on every call (its arguments typed
+   in Python), whichever it was. Scene by scene, the two engines' renders in turns, each timed
+   render right after UNTIMED untimed ones: the next few renders after one of a large image
+   (1,000 spheres at 1080p) take longer, whichever engine made either, so in rounds of every
+   scene an engine whose small scene came right after the other engine's large one lost, by
+   the order alone. With --before-compile, also REV's first compile of classic.json from an
+   empty cache, as in 1.
 3. With --cpus NAME,NAME (e.g. native,haswell): the compiled engine's prepared renders of the
    benchmark scenes (CPU_SCENES) compiled for each CPU, in one child process per CPU
    (NUMBA_CPU_NAME=NAME and NUMBA_CPU_FEATURES empty, so that the features are NAME's own and
@@ -28,7 +34,7 @@
    compiling into a new cache folder of its own (numba shows the code only of what it
    compiled), with the tiles raykit.engine.compiled.tile_side chooses and with each layout of
    CPU_LAYOUTS, all taken in turns (each child times its own renders, each timed render right
-   after CPU_UNTIMED untimed ones): medians of --repeats renders on one core (on both, the two
+   after UNTIMED untimed ones): medians of --repeats renders on one core (on both, the two
    children's thread pools stood in each other's way); and which instructions the packet loop
    compiles to (the vector registers primary_rays' code names: ymm holds 4 float64, zmm 8).
 
@@ -53,7 +59,6 @@ sys.path.insert(0, str(HERE))
 
 from common import (  # noqa: E402
     arguments,
-    interleaved_medians,
     medians_in_turns,
     parse,
     seconds,
@@ -161,79 +166,82 @@ def before_engine(revision: str):
 
 
 def before_and_after(revision: str, repeats: int, quick: bool) -> None:
-    """Part 2: prepared renders, this engine and ``revision``'s, in turns in one process."""
+    """Part 2: prepared renders, this engine and ``revision``'s, each in a child process of its
+    own, in turns (see the module's docstring for why not in one process)."""
     import numba
     from engines import benchmark_scenes
 
-    from raykit.engine import compiled
-
-    before = before_engine(revision)
-    scenes = benchmark_scenes(quick)
-    engines = {"before": before, "now": compiled}
-    prepared = {
-        (engine, name): module.prepare(scene)
-        for engine, module in engines.items()
-        for name, scene in scenes.items()
+    names = list(benchmark_scenes(quick))
+    children = {
+        engine: render_child(engine, names, [None], None, quick) for engine in (revision, "now")
     }
-    for (engine, _), each in prepared.items():
-        engines[engine].render(each)  # loads (or compiles) the kernels
-    cores = numba.get_num_threads()
     took = {}
-    for threads in sorted({cores, 1}, reverse=True):  # one thread: a busy neighbour on one core
-        numba.set_num_threads(threads)  # holds up no render of it
-        took[threads] = {}
-        for name in scenes:  # scene by scene: see the docstring
-            took[threads].update(
-                interleaved_medians(
-                    {
-                        (engine, name): (lambda m=module, p=prepared[(engine, name)]: m.render(p))
-                        for engine, module in engines.items()
-                    },
-                    repeats,
-                    warm=True,
+    try:
+        for threads in sorted({numba.config.NUMBA_NUM_THREADS, 1}, reverse=True):  # one: a busy
+            for name in names:  # neighbour on one core holds up no render of it; scene by scene
+                took.update(
+                    medians_in_turns(
+                        {
+                            (engine, name, threads): timed_render(child, name, None, threads)
+                            for engine, (child, _, _) in children.items()
+                        },
+                        repeats,
+                    )
                 )
-            )
-    numba.set_num_threads(cores)
-    print(f"\n2. prepared renders, median of {repeats} in turns in one process\n")
+    finally:
+        close(children)
+    thread_counts = sorted({key[2] for key in took}, reverse=True)
+    print(
+        f"\n2. prepared renders, median of {repeats} in turns, each engine in a process of its "
+        "own\n"
+    )
     print(
         "| scene | "
-        + " | ".join(f"at {revision}, {n} thread(s) | now | now / {revision}" for n in took)
+        + " | ".join(
+            f"at {revision}, {n} thread(s) | now | now / {revision}" for n in thread_counts
+        )
         + " |"
     )
-    print("|---|" + "---|---|---|" * len(took))
-    for name in scenes:
+    print("|---|" + "---|---|---|" * len(thread_counts))
+    for name in names:
         cells = []
-        for figures in took.values():
-            old, new = figures[("before", name)], figures[("now", name)]
+        for threads in thread_counts:
+            old, new = took[(revision, name, threads)], took[("now", name, threads)]
             cells += [seconds(old, 1), seconds(new, 1), f"{new / old:.2f}"]
         print(f"| {name} | " + " | ".join(cells) + " |")
 
 
 CPU_SCENES = ["classic", "classic_lit", "sphereflake 4", "1,000 spheres 1080p"]
 CPU_LAYOUTS = [(4, False), (8, True), (16, True)]  # (tile side, packets) besides the choice
-# untimed renders before each timed one in part 3: after the other child's renders, a child's
-# next two or three took longer (one untimed was not enough; part 2 keeps to one process)
-CPU_UNTIMED = 3
+# untimed renders before each timed one in parts 2 and 3: after the other child's renders, a
+# child's next two or three took longer (one untimed was not enough)
+UNTIMED = 3
 
-# a child of part 3: the scenes prepared with each layout (None: tile_side's), then a render
-# (an untimed one and a timed one) per line of its standard input, its seconds on its output
-_CPU_CHILD = """
+# a child of parts 2 and 3: one engine (ENGINE "now": raykit.engine.compiled; else the git
+# revision whose engine before_engine loads), the scenes prepared with each layout (None: the
+# engine's own choice), then a render (UNTIMED untimed ones and a timed one) per line of its
+# standard input, its seconds on its output
+_CHILD = """
 import json, re, sys, time
 sys.path.insert(0, {here!r})
 import numba
 from engines import benchmark_scenes
-from raykit.engine import compiled
-scenes = benchmark_scenes(False)
+if {engine!r} == "now":
+    from raykit.engine import compiled as engine
+else:
+    from compile_time import before_engine
+    engine = before_engine({engine!r})
+scenes = benchmark_scenes({quick!r})
 prepared = {{}}
 for name in {names!r}:
-    base = compiled.prepare(scenes[name])
+    base = engine.prepare(scenes[name])
     for layout in {layouts!r}:
-        tiles = base.tiles if layout is None else compiled.screen_tiles(
+        tiles = base.tiles if layout is None else engine.screen_tiles(
             scenes[name], base.arrays, *layout)
         prepared[name, layout] = base._replace(tiles=tiles)
-        compiled.render(prepared[name, layout])
+        engine.render(prepared[name, layout])
 registers = {{}}
-for asm in compiled.primary_rays.inspect_asm().values():
+for asm in engine.primary_rays.inspect_asm().values():
     for kind in ("xmm", "ymm", "zmm"):
         registers[kind] = registers.get(kind, 0) + len(re.findall(kind, asm))
 chosen = {{name: [each.tiles.size, each.tiles.packets]
@@ -244,36 +252,63 @@ for line in sys.stdin:
     numba.set_num_threads(threads)
     each = prepared[name, None if layout is None else tuple(layout)]
     for _ in range({untimed}):
-        compiled.render(each)
+        engine.render(each)
     started = time.perf_counter()
-    compiled.render(each)
+    engine.render(each)
     print(time.perf_counter() - started, flush=True)
 """
 
 
+def render_child(engine: str, names: list[str], layouts: list, cache: str | None, quick: bool,
+                 **env) -> tuple:  # fmt: skip
+    """A child process of ``engine`` ("now" or a git revision) with ``names``' scenes prepared
+    in ``layouts``, ready (kernels loaded or compiled; ``cache``: the compiled engine's cache
+    folder, None: its default), and what its first line told: the vector registers of its
+    packet loop (empty unless compiled in the child) and the tiles chosen."""
+    code = _CHILD.format(here=str(HERE), engine=engine, quick=quick, names=names,
+                         layouts=layouts, untimed=UNTIMED)  # fmt: skip
+    child = subprocess.Popen(
+        [sys.executable, "-c", code],
+        cwd=REPO,
+        env={**os.environ, **env, **({"RAYKIT_CACHE_DIR": cache} if cache else {})},
+        stdin=subprocess.PIPE,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.DEVNULL,
+        text=True,
+    )
+    line = child.stdout.readline()
+    if not line:
+        raise SystemExit(f"the child rendering with the engine {engine} failed")
+    return (child, *json.loads(line))
+
+
+def timed_render(child, scene: str, layout, threads: int):
+    """A timer for :func:`medians_in_turns`: ``child`` renders ``scene`` once and says how long
+    it took."""
+
+    def timed() -> float:
+        child.stdin.write(json.dumps([scene, layout, threads]) + "\n")
+        child.stdin.flush()
+        return float(child.stdout.readline())
+
+    return timed
+
+
+def close(children: dict) -> None:
+    for child, *_ in children.values():
+        child.stdin.close()
+        child.wait()
+
+
 def cpu_children(names: list[str], folder: Path) -> dict:
-    """Part 3's children, one per CPU name, ready (kernels loaded or compiled), each with what
-    its first line told: the vector registers of its packet loop and the tiles chosen."""
+    """Part 3's children (:func:`render_child`), one per CPU name, each compiling into a new
+    cache folder of its own (numba shows the code only of what it compiled)."""
     layouts = [None, *CPU_LAYOUTS]
-    code = _CPU_CHILD.format(here=str(HERE), names=CPU_SCENES, layouts=layouts, untimed=CPU_UNTIMED)
     children = {}
     for name in names:
         cpu = {} if name == "native" else {"NUMBA_CPU_NAME": name, "NUMBA_CPU_FEATURES": ""}
-        # a cache of its own: the inspected code is there only when compiled in the process
         cache = str(folder / f"cpu-cache-{name}")
-        child = subprocess.Popen(
-            [sys.executable, "-c", code],
-            cwd=REPO,
-            env={**os.environ, **cpu, "RAYKIT_CACHE_DIR": cache},
-            stdin=subprocess.PIPE,
-            stdout=subprocess.PIPE,
-            stderr=subprocess.DEVNULL,
-            text=True,
-        )
-        line = child.stdout.readline()
-        if not line:
-            raise SystemExit(f"the child compiled for {name} failed")
-        children[name] = (child, *json.loads(line))
+        children[name] = render_child("now", CPU_SCENES, layouts, cache, False, **cpu)
     return children
 
 
@@ -282,32 +317,24 @@ def cpus(names: list[str], repeats: int) -> None:
     layouts = [None, *CPU_LAYOUTS]
     with tempfile.TemporaryDirectory() as folder:
         children = cpu_children(names, Path(folder))
-
-        def render_in(cpu, scene, layout, threads):
-            def timed() -> float:
-                child = children[cpu][0]
-                child.stdin.write(json.dumps([scene, layout, threads]) + "\n")
-                child.stdin.flush()
-                return float(child.stdout.readline())
-
-            return timed
-
         took = {}
-        for threads in [1]:  # see the docstring
-            for scene in CPU_SCENES:  # scene by scene, as part 2
-                took.update(
-                    medians_in_turns(
-                        {
-                            (cpu, scene, layout, threads): render_in(cpu, scene, layout, threads)
-                            for cpu in names
-                            for layout in layouts
-                        },
-                        repeats,
+        try:
+            for threads in [1]:  # see the docstring
+                for scene in CPU_SCENES:  # scene by scene, as part 2
+                    took.update(
+                        medians_in_turns(
+                            {
+                                (cpu, scene, layout, threads): timed_render(
+                                    children[cpu][0], scene, layout, threads
+                                )
+                                for cpu in names
+                                for layout in layouts
+                            },
+                            repeats,
+                        )
                     )
-                )
-        for child, *_ in children.values():
-            child.stdin.close()
-            child.wait()
+        finally:
+            close(children)
     print(f"\n3. prepared renders compiled for each CPU, median of {repeats} in turns\n")
     for cpu, (_, registers, _) in children.items():
         listed = ", ".join(f"{count} {kind}" for kind, count in registers.items())

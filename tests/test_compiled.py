@@ -694,6 +694,68 @@ def test_every_kind_of_scene_hands_the_kernels_arrays_of_one_kind():
     assert len(set(kinds.values())) == 1, kinds
 
 
+@contextlib.contextmanager
+def arguments_typed_in_python():
+    """The names of the kernels whose arguments numba types in Python (its slow path) while in
+    the block. Numba's dispatcher finds the compiled code for a call by a fingerprint of its
+    arguments' types, in C; an argument it cannot fingerprint, or one whose fingerprint another
+    class took first (a NamedTuple of the same name and fields), is typed in Python on every
+    call."""
+    from numba.core.dispatcher import _DispatcherBase
+
+    typed = []
+    typeof_pyval = _DispatcherBase.typeof_pyval
+
+    def counted(dispatcher, value):
+        typed.append(dispatcher.py_func.__name__)
+        return typeof_pyval(dispatcher, value)
+
+    _DispatcherBase.typeof_pyval = counted
+    try:
+        yield typed
+    finally:
+        _DispatcherBase.typeof_pyval = typeof_pyval
+
+
+def test_numba_types_in_python_a_namedtuple_whose_name_and_fields_another_class_took():
+    # why the benchmark of the engine before and after (benchmarks/compile_time.py) runs
+    # each engine in a process of its own, and the control for the test below
+    from typing import NamedTuple
+
+    class Pair(NamedTuple):
+        a: float
+        b: float
+
+    first = Pair
+
+    class Pair(NamedTuple):  # noqa: F811 (the point: a second class of the same name)
+        a: float
+        b: float
+
+    def total(pair):
+        return pair.a + pair.b
+
+    # each class to a kernel of its own, as each engine passes its own to its own kernels
+    total_of_first, total_of_second = numba.njit(total), numba.njit(total)
+    total_of_first(first(1.0, 2.0))
+    total_of_second(Pair(1.0, 2.0))
+    with arguments_typed_in_python() as typed:
+        assert total_of_first(first(1.0, 2.0)) == 3.0
+    assert typed == []
+    with arguments_typed_in_python() as typed:
+        assert total_of_second(Pair(1.0, 2.0)) == 3.0
+    assert typed == ["total"]
+
+
+@pytest.mark.parametrize("name", ["classic.json", "shadow_on_billboard.json"])
+def test_a_prepared_render_finds_its_kernels_without_typing_an_argument_in_python(name):
+    prepared = compiled.prepare(load_scene(SCENES / name))
+    compiled.render(prepared)  # loads the kernels (their first call types its arguments)
+    with arguments_typed_in_python() as typed:
+        compiled.render(prepared)
+    assert typed == []
+
+
 def test_tile_side_sends_rays_in_packets_unless_the_picture_is_crowded():
     classic = load_scene(SCENES / "classic.json")
     assert compiled.prepare(classic).tiles[-2:] == (compiled.WIDE_SIDE, True)
