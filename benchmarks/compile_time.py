@@ -4,8 +4,9 @@
         [--before-compile] [--cpus NAME,NAME]
 
 1. The first use from an empty cache: whole processes of `raykit render SCENE -o OUT.png
-   --engine compiled` on scenes/classic.json (flat) and scenes/classic_lit.json (lit), each
-   with a new empty cache folder (RAYKIT_CACHE_DIR), taken in turns: wall time, CPU time (the
+   --engine compiled` on scenes/classic.json (flat), scenes/classic_lit.json (lit) and
+   scenes/mirror_balls.json (lit, with mirrors), each with a new empty cache folder
+   (RAYKIT_CACHE_DIR), taken in turns: wall time, CPU time (the
    process's user + system seconds: what the compile costs where no neighbour takes a core)
    and peak memory (its largest resident set, from os.wait4). Then the same render again from
    the cache it left; --compiles rounds of each (median). Each kernel's own compile seconds in
@@ -68,7 +69,8 @@ from raykit.engine import choice  # noqa: E402
 
 REPO = HERE.parent
 SCENES = REPO / "scenes"
-FIRST_USE = {"classic": "trace_flat", "classic_lit": "trace_lit"}  # scene: its entry point
+# scene: its entry point (raykit.engine.choice.entry_point)
+FIRST_USE = {"classic": "trace_flat", "classic_lit": "trace_lit", "mirror_balls": "trace_mirrors"}
 
 # a child's render, with each kernel's own compile seconds written to the file given
 _CHILD = """

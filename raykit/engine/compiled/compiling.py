@@ -4,8 +4,9 @@ Repeats no reference module: this is the machinery the others share. A kernel ru
 or per tile is its own numba function (``@njit(**KERNEL)``), compiled the first time a render
 needs it, with the kernels it calls, each once, and cached on disk by itself; a kernel run once
 per ray (``ONE_RAY``) is inlined into those. So a flat scene compiles only the flat scene's
-kernels (:func:`raykit.engine.compiled.driver.trace_flat` names no shading kernel), and a lit
-scene adds its own.
+kernels (:func:`raykit.engine.compiled.driver.trace_flat` names no shading kernel), a lit
+scene adds its own, and a scene with mirrors its mirror rays
+(:func:`raykit.engine.compiled.mirrors.mirror_rays`).
 
 The cache lives in a folder named after a hash of the package's sources and its folder
 (:func:`raykit.engine.choice.cache_folder`): editing a kernel makes a new folder, so no kernel
@@ -54,7 +55,7 @@ MESSAGE = "compiling raykit's fast kernels, once"
 
 
 def measured_seconds() -> dict[str, dict[str, float]]:
-    """Per entry point (``trace_flat``, ``trace_lit``), the seconds each kernel's own compile
+    """Per entry point (``trace_flat``, ``trace_lit``, ``trace_mirrors``), the seconds each kernel's own compile
     took (its callees' not counted) when benchmarks/compile_time.py last ran; empty if no
     table."""
     try:
