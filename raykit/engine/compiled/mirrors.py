@@ -7,13 +7,13 @@ import numpy as np
 from numba import njit
 
 from raykit.engine.compiled.bvh import nearest_hit
-from raykit.engine.compiled.compiling import KERNEL, ONE_RAY
+from raykit.engine.compiled.compiling import INLINED, KERNEL
 from raykit.engine.compiled.shading import surface_color
 from raykit.engine.compiled.surfaces import surface_point
 from raykit.surfaces import OFFSET_FACTOR
 
 
-@njit(**ONE_RAY)
+@njit(**INLINED)
 def bounce_on(arrays, tree, shading, stack, depth, hit, p0, p1, p2, n0, n1, n2, d0, d1, d2, error,
               c0, c1, c2, w0, w1, w2):  # fmt: skip
     """The rest of :func:`shade_ray` after the surface at ``depth`` (object ``hit`` at p, normal
