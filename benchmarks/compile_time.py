@@ -279,7 +279,7 @@ UNTIMED = 3
 # revision whose engine before_engine loads), the scenes prepared with each layout (None: the
 # engine's own choice), then a render (UNTIMED untimed ones and a timed one) per line of its
 # standard input, its seconds on its output
-_CHILD = """
+_RENDER_CHILD = """
 import json, re, sys, time
 sys.path.insert(0, {here!r})
 import numba
@@ -323,7 +323,7 @@ def render_child(engine: str, names: list[str], layouts: list, cache: str | None
     in ``layouts``, ready (kernels loaded or compiled; ``cache``: the compiled engine's cache
     folder, None: its default), and what its first line told: the vector registers of its
     packet loop (empty unless compiled in the child) and the tiles chosen."""
-    code = _CHILD.format(here=str(HERE), engine=engine, quick=quick, names=names,
+    code = _RENDER_CHILD.format(here=str(HERE), engine=engine, quick=quick, names=names,
                          layouts=layouts, untimed=UNTIMED)  # fmt: skip
     child = subprocess.Popen(
         [sys.executable, "-c", code],
