@@ -933,6 +933,62 @@ def test_the_progress_line_counts_a_kernel_as_it_compiles_up_to_its_measured_sec
     assert clock.own == {"light_lanes": 12.0, "lit_job": 33.0}
 
 
+def _callback_interrupted_by_ctrl_c():
+    """A call from C into Python that a Ctrl-C interrupts, as llvmlite's object-cache callback
+    was as LLVM finished a kernel: ctypes reports the KeyboardInterrupt to sys.unraisablehook
+    and returns as if nothing happened."""
+    import ctypes
+
+    @ctypes.CFUNCTYPE(None)
+    def callback():
+        raise KeyboardInterrupt
+
+    callback()
+
+
+def test_a_ctrl_c_swallowed_by_a_callback_from_llvm_stops_the_compile_at_the_next_kernel():
+    from raykit.engine.compiled.compiling import compile_clock
+
+    @numba.njit(cache=False)
+    def next_kernel(x):
+        return x + 1
+
+    hook = sys.unraisablehook
+    with pytest.raises(KeyboardInterrupt):
+        with compile_clock("trace_flat", show=False) as clock:
+            _callback_interrupted_by_ctrl_c()
+            assert clock.interrupted  # swallowed, and noted
+            next_kernel(1)
+    assert not next_kernel.signatures  # stopped as its compile started
+    assert sys.unraisablehook is hook
+
+
+def test_a_ctrl_c_swallowed_in_the_last_kernel_is_raised_as_the_call_returns():
+    from raykit.engine.compiled.compiling import compile_clock
+
+    with pytest.raises(KeyboardInterrupt):
+        with compile_clock("trace_flat", show=False):
+            _callback_interrupted_by_ctrl_c()
+
+
+def test_any_other_error_a_callback_swallows_goes_to_the_hook_that_was_there(monkeypatch):
+    import ctypes
+
+    from raykit.engine.compiled.compiling import compile_clock
+
+    reported = []
+    monkeypatch.setattr(sys, "unraisablehook", lambda report: reported.append(report.exc_value))
+
+    @ctypes.CFUNCTYPE(None)
+    def callback():
+        raise ValueError("not a Ctrl-C")
+
+    with compile_clock("trace_flat", show=False) as clock:
+        callback()
+    assert not clock.interrupted
+    assert [str(error) for error in reported] == ["not a Ctrl-C"]
+
+
 def test_an_edited_kernel_is_compiled_again_not_served_from_the_cache(tmp_path):
     """The edit keeps the file's size and time, which numba's own cache check would miss."""
     import shutil

@@ -79,6 +79,7 @@ class CompileClock(event.Listener):
         self.open: list[list] = []  # [name, started, seconds of its callees' compiles]
         self.bar = None
         self.done = 0.0
+        self.interrupted = False  # a Ctrl-C swallowed on its way (see compile_clock)
 
     def on_start(self, ev) -> None:
         name = _kernel_name(ev)
@@ -86,8 +87,11 @@ class CompileClock(event.Listener):
             self.bar = _progress_line(sum(self.expected.values()))
         self.open.append([name, time.perf_counter(), 0.0])
         self._show()
+        self._stop_if_interrupted()
 
     def on_end(self, ev) -> None:
+        if not self.open:  # a Ctrl-C came in its start event before it was counted
+            return
         name, started, inner = self.open.pop()
         took = time.perf_counter() - started
         if name is None:  # a helper of numba's: its time is its caller's own
@@ -99,6 +103,13 @@ class CompileClock(event.Listener):
         if name is not None:
             self.done += self.expected.get(name, 0.0)
         self._show()
+        self._stop_if_interrupted()
+
+    def _stop_if_interrupted(self) -> None:
+        """Raise the Ctrl-C that was swallowed, now that numba is in Python, between kernels."""
+        if self.interrupted:
+            self.interrupted = False
+            raise KeyboardInterrupt
 
     def progress(self, now: float) -> float:
         """Seconds of the table done at time ``now`` (:func:`time.perf_counter`): the
@@ -150,9 +161,22 @@ def _progress_line(total: float):
 def compile_clock(entry: str, show: bool = True):
     """Around a call that may compile: the :class:`CompileClock` of ``entry`` listening to
     numba, with a thread that redraws the progress line each second (numba's compiles leave
-    Python for long stretches of LLVM, where no event comes)."""
+    Python for long stretches of LLVM, where no event comes).
+
+    LLVM calls back into Python as it finishes each kernel (llvmlite's object cache, through
+    ctypes), and a Ctrl-C that lands in such a callback is not raised: ctypes reports it to
+    :func:`sys.unraisablehook` and carries on, and the compile would run to its end. So while
+    the clock runs, that hook notes a swallowed Ctrl-C, and the clock raises it at the next
+    kernel's start or end, or as the call returns."""
     clock = CompileClock(entry, show)
     stop = threading.Event()
+    unraisable = sys.unraisablehook
+
+    def note_ctrl_c(report) -> None:
+        if isinstance(report.exc_value, KeyboardInterrupt):
+            clock.interrupted = True
+        else:
+            unraisable(report)
 
     def redraw():
         while not stop.wait(1.0):
@@ -160,10 +184,13 @@ def compile_clock(entry: str, show: bool = True):
 
     ticker = threading.Thread(target=redraw, daemon=True)
     ticker.start()
+    sys.unraisablehook = note_ctrl_c
     try:
         with event.install_listener("numba:compile", clock):
             yield clock
+        clock._stop_if_interrupted()
     finally:
+        sys.unraisablehook = unraisable
         stop.set()
         ticker.join()
         if clock.bar is not None:
