@@ -933,6 +933,35 @@ def test_the_progress_line_counts_a_kernel_as_it_compiles_up_to_its_measured_sec
     assert clock.own == {"light_lanes": 12.0, "lit_job": 33.0}
 
 
+def test_the_time_left_starts_at_the_tables_seconds_and_follows_this_machines_pace(monkeypatch):
+    from types import SimpleNamespace
+
+    from raykit.engine.compiled import compiling
+
+    now = [100.0]
+    monkeypatch.setattr(compiling.time, "perf_counter", lambda: now[0])
+    monkeypatch.setattr(compiling, "PRIOR_SECONDS", 5.0)
+
+    def event(name):
+        kernel = SimpleNamespace(__name__=name, __module__="raykit.engine.compiled.driver")
+        return SimpleNamespace(data={"dispatcher": SimpleNamespace(py_func=kernel)})
+
+    clock = compiling.CompileClock("trace_lit", show=False)
+    clock.expected = {"bin_by_tile": 1.0, "lit_job": 29.0}
+    clock.on_start(event("bin_by_tile"))
+    assert clock.seconds_left(now[0]) == 30.0  # nothing known yet of this machine: the table's
+    now[0] += 4.0  # the first kernel takes longer than the table's 1 s (numba warms up)
+    # the pace alone, 4 s for 1 s done, would say 29 x 4 = 116 s left
+    assert clock.seconds_left(now[0]) == 29.0 * (4.0 + 5.0) / (1.0 + 5.0)
+    clock.on_end(event("bin_by_tile"))
+    clock.on_start(event("lit_job"))
+    now[0] += 10.0
+    assert clock.seconds_left(now[0]) == 19.0 * (14.0 + 5.0) / (11.0 + 5.0)
+    now[0] += 19.0
+    clock.on_end(event("lit_job"))
+    assert clock.seconds_left(now[0]) == 0.0
+
+
 def _callback_interrupted_by_ctrl_c():
     """A call from C into Python that a Ctrl-C interrupts, as llvmlite's object-cache callback
     was as LLVM finished a kernel: ctypes reports the KeyboardInterrupt to sys.unraisablehook

@@ -51,6 +51,7 @@ KERNEL = dict(MAKES_ARRAYS, _nrt=False)
 ONE_RAY = dict(KERNEL, inline="always")
 SECONDS_TABLE = Path(__file__).with_name("compile_seconds.json")
 MESSAGE = "compiling raykit's fast kernels, once"
+PRIOR_SECONDS = 5.0  # how long the table's own pace counts in the time left (seconds_left)
 
 
 def measured_seconds() -> dict[str, dict[str, float]]:
@@ -68,9 +69,8 @@ class CompileClock(event.Listener):
     name), and a progress line on standard error from the first compile on (``bar``), moved
     on by each kernel's measured seconds (:func:`measured_seconds`): all of them as it
     finishes, and while it compiles, the seconds it has taken so far, up to them
-    (:meth:`progress`). The time left is the table's seconds not yet done at the pace so far
-    (tqdm's average rate, unsmoothed): a kernel credited only as it ended made the line jump
-    from a few seconds left to many minutes and back."""
+    (:meth:`progress`), and the time left (:meth:`seconds_left`). A kernel credited only as
+    it ended made the line jump from a few seconds left to many minutes and back."""
 
     def __init__(self, entry: str, show: bool):
         self.expected = measured_seconds().get(entry, {})
@@ -78,11 +78,14 @@ class CompileClock(event.Listener):
         self.own: dict[str, float] = {}
         self.open: list[list] = []  # [name, started, seconds of its callees' compiles]
         self.bar = None
+        self.started = None  # when the first kernel's compile started
         self.done = 0.0
         self.interrupted = False  # a Ctrl-C swallowed on its way (see compile_clock)
 
     def on_start(self, ev) -> None:
         name = _kernel_name(ev)
+        if self.started is None:
+            self.started = time.perf_counter()
         if self.show and self.bar is None:
             self.bar = _progress_line(sum(self.expected.values()))
         self.open.append([name, time.perf_counter(), 0.0])
@@ -122,13 +125,27 @@ class CompileClock(event.Listener):
                 until = started
         return done
 
+    def seconds_left(self, now: float) -> float:
+        """The table's seconds not yet done at time ``now``, at this machine's pace: the
+        seconds the compile has taken per second of the table done. That pace starts as the
+        table's own (1) and becomes this machine's as the compile goes on, PRIOR_SECONDS
+        standing for the table's: (elapsed + PRIOR_SECONDS) / (done + PRIOR_SECONDS). (The
+        pace alone, elapsed / done, was wild in the first seconds, with little done.)"""
+        done = self.progress(now)
+        elapsed = now - self.started if self.started is not None else 0.0
+        pace = (elapsed + PRIOR_SECONDS) / (done + PRIOR_SECONDS)
+        return max(0.0, sum(self.expected.values()) - done) * pace
+
     def _show(self) -> None:
         """The innermost of the package's kernels being compiled, and the progress, on the
         progress line."""
         if self.bar is None:
             return
         if self.bar.total:
-            self.bar.n = min(self.bar.total, round(self.progress(time.perf_counter()), 1))
+            now = time.perf_counter()
+            self.bar.n = min(self.bar.total, round(self.progress(now), 1))
+            left = self.bar.format_interval(round(self.seconds_left(now)))
+            self.bar.set_postfix_str(f"~{left} left", refresh=False)
         names = [name for name, _, _ in self.open if name is not None]
         if names:
             self.bar.set_description_str(f"{MESSAGE}: {names[-1]}", refresh=False)
@@ -145,14 +162,13 @@ def _kernel_name(ev) -> str | None:
 def _progress_line(total: float):
     from tqdm import tqdm
 
-    known = "{desc} {percentage:3.0f}%|{bar:20}| [{elapsed}, ~{remaining} left]"
+    known = "{desc} {percentage:3.0f}%|{bar:20}| [{elapsed}{postfix}]"  # postfix: ", ~0:42 left"
     return tqdm(  # with no table of seconds: what it compiles, and how long so far
         total=round(total, 1) if total > 0 else None,
         desc=MESSAGE,
         unit="s",
         file=sys.stderr,
         bar_format=known if total > 0 else "{desc} [{elapsed}]",
-        smoothing=0,  # the pace over the whole compile, not the last few kernels
         leave=True,
     )
 
