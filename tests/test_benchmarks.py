@@ -365,3 +365,18 @@ def test_compile_time_times_a_flat_and_a_lit_first_use_from_an_empty_cache():
         ["| classic_lit", "empty"], ["| classic_lit", "cached"],
     ]  # fmt: skip
     assert all(row.endswith(" MB |") for row in rows)  # each with its peak memory
+
+
+def test_a_render_child_renders_its_engines_scene_each_time_it_is_asked_and_says_how_long():
+    """The child process each engine's renders are timed in (compile_time.py, parts 2 and 3)."""
+    pytest.importorskip("numba")
+    compile_time = _plot_module("compile_time")
+    children = {"now": compile_time.render_child("now", ["cutouts"], [None], None, True)}
+    child, _, chosen = children["now"]
+    try:
+        took = [compile_time.timed_render(child, "cutouts", None, threads)() for threads in (1, 2)]
+    finally:
+        compile_time.close(children)
+    assert all(0 < seconds < 60 for seconds in took)
+    assert list(chosen) == ["cutouts"] and chosen["cutouts"][0] in (4, 8, 16)
+    assert child.returncode == 0
