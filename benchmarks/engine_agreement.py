@@ -13,7 +13,7 @@ billboards tilted, edge-on and behind, textures with holes (alpha 127 and 128 am
 repeated spheres and billboards (exact ties), point lights inside objects, on their surfaces
 and at the eye, directional lights along an axis, shadows on and off, mirrors with max_depth 0
 to 4, both projections, fov_angle from 1 to 179 degrees, odd image sizes (1x1, 1x37, 97x3,
-primes up to 293), and 1 to 4 x 4 samples per pixel, adaptive or not.
+primes up to 293), and 1 to 8 x 8 samples per pixel, adaptive or not.
 
 Each render's ``object_index`` and ``t`` must be the reference's bit for bit (NaN where NaN),
 and its ``rgb`` too. One operation is known to differ (raykit.engine.compiled's docstring):
@@ -158,6 +158,11 @@ def main() -> None:
     parser.add_argument("--out", type=Path, default=Path("engine_agreement_mismatches"),
                         help="where scenes that disagree are saved")  # fmt: skip
     args = parse(parser)
+    from raykit.engine import choice
+
+    if not choice.compiled_available():
+        print(f"The compiled engine cannot run here ({choice.compiled_missing()}): no run.")
+        return
     count = args.scenes or (QUICK_SCENES if args.quick else SCENES)
     rng = np.random.default_rng(args.seed)
     print(f"Machine: {machine()}.\n")

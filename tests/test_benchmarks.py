@@ -365,3 +365,24 @@ def test_compile_time_times_a_flat_and_a_lit_first_use_from_an_empty_cache():
         ["| classic_lit", "empty"], ["| classic_lit", "cached"],
     ]  # fmt: skip
     assert all(row.endswith(" MB |") for row in rows)  # each with its peak memory
+
+
+def test_engine_agreement_prints_each_kind_of_scene_and_saves_a_scene_that_loads(tmp_path):
+    pytest.importorskip("numba")
+    rows = _table_rows("engine_agreement.py", "--scenes", "3", "--out", str(tmp_path / "out"))
+    assert rows and all(row.count(" | ") == 2 for row in rows)  # kind | scenes | mismatches
+    sys.path.insert(0, str(REPO / "benchmarks"))
+    from engine_agreement import save
+    from random_scenes import make_textures, random_scene
+
+    from raykit.io.scene_json import load_scene
+
+    rng = np.random.default_rng(5)
+    textures = make_textures(rng, tmp_path / "work" / "textures")
+    data = random_scene(rng, textures)[0]
+    data["billboards"] = [*data.get("billboards", []), {
+        "upper_left": [0, 1, 0], "lower_left": [0, 0, 0], "upper_right": [1, 1, 0],
+        "image": "textures/" + textures[0],
+    }]  # fmt: skip
+    saved = save(data, tmp_path / "out", "a_scene", tmp_path / "work")
+    assert load_scene(saved).billboards[-1].texture.rgba.shape[:2] == (1, 1)

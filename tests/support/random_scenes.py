@@ -256,7 +256,7 @@ def random_scene(rng: np.random.Generator, textures: list[str]) -> tuple[dict, d
     tags.add("far away (1e5 to 1e6 from the origin)" if far else "near the origin")
     size = _decades(rng, -3, 3) if rng.uniform() < 0.4 else 1.0
     view = View(rng, tags, offset, size)
-    samples = int(rng.choice([1, 1, 2, 3, 4]))
+    samples = int(rng.choice([1, 1, 1, 2, 2, 3, 4, 5, 8]))
     adaptive = samples > 1 and rng.uniform() < 0.4
     width, height = _image_size(rng, samples, tags)
     view.camera = Camera(view.eye, view.eye + view.w * view.distance, view.up, view.fov,
