@@ -380,3 +380,23 @@ def test_a_render_child_renders_its_engines_scene_each_time_it_is_asked_and_says
     assert all(0 < seconds < 60 for seconds in took)
     assert list(chosen) == ["cutouts"] and chosen["cutouts"][0] in (4, 8, 16)
     assert child.returncode == 0
+
+
+def test_engine_agreement_prints_each_kind_of_scene_and_saves_a_scene_that_loads(tmp_path):
+    pytest.importorskip("numba")
+    rows = _table_rows("engine_agreement.py", "--scenes", "3", "--out", str(tmp_path / "out"))
+    assert rows and all(row.count(" | ") == 2 for row in rows)  # kind | scenes | mismatches
+    save = _benchmark_module("engine_agreement").save
+    from random_scenes import make_textures, random_scene
+
+    from raykit.io.scene_json import load_scene
+
+    rng = np.random.default_rng(5)
+    textures = make_textures(rng, tmp_path / "work" / "textures")
+    data = random_scene(rng, textures)[0]
+    data["billboards"] = [*data.get("billboards", []), {
+        "upper_left": [0, 1, 0], "lower_left": [0, 0, 0], "upper_right": [1, 1, 0],
+        "image": "textures/" + textures[0],
+    }]  # fmt: skip
+    saved = save(data, tmp_path / "out", "a_scene", tmp_path / "work")
+    assert load_scene(saved).billboards[-1].texture.rgba.shape[:2] == (1, 1)
