@@ -71,7 +71,7 @@ SCENES = REPO / "scenes"
 FIRST_USE = {"classic": "trace_flat", "classic_lit": "trace_lit"}  # scene: its entry point
 
 # a child's render, with each kernel's own compile seconds written to the file given
-_CHILD = """
+_FIRST_USE_CHILD = """
 import json, sys
 from raykit.cli import main
 from raykit.engine.compiled.compiling import compile_clock
@@ -116,7 +116,7 @@ def first_use(repeats: int, folder: Path) -> tuple[dict, dict]:
         for name in names:
             cache = folder / f"cache-{name}-{round_}"
             spent = folder / f"seconds-{name}-{round_}.json"
-            code = _CHILD.format(
+            code = _FIRST_USE_CHILD.format(
                 entry=FIRST_USE[name],
                 scene=str(SCENES / f"{name}.json"),
                 out=str(folder / f"{name}.png"),
@@ -221,7 +221,7 @@ UNTIMED = 3
 # revision whose engine before_engine loads), the scenes prepared with each layout (None: the
 # engine's own choice), then a render (UNTIMED untimed ones and a timed one) per line of its
 # standard input, its seconds on its output
-_CHILD = """
+_RENDER_CHILD = """
 import json, re, sys, time
 sys.path.insert(0, {here!r})
 import numba
@@ -265,7 +265,7 @@ def render_child(engine: str, names: list[str], layouts: list, cache: str | None
     in ``layouts``, ready (kernels loaded or compiled; ``cache``: the compiled engine's cache
     folder, None: its default), and what its first line told: the vector registers of its
     packet loop (empty unless compiled in the child) and the tiles chosen."""
-    code = _CHILD.format(here=str(HERE), engine=engine, quick=quick, names=names,
+    code = _RENDER_CHILD.format(here=str(HERE), engine=engine, quick=quick, names=names,
                          layouts=layouts, untimed=UNTIMED)  # fmt: skip
     child = subprocess.Popen(
         [sys.executable, "-c", code],
