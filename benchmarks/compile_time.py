@@ -75,7 +75,7 @@ FIRST_USE = {"classic": "trace_flat", "classic_lit": "trace_lit", "mirror_balls"
 
 # a child's render, with each kernel's own compile seconds and the calls of per-ray kernels
 # left in the code it compiled (calls_left) written to the file given
-_CHILD = """
+_FIRST_USE_CHILD = """
 import json, sys
 sys.path.insert(0, {here!r})
 from raykit.cli import main
@@ -171,7 +171,7 @@ def first_use(repeats: int, folder: Path) -> tuple[dict, dict, list]:
         for name in names:
             cache = folder / f"cache-{name}-{round_}"
             spent = folder / f"seconds-{name}-{round_}.json"
-            code = _CHILD.format(
+            code = _FIRST_USE_CHILD.format(
                 here=str(HERE),
                 entry=FIRST_USE[name],
                 scene=str(SCENES / f"{name}.json"),

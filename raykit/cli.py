@@ -413,6 +413,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except NotImplementedError as exc:  # the starter kit, before its functions are written
         print(f"raykit: error: not written yet: {exc}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:  # Ctrl-C: outputs are written whole or not at all
+        print("raykit: interrupted", file=sys.stderr)
+        return 130
     return 0
 
 

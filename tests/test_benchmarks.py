@@ -224,7 +224,7 @@ def test_forward_backward_quick_prints_both_directions():
     assert directions == ["| backward"] * 2 + ["| forward"] * 2
 
 
-def _plot_module(name):
+def _benchmark_module(name):
     sys.path.insert(0, str(REPO / "benchmarks"))
     import importlib
 
@@ -237,7 +237,7 @@ def test_a_mitsuba_variant_that_cannot_start_is_a_failed_row_and_the_run_goes_on
     # Mitsuba "installed" (a stand-in module here; the child imports the real one, or fails
     # to): a variant that cannot start gives each scene a one-line "failed: ..." row, and
     # every scene is still timed
-    module = _plot_module("mitsuba_compare")
+    module = _benchmark_module("mitsuba_compare")
     stand_in = types.ModuleType("mitsuba")
     stand_in.__version__ = "0.0"
     monkeypatch.setitem(sys.modules, "mitsuba", stand_in)
@@ -255,7 +255,7 @@ def test_a_mitsuba_variant_that_cannot_start_is_a_failed_row_and_the_run_goes_on
 
 def test_a_mitsuba_child_that_dies_during_the_renders_is_a_failure_not_a_crash():
     pytest.importorskip("mitsuba")
-    module = _plot_module("mitsuba_compare")
+    module = _benchmark_module("mitsuba_compare")
     data = module.scene_data(module.benchmark_scenes(True)["sphereflake 2 128x128"])
     child = module.MitsubaChild("scalar_rgb", data)
     assert child.failure is None and child.render_once() > 0
@@ -267,7 +267,7 @@ def test_a_mitsuba_child_that_dies_during_the_renders_is_a_failure_not_a_crash()
 
 
 def test_turns_give_each_timer_its_own_median_and_warm_it_first():
-    module = _plot_module("common")
+    module = _benchmark_module("common")
     calls = []
 
     def timer(key, seconds):
@@ -288,7 +288,7 @@ def test_mitsuba_plot_draws_a_bar_per_scene_and_renderer(tmp_path, monkeypatch):
     # Mitsuba is not installed here: made-up rows exercise the plot, a failed variant included
     import matplotlib.pyplot as plt
 
-    module = _plot_module("mitsuba_compare")
+    module = _benchmark_module("mitsuba_compare")
     rows = [
         {"scene": "classic", "renderer": "raykit", "render": 0.081},
         {"scene": "classic", "renderer": "Mitsuba 3.6 scalar_rgb", "render": 0.4},
@@ -316,7 +316,7 @@ def test_mitsuba_plot_draws_a_bar_per_scene_and_renderer(tmp_path, monkeypatch):
 def test_shading_cost_plot_draws_flat_shaded_and_unculled_per_scene(tmp_path, monkeypatch):
     import matplotlib.pyplot as plt
 
-    module = _plot_module("shading_cost")
+    module = _benchmark_module("shading_cost")
     rows = [
         {"scene": "classic", "image": "640x480", "flat": 0.08, "shaded": 0.08, "unculled": 0.076},
         {"scene": "mirror_balls", "image": "640x480", "flat": 0.067, "shaded": 0.35}
@@ -366,3 +366,38 @@ def test_compile_time_times_a_flat_a_lit_and_a_mirror_first_use_from_an_empty_ca
         ["| mirror_balls", "empty"], ["| mirror_balls", "cached"],
     ]  # fmt: skip
     assert all(row.endswith(" MB |") for row in rows)  # each with its peak memory
+
+
+def test_a_render_child_renders_its_engines_scene_each_time_it_is_asked_and_says_how_long():
+    """The child process each engine's renders are timed in (compile_time.py, parts 2 and 3)."""
+    pytest.importorskip("numba")
+    compile_time = _benchmark_module("compile_time")
+    children = {"now": compile_time.render_child("now", ["cutouts"], [None], None, True)}
+    child, _, chosen = children["now"]
+    try:
+        took = [compile_time.timed_render(child, "cutouts", None, threads)() for threads in (1, 2)]
+    finally:
+        compile_time.close(children)
+    assert all(0 < seconds < 60 for seconds in took)
+    assert list(chosen) == ["cutouts"] and chosen["cutouts"][0] in (4, 8, 16)
+    assert child.returncode == 0
+
+
+def test_engine_agreement_prints_each_kind_of_scene_and_saves_a_scene_that_loads(tmp_path):
+    pytest.importorskip("numba")
+    rows = _table_rows("engine_agreement.py", "--scenes", "3", "--out", str(tmp_path / "out"))
+    assert rows and all(row.count(" | ") == 2 for row in rows)  # kind | scenes | mismatches
+    save = _benchmark_module("engine_agreement").save
+    from random_scenes import make_textures, random_scene
+
+    from raykit.io.scene_json import load_scene
+
+    rng = np.random.default_rng(5)
+    textures = make_textures(rng, tmp_path / "work" / "textures")
+    data = random_scene(rng, textures)[0]
+    data["billboards"] = [*data.get("billboards", []), {
+        "upper_left": [0, 1, 0], "lower_left": [0, 0, 0], "upper_right": [1, 1, 0],
+        "image": "textures/" + textures[0],
+    }]  # fmt: skip
+    saved = save(data, tmp_path / "out", "a_scene", tmp_path / "work")
+    assert load_scene(saved).billboards[-1].texture.rgba.shape[:2] == (1, 1)

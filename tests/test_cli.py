@@ -212,3 +212,18 @@ def test_the_engine_option_offers_exactly_the_engines_render_knows():
         sub = next(a for a in parser._subparsers._group_actions[0].choices[command]._actions
                    if a.dest == "engine")  # fmt: skip
         assert tuple(sub.choices) == ENGINES
+
+
+def test_ctrl_c_during_a_render_says_so_in_one_line_exits_130_and_writes_nothing(
+    tmp_path, monkeypatch, capsys
+):
+    import raykit.render
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(raykit.render, "render", interrupted)
+    out = tmp_path / "o.png"
+    assert main(["render", str(SCENES / "classic.json"), "-o", str(out)]) == 130
+    assert capsys.readouterr().err == "raykit: interrupted\n"
+    assert list(tmp_path.iterdir()) == []

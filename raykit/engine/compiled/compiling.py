@@ -58,6 +58,7 @@ ONE_RAY = KERNEL
 INLINED = dict(KERNEL, inline="always")
 SECONDS_TABLE = Path(__file__).with_name("compile_seconds.json")
 MESSAGE = "compiling raykit's fast kernels, once"
+PRIOR_SECONDS = 5.0  # how long the table's own pace counts in the time left (seconds_left)
 
 
 def measured_seconds() -> dict[str, dict[str, float]]:
@@ -75,9 +76,8 @@ class CompileClock(event.Listener):
     name), and a progress line on standard error from the first compile on (``bar``), moved
     on by each kernel's measured seconds (:func:`measured_seconds`): all of them as it
     finishes, and while it compiles, the seconds it has taken so far, up to them
-    (:meth:`progress`). The time left is the table's seconds not yet done at the pace so far
-    (tqdm's average rate, unsmoothed): a kernel credited only as it ended made the line jump
-    from a few seconds left to many minutes and back."""
+    (:meth:`progress`), and the time left (:meth:`seconds_left`). A kernel credited only as
+    it ended made the line jump from a few seconds left to many minutes and back."""
 
     def __init__(self, entry: str, show: bool):
         self.expected = measured_seconds().get(entry, {})
@@ -85,16 +85,23 @@ class CompileClock(event.Listener):
         self.own: dict[str, float] = {}
         self.open: list[list] = []  # [name, started, seconds of its callees' compiles]
         self.bar = None
+        self.started = None  # when the first kernel's compile started
         self.done = 0.0
+        self.interrupted = False  # a Ctrl-C swallowed on its way (see compile_clock)
 
     def on_start(self, ev) -> None:
         name = _kernel_name(ev)
+        if self.started is None:
+            self.started = time.perf_counter()
         if self.show and self.bar is None:
             self.bar = _progress_line(sum(self.expected.values()))
         self.open.append([name, time.perf_counter(), 0.0])
         self._show()
+        self._stop_if_interrupted()
 
     def on_end(self, ev) -> None:
+        if not self.open:  # a Ctrl-C came in its start event before it was counted
+            return
         name, started, inner = self.open.pop()
         took = time.perf_counter() - started
         if name is None:  # a helper of numba's: its time is its caller's own
@@ -106,6 +113,13 @@ class CompileClock(event.Listener):
         if name is not None:
             self.done += self.expected.get(name, 0.0)
         self._show()
+        self._stop_if_interrupted()
+
+    def _stop_if_interrupted(self) -> None:
+        """Raise the Ctrl-C that was swallowed, now that numba is in Python, between kernels."""
+        if self.interrupted:
+            self.interrupted = False
+            raise KeyboardInterrupt
 
     def progress(self, now: float) -> float:
         """Seconds of the table done at time ``now`` (:func:`time.perf_counter`): the
@@ -118,13 +132,27 @@ class CompileClock(event.Listener):
                 until = started
         return done
 
+    def seconds_left(self, now: float) -> float:
+        """The table's seconds not yet done at time ``now``, at this machine's pace: the
+        seconds the compile has taken per second of the table done. That pace starts as the
+        table's own (1) and becomes this machine's as the compile goes on, PRIOR_SECONDS
+        standing for the table's: (elapsed + PRIOR_SECONDS) / (done + PRIOR_SECONDS). (The
+        pace alone, elapsed / done, was wild in the first seconds, with little done.)"""
+        done = self.progress(now)
+        elapsed = now - self.started if self.started is not None else 0.0
+        pace = (elapsed + PRIOR_SECONDS) / (done + PRIOR_SECONDS)
+        return max(0.0, sum(self.expected.values()) - done) * pace
+
     def _show(self) -> None:
         """The innermost of the package's kernels being compiled, and the progress, on the
         progress line."""
         if self.bar is None:
             return
         if self.bar.total:
-            self.bar.n = min(self.bar.total, round(self.progress(time.perf_counter()), 1))
+            now = time.perf_counter()
+            self.bar.n = min(self.bar.total, round(self.progress(now), 1))
+            left = self.bar.format_interval(round(self.seconds_left(now)))
+            self.bar.set_postfix_str(f"~{left} left", refresh=False)
         names = [name for name, _, _ in self.open if name is not None]
         if names:
             self.bar.set_description_str(f"{MESSAGE}: {names[-1]}", refresh=False)
@@ -141,14 +169,13 @@ def _kernel_name(ev) -> str | None:
 def _progress_line(total: float):
     from tqdm import tqdm
 
-    known = "{desc} {percentage:3.0f}%|{bar:20}| [{elapsed}, ~{remaining} left]"
+    known = "{desc} {percentage:3.0f}%|{bar:20}| [{elapsed}{postfix}]"  # postfix: ", ~0:42 left"
     return tqdm(  # with no table of seconds: what it compiles, and how long so far
         total=round(total, 1) if total > 0 else None,
         desc=MESSAGE,
         unit="s",
         file=sys.stderr,
         bar_format=known if total > 0 else "{desc} [{elapsed}]",
-        smoothing=0,  # the pace over the whole compile, not the last few kernels
         leave=True,
     )
 
@@ -157,9 +184,22 @@ def _progress_line(total: float):
 def compile_clock(entry: str, show: bool = True):
     """Around a call that may compile: the :class:`CompileClock` of ``entry`` listening to
     numba, with a thread that redraws the progress line each second (numba's compiles leave
-    Python for long stretches of LLVM, where no event comes)."""
+    Python for long stretches of LLVM, where no event comes).
+
+    LLVM calls back into Python as it finishes each kernel (llvmlite's object cache, through
+    ctypes), and a Ctrl-C that lands in such a callback is not raised: ctypes reports it to
+    :func:`sys.unraisablehook` and carries on, and the compile would run to its end. So while
+    the clock runs, that hook notes a swallowed Ctrl-C, and the clock raises it at the next
+    kernel's start or end, or as the call returns."""
     clock = CompileClock(entry, show)
     stop = threading.Event()
+    unraisable = sys.unraisablehook
+
+    def note_ctrl_c(report) -> None:
+        if isinstance(report.exc_value, KeyboardInterrupt):
+            clock.interrupted = True
+        else:
+            unraisable(report)
 
     def redraw():
         while not stop.wait(1.0):
@@ -167,10 +207,13 @@ def compile_clock(entry: str, show: bool = True):
 
     ticker = threading.Thread(target=redraw, daemon=True)
     ticker.start()
+    sys.unraisablehook = note_ctrl_c
     try:
         with event.install_listener("numba:compile", clock):
             yield clock
+        clock._stop_if_interrupted()
     finally:
+        sys.unraisablehook = unraisable
         stop.set()
         ticker.join()
         if clock.bar is not None:
