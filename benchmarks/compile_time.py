@@ -4,8 +4,9 @@
         [--before-compile] [--cpus NAME,NAME]
 
 1. The first use from an empty cache: whole processes of `raykit render SCENE -o OUT.png
-   --engine compiled` on scenes/classic.json (flat) and scenes/classic_lit.json (lit), each
-   with a new empty cache folder (RAYKIT_CACHE_DIR), taken in turns: wall time, CPU time (the
+   --engine compiled` on scenes/classic.json (flat), scenes/classic_lit.json (lit) and
+   scenes/mirror_balls.json (lit, with mirrors), each with a new empty cache folder
+   (RAYKIT_CACHE_DIR), taken in turns: wall time, CPU time (the
    process's user + system seconds: what the compile costs where no neighbour takes a core)
    and peak memory (its largest resident set, from os.wait4). Then the same render again from
    the cache it left; --compiles rounds of each (median). Each kernel's own compile seconds in
@@ -47,6 +48,7 @@ import hashlib
 import importlib.util
 import json
 import os
+import re
 import statistics
 import subprocess
 import sys
@@ -68,18 +70,69 @@ from raykit.engine import choice  # noqa: E402
 
 REPO = HERE.parent
 SCENES = REPO / "scenes"
-FIRST_USE = {"classic": "trace_flat", "classic_lit": "trace_lit"}  # scene: its entry point
+# scene: its entry point (raykit.engine.choice.entry_point)
+FIRST_USE = {"classic": "trace_flat", "classic_lit": "trace_lit", "mirror_balls": "trace_mirrors"}
 
-# a child's render, with each kernel's own compile seconds written to the file given
+# a child's render, with each kernel's own compile seconds and the calls of per-ray kernels
+# left in the code it compiled (calls_left) written to the file given
 _FIRST_USE_CHILD = """
 import json, sys
+sys.path.insert(0, {here!r})
 from raykit.cli import main
 from raykit.engine.compiled.compiling import compile_clock
+from compile_time import calls_left
 with compile_clock({entry!r}, show=False) as clock:
     status = main(["render", {scene!r}, "-o", {out!r}, "--engine", "compiled"])
-open({seconds!r}, "w").write(json.dumps(clock.own))
+open({seconds!r}, "w").write(json.dumps([clock.own, calls_left()]))
 sys.exit(status)
 """
+
+
+def calls_left() -> list[str]:
+    """The calls of per-ray kernels (``@njit(**ONE_RAY)``, which LLVM is to inline where they
+    are called) left in the machine code of the kernels this process compiled, as ``caller ->
+    kernel``: none if LLVM inlined every one (a kernel loaded from the cache shows no code)."""
+    import inspect
+    import pkgutil
+
+    from numba.core.registry import CPUDispatcher
+
+    import raykit.engine.compiled as package
+
+    kernels = {}
+    for module in pkgutil.iter_modules(package.__path__):
+        for name, value in vars(
+            importlib.import_module(f"{package.__name__}.{module.name}")
+        ).items():
+            if isinstance(value, CPUDispatcher) and value.py_func.__module__.startswith(
+                package.__name__
+            ):
+                kernels[name] = value
+    one_ray = {name for name, kernel in kernels.items()
+               if inspect.getsource(kernel.py_func).startswith("@njit(**ONE_RAY)")}  # fmt: skip
+    left = set()
+    for caller, kernel in kernels.items():
+        for signature in kernel.signatures:
+            try:
+                code = kernel.inspect_llvm(signature)
+            except Exception:  # loaded from the cache: no code to read
+                continue
+            for symbol in re.findall(r'call [^@\n]*@"?(_ZN[^"(\s]+)', code):
+                callee = _mangled_name(symbol)
+                if callee in one_ray and callee != caller:
+                    left.add(f"{caller} -> {callee}")
+    return sorted(left)
+
+
+def _mangled_name(symbol: str) -> str:
+    """The function's own name in numba's mangled symbol (``_ZN`` then each part of its
+    qualified name, its length first)."""
+    rest, parts = symbol[3:], []
+    while (digits := re.match(r"\d+", rest)) is not None:
+        end = len(digits.group()) + int(digits.group())
+        parts.append(rest[len(digits.group()) : end])
+        rest = rest[end:]
+    return parts[-1] if parts else ""
 
 
 def run_child(code: str, **env) -> dict:
@@ -106,10 +159,12 @@ def run_child(code: str, **env) -> dict:
     }
 
 
-def first_use(repeats: int, folder: Path) -> tuple[dict, dict]:
+def first_use(repeats: int, folder: Path) -> tuple[dict, dict, list]:
     """Part 1: per scene, the medians of its first use and of a run from the cache it left;
-    and each entry point's kernels' own compile seconds (median per kernel)."""
+    each entry point's kernels' own compile seconds (median per kernel); and the calls of
+    per-ray kernels left in the code compiled (:func:`calls_left`)."""
     runs: dict = {(name, when): [] for name in FIRST_USE for when in ("empty", "cached")}
+    left: set = set()
     own: dict = {entry: {} for entry in FIRST_USE.values()}
     for round_ in range(repeats):
         names = list(FIRST_USE) if round_ % 2 == 0 else list(FIRST_USE)[::-1]
@@ -117,14 +172,17 @@ def first_use(repeats: int, folder: Path) -> tuple[dict, dict]:
             cache = folder / f"cache-{name}-{round_}"
             spent = folder / f"seconds-{name}-{round_}.json"
             code = _FIRST_USE_CHILD.format(
+                here=str(HERE),
                 entry=FIRST_USE[name],
                 scene=str(SCENES / f"{name}.json"),
                 out=str(folder / f"{name}.png"),
                 seconds=str(spent),
             )
             runs[(name, "empty")].append(run_child(code, RAYKIT_CACHE_DIR=str(cache)))
-            for kernel, took in json.loads(spent.read_text()).items():
+            seconds_of, calls = json.loads(spent.read_text())
+            for kernel, took in seconds_of.items():
                 own[FIRST_USE[name]].setdefault(kernel, []).append(took)
+            left.update(calls)
             runs[(name, "cached")].append(run_child(code, RAYKIT_CACHE_DIR=str(cache)))
     medians = {
         key: {figure: statistics.median(run[figure] for run in values) for figure in values[0]}
@@ -134,7 +192,7 @@ def first_use(repeats: int, folder: Path) -> tuple[dict, dict]:
         entry: {kernel: round(statistics.median(spent), 2) for kernel, spent in kernels.items()}
         for entry, kernels in own.items()
     }
-    return medians, table
+    return medians, table, sorted(left)
 
 
 def before_engine(revision: str):
@@ -379,7 +437,7 @@ def main() -> None:
         return cpus(args.cpus.split(","), args.repeats)
     with tempfile.TemporaryDirectory() as folder:
         rounds = 1 if args.quick else args.compiles
-        medians, table = first_use(rounds, Path(folder))
+        medians, table, left = first_use(rounds, Path(folder))
         if args.before and args.before_compile:
             code = (
                 f"import sys; sys.path.insert(0, {str(HERE)!r})\n"
@@ -407,6 +465,11 @@ def main() -> None:
             f"\n{entry}: {len(kernels)} kernels, {sum(kernels.values()):.1f} s of compile; "
             f"the slowest: {listed}."
         )
+    print(
+        "\nCalls of per-ray kernels (ONE_RAY, which LLVM is to inline) left in the code compiled: "
+        + (", ".join(left) if left else "none")
+        + "."
+    )
     if not args.quick:
         from raykit.engine.compiled.compiling import SECONDS_TABLE
 

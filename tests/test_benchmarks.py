@@ -357,12 +357,13 @@ def test_tile_sides_benchmark_marks_the_side_the_compiled_engine_chooses():
         assert sum(cell.endswith("*") for cell in cells) == 1  # tile_side's choice, once
 
 
-def test_compile_time_times_a_flat_and_a_lit_first_use_from_an_empty_cache():
+def test_compile_time_times_a_flat_a_lit_and_a_mirror_first_use_from_an_empty_cache():
     pytest.importorskip("numba")
     rows = _table_rows("compile_time.py")
     assert [row.split(" | ")[:2] for row in rows] == [
         ["| classic", "empty"], ["| classic", "cached"],
         ["| classic_lit", "empty"], ["| classic_lit", "cached"],
+        ["| mirror_balls", "empty"], ["| mirror_balls", "cached"],
     ]  # fmt: skip
     assert all(row.endswith(" MB |") for row in rows)  # each with its peak memory
 

@@ -1048,6 +1048,43 @@ def test_an_edited_kernel_is_compiled_again_not_served_from_the_cache(tmp_path):
     assert int(third.stdout) < int(first.stdout)  # the edit shows: fewer spheres are hit
 
 
+def test_a_lit_scene_without_mirrors_never_types_the_mirror_rays():
+    """A scene compiles only what it uses: a lit scene with no mirror passes lit_job ``bounces``
+    None, and numba's pruning of branches on argument types, run before typing, drops the call
+    of mirror_rays (so it is never typed, compiled or linked); a scene with mirrors keeps it, and
+    its entry point is named apart (its own marker and progress line), as
+    :func:`raykit.engine.choice.entry_point` names it. (Checked on the IR: which kernels a
+    process compiles depends on what its cache already holds.)"""
+    import inspect
+
+    from numba.core import ir, types
+    from numba.core.analysis import dead_branch_prune
+    from numba.core.compiler import run_frontend
+
+    from raykit.engine.compiled import driver, mirrors
+
+    parameters = list(inspect.signature(driver.lit_job.py_func).parameters)
+
+    def calls_mirror_rays(bounces) -> bool:
+        kind = types.none if bounces is None else types.boolean
+        lit_job = run_frontend(driver.lit_job.py_func)
+        dead_branch_prune(lit_job, tuple(kind if p == "bounces" else types.pyobject
+                                         for p in parameters))  # fmt: skip
+        return any(
+            isinstance(statement.value, ir.Global) and statement.value.value is mirrors.mirror_rays
+            for block in lit_job.blocks.values()
+            for statement in block.find_insts(ir.Assign)
+        )
+
+    seen = []
+    for name in ("classic", "classic_lit", "mirror_balls"):
+        scene = load_scene(SCENES / f"{name}.json")
+        entry, _, leading = driver._entry(compiled.prepare(scene))
+        assert entry == choice.entry_point(scene)
+        seen.append((entry, calls_mirror_rays(leading[-1]) if entry != "trace_flat" else None))
+    assert seen == [("trace_flat", None), ("trace_lit", False), ("trace_mirrors", True)]
+
+
 def test_ctrl_c_during_the_first_compile_leaves_a_cache_the_next_run_renders_right_from(tmp_path):
     """numba writes each kernel's cache files whole; the marker comes only after a render."""
     import signal

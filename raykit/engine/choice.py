@@ -88,18 +88,19 @@ def cache_folder() -> Path | None:
 
 
 def marker(entry: str, folder: Path | None = None) -> Path | None:
-    """The file that says ``entry``'s kernels (``trace_flat``: a flat scene's, ``trace_lit``: a
-    lit one's) are compiled and cached in ``folder`` (by default :func:`cache_folder`), which
-    the compiled engine writes after the first render that needed them; None without a cache
-    folder."""
+    """The file that says ``entry``'s kernels (:func:`entry_point`) are compiled and cached in
+    ``folder`` (by default :func:`cache_folder`), which the compiled engine writes after the
+    first render that needed them; None without a cache folder."""
     folder = cache_folder() if folder is None else folder
     return None if folder is None else folder / f"{entry}.ok"
 
 
 def entry_point(scene: Scene) -> str:
-    """The compiled engine's entry point that renders ``scene``: a lit scene's kernels, or a
-    flat one's only."""
-    return "trace_lit" if needs_shading(scene) else "trace_flat"
+    """The compiled engine's entry point that renders ``scene``: a scene with mirror rays'
+    kernels, a lit scene's, or a flat one's only."""
+    if not needs_shading(scene):
+        return "trace_flat"
+    return "trace_mirrors" if scene.max_depth > 0 and scene.materials.any_mirror else "trace_lit"
 
 
 def compiled_once(entry: str) -> bool:

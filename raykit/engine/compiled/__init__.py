@@ -44,9 +44,10 @@ surface points and offsets of :mod:`raykit.surfaces`. A job's viewing rays are s
 light by light, in lanes (:func:`.shading.surface_lanes`, :func:`.shading.light_lanes`): each
 ray's operations in the same order, the steps that every ray takes in vector instructions, and
 the shadow rays against the tile's lists; a mirror's rays then go on one at a time
-(:func:`.mirrors.bounce_on`). One operation differs: the highlight's power is the C library's
-pow here and numpy's vectorised power in the reference, which disagree by one unit in the last
-place on a few per cent of points; with the reference given the same pow, the two engines agree
+(:func:`.mirrors.mirror_rays`, :func:`.mirrors.bounce_on`), compiled only for a scene with
+mirrors. One operation differs: the highlight's power is the C library's pow here and numpy's
+vectorised power in the reference, which disagree by one unit in the last place on a few per
+cent of points; with the reference given the same pow, the two engines agree
 bit for bit, and as they stand, within 4 units in the last place and to the PNG byte (tests).
 
 Compiling. Each kernel is compiled on first use, with the kernels it calls, and cached on disk,
@@ -76,7 +77,7 @@ from raykit.engine.compiled.driver import (
     trace_lit,
 )
 from raykit.engine.compiled.hits import offer
-from raykit.engine.compiled.mirrors import bounce_on, shade_ray
+from raykit.engine.compiled.mirrors import bounce_on, mirror_rays, shade_ray
 from raykit.engine.compiled.scene import (
     Arrays,
     Shading,
@@ -113,8 +114,8 @@ __all__ = [
     "OFFSET_FACTOR", "PACKET_SIDE", "SHADOW_CANDIDATES", "WIDE_SIDE", "Arrays", "Lanes",
     "Prepared", "RayRoom", "Shading", "ShadingRoom", "Tiles", "Tree", "billboard_color",
     "bounce_on", "camera_tuple", "cast_rays", "caster", "hit_billboard", "hit_sphere",
-    "highlight", "light_lanes", "nearest_hit", "new_lanes", "new_stack", "offer", "prepare",
-    "primary_ray", "primary_rays", "render", "scene_arrays", "scene_shading", "scene_tree",
-    "screen_tiles", "shade_ray", "shadow_lists", "surface_color", "surface_lanes", "take",
-    "tile_side", "trace_flat", "trace_lit", "viewing_ray",
+    "highlight", "light_lanes", "mirror_rays", "nearest_hit", "new_lanes", "new_stack", "offer",
+    "prepare", "primary_ray", "primary_rays", "render", "scene_arrays", "scene_shading",
+    "scene_tree", "screen_tiles", "shade_ray", "shadow_lists", "surface_color", "surface_lanes",
+    "take", "tile_side", "trace_flat", "trace_lit", "viewing_ray",
 ]  # fmt: skip

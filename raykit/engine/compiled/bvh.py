@@ -8,7 +8,7 @@ import math
 import numpy as np
 from numba import njit
 
-from raykit.engine.compiled.compiling import MAKES_ARRAYS, ONE_RAY
+from raykit.engine.compiled.compiling import INLINED, MAKES_ARRAYS
 from raykit.engine.compiled.hits import offer
 
 STACK = 128  # nodes a ray may have still to visit: a median-split tree of 2^63 objects is 63 deep
@@ -19,7 +19,7 @@ STACK = 128  # nodes a ray may have still to visit: a median-split tree of 2^63 
 DIRECT_HITS = 8
 
 
-@njit(**ONE_RAY)
+@njit(**INLINED)
 def enters(o0, o1, o2, i0, i1, i2, lower, upper, node, t_max):
     """Repeats the slab test of :mod:`raykit.engine.bvh` (``_enters``) for one ray with inverse
     direction (i0, i1, i2): ``(entered, near)``, whether it enters the box by t_max, and where."""
@@ -35,7 +35,7 @@ def enters(o0, o1, o2, i0, i1, i2, lower, upper, node, t_max):
     return far >= near and far >= 0 and near <= t_max, near
 
 
-@njit(**ONE_RAY)
+@njit(**INLINED)
 def nearest_hit(arrays, tree, stack, o0, o1, o2, d0, d1, d2, t_max, any_blocker=False):
     """Repeats :func:`raykit.render.cast` for one ray, through the BVH: ``(index, t, r, g, b)``,
     the nearest opaque hit with t > 0 (the lower index on a tie), or (-1, inf, background).
@@ -50,7 +50,8 @@ def nearest_hit(arrays, tree, stack, o0, o1, o2, d0, d1, d2, t_max, any_blocker=
     lies before it: the nodes visited are those a test at each visit would visit, with one slab
     test fewer per node."""
     background = arrays.background
-    best, best_t = -1, np.inf
+    # int64, not the literal -1: a kernel given the hit (surface_point) is typed for it once
+    best, best_t = np.int64(-1), np.inf
     r, g, b = background[0], background[1], background[2]
     objects = len(tree.order)  # the tree holds each of the scene's objects once
     if objects == 0:

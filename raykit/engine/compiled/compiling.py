@@ -3,9 +3,10 @@
 Repeats no reference module: this is the machinery the others share. A kernel run once per job
 or per tile is its own numba function (``@njit(**KERNEL)``), compiled the first time a render
 needs it, with the kernels it calls, each once, and cached on disk by itself; a kernel run once
-per ray (``ONE_RAY``) is inlined into those. So a flat scene compiles only the flat scene's
-kernels (:func:`raykit.engine.compiled.driver.trace_flat` names no shading kernel), and a lit
-scene adds its own.
+per ray is inlined into those, by LLVM (``ONE_RAY``) or by numba (``INLINED``). So a flat
+scene compiles only the flat scene's kernels (:func:`raykit.engine.compiled.driver.trace_flat`
+names no shading kernel), a lit scene adds its own, and a scene with mirrors its mirror rays
+(:func:`raykit.engine.compiled.mirrors.mirror_rays`).
 
 The cache lives in a folder named after a hash of the package's sources and its folder
 (:func:`raykit.engine.choice.cache_folder`): editing a kernel makes a new folder, so no kernel
@@ -44,20 +45,26 @@ MAKES_ARRAYS = dict(cache=CACHE is not None, error_model="numpy", nogil=True)
 # counters that both cores share, cost more than most kernels' arithmetic (measured, with
 # benchmarks/compile_time.py's renders against the engine of one inlined loop)
 KERNEL = dict(MAKES_ARRAYS, _nrt=False)
-# a kernel run once per ray, or per object a ray meets, is inlined where it is called: a call
-# passes the scene's arrays as a hundred numbers or more, more work than such a kernel does,
-# and inlined, a loop of it becomes vector instructions; the kernels run once per job stay
-# apart, so that each compiles once
-ONE_RAY = dict(KERNEL, inline="always")
+# a kernel run once per ray, or per object a ray meets, must not stay a call in the loops: a
+# call passes the scene's arrays as a hundred numbers or more, more work than such a kernel
+# does, and inlined, a loop of it becomes vector instructions. Most are compiled once, as
+# kernels of their own, and LLVM inlines them where they are called (ONE_RAY; no call of one
+# is left in the kernels a render runs: benchmarks/compile_time.py checks). numba's own
+# inlining (INLINED) copies the kernel and types it anew at each place it is called, which was
+# most of the compile: it is kept for those LLVM leaves as calls, the large ones (nearest_hit,
+# offer, primary_ray, surface_color, bounce_on) and the box tests (enters, box_apart,
+# sphere_apart)
+ONE_RAY = KERNEL
+INLINED = dict(KERNEL, inline="always")
 SECONDS_TABLE = Path(__file__).with_name("compile_seconds.json")
 MESSAGE = "compiling raykit's fast kernels, once"
 PRIOR_SECONDS = 5.0  # how long the table's own pace counts in the time left (seconds_left)
 
 
 def measured_seconds() -> dict[str, dict[str, float]]:
-    """Per entry point (``trace_flat``, ``trace_lit``), the seconds each kernel's own compile
-    took (its callees' not counted) when benchmarks/compile_time.py last ran; empty if no
-    table."""
+    """Per entry point (``trace_flat``, ``trace_lit``, ``trace_mirrors``), the seconds each
+    kernel's own compile took (its callees' not counted) when benchmarks/compile_time.py last
+    ran; empty if no table."""
     try:
         return json.loads(SECONDS_TABLE.read_text())
     except (OSError, ValueError):

@@ -1,7 +1,8 @@
 """Repeats :func:`raykit.render.render` and :mod:`raykit.engine.regions`: the lecture's loop
 over pixels, as jobs (a screen tile's pixels, or a row of points) that both cores take in turn,
 with :func:`trace_flat` for a flat scene and :func:`trace_lit` for a shaded one (two entry
-points, so that a flat scene never compiles shading); and :func:`raykit.render.cast` for any
+points, so that a flat scene never compiles shading; and a shaded scene compiles mirror rays
+only if it has mirrors, :func:`_entry`); and :func:`raykit.render.cast` for any
 rays (:func:`cast_rays`, :func:`caster`). :func:`prepare` makes a scene ready once, and
 :func:`render` renders it."""
 
@@ -29,7 +30,7 @@ from raykit.engine.compiled.compiling import (
     finished,
     marked,
 )
-from raykit.engine.compiled.mirrors import bounce_on
+from raykit.engine.compiled.mirrors import mirror_rays
 from raykit.engine.compiled.scene import (
     _NO_TREE,
     Arrays,
@@ -305,8 +306,8 @@ def flat_job(arrays, tiles, camera, width, xs, ys, offsets, centre, rgb, index, 
 
 
 @njit(parallel=True, **MAKES_ARRAYS)
-def trace_lit(arrays, tiles, tree, shading, camera, width, height, jobs, workers, xs, ys, offsets,
-              centre, empty, rgb, index, t):  # fmt: skip
+def trace_lit(arrays, tiles, tree, shading, camera, bounces, width, height, jobs, workers, xs, ys,
+              offsets, centre, empty, rgb, index, t):  # fmt: skip
     """:func:`trace_flat` for a shaded scene (:func:`raykit.shading.needs_shading`), with its
     BVH ``tree`` and its :class:`Shading`: each job's pixels (:func:`lit_job`) take the
     colour :func:`raykit.shading.shade` gives them."""
@@ -324,21 +325,22 @@ def trace_lit(arrays, tiles, tree, shading, camera, width, height, jobs, workers
                 first, rows, top, left, across, tile = job_of(jobs, j, points, tiles, width,
                                                               height)  # fmt: skip
                 if points or tiles.start[tile] < tiles.start[tile + 1]:
-                    lit_job(arrays, tiles, tree, shading, camera, width, xs, ys, offsets, centre,
-                            rgb, index, t, first, rows, top, left, across, tile,
+                    lit_job(arrays, tiles, tree, shading, camera, bounces, width, xs, ys, offsets,
+                            centre, rgb, index, t, first, rows, top, left, across, tile,
                             room, shading_room)  # fmt: skip
                 else:
                     background_job(empty, width, top, left, rows, across, rgb, index, t)
 
 
 @njit(**KERNEL)
-def lit_job(arrays, tiles, tree, shading, camera, width, xs, ys, offsets, centre, rgb, index, t,
-            first, rows, top, left, across, tile, room, shading_room):  # fmt: skip
+def lit_job(arrays, tiles, tree, shading, camera, bounces, width, xs, ys, offsets, centre, rgb,
+            index, t, first, rows, top, left, across, tile, room, shading_room):  # fmt: skip
     """One job of :func:`trace_lit`, with the worker's ``room`` (:class:`RayRoom`) and
     ``shading_room`` (:class:`ShadingRoom`): all its viewing rays' hits first, then each light's
     :func:`shadow_lists` for the box their surface points lie in, each light for all the
-    points at once (:func:`surface_lanes`, :func:`light_lanes`), then mirrors ray by ray
-    (:func:`bounce_on`), and the pixels' means (:func:`pixel_means`)."""
+    points at once (:func:`surface_lanes`, :func:`light_lanes`), then, in a scene with mirrors
+    (``bounces`` True, not None: see :func:`_entry`), their rays (:func:`mirror_rays`), and the
+    pixels' means (:func:`pixel_means`)."""
     xy, rays, best, best_t, colors = room.xy, room.rays, room.best, room.best_t, room.colors
     made, alive, ts, holding = room.made, room.alive, room.ts, room.holding
     stack, box, volume, lanes = (
@@ -367,25 +369,17 @@ def lit_job(arrays, tiles, tree, shading, camera, width, xs, ys, offsets, centre
         shadow_lists(arrays, tree, shading, stack, box, pad, volume, candidates, counts)
     if shading.lit:
         light_lanes(arrays, tree, shading, stack, rays, best, shaded, lanes, candidates, counts)
-    point, normal, error, total = lanes.p, lanes.n, lanes.error, lanes.total
-    for i in range(shaded):
+    total = lanes.total
+    for i in range(shaded):  # as shade_ray weighs them: 1 x the colour, added to nothing
         if not made[i]:
             continue
-        if best[i] < 0:  # as shade_ray gives the background
-            colors[0, i], colors[1, i], colors[2, i] = (
-                0.0 + 1.0 * colors[0, i],
-                0.0 + 1.0 * colors[1, i],
-                0.0 + 1.0 * colors[2, i],
-            )
-            continue
-        c0, c1, c2 = 0.0 + 1.0 * total[0, i], 0.0 + 1.0 * total[1, i], 0.0 + 1.0 * total[2, i]
-        if shading.max_depth > 0 and shading.is_mirror[best[i]]:  # else bounce_on adds nothing
-            c0, c1, c2 = bounce_on(
-                arrays, tree, shading, stack, 0, best[i], point[0, i], point[1, i], point[2, i],
-                normal[0, i], normal[1, i], normal[2, i], rays[3, i], rays[4, i], rays[5, i],
-                error[i], c0, c1, c2, 1.0, 1.0, 1.0,
-            )  # fmt: skip
-        colors[0, i], colors[1, i], colors[2, i] = c0, c1, c2
+        if best[i] < 0:  # the background
+            c0, c1, c2 = colors[0, i], colors[1, i], colors[2, i]
+        else:
+            c0, c1, c2 = total[0, i], total[1, i], total[2, i]
+        colors[0, i], colors[1, i], colors[2, i] = 0.0 + 1.0 * c0, 0.0 + 1.0 * c1, 0.0 + 1.0 * c2
+    if bounces is not None:  # None in a scene with no mirror: this branch is not compiled
+        mirror_rays(arrays, tree, shading, stack, lanes, rays, best, made, shaded, colors)
     pixel_means(points, first, rows, top, left, across, width, xs, ys, samples, centre, colors,
                 best, best_t, rgb, index, t)  # fmt: skip
 
@@ -441,7 +435,7 @@ def render(scene: Scene | Prepared, samples: int = 1, *, adaptive: bool = False,
         offsets = sample_offsets(n)
     prepared = scene if isinstance(scene, Prepared) else prepare(scene)
     scene, arrays, tiles = prepared.scene, prepared.arrays, prepared.tiles
-    trace, kernels = _entry(prepared)
+    name, trace, kernels = _entry(prepared)
     width, height = scene.camera.width, scene.camera.height
     centre = centre_sample(n)
     empty = _mean_of_samples(arrays.background, len(offsets))
@@ -456,8 +450,8 @@ def render(scene: Scene | Prepared, samples: int = 1, *, adaptive: bool = False,
     nothing = np.zeros(0)
     for first in range(0, tile_count, band):
         jobs = np.arange(first, min(first + band, tile_count))
-        _call(trace, *kernels, width, height, jobs, _workers(jobs), nothing, nothing, offsets,
-              -1 if centre is None else centre, empty, rgb, index, t)  # fmt: skip
+        _call(name, trace, *kernels, width, height, jobs, _workers(jobs), nothing, nothing,
+              offsets, -1 if centre is None else centre, empty, rgb, index, t)  # fmt: skip
         if progress is not None:
             rows = min(height, (first + band) // tiles_x * size) - first // tiles_x * size
             progress(rows * width)
@@ -474,8 +468,8 @@ def render(scene: Scene | Prepared, samples: int = 1, *, adaptive: bool = False,
             x, y = np.asarray(x, float), np.asarray(y, float)
             out = np.empty((len(x), 3))
             jobs = np.arange(-(-len(x) // CHUNK))
-            _call(trace, *kernels, width, height, jobs, _workers(jobs), x, y, at_the_point, 0,
-                  empty, out, np.empty(len(x), np.int64), np.empty(len(x)))  # fmt: skip
+            _call(name, trace, *kernels, width, height, jobs, _workers(jobs), x, y, at_the_point,
+                  0, empty, out, np.empty(len(x), np.int64), np.empty(len(x)))  # fmt: skip
             return out
 
         refine(regions(scene, skip_hidden=False), colors, rgb, edge, samples)
@@ -498,23 +492,31 @@ def _workers(jobs: np.ndarray) -> int:
 
 
 def _entry(prepared: Prepared) -> tuple:
-    """``(entry point, its leading arguments)`` for a prepared scene: :func:`trace_lit` with
-    the tree and :class:`Shading` for a shaded scene, else :func:`trace_flat`, which compiles no
-    shading."""
-    if prepared.shading.shaded:
-        return trace_lit, (prepared.arrays, prepared.tiles, prepared.tree, prepared.shading,
-                           prepared.camera)  # fmt: skip
-    return trace_flat, (prepared.arrays, prepared.tiles, prepared.camera)
+    """``(name, entry point, its leading arguments)`` for a prepared scene: :func:`trace_lit`
+    with the tree and :class:`Shading` for a shaded scene, else :func:`trace_flat`, which
+    compiles no shading. A shaded scene's ``bounces`` is True if a ray may bounce off a mirror
+    (max_depth > 0 and a mirror in the scene), else None, a type of its own to numba, for which
+    :func:`lit_job` compiles no mirror code: the two are compiled apart, and named apart
+    (``trace_mirrors``, ``trace_lit``) for the cache's markers and the progress line
+    (:func:`raykit.engine.choice.entry_point` names them the same way)."""
+    shading = prepared.shading
+    if not shading.shaded:
+        return "trace_flat", trace_flat, (prepared.arrays, prepared.tiles, prepared.camera)
+    bounces = True if shading.max_depth > 0 and shading.is_mirror.any() else None
+    return (
+        "trace_lit" if bounces is None else "trace_mirrors",
+        trace_lit,
+        (prepared.arrays, prepared.tiles, prepared.tree, shading, prepared.camera, bounces),
+    )
 
 
 _READY: set[str] = set()  # entry points compiled or loaded from the cache in this process
 
 
-def _call(entry, *arguments) -> None:
-    """``entry(*arguments)``; the first time in a process whose cache has no marker for it
-    (:func:`~raykit.engine.compiled.compiling.marked`), with the progress line of its compile
-    (:func:`~raykit.engine.compiled.compiling.compile_clock`), and then the marker."""
-    name = entry.__name__
+def _call(name, entry, *arguments) -> None:
+    """``entry(*arguments)``; the first time in a process whose cache has no marker for
+    ``name`` (:func:`~raykit.engine.compiled.compiling.marked`), with the progress line of its
+    compile (:func:`~raykit.engine.compiled.compiling.compile_clock`), and then the marker."""
     if name in _READY or marked(name):
         entry(*arguments)
     else:

@@ -6,11 +6,11 @@ import numpy as np
 from numba import njit
 
 from raykit.engine.compiled.billboards import billboard_color, hit_billboard
-from raykit.engine.compiled.compiling import ONE_RAY
+from raykit.engine.compiled.compiling import INLINED
 from raykit.engine.compiled.spheres import hit_sphere
 
 
-@njit(**ONE_RAY)
+@njit(**INLINED)
 def offer(arrays, obj, o0, o1, o2, d0, d1, d2, best, best_t, r, g, b):
     """Repeats :meth:`raykit.hits.Hits.keep_nearer` for one ray and object ``obj``: the nearest
     hit so far ``(best, best_t, r, g, b)``, replaced by the object's where it is nearer and

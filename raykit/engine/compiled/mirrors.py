@@ -7,13 +7,13 @@ import numpy as np
 from numba import njit
 
 from raykit.engine.compiled.bvh import nearest_hit
-from raykit.engine.compiled.compiling import KERNEL, ONE_RAY
+from raykit.engine.compiled.compiling import INLINED, KERNEL
 from raykit.engine.compiled.shading import surface_color
 from raykit.engine.compiled.surfaces import surface_point
 from raykit.surfaces import OFFSET_FACTOR
 
 
-@njit(**ONE_RAY)
+@njit(**INLINED)
 def bounce_on(arrays, tree, shading, stack, depth, hit, p0, p1, p2, n0, n1, n2, d0, d1, d2, error,
               c0, c1, c2, w0, w1, w2):  # fmt: skip
     """The rest of :func:`shade_ray` after the surface at ``depth`` (object ``hit`` at p, normal
@@ -39,6 +39,25 @@ def bounce_on(arrays, tree, shading, stack, depth, hit, p0, p1, p2, n0, n1, n2, 
         )
         c0, c1, c2 = c0 + w0 * s0, c1 + w1 * s1, c2 + w2 * s2
     return c0, c1, c2
+
+
+@njit(**KERNEL)
+def mirror_rays(arrays, tree, shading, stack, lanes, rays, best, made, count, colors):
+    """The mirror rays of a job's ``count`` viewing rays ``rays (6, N)`` (origins, then
+    directions), each ray that ``made`` a hit on a mirror (object ``best``, at the surface
+    point of ``lanes``, :func:`surface_lanes`): :func:`bounce_on` from its colour so far,
+    ``colors (3, N)``, weighted 1, into which the result goes. Called once a job, and only for
+    a scene with mirrors: the rest of the engine compiles without it."""
+    point, normal, error = lanes.p, lanes.n, lanes.error
+    for i in range(count):
+        hit = best[i]
+        if not made[i] or hit < 0 or not shading.is_mirror[hit]:
+            continue
+        colors[0, i], colors[1, i], colors[2, i] = bounce_on(
+            arrays, tree, shading, stack, 0, hit, point[0, i], point[1, i], point[2, i],
+            normal[0, i], normal[1, i], normal[2, i], rays[3, i], rays[4, i], rays[5, i],
+            error[i], colors[0, i], colors[1, i], colors[2, i], 1.0, 1.0, 1.0,
+        )  # fmt: skip
 
 
 @njit(**KERNEL)

@@ -12,7 +12,7 @@ from numba import njit
 
 from raykit.engine.compiled.billboards import billboard_color, hit_billboard
 from raykit.engine.compiled.bvh import nearest_hit
-from raykit.engine.compiled.compiling import KERNEL, MAKES_ARRAYS, ONE_RAY
+from raykit.engine.compiled.compiling import INLINED, KERNEL, MAKES_ARRAYS, ONE_RAY
 from raykit.engine.compiled.lights import toward_point_light
 from raykit.engine.compiled.shadows import point_light_reach
 from raykit.engine.compiled.spheres import hit_sphere
@@ -36,7 +36,7 @@ def highlight(n0, n1, n2, l0, l1, l2, d0, d1, d2, p):
     return (n_dot_h if n_dot_h > 0 else 0.0) ** p
 
 
-@njit(**ONE_RAY)
+@njit(**INLINED)
 def surface_color(
     arrays, tree, shading, stack, hit, p0, p1, p2, n0, n1, n2, d0, d1, d2, error, r, g, b
 ):

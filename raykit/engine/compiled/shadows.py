@@ -6,9 +6,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from numba import njit, types
 
-from raykit.engine.compiled.compiling import KERNEL, ONE_RAY
+from raykit.engine.compiled.compiling import INLINED, KERNEL, ONE_RAY
 from raykit.engine.compiled.surfaces import EPS
 from raykit.surfaces import OFFSET_FACTOR
 
@@ -48,7 +48,7 @@ def box_extent(lower, upper, i, e0, e1, e2):
 
 # box_apart, sphere_apart and candidate run once per object or node a light's list looks at,
 # in every job: inlined where they are called, as a test of one ray against an object is
-@njit(**ONE_RAY)
+@njit(**INLINED)
 def box_apart(volume, lower, upper, i) -> bool:
     """Whether box i (of ``lower``, ``upper (M, 3)``) lies wholly beyond the shadow volume
     along one of its axes (:func:`shadow_volume`): x, y and z first, where a box's extent is
@@ -63,7 +63,7 @@ def box_apart(volume, lower, upper, i) -> bool:
     return False
 
 
-@njit(**ONE_RAY)
+@njit(**INLINED)
 def sphere_apart(volume, centers, radii, i) -> bool:
     """Whether sphere i lies wholly beyond the shadow volume along one of its axes."""
     R = radii[i]
@@ -148,7 +148,7 @@ def candidate(arrays, tree, volume, obj, candidates, j, count) -> int:
     return count + 1
 
 
-@njit(**KERNEL)
+@njit(locals={"count": types.int64}, **KERNEL)  # not the literal 0: one signature of candidate
 def shadow_candidates(arrays, tree, volume, nodes, candidates, j) -> int:
     """Light j's candidates: the objects whose boxes (a sphere: itself) are not apart from the
     shadow volume (:func:`shadow_volume`), into ``candidates[j]``; returns how many, or -1 if

@@ -10,7 +10,7 @@ import numpy as np
 from numba import njit
 
 from raykit.engine.compiled.camera import viewing_ray
-from raykit.engine.compiled.compiling import KERNEL, MAKES_ARRAYS, ONE_RAY
+from raykit.engine.compiled.compiling import INLINED, KERNEL, MAKES_ARRAYS
 from raykit.engine.compiled.hits import offer
 from raykit.engine.compiled.scene import Arrays
 from raykit.engine.compiled.spheres import hit_sphere
@@ -77,7 +77,7 @@ class Tiles(NamedTuple):
 HOLDING_CHUNK = 8  # entries of a tile's list that primary_ray checks at a time
 
 
-@njit(**ONE_RAY)
+@njit(**INLINED)
 def primary_ray(arrays, tiles, camera, x, y, tile, holding):
     """:func:`nearest_hit` for the viewing ray through image point (x, y), from the list of its
     tile (:func:`screen_tiles`; -1: the tile is found from x and y): only the objects whose
