@@ -32,9 +32,7 @@ to stderr.
 
 from __future__ import annotations
 
-import contextlib
 import json
-import math
 import platform
 import shutil
 import sys
@@ -50,40 +48,17 @@ sys.path.insert(0, str(HERE))
 sys.path.insert(0, str(HERE.parent / "tests" / "support"))
 
 from common import arguments, parse  # noqa: E402
+from libm_power import libm_power  # noqa: E402
 from random_scenes import make_textures, random_scene  # noqa: E402
 
-from raykit import shading  # noqa: E402
 from raykit.io.images import quantize  # noqa: E402
 from raykit.io.scene_json import scene_from_dict  # noqa: E402
-from raykit.rays import dot, normalize  # noqa: E402
 from raykit.render import render  # noqa: E402
 
 SCENES, QUICK_SCENES = 2000, 200
 
 
 # -- comparing --------------------------------------------------------------------------------
-
-
-_libm_pow = np.frompyfunc(math.pow, 2, 1)
-
-
-def _blinn_phong_with_libm_pow(ks, intensity, n, l, v, p):  # noqa: E741  (the slide's l)
-    """raykit.shading.blinn_phong with the C library's pow (the compiled engine's) in place of
-    numpy's vectorised power."""
-    h = normalize(l + v)
-    power = _libm_pow(np.maximum(0.0, dot(n, h)), p).astype(float)
-    return ks * intensity * power[:, None]
-
-
-@contextlib.contextmanager
-def libm_power():
-    """The reference's highlight with the C library's pow, while inside."""
-    original = shading.blinn_phong
-    shading.blinn_phong = _blinn_phong_with_libm_pow
-    try:
-        yield
-    finally:
-        shading.blinn_phong = original
 
 
 def same_bits(a: np.ndarray, b: np.ndarray) -> np.ndarray:

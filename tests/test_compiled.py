@@ -8,7 +8,6 @@ from __future__ import annotations
 import contextlib
 import io
 import json
-import math
 import os
 import subprocess
 import sys
@@ -16,6 +15,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from libm_power import libm_power
 
 from conftest import REPO, SCENES, shifted_scene
 from raykit import shading
@@ -25,7 +25,7 @@ from raykit.engine import choice
 from raykit.io.scene_json import load_scene, scene_from_dict
 from raykit.lights import DirectionalLight, PointLight
 from raykit.materials import Material
-from raykit.rays import dot, normalize
+from raykit.rays import normalize
 from raykit.render import cast, render, secondary_caster
 from raykit.scene import Scene
 from raykit.spheres import Sphere, hit_sphere
@@ -301,7 +301,7 @@ def test_shading_kernel_repeats_shade_bit_for_bit_with_the_same_pow():
     toward = rng.normal(size=(RAYS, 3)) * 4 - origins
     directions = toward / np.linalg.norm(toward, axis=1, keepdims=True)
     hits = cast(scene, origins, directions)
-    with _libm_power():
+    with libm_power():
         expected = shading.shade(scene, secondary_caster(scene), origins, directions, hits)
     got = _shade(
         compiled.scene_arrays(scene), compiled.scene_tree(scene), compiled.scene_shading(scene),
@@ -446,32 +446,11 @@ def _png(rgb) -> bytes:
     return buffer.getvalue()
 
 
-_libm_pow = np.frompyfunc(math.pow, 2, 1)
-
-
-def _blinn_phong_with_libm_pow(ks, intensity, n, l, v, p):
-    """raykit.shading.blinn_phong with the C library's pow (the compiled engine's) in place of
-    numpy's vectorised power: the one operation the two engines do differently."""
-    h = normalize(l + v)
-    power = _libm_pow(np.maximum(0.0, dot(n, h)), p).astype(float)
-    return ks * intensity * power[:, None]
-
-
-@contextlib.contextmanager
-def _libm_power():
-    original = shading.blinn_phong
-    shading.blinn_phong = _blinn_phong_with_libm_pow
-    try:
-        yield
-    finally:
-        shading.blinn_phong = original
-
-
 def _same_render(scene, **options):
     """The compiled render is the numpy render bit for bit once both take the same pow, and
     within 4 units in the last place of it (the PNG bytes the same) as the reference stands."""
     fast = render(scene, engine="compiled", **options)
-    with _libm_power():
+    with libm_power():
         same_pow = render(scene, engine="numpy", **options)
     assert np.array_equal(fast.object_index, same_pow.object_index)
     _exactly(fast.t, same_pow.t)
@@ -541,7 +520,7 @@ def _packet_scenes():
 )
 def test_packets_and_rays_one_at_a_time_render_what_the_numpy_engine_renders(name, samples):
     scene = _packet_scenes()[name]
-    with _libm_power():
+    with libm_power():
         reference = render(scene, engine="numpy", samples=samples)
     prepared = compiled.prepare(scene)
     for side, packets in TILINGS:
