@@ -877,11 +877,10 @@ def test_a_second_copy_of_the_same_source_gets_its_own_cache_folder(tmp_path, mo
     assert not choice.compiled_once("trace_flat")
 
 
-def test_the_progress_line_counts_a_kernel_as_it_compiles_up_to_its_measured_seconds(
-    monkeypatch,
-):
-    """The line moves while a long kernel compiles, never past the kernel's measured seconds
-    before it ends, and the whole table once every kernel has ended."""
+@pytest.fixture
+def fake_compile(monkeypatch):
+    """The compile clock's module, with a clock that stands still (``now[0]``, seconds: move it
+    by hand), and ``event(name)``, a numba compile event of one of the package's kernels."""
     from types import SimpleNamespace
 
     from raykit.engine.compiled import compiling
@@ -893,6 +892,15 @@ def test_the_progress_line_counts_a_kernel_as_it_compiles_up_to_its_measured_sec
         kernel = SimpleNamespace(__name__=name, __module__="raykit.engine.compiled.driver")
         return SimpleNamespace(data={"dispatcher": SimpleNamespace(py_func=kernel)})
 
+    return compiling, now, event
+
+
+def test_the_progress_line_counts_a_kernel_as_it_compiles_up_to_its_measured_seconds(
+    fake_compile,
+):
+    """The line moves while a long kernel compiles, never past the kernel's measured seconds
+    before it ends, and the whole table once every kernel has ended."""
+    compiling, now, event = fake_compile
     clock = compiling.CompileClock("trace_lit", show=False)
     clock.expected = {"lit_job": 20.0, "light_lanes": 6.0}
     clock.on_start(event("lit_job"))
@@ -912,19 +920,11 @@ def test_the_progress_line_counts_a_kernel_as_it_compiles_up_to_its_measured_sec
     assert clock.own == {"light_lanes": 12.0, "lit_job": 33.0}
 
 
-def test_the_time_left_starts_at_the_tables_seconds_and_follows_this_machines_pace(monkeypatch):
-    from types import SimpleNamespace
-
-    from raykit.engine.compiled import compiling
-
-    now = [100.0]
-    monkeypatch.setattr(compiling.time, "perf_counter", lambda: now[0])
+def test_the_time_left_starts_at_the_tables_seconds_and_follows_this_machines_pace(
+    fake_compile, monkeypatch
+):
+    compiling, now, event = fake_compile
     monkeypatch.setattr(compiling, "PRIOR_SECONDS", 5.0)
-
-    def event(name):
-        kernel = SimpleNamespace(__name__=name, __module__="raykit.engine.compiled.driver")
-        return SimpleNamespace(data={"dispatcher": SimpleNamespace(py_func=kernel)})
-
     clock = compiling.CompileClock("trace_lit", show=False)
     clock.expected = {"bin_by_tile": 1.0, "lit_job": 29.0}
     clock.on_start(event("bin_by_tile"))
