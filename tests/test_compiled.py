@@ -1067,7 +1067,10 @@ def test_a_lit_scene_without_mirrors_never_types_the_mirror_rays():
 def test_ctrl_c_during_the_first_compile_leaves_a_cache_the_next_run_renders_right_from(tmp_path):
     """numba writes each kernel's cache files whole; the marker comes only after a render."""
     import signal
+    import threading
     import time
+
+    from raykit.engine.compiled.compiling import MESSAGE
 
     code = (
         "from raykit.io.scene_json import load_scene; from raykit.render import render\n"
@@ -1083,13 +1086,21 @@ def test_ctrl_c_during_the_first_compile_leaves_a_cache_the_next_run_renders_rig
         stderr=subprocess.PIPE, text=True,
         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )  # fmt: skip
+    said = []  # its standard error, read as it comes (the progress line)
+    reader = threading.Thread(target=lambda: said.extend(iter(child.stderr.readline, "")))
+    reader.start()
     deadline = time.monotonic() + 300
-    while not list(cache.rglob("*.nbi")) and time.monotonic() < deadline:  # a kernel cached
+    while time.monotonic() < deadline and not (
+        list(cache.rglob("*.nbi")) and MESSAGE in "".join(said)  # a kernel cached, and the
+    ):  # progress line up: the entry point's compile is under way
         time.sleep(0.05)
     child.send_signal(signal.SIGINT)
-    _, stderr = child.communicate(timeout=300)
-    assert child.returncode != 0, "the compile finished before it was interrupted"
-    assert "KeyboardInterrupt" in stderr
+    stdout = child.stdout.read()
+    child.wait(timeout=300)
+    reader.join()
+    stderr = "".join(said)
+    assert child.returncode != 0, f"the compile finished before it was interrupted: {stdout}"
+    assert "KeyboardInterrupt" in stderr, (child.returncode, stdout, stderr[-2000:])
     assert list(cache.rglob("*.nbi")) and not list(cache.rglob("*.ok"))
     again = _run(code, RAYKIT_CACHE_DIR=str(cache))
     assert again.returncode == 0, again.stderr
