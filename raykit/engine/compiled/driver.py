@@ -20,6 +20,7 @@ from numba.extending import intrinsic
 
 from raykit.camera import centre_sample, sample_offsets
 from raykit.engine.adaptive import edge_pixels, refine
+from raykit.engine.choice import entry_point
 from raykit.engine.compiled.bvh import nearest_hit, new_stack
 from raykit.engine.compiled.camera import camera_tuple
 from raykit.engine.compiled.compiling import (
@@ -91,9 +92,10 @@ def cast_rays(arrays, tree, origins, directions, t_max):
 
 @njit(**ONE_RAY)
 def job_pixel(down, along, points, first, top, left, across, width, xs, ys):
-    """The pixel ``down`` rows and ``along`` columns into a job of :func:`trace` (``across``
-    columns wide): ``(p, x, y)``, where its results go and its upper-left corner. (Rows and
-    columns, not a running count: an integer division per pixel cost more than its ray.)"""
+    """The pixel ``down`` rows and ``along`` columns into a job of :func:`trace_flat` or
+    :func:`trace_lit` (``across`` columns wide): ``(p, x, y)``, where its results go and its
+    upper-left corner. (Rows and columns, not a running count: an integer division per pixel
+    cost more than its ray.)"""
     if points:
         q = first + down * across + along
         return q, xs[q], ys[q]
@@ -492,22 +494,18 @@ def _workers(jobs: np.ndarray) -> int:
 
 
 def _entry(prepared: Prepared) -> tuple:
-    """``(name, entry point, its leading arguments)`` for a prepared scene: :func:`trace_lit`
-    with the tree and :class:`Shading` for a shaded scene, else :func:`trace_flat`, which
-    compiles no shading. A shaded scene's ``bounces`` is True if a ray may bounce off a mirror
-    (max_depth > 0 and a mirror in the scene), else None, a type of its own to numba, for which
-    :func:`lit_job` compiles no mirror code: the two are compiled apart, and named apart
-    (``trace_mirrors``, ``trace_lit``) for the cache's markers and the progress line
-    (:func:`raykit.engine.choice.entry_point` names them the same way)."""
-    shading = prepared.shading
-    if not shading.shaded:
-        return "trace_flat", trace_flat, (prepared.arrays, prepared.tiles, prepared.camera)
-    bounces = True if shading.max_depth > 0 and shading.is_mirror.any() else None
-    return (
-        "trace_lit" if bounces is None else "trace_mirrors",
-        trace_lit,
-        (prepared.arrays, prepared.tiles, prepared.tree, shading, prepared.camera, bounces),
-    )
+    """``(name, entry point, its leading arguments)`` for a prepared scene, the name
+    :func:`raykit.engine.choice.entry_point` gives it: :func:`trace_flat` for a flat scene,
+    which compiles no shading, else :func:`trace_lit` with the tree and :class:`Shading`, and
+    ``bounces``: True for ``trace_mirrors`` (a ray may bounce off a mirror), else None, a type
+    of its own to numba, for which :func:`lit_job` compiles no mirror code. The two are
+    compiled apart, and named apart for the cache's markers and the progress line."""
+    name = entry_point(prepared.scene)
+    if name == "trace_flat":
+        return name, trace_flat, (prepared.arrays, prepared.tiles, prepared.camera)
+    bounces = True if name == "trace_mirrors" else None
+    return name, trace_lit, (prepared.arrays, prepared.tiles, prepared.tree, prepared.shading,
+                             prepared.camera, bounces)  # fmt: skip
 
 
 _READY: set[str] = set()  # entry points compiled or loaded from the cache in this process

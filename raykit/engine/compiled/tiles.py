@@ -135,9 +135,9 @@ def primary_ray(arrays, tiles, camera, x, y, tile, holding):
 @njit(**KERNEL)
 def primary_rays(arrays, tiles, camera, tile, n, xy, rays, best, best_t, colors, made, alive, ts):
     """:func:`primary_ray` for the ``n`` image points of ``lanes`` at once, all in ``tile``: a
-    packet of rays, each a lane of arrays (as :func:`trace` makes them: points ``xy (2, L)`` in,
-    ``rays (6, L)``, ``best (L,)``, ``best_t``, ``colors (3, L)``, ``made`` out; ``alive``,
-    ``ts`` room). The tile's objects are taken in turn, and each is tested against
+    packet of rays, each a lane of arrays (a :class:`~raykit.engine.compiled.driver.RayRoom`'s:
+    points ``xy (2, L)`` in, ``rays (6, L)``, ``best (L,)``, ``best_t``, ``colors (3, L)``,
+    ``made`` out; ``alive``, ``ts`` room). The tile's objects are taken in turn, and each is tested against
     every lane with one loop of :func:`hit_sphere` that the compiler turns into vector
     instructions (4 lanes at a time, with AVX2 or AVX-512); masks then keep, for each lane,
     only what :func:`primary_ray` would: a lane whose rectangle does not hold its point, or that has
