@@ -137,14 +137,14 @@ def primary_rays(arrays, tiles, camera, tile, n, xy, rays, best, best_t, colors,
     """:func:`primary_ray` for the ``n`` image points of ``lanes`` at once, all in ``tile``: a
     packet of rays, each a lane of arrays (a :class:`~raykit.engine.compiled.driver.RayRoom`'s:
     points ``xy (2, L)`` in, ``rays (6, L)``, ``best (L,)``, ``best_t``, ``colors (3, L)``,
-    ``made`` out; ``alive``, ``ts`` room). The tile's objects are taken in turn, and each is tested against
-    every lane with one loop of :func:`hit_sphere` that the compiler turns into vector
-    instructions (4 lanes at a time, with AVX2 or AVX-512); masks then keep, for each lane,
-    only what :func:`primary_ray` would: a lane whose rectangle does not hold its point, or that has
-    stopped (its next object can only be farther than its hit), takes nothing from the test.
-    So each lane offers the same objects in the same order as :func:`primary_ray` and gets the
-    same bits; the other lanes' answers are computed and thrown away, which costs less than a
-    branch per ray when the tile's list is short. Billboards are offered lane by lane.
+    ``made`` out; ``alive``, ``ts`` room). The tile's objects are taken in turn, and each is
+    tested against every lane with one loop of :func:`hit_sphere` that the compiler turns into
+    vector instructions (4 lanes at a time, with AVX2 or AVX-512); masks then keep, for each
+    lane, only what :func:`primary_ray` would: a lane whose rectangle does not hold its point,
+    or that has stopped (its next object can only be farther than its hit), takes nothing from
+    the test. So each lane offers the same objects in the same order as :func:`primary_ray` and
+    gets the same bits; the other lanes' answers are computed and thrown away, which costs less
+    than a branch per ray when the tile's list is short. Billboards are offered lane by lane.
     Every lane's ray is made (a lane that no rectangle holds is not ``made``, as in
     :func:`primary_ray`, and its ray is not used)."""
     background = arrays.background
