@@ -214,16 +214,26 @@ def test_the_engine_option_offers_exactly_the_engines_render_knows():
         assert tuple(sub.choices) == ENGINES
 
 
-def test_ctrl_c_during_a_render_says_so_in_one_line_exits_130_and_writes_nothing(
-    tmp_path, monkeypatch, capsys
+@pytest.mark.parametrize("during", ["the render", "the write"])
+def test_ctrl_c_says_so_in_one_line_exits_130_and_leaves_no_file_half_written(
+    during, tmp_path, monkeypatch, capsys
 ):
+    import PIL.Image
+
     import raykit.render
 
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(raykit.render, "render", interrupted)
+    def interrupted_half_way(image, stream, *args, **kwargs):
+        stream.write(b"\x89PNG\r\n\x1a\n")  # the start of the file, then Ctrl-C
+        raise KeyboardInterrupt
+
+    if during == "the render":
+        monkeypatch.setattr(raykit.render, "render", interrupted)
+    else:
+        monkeypatch.setattr(PIL.Image.Image, "save", interrupted_half_way)
     out = tmp_path / "o.png"
-    assert main(["render", str(SCENES / "classic.json"), "-o", str(out)]) == 130
+    assert main(["render", str(SCENES / "cutouts.json"), "-o", str(out)]) == 130
     assert capsys.readouterr().err == "raykit: interrupted\n"
     assert list(tmp_path.iterdir()) == []
