@@ -920,6 +920,23 @@ def test_the_progress_line_counts_a_kernel_as_it_compiles_up_to_its_measured_sec
     assert clock.own == {"light_lanes": 12.0, "lit_job": 33.0}
 
 
+def test_the_line_ends_full_when_some_of_the_tables_kernels_came_from_the_cache(
+    fake_compile, monkeypatch, capsys
+):
+    compiling, now, event = fake_compile
+    monkeypatch.setattr(compiling, "measured_seconds", lambda: {"trace_mirrors": {
+        "mirror_rays": 7.0, "light_lanes": 4.0}})  # fmt: skip
+    clock = compiling.CompileClock("trace_mirrors", show=True)
+    clock.on_start(event("mirror_rays"))  # light_lanes is cached (trace_lit compiled it)
+    now[0] += 7.0
+    clock.on_end(event("mirror_rays"))
+    assert clock.bar.n == 7.0
+    clock.finish()
+    assert clock.bar.n == clock.bar.total == 11.0
+    clock.bar.close()
+    assert "100%" in capsys.readouterr().err
+
+
 def test_the_time_left_starts_at_the_tables_seconds_and_follows_this_machines_pace(
     fake_compile, monkeypatch
 ):

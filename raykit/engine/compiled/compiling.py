@@ -94,7 +94,7 @@ class CompileClock(event.Listener):
         if self.started is None:
             self.started = time.perf_counter()
         if self.show and self.bar is None:
-            self.bar = _progress_line(sum(self.expected.values()))
+            self.bar = _progress_line(self.total)
         self.open.append([name, time.perf_counter(), 0.0])
         self._show()
         self._stop_if_interrupted()
@@ -141,7 +141,21 @@ class CompileClock(event.Listener):
         done = self.progress(now)
         elapsed = now - self.started if self.started is not None else 0.0
         pace = (elapsed + PRIOR_SECONDS) / (done + PRIOR_SECONDS)
-        return max(0.0, sum(self.expected.values()) - done) * pace
+        return max(0.0, self.total - done) * pace
+
+    @property
+    def total(self) -> float:
+        """The table's seconds for the entry point: all of its kernels'."""
+        return sum(self.expected.values())
+
+    def finish(self) -> None:
+        """The compile is over: the line at its end. (Kernels loaded from the cache, which a
+        render of another entry point left, send no event: without this, the line would stop
+        short of them.)"""
+        if self.bar is not None and self.bar.total:
+            self.bar.n = self.bar.total
+            self.bar.set_postfix_str(f"~{self.bar.format_interval(0)} left", refresh=False)
+            self.bar.refresh()
 
     def _show(self) -> None:
         """The innermost of the package's kernels being compiled, and the progress, on the
@@ -212,6 +226,7 @@ def compile_clock(entry: str, show: bool = True):
         with event.install_listener("numba:compile", clock):
             yield clock
         clock._stop_if_interrupted()
+        clock.finish()
     finally:
         sys.unraisablehook = unraisable
         stop.set()
