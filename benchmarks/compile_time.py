@@ -73,17 +73,22 @@ SCENES = REPO / "scenes"
 # scene: its entry point (raykit.engine.choice.entry_point)
 FIRST_USE = {"classic": "trace_flat", "classic_lit": "trace_lit", "mirror_balls": "trace_mirrors"}
 
-# a child's render, with each kernel's own compile seconds and the calls of per-ray kernels
-# left in the code it compiled (calls_left) written to the file given
+# a child's render, with each kernel's own compile seconds and (if LOOK_FOR_CALLS: only from
+# an empty cache, since a kernel loaded from the cache shows no code) the calls of per-ray
+# kernels left in the code it compiled (calls_left) written to the file given
 _FIRST_USE_CHILD = """
 import json, sys
 sys.path.insert(0, {here!r})
 from raykit.cli import main
 from raykit.engine.compiled.compiling import compile_clock
-from compile_time import calls_left
 with compile_clock({entry!r}, show=False) as clock:
     status = main(["render", {scene!r}, "-o", {out!r}, "--engine", "compiled"])
-open({seconds!r}, "w").write(json.dumps([clock.own, calls_left()]))
+if {look_for_calls!r}:
+    from compile_time import calls_left
+    calls = calls_left()
+else:
+    calls = []
+open({seconds!r}, "w").write(json.dumps([clock.own, calls]))
 sys.exit(status)
 """
 
@@ -171,19 +176,23 @@ def first_use(repeats: int, folder: Path) -> tuple[dict, dict, list]:
         for name in names:
             cache = folder / f"cache-{name}-{round_}"
             spent = folder / f"seconds-{name}-{round_}.json"
-            code = _FIRST_USE_CHILD.format(
-                here=str(HERE),
-                entry=FIRST_USE[name],
-                scene=str(SCENES / f"{name}.json"),
-                out=str(folder / f"{name}.png"),
-                seconds=str(spent),
-            )
-            runs[(name, "empty")].append(run_child(code, RAYKIT_CACHE_DIR=str(cache)))
+            code = {
+                when: _FIRST_USE_CHILD.format(
+                    here=str(HERE),
+                    entry=FIRST_USE[name],
+                    scene=str(SCENES / f"{name}.json"),
+                    out=str(folder / f"{name}.png"),
+                    seconds=str(spent),
+                    look_for_calls=round_ == 0 and when == "empty",  # its work is timed too
+                )
+                for when in ("empty", "cached")
+            }
+            runs[(name, "empty")].append(run_child(code["empty"], RAYKIT_CACHE_DIR=str(cache)))
             seconds_of, calls = json.loads(spent.read_text())
             for kernel, took in seconds_of.items():
                 own[FIRST_USE[name]].setdefault(kernel, []).append(took)
             left.update(calls)
-            runs[(name, "cached")].append(run_child(code, RAYKIT_CACHE_DIR=str(cache)))
+            runs[(name, "cached")].append(run_child(code["cached"], RAYKIT_CACHE_DIR=str(cache)))
     medians = {
         key: {figure: statistics.median(run[figure] for run in values) for figure in values[0]}
         for key, values in runs.items()
