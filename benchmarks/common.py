@@ -17,6 +17,20 @@ def sized(scene, width: int, height: int):
     return replace(scene, camera=replace(scene.camera, width=width, height=height))
 
 
+def processor() -> tuple[str, str | None]:
+    """The processor's model name ("" if /proc/cpuinfo gives none) and the widest vector
+    instruction set it has, "AVX-512", "AVX2" or None (neither), from the first processor's
+    entry in /proc/cpuinfo."""
+    info = Path("/proc/cpuinfo").read_text() if Path("/proc/cpuinfo").exists() else ""
+    fields = dict(
+        line.split(":", 1) for line in reversed(info.splitlines()) if ":" in line
+    )  # the first processor's, by key
+    fields = {key.strip(): value.strip() for key, value in fields.items()}
+    flags = set(fields.get("flags", "").split())
+    widest = "AVX-512" if "avx512f" in flags else "AVX2" if "avx2" in flags else None
+    return fields.get("model name", ""), widest
+
+
 def arguments(doc: str, quick: str, repeats: int = 5) -> argparse.ArgumentParser:
     """The options every benchmark takes, ``--quick`` and ``--repeats``; ``doc`` is the
     script's docstring, whose first paragraph describes it."""

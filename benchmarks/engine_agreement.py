@@ -47,7 +47,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 sys.path.insert(0, str(HERE.parent / "tests" / "support"))
 
-from common import arguments, parse  # noqa: E402
+from common import arguments, parse, processor  # noqa: E402
 from libm_power import libm_power  # noqa: E402
 from random_scenes import make_textures, random_scene  # noqa: E402
 
@@ -113,14 +113,11 @@ def save(data: dict, out: Path, name: str, work: Path) -> Path:
 
 
 def machine() -> str:
-    info = Path("/proc/cpuinfo").read_text() if Path("/proc/cpuinfo").exists() else ""
-    model = next((x.split(":", 1)[1].strip() for x in info.splitlines() if "model name" in x), "")
-    flags = next((x for x in info.splitlines() if x.startswith("flags")), "")
-    widest = "AVX-512" if "avx512f" in flags else "AVX2" if "avx2" in flags else "no AVX2"
     import numba
 
+    model, widest = processor()
     return (
-        f"{model or platform.processor() or 'an unnamed processor'} ({widest}), "
+        f"{model or platform.processor() or 'an unnamed processor'} ({widest or 'no AVX2'}), "
         f"{numba.get_num_threads()} numba threads; Python {platform.python_version()}, "
         f"numpy {np.__version__}, numba {numba.__version__}"
     )

@@ -97,6 +97,7 @@ from common import (  # noqa: E402
     median_time,
     medians_in_turns,
     parse,
+    processor,
     seconds,
     sized,
     timer,
@@ -661,20 +662,8 @@ def run(args: argparse.Namespace, cpu: str) -> list[dict]:
 
 def machine_line(cpu: str) -> str:
     """The processor, and the instruction set this run's compiled code was made for."""
-    info = Path("/proc/cpuinfo").read_text() if Path("/proc/cpuinfo").exists() else ""
-    fields = dict(
-        line.split(":", 1) for line in reversed(info.splitlines()) if ":" in line
-    )  # the first processor's, by key
-    fields = {key.strip(): value.strip() for key, value in fields.items()}
-    flags = set(fields.get("flags", "").split())
-    widest = (
-        "AVX-512"
-        if "avx512f" in flags
-        else "AVX2"
-        if "avx2" in flags
-        else "neither AVX2 nor AVX-512"
-    )
-    model = fields.get("model name", "an unnamed processor")
+    model, widest = processor()
+    model, widest = model or "an unnamed processor", widest or "neither AVX2 nor AVX-512"
     if cpu == "native":
         how = (
             f"native: numba, Dr.Jit and Embree each compile for, or pick, the processor they find"
