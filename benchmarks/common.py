@@ -31,12 +31,16 @@ def processor() -> tuple[str, str | None]:
     return fields.get("model name", ""), widest
 
 
-def arguments(doc: str, quick: str, repeats: int = 5) -> argparse.ArgumentParser:
-    """The options every benchmark takes, ``--quick`` and ``--repeats``; ``doc`` is the
+def arguments(doc: str, quick: str, repeats: int | None = 5) -> argparse.ArgumentParser:
+    """The options every benchmark takes, ``--quick`` and ``--repeats`` (its default
+    ``repeats``; None: no ``--repeats``, for a benchmark that times nothing); ``doc`` is the
     script's docstring, whose first paragraph describes it."""
     parser = argparse.ArgumentParser(description=doc.split("\n\n")[0], allow_abbrev=False)
     parser.add_argument("--quick", action="store_true", help=quick)
-    parser.add_argument("--repeats", type=int, default=repeats, help="runs per variant (median)")
+    if repeats is not None:
+        parser.add_argument(
+            "--repeats", type=int, default=repeats, help="runs per variant (median)"
+        )
     return parser
 
 

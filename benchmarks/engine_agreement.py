@@ -2,18 +2,19 @@
 
     python benchmarks/engine_agreement.py [--quick] [--scenes N] [--seed S] [--out DIR]
 
-Makes ``--scenes`` random scene files (default 400; --quick: 60) from a numpy Generator seeded
-with ``--seed``, each as a scene file's contents read by the loader (``scene_from_dict``), its
-textures written as PNG files, and renders each with ``engine="numpy"`` (the reference) and
-``engine="compiled"``. The scenes span: 0 to 1,500 objects (so that the compiled engine's
-packets and its one ray at a time, its tile lists, its tree and its few-object path all run),
-sphere radii from 1e-4 to 1e3 times the scene's size, scenes near the origin and 1e5 to 1e6
-away, sizes from 1e-3 to 1e3, the camera inside a sphere, objects behind the camera,
-billboards tilted, edge-on and behind, textures with holes (alpha 127 and 128 among them),
-repeated spheres and billboards (exact ties), point lights inside objects, on their surfaces
-and at the eye, directional lights along an axis, shadows on and off, mirrors with max_depth 0
-to 4, both projections, fov_angle from 1 to 179 degrees, odd image sizes (1x1, 1x37, 97x3,
-primes up to 293), and 1 to 8 x 8 samples per pixel, adaptive or not.
+Makes ``--scenes`` random scene files (default SCENES, 2000; --quick: QUICK_SCENES, 200) from a
+numpy Generator seeded with ``--seed``, each as a scene file's contents read by the loader
+(``scene_from_dict``), its textures written as PNG files, and renders each with
+``engine="numpy"`` (the reference) and ``engine="compiled"``. The scenes span: 0 to 1,500
+objects (so that the compiled engine's packets and its one ray at a time, its tile lists, its
+tree and its few-object path all run), sphere radii from 1e-4 to 1e3 times the scene's size,
+scenes near the origin and 1e5 to 1e6 away, sizes from 1e-3 to 1e3, the camera inside a sphere,
+objects behind the camera, billboards tilted, edge-on and behind, textures with holes (alpha
+127 and 128 among them), repeated spheres and billboards (exact ties), point lights inside
+objects, on their surfaces and at the eye, directional lights along an axis, shadows on and
+off, mirrors with max_depth 0 to 4, both projections, fov_angle from 1 to 179 degrees, odd
+image sizes (1x1, 1x37, 97x3, primes up to 293), and 1 to 8 x 8 samples per pixel, adaptive or
+not.
 
 Each render's ``object_index`` and ``t`` must be the reference's bit for bit (NaN where NaN),
 and its ``rgb`` too. One operation is known to differ (raykit.engine.compiled's docstring):
@@ -127,7 +128,7 @@ def machine() -> str:
 
 
 def main() -> None:
-    parser = arguments(__doc__, f"{QUICK_SCENES} scenes, for CI", repeats=1)
+    parser = arguments(__doc__, f"{QUICK_SCENES} scenes, for CI", repeats=None)
     parser.add_argument("--scenes", type=int, help=f"how many scenes (default {SCENES})")
     parser.add_argument("--seed", type=int, default=35, help="the Generator's seed")
     parser.add_argument("--out", type=Path, default=Path("engine_agreement_mismatches"),
