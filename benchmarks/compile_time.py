@@ -70,8 +70,8 @@ from raykit.engine import choice  # noqa: E402
 
 REPO = HERE.parent
 SCENES = REPO / "scenes"
-# scene: its entry point (raykit.engine.choice.entry_point)
-FIRST_USE = {"classic": "trace_flat", "classic_lit": "trace_lit", "mirror_balls": "trace_mirrors"}
+# part 1's scenes, one per entry point: flat, lit, lit with mirrors
+FIRST_USE = ["classic", "classic_lit", "mirror_balls"]
 
 # a child's render, with each kernel's own compile seconds and (if LOOK_FOR_CALLS: only from
 # an empty cache, since a kernel loaded from the cache shows no code) the calls of per-ray
@@ -168,18 +168,21 @@ def first_use(repeats: int, folder: Path) -> tuple[dict, dict, list]:
     """Part 1: per scene, the medians of its first use and of a run from the cache it left;
     each entry point's kernels' own compile seconds (median per kernel); and the calls of
     per-ray kernels left in the code compiled (:func:`calls_left`)."""
+    from raykit.io.scene_json import load_scene
+
+    entries = {name: choice.entry_point(load_scene(SCENES / f"{name}.json")) for name in FIRST_USE}
     runs: dict = {(name, when): [] for name in FIRST_USE for when in ("empty", "cached")}
     left: set = set()
-    own: dict = {entry: {} for entry in FIRST_USE.values()}
+    own: dict = {entry: {} for entry in entries.values()}
     for round_ in range(repeats):
-        names = list(FIRST_USE) if round_ % 2 == 0 else list(FIRST_USE)[::-1]
+        names = FIRST_USE if round_ % 2 == 0 else FIRST_USE[::-1]
         for name in names:
             cache = folder / f"cache-{name}-{round_}"
             spent = folder / f"seconds-{name}-{round_}.json"
             code = {
                 when: _FIRST_USE_CHILD.format(
                     here=str(HERE),
-                    entry=FIRST_USE[name],
+                    entry=entries[name],
                     scene=str(SCENES / f"{name}.json"),
                     out=str(folder / f"{name}.png"),
                     seconds=str(spent),
@@ -190,7 +193,7 @@ def first_use(repeats: int, folder: Path) -> tuple[dict, dict, list]:
             runs[(name, "empty")].append(run_child(code["empty"], RAYKIT_CACHE_DIR=str(cache)))
             seconds_of, calls = json.loads(spent.read_text())
             for kernel, took in seconds_of.items():
-                own[FIRST_USE[name]].setdefault(kernel, []).append(took)
+                own[entries[name]].setdefault(kernel, []).append(took)
             left.update(calls)
             runs[(name, "cached")].append(run_child(code["cached"], RAYKIT_CACHE_DIR=str(cache)))
     medians = {
