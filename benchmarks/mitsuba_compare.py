@@ -105,6 +105,7 @@ from common import (  # noqa: E402
 
 from raykit.camera import rays_through  # noqa: E402
 from raykit.engine.choice import ENGINES  # noqa: E402
+from raykit.io.images import save_image  # noqa: E402
 from raykit.io.scene_json import load_scene, scene_from_dict  # noqa: E402
 from raykit.lights import PointLight  # noqa: E402
 from raykit.rays import dot  # noqa: E402
@@ -713,7 +714,7 @@ class Timing:
             load, prepare, first, render_once, picture = set_up_raykit(engine, data)
             renderers[f"raykit {engine}"] = (load, prepare, first, render_once, blank)
         if lit and self.args.pictures:
-            _save(self.args.pictures / f"{_slug(name)}_raykit.png", picture[0])
+            save_image(picture[0], self.args.pictures / f"{_slug(name)}_raykit.png")
         ours = picture[1] >= 0  # the last engine's (all give the same picture)
         for variant in VARIANTS if self.version is not None else ():
             child = MitsubaChild(variant, data, self.cpu, self.env)
@@ -730,8 +731,11 @@ class Timing:
                 agree = f"{hits:.1%} | {mean:.1e}, {off:.1%}"
                 if self.args.pictures:
                     stem = self.args.pictures / f"{_slug(name)}_{variant}"
-                    _save(stem.with_name(stem.name + ".png"), check["image"])
-                    _save(stem.with_name(stem.name + "_as_raykit.png"), converted)
+                    # Mitsuba's float32 quantized in float64, as raykit's pictures are (in
+                    # float32, x * 255 + 0.5 rounds some colours to the other byte)
+                    image = np.asarray(check["image"], np.float64)
+                    save_image(image, stem.with_name(stem.name + ".png"))
+                    save_image(converted, stem.with_name(stem.name + "_as_raykit.png"))
             else:
                 agree = f"{np.mean(np.array(child.hit) == ours):.1%}"
             renderers[renderer] = (child.load, 0.0, child.first, child.render_once, agree)
@@ -796,13 +800,6 @@ def agreement(scene: Scene, picture: tuple, check: dict) -> tuple:
 
 def _slug(name: str) -> str:
     return "_".join(name.replace(",", "").split())
-
-
-def _save(path: Path, rgb: np.ndarray) -> None:
-    """A linear picture as an 8-bit PNG, clamped to [0, 1], no gamma (as raykit's)."""
-    from raykit.io.images import quantize, save_image
-
-    save_image(quantize(np.asarray(rgb, float)), path)
 
 
 def set_up_raykit(engine: str, data: dict) -> tuple:
