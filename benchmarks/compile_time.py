@@ -115,6 +115,12 @@ def calls_left() -> list[str]:
                 kernels[name] = value
     one_ray = {name for name, kernel in kernels.items()
                if inspect.getsource(kernel.py_func).startswith("@njit(**ONE_RAY)")}  # fmt: skip
+    # each compiled version's symbol, as the machine code of a call of it names it
+    symbols = {
+        result.fndesc.mangled_name: name
+        for name in one_ray
+        for result in kernels[name].overloads.values()
+    }
     left = set()
     for caller, kernel in kernels.items():
         for signature in kernel.signatures:
@@ -123,21 +129,10 @@ def calls_left() -> list[str]:
             except Exception:  # loaded from the cache: no code to read
                 continue
             for symbol in re.findall(r'call [^@\n]*@"?(_ZN[^"(\s]+)', code):
-                callee = _mangled_name(symbol)
-                if callee in one_ray and callee != caller:
+                callee = symbols.get(symbol)
+                if callee is not None and callee != caller:
                     left.add(f"{caller} -> {callee}")
     return sorted(left)
-
-
-def _mangled_name(symbol: str) -> str:
-    """The function's own name in numba's mangled symbol (``_ZN`` then each part of its
-    qualified name, its length first)."""
-    rest, parts = symbol[3:], []
-    while (digits := re.match(r"\d+", rest)) is not None:
-        end = len(digits.group()) + int(digits.group())
-        parts.append(rest[len(digits.group()) : end])
-        rest = rest[end:]
-    return parts[-1] if parts else ""
 
 
 def run_child(code: str, **env) -> dict:
