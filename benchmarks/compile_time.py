@@ -241,8 +241,9 @@ def before_and_after(revision: str, repeats: int, quick: bool) -> None:
         engine: render_child(engine, names, [None], None, quick) for engine in (revision, "now")
     }
     took = {}
+    thread_counts = sorted({numba.config.NUMBA_NUM_THREADS, 1}, reverse=True)
     try:
-        for threads in sorted({numba.config.NUMBA_NUM_THREADS, 1}, reverse=True):  # one: a busy
+        for threads in thread_counts:  # one: a busy
             for name in names:  # neighbour on one core holds up no render of it; scene by scene
                 took.update(
                     medians_in_turns(
@@ -255,7 +256,6 @@ def before_and_after(revision: str, repeats: int, quick: bool) -> None:
                 )
     finally:
         close(children)
-    thread_counts = sorted({key[2] for key in took}, reverse=True)
     print(
         f"\n2. prepared renders, median of {repeats} in turns, each engine in a process of its "
         "own\n"
@@ -383,8 +383,9 @@ def cpus(names: list[str], repeats: int) -> None:
     with tempfile.TemporaryDirectory() as folder:
         children = cpu_children(names, Path(folder))
         took = {}
+        thread_counts = [1]  # see the docstring
         try:
-            for threads in [1]:  # see the docstring
+            for threads in thread_counts:
                 for scene in CPU_SCENES:  # scene by scene, as part 2
                     took.update(
                         medians_in_turns(
@@ -411,7 +412,7 @@ def cpus(names: list[str], repeats: int) -> None:
         + f" | choice / {first}'s |"
     )
     print("|---|---|---|---|" + "---|" * len(CPU_LAYOUTS) + "---|")
-    for threads in sorted({key[3] for key in took}, reverse=True):
+    for threads in thread_counts:
         for scene in CPU_SCENES:
             for cpu in names:
                 side, packets = children[cpu][2][scene]
