@@ -31,6 +31,13 @@ def processor() -> tuple[str, str | None]:
     return fields.get("model name", ""), widest
 
 
+def numba_cpu(name: str) -> dict[str, str]:
+    """The environment in which numba, as it is imported, compiles for the CPU ``name`` (e.g.
+    "haswell": AVX2 without AVX-512) with that CPU's own features (NUMBA_CPU_FEATURES empty),
+    not this machine's, which numba would otherwise add; "native": none, this machine's."""
+    return {} if name == "native" else {"NUMBA_CPU_NAME": name, "NUMBA_CPU_FEATURES": ""}
+
+
 def arguments(doc: str, quick: str, repeats: int | None = 5) -> argparse.ArgumentParser:
     """The options every benchmark takes, ``--quick`` and ``--repeats`` (its default
     ``repeats``; None: no ``--repeats``, for a benchmark that times nothing); ``doc`` is the

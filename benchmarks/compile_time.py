@@ -62,6 +62,7 @@ sys.path.insert(0, str(HERE))
 from common import (  # noqa: E402
     arguments,
     medians_in_turns,
+    numba_cpu,
     parse,
     seconds,
 )
@@ -371,9 +372,8 @@ def cpu_children(names: list[str], folder: Path) -> dict:
     layouts = [None, *CPU_LAYOUTS]
     children = {}
     for name in names:
-        cpu = {} if name == "native" else {"NUMBA_CPU_NAME": name, "NUMBA_CPU_FEATURES": ""}
         cache = str(folder / f"cpu-cache-{name}")
-        children[name] = render_child("now", CPU_SCENES, layouts, cache, False, **cpu)
+        children[name] = render_child("now", CPU_SCENES, layouts, cache, False, **numba_cpu(name))
     return children
 
 

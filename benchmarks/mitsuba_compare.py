@@ -96,6 +96,7 @@ from common import (  # noqa: E402
     bar_plot,
     median_time,
     medians_in_turns,
+    numba_cpu,
     parse,
     processor,
     seconds,
@@ -589,9 +590,7 @@ def run_for(cpu: str, args: argparse.Namespace) -> list[dict]:
     environment once, as it is imported: "haswell" is numba's AVX2 (its CPU name and that
     CPU's own features, not the host's, which it would otherwise add). Its tables go to
     standard output as they are printed; the plot's rows come back."""
-    env = dict(os.environ)
-    if cpu == "haswell":
-        env.update(NUMBA_CPU_NAME="haswell", NUMBA_CPU_FEATURES="")
+    env = {**os.environ, **numba_cpu(cpu)}
     from raykit.engine.choice import compiled_available
 
     # the AVX2 run times raykit's compiled engine alone: numpy's own SIMD dispatch is as shipped
