@@ -17,12 +17,37 @@ def sized(scene, width: int, height: int):
     return replace(scene, camera=replace(scene.camera, width=width, height=height))
 
 
-def arguments(doc: str, quick: str, repeats: int = 5) -> argparse.ArgumentParser:
-    """The options every benchmark takes, ``--quick`` and ``--repeats``; ``doc`` is the
+def processor() -> tuple[str, str | None]:
+    """The processor's model name ("" if /proc/cpuinfo gives none) and the widest vector
+    instruction set it has, "AVX-512", "AVX2" or None (neither), from the first processor's
+    entry in /proc/cpuinfo."""
+    info = Path("/proc/cpuinfo").read_text() if Path("/proc/cpuinfo").exists() else ""
+    fields = dict(
+        line.split(":", 1) for line in reversed(info.splitlines()) if ":" in line
+    )  # the first processor's, by key
+    fields = {key.strip(): value.strip() for key, value in fields.items()}
+    flags = set(fields.get("flags", "").split())
+    widest = "AVX-512" if "avx512f" in flags else "AVX2" if "avx2" in flags else None
+    return fields.get("model name", ""), widest
+
+
+def numba_cpu(name: str) -> dict[str, str]:
+    """The environment in which numba, as it is imported, compiles for the CPU ``name`` (e.g.
+    "haswell": AVX2 without AVX-512) with that CPU's own features (NUMBA_CPU_FEATURES empty),
+    not this machine's, which numba would otherwise add; "native": none, this machine's."""
+    return {} if name == "native" else {"NUMBA_CPU_NAME": name, "NUMBA_CPU_FEATURES": ""}
+
+
+def arguments(doc: str, quick: str, repeats: int | None = 5) -> argparse.ArgumentParser:
+    """The options every benchmark takes, ``--quick`` and ``--repeats`` (its default
+    ``repeats``; None: no ``--repeats``, for a benchmark that times nothing); ``doc`` is the
     script's docstring, whose first paragraph describes it."""
     parser = argparse.ArgumentParser(description=doc.split("\n\n")[0], allow_abbrev=False)
     parser.add_argument("--quick", action="store_true", help=quick)
-    parser.add_argument("--repeats", type=int, default=repeats, help="runs per variant (median)")
+    if repeats is not None:
+        parser.add_argument(
+            "--repeats", type=int, default=repeats, help="runs per variant (median)"
+        )
     return parser
 
 

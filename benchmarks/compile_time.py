@@ -62,6 +62,7 @@ sys.path.insert(0, str(HERE))
 from common import (  # noqa: E402
     arguments,
     medians_in_turns,
+    numba_cpu,
     parse,
     seconds,
 )
@@ -70,20 +71,25 @@ from raykit.engine import choice  # noqa: E402
 
 REPO = HERE.parent
 SCENES = REPO / "scenes"
-# scene: its entry point (raykit.engine.choice.entry_point)
-FIRST_USE = {"classic": "trace_flat", "classic_lit": "trace_lit", "mirror_balls": "trace_mirrors"}
+# part 1's scenes, one per entry point: flat, lit, lit with mirrors
+FIRST_USE = ["classic", "classic_lit", "mirror_balls"]
 
-# a child's render, with each kernel's own compile seconds and the calls of per-ray kernels
-# left in the code it compiled (calls_left) written to the file given
+# a child's render, with each kernel's own compile seconds and (if LOOK_FOR_CALLS: only from
+# an empty cache, since a kernel loaded from the cache shows no code) the calls of per-ray
+# kernels left in the code it compiled (calls_left) written to the file given
 _FIRST_USE_CHILD = """
 import json, sys
 sys.path.insert(0, {here!r})
 from raykit.cli import main
 from raykit.engine.compiled.compiling import compile_clock
-from compile_time import calls_left
 with compile_clock({entry!r}, show=False) as clock:
     status = main(["render", {scene!r}, "-o", {out!r}, "--engine", "compiled"])
-open({seconds!r}, "w").write(json.dumps([clock.own, calls_left()]))
+if {look_for_calls!r}:
+    from compile_time import calls_left
+    calls = calls_left()
+else:
+    calls = []
+open({seconds!r}, "w").write(json.dumps([clock.own, calls]))
 sys.exit(status)
 """
 
@@ -110,6 +116,12 @@ def calls_left() -> list[str]:
                 kernels[name] = value
     one_ray = {name for name, kernel in kernels.items()
                if inspect.getsource(kernel.py_func).startswith("@njit(**ONE_RAY)")}  # fmt: skip
+    # each compiled version's symbol, as the machine code of a call of it names it
+    symbols = {
+        result.fndesc.mangled_name: name
+        for name in one_ray
+        for result in kernels[name].overloads.values()
+    }
     left = set()
     for caller, kernel in kernels.items():
         for signature in kernel.signatures:
@@ -118,21 +130,10 @@ def calls_left() -> list[str]:
             except Exception:  # loaded from the cache: no code to read
                 continue
             for symbol in re.findall(r'call [^@\n]*@"?(_ZN[^"(\s]+)', code):
-                callee = _mangled_name(symbol)
-                if callee in one_ray and callee != caller:
+                callee = symbols.get(symbol)
+                if callee is not None and callee != caller:
                     left.add(f"{caller} -> {callee}")
     return sorted(left)
-
-
-def _mangled_name(symbol: str) -> str:
-    """The function's own name in numba's mangled symbol (``_ZN`` then each part of its
-    qualified name, its length first)."""
-    rest, parts = symbol[3:], []
-    while (digits := re.match(r"\d+", rest)) is not None:
-        end = len(digits.group()) + int(digits.group())
-        parts.append(rest[len(digits.group()) : end])
-        rest = rest[end:]
-    return parts[-1] if parts else ""
 
 
 def run_child(code: str, **env) -> dict:
@@ -163,27 +164,34 @@ def first_use(repeats: int, folder: Path) -> tuple[dict, dict, list]:
     """Part 1: per scene, the medians of its first use and of a run from the cache it left;
     each entry point's kernels' own compile seconds (median per kernel); and the calls of
     per-ray kernels left in the code compiled (:func:`calls_left`)."""
+    from raykit.io.scene_json import load_scene
+
+    entries = {name: choice.entry_point(load_scene(SCENES / f"{name}.json")) for name in FIRST_USE}
     runs: dict = {(name, when): [] for name in FIRST_USE for when in ("empty", "cached")}
     left: set = set()
-    own: dict = {entry: {} for entry in FIRST_USE.values()}
+    own: dict = {entry: {} for entry in entries.values()}
     for round_ in range(repeats):
-        names = list(FIRST_USE) if round_ % 2 == 0 else list(FIRST_USE)[::-1]
+        names = FIRST_USE if round_ % 2 == 0 else FIRST_USE[::-1]
         for name in names:
             cache = folder / f"cache-{name}-{round_}"
             spent = folder / f"seconds-{name}-{round_}.json"
-            code = _FIRST_USE_CHILD.format(
-                here=str(HERE),
-                entry=FIRST_USE[name],
-                scene=str(SCENES / f"{name}.json"),
-                out=str(folder / f"{name}.png"),
-                seconds=str(spent),
-            )
-            runs[(name, "empty")].append(run_child(code, RAYKIT_CACHE_DIR=str(cache)))
+            code = {
+                when: _FIRST_USE_CHILD.format(
+                    here=str(HERE),
+                    entry=entries[name],
+                    scene=str(SCENES / f"{name}.json"),
+                    out=str(folder / f"{name}.png"),
+                    seconds=str(spent),
+                    look_for_calls=round_ == 0 and when == "empty",  # its work is timed too
+                )
+                for when in ("empty", "cached")
+            }
+            runs[(name, "empty")].append(run_child(code["empty"], RAYKIT_CACHE_DIR=str(cache)))
             seconds_of, calls = json.loads(spent.read_text())
             for kernel, took in seconds_of.items():
-                own[FIRST_USE[name]].setdefault(kernel, []).append(took)
+                own[entries[name]].setdefault(kernel, []).append(took)
             left.update(calls)
-            runs[(name, "cached")].append(run_child(code, RAYKIT_CACHE_DIR=str(cache)))
+            runs[(name, "cached")].append(run_child(code["cached"], RAYKIT_CACHE_DIR=str(cache)))
     medians = {
         key: {figure: statistics.median(run[figure] for run in values) for figure in values[0]}
         for key, values in runs.items()
@@ -234,8 +242,9 @@ def before_and_after(revision: str, repeats: int, quick: bool) -> None:
         engine: render_child(engine, names, [None], None, quick) for engine in (revision, "now")
     }
     took = {}
+    thread_counts = sorted({numba.config.NUMBA_NUM_THREADS, 1}, reverse=True)
     try:
-        for threads in sorted({numba.config.NUMBA_NUM_THREADS, 1}, reverse=True):  # one: a busy
+        for threads in thread_counts:  # one: a busy
             for name in names:  # neighbour on one core holds up no render of it; scene by scene
                 took.update(
                     medians_in_turns(
@@ -248,7 +257,6 @@ def before_and_after(revision: str, repeats: int, quick: bool) -> None:
                 )
     finally:
         close(children)
-    thread_counts = sorted({key[2] for key in took}, reverse=True)
     print(
         f"\n2. prepared renders, median of {repeats} in turns, each engine in a process of its "
         "own\n"
@@ -364,9 +372,8 @@ def cpu_children(names: list[str], folder: Path) -> dict:
     layouts = [None, *CPU_LAYOUTS]
     children = {}
     for name in names:
-        cpu = {} if name == "native" else {"NUMBA_CPU_NAME": name, "NUMBA_CPU_FEATURES": ""}
         cache = str(folder / f"cpu-cache-{name}")
-        children[name] = render_child("now", CPU_SCENES, layouts, cache, False, **cpu)
+        children[name] = render_child("now", CPU_SCENES, layouts, cache, False, **numba_cpu(name))
     return children
 
 
@@ -376,8 +383,9 @@ def cpus(names: list[str], repeats: int) -> None:
     with tempfile.TemporaryDirectory() as folder:
         children = cpu_children(names, Path(folder))
         took = {}
+        thread_counts = [1]  # see the docstring
         try:
-            for threads in [1]:  # see the docstring
+            for threads in thread_counts:
                 for scene in CPU_SCENES:  # scene by scene, as part 2
                     took.update(
                         medians_in_turns(
@@ -404,7 +412,7 @@ def cpus(names: list[str], repeats: int) -> None:
         + f" | choice / {first}'s |"
     )
     print("|---|---|---|---|" + "---|" * len(CPU_LAYOUTS) + "---|")
-    for threads in sorted({key[3] for key in took}, reverse=True):
+    for threads in thread_counts:
         for scene in CPU_SCENES:
             for cpu in names:
                 side, packets = children[cpu][2][scene]

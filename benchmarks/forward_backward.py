@@ -19,7 +19,6 @@ send through a real 1 mm pinhole.
 from __future__ import annotations
 
 import sys
-from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -27,7 +26,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-from common import arguments, loglog_plot, median_time, parse, seconds  # noqa: E402
+from common import arguments, loglog_plot, median_time, parse, seconds, sized  # noqa: E402
 
 from raykit.forward import diffuse_only, forward_render  # noqa: E402
 from raykit.io.scene_json import load_scene  # noqa: E402
@@ -40,7 +39,7 @@ def main() -> None:
     args = parse(parser)
     scene = load_scene(HERE.parent / "scenes" / "shadow_on_billboard.json")
     size = (40, 30) if args.quick else (160, 120)
-    scene = replace(scene, camera=replace(scene.camera, width=size[0], height=size[1]))
+    scene = sized(scene, *size)
     diffuse = diffuse_only(scene)
     reference = render(diffuse, samples=16, engine="numpy").rgb
 

@@ -96,7 +96,9 @@ from common import (  # noqa: E402
     bar_plot,
     median_time,
     medians_in_turns,
+    numba_cpu,
     parse,
+    processor,
     seconds,
     sized,
     timer,
@@ -104,6 +106,7 @@ from common import (  # noqa: E402
 
 from raykit.camera import rays_through  # noqa: E402
 from raykit.engine.choice import ENGINES  # noqa: E402
+from raykit.io.images import save_image  # noqa: E402
 from raykit.io.scene_json import load_scene, scene_from_dict  # noqa: E402
 from raykit.lights import PointLight  # noqa: E402
 from raykit.rays import dot  # noqa: E402
@@ -587,9 +590,7 @@ def run_for(cpu: str, args: argparse.Namespace) -> list[dict]:
     environment once, as it is imported: "haswell" is numba's AVX2 (its CPU name and that
     CPU's own features, not the host's, which it would otherwise add). Its tables go to
     standard output as they are printed; the plot's rows come back."""
-    env = dict(os.environ)
-    if cpu == "haswell":
-        env.update(NUMBA_CPU_NAME="haswell", NUMBA_CPU_FEATURES="")
+    env = {**os.environ, **numba_cpu(cpu)}
     from raykit.engine.choice import compiled_available
 
     # the AVX2 run times raykit's compiled engine alone: numpy's own SIMD dispatch is as shipped
@@ -661,20 +662,8 @@ def run(args: argparse.Namespace, cpu: str) -> list[dict]:
 
 def machine_line(cpu: str) -> str:
     """The processor, and the instruction set this run's compiled code was made for."""
-    info = Path("/proc/cpuinfo").read_text() if Path("/proc/cpuinfo").exists() else ""
-    fields = dict(
-        line.split(":", 1) for line in reversed(info.splitlines()) if ":" in line
-    )  # the first processor's, by key
-    fields = {key.strip(): value.strip() for key, value in fields.items()}
-    flags = set(fields.get("flags", "").split())
-    widest = (
-        "AVX-512"
-        if "avx512f" in flags
-        else "AVX2"
-        if "avx2" in flags
-        else "neither AVX2 nor AVX-512"
-    )
-    model = fields.get("model name", "an unnamed processor")
+    model, widest = processor()
+    model, widest = model or "an unnamed processor", widest or "neither AVX2 nor AVX-512"
     if cpu == "native":
         how = (
             f"native: numba, Dr.Jit and Embree each compile for, or pick, the processor they find"
@@ -724,7 +713,7 @@ class Timing:
             load, prepare, first, render_once, picture = set_up_raykit(engine, data)
             renderers[f"raykit {engine}"] = (load, prepare, first, render_once, blank)
         if lit and self.args.pictures:
-            _save(self.args.pictures / f"{_slug(name)}_raykit.png", picture[0])
+            save_image(picture[0], self.args.pictures / f"{_slug(name)}_raykit.png")
         ours = picture[1] >= 0  # the last engine's (all give the same picture)
         for variant in VARIANTS if self.version is not None else ():
             child = MitsubaChild(variant, data, self.cpu, self.env)
@@ -741,8 +730,11 @@ class Timing:
                 agree = f"{hits:.1%} | {mean:.1e}, {off:.1%}"
                 if self.args.pictures:
                     stem = self.args.pictures / f"{_slug(name)}_{variant}"
-                    _save(stem.with_name(stem.name + ".png"), check["image"])
-                    _save(stem.with_name(stem.name + "_as_raykit.png"), converted)
+                    # Mitsuba's float32 quantized in float64, as raykit's pictures are (in
+                    # float32, x * 255 + 0.5 rounds some colours to the other byte)
+                    image = np.asarray(check["image"], np.float64)
+                    save_image(image, stem.with_name(stem.name + ".png"))
+                    save_image(converted, stem.with_name(stem.name + "_as_raykit.png"))
             else:
                 agree = f"{np.mean(np.array(child.hit) == ours):.1%}"
             renderers[renderer] = (child.load, 0.0, child.first, child.render_once, agree)
@@ -807,13 +799,6 @@ def agreement(scene: Scene, picture: tuple, check: dict) -> tuple:
 
 def _slug(name: str) -> str:
     return "_".join(name.replace(",", "").split())
-
-
-def _save(path: Path, rgb: np.ndarray) -> None:
-    """A linear picture as an 8-bit PNG, clamped to [0, 1], no gamma (as raykit's)."""
-    from raykit.io.images import quantize, save_image
-
-    save_image(quantize(np.asarray(rgb, float)), path)
 
 
 def set_up_raykit(engine: str, data: dict) -> tuple:

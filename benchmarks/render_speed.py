@@ -26,7 +26,6 @@ import subprocess
 import sys
 import tempfile
 import time
-from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -34,7 +33,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-from common import arguments, loglog_plot, median_time, parse, seconds  # noqa: E402
+from common import arguments, loglog_plot, median_time, parse, seconds, sized  # noqa: E402
 
 from raykit.camera import rays_through  # noqa: E402
 from raykit.io.scene_json import load_scene  # noqa: E402
@@ -156,7 +155,7 @@ def print_whole_process(repeats: int) -> None:
 def scenes(quick: bool) -> list[tuple[str, Scene]]:
     classic = load_scene(HERE.parent / "scenes" / "classic.json")
     if quick:
-        small = replace(classic, camera=replace(classic.camera, width=160, height=120))
+        small = sized(classic, 160, 120)
         return [
             ("classic", small),
             ("sphereflake 2", sphereflake(2, 128, 128)),
@@ -177,7 +176,7 @@ def example_scenes(quick: bool) -> list[tuple[str, Scene]]:
     for path in sorted((HERE.parent / "scenes").glob("*.json")):
         scene = load_scene(path)
         if quick:
-            scene = replace(scene, camera=replace(scene.camera, width=64, height=48))
+            scene = sized(scene, 64, 48)
         found.append((f"scenes/{path.name}", scene))
     return found
 

@@ -15,16 +15,24 @@ from conftest import REPO
 TIMEOUT = 1200
 
 
-def _table_rows(script: str, *extra: str) -> list[str]:
+def _tables(script: str, *extra: str, repeats: bool = True) -> list[list[str]]:
+    """The lines of each block (blank-line separated) ``script --quick`` prints, with
+    ``--repeats 1`` unless ``repeats`` is false (a benchmark that times nothing takes no
+    --repeats); the script must succeed."""
+    once = ["--repeats", "1"] if repeats else []
     run = subprocess.run(
-        [sys.executable, str(REPO / "benchmarks" / script), "--quick", "--repeats", "1", *extra],
+        [sys.executable, str(REPO / "benchmarks" / script), "--quick", *once, *extra],
         capture_output=True,
         text=True,
         timeout=TIMEOUT,
     )
     assert run.returncode == 0, run.stderr
-    tables = [t.splitlines() for t in run.stdout.split("\n\n")]
-    first = next(t for t in tables if t and t[0].startswith("| "))
+    return [t.splitlines() for t in run.stdout.split("\n\n")]
+
+
+def _table_rows(script: str, *extra: str, repeats: bool = True) -> list[str]:
+    """The rows of the first table :func:`_tables` finds."""
+    first = next(t for t in _tables(script, *extra, repeats=repeats) if t and t[0].startswith("| "))
     return [line for line in first if line.startswith("| ")][1:]  # the first table's rows
 
 
@@ -120,14 +128,7 @@ def test_raykit_bench_runs_every_benchmark_and_writes_the_plots(tmp_path):
 
 
 def test_mitsuba_comparison_times_raykit_and_mitsuba_when_installed():
-    run = subprocess.run(
-        [sys.executable, str(REPO / "benchmarks/mitsuba_compare.py"), "--quick", "--repeats", "1"],
-        capture_output=True,
-        text=True,
-        timeout=TIMEOUT,
-    )
-    assert run.returncode == 0, run.stderr
-    tables = [t.splitlines() for t in run.stdout.split("\n\n") if t.startswith("| scene |")]
+    tables = [t for t in _tables("mitsuba_compare.py") if t and t[0].startswith("| scene |")]
     flat, lit = ([line.split(" | ") for line in t[2:]] for t in tables)
     assert [row[0] for row in lit] == [row[0] + " lit" for row in flat]  # the same scenes, lit
     for rows in (flat, lit):
@@ -385,8 +386,12 @@ def test_a_render_child_renders_its_engines_scene_each_time_it_is_asked_and_says
 
 def test_engine_agreement_prints_each_kind_of_scene_and_saves_a_scene_that_loads(tmp_path):
     pytest.importorskip("numba")
-    rows = _table_rows("engine_agreement.py", "--scenes", "3", "--out", str(tmp_path / "out"))
+    rows = _table_rows(
+        "engine_agreement.py", "--scenes", "3", "--out", str(tmp_path / "out"), repeats=False
+    )
     assert rows and all(row.count(" | ") == 2 for row in rows)  # kind | scenes | mismatches
+    assert all(row.strip("| ").split(" | ")[2] == "0" for row in rows)  # the engines agree
+    assert not (tmp_path / "out").exists()  # no scene that disagrees saved
     save = _benchmark_module("engine_agreement").save
     from random_scenes import make_textures, random_scene
 
