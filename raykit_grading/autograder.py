@@ -2,20 +2,23 @@
 
     python -m raykit_grading gradescope -o autograder.zip
 
-The zip holds ``setup.sh`` and ``run_autograder`` at its top, and ``source/`` with the grader,
-the reference raykit, the scenes, the hidden scenes and ``grading-seed``, the assignment's
-secret seed (:mod:`raykit_grading.seeds`): every submission and every regrade is graded on the
-inputs drawn from it. The builder keeps it beside the zip (``autograder.grading-seed``, mode
-600; or ``--seed-file``), so a zip built again grades the same inputs. On Gradescope's Ubuntu
-image:
+Gradescope extracts the zip into ``/autograder/source``, copies ``run_autograder`` from there to
+``/autograder/run_autograder``, and runs ``setup.sh`` once, as root, when it builds the image.
+So the zip's top holds exactly what ``/autograder/source`` is to hold: ``setup.sh``,
+``run_autograder``, ``grader-requirements.txt``, ``grading-seed`` (the assignment's secret seed,
+:mod:`raykit_grading.seeds`: every submission and every regrade is graded on the inputs drawn
+from it), the grader, the reference raykit, the scenes and the hidden scenes. The builder keeps
+the seed beside the zip (``autograder.grading-seed``, mode 600; or ``--seed-file``), so a zip
+built again grades the same inputs.
 
-* ``setup.sh`` installs bubblewrap (the sandbox, :mod:`raykit_grading.isolation`) and a Python
-  with numpy and Pillow pinned to the versions of the machine that built the zip (the
-  references are computed with them at grading time, and submissions run on the same
-  interpreter, inside the sandbox, which shows them numpy and Pillow only); and it closes
+* ``setup.sh`` installs bubblewrap (the sandbox, :mod:`raykit_grading.isolation`), and a Python
+  (``/opt/raykit-grader``) with what ``grader-requirements.txt`` pins and nothing else: the
+  references are computed with it at grading time, and submissions run on the same interpreter,
+  inside the sandbox, which shows them numpy and Pillow only. The pins are the repository's,
+  not the builder's: each has wheels for the Python of every base image Gradescope offers.
+  It builds the chroot sandbox's tree (:mod:`raykit_grading.confine`), used where Docker's
+  default confinement refuses bubblewrap its namespaces (as on Gradescope), and closes
   ``/autograder/source`` to everyone but root.
-  It also builds the chroot sandbox's tree (:mod:`raykit_grading.confine`), used where
-  Docker's default confinement refuses bubblewrap its namespaces (as on Gradescope).
 * ``run_autograder`` grades ``/autograder/submission`` (a folder or a zip in it) under the
   seed in ``source/grading-seed`` and writes ``/autograder/results/results.json``; it exits 0
   when it graded, whatever the score (a submission with nothing to grade scores 0 and says
@@ -38,18 +41,22 @@ from raykit_grading.catalog import REPO
 from raykit_grading.seeds import HEADER, fingerprint, seed_from_file
 
 SETUP = """#!/usr/bin/env bash
-# Gradescope runs this once, as root, when the autograder is built.
+# Gradescope runs this once, as root, in /autograder/source (this zip's contents), when it
+# builds the autograder's image.
 set -euo pipefail
+source=$(cd "$(dirname "${{BASH_SOURCE[0]}}")" && pwd)
+export DEBIAN_FRONTEND=noninteractive
 apt-get update -qq
-apt-get install -y -qq python3 python3-pip python3-venv bubblewrap
+apt-get install -y -qq python3 python3-venv bubblewrap
 python3 -m venv /opt/raykit-grader
-/opt/raykit-grader/bin/pip install -q {pins} tqdm
+/opt/raykit-grader/bin/pip install -q --disable-pip-version-check \\
+  -r "$source/{requirements}"
 chmod -R a+rX /opt/raykit-grader
 # the chroot sandbox's tree, made now so that no grading pays for it
-PYTHONPATH=/autograder/source /opt/raykit-grader/bin/python -m raykit_grading.confine
+PYTHONPATH="$source" /opt/raykit-grader/bin/python -m raykit_grading.confine
 # submissions run in a sandbox, as an unprivileged uid (50000-59999): none of this is in it
-chmod 700 /autograder/source
-chmod 600 /autograder/source/grading-seed  # the assignment's secret seed: root's alone
+chmod 700 "$source"
+chmod 600 "$source/grading-seed"  # the assignment's secret seed: root's alone
 """
 
 RUN = """#!/usr/bin/env bash
@@ -68,12 +75,7 @@ PYTHONPATH="$root/source" exec "$grader_python" -m raykit_grading grade "$root/s
 """
 
 
-def pins() -> str:
-    """numpy and Pillow at the versions this machine has (the references' own)."""
-    import numpy
-    import PIL
-
-    return f"numpy=={numpy.__version__} Pillow=={PIL.__version__}"
+REQUIREMENTS = Path(__file__).with_name("grader-requirements.txt")
 
 
 def build_zip(out: Path, seed_file: Path | None = None) -> Path:
@@ -83,18 +85,20 @@ def build_zip(out: Path, seed_file: Path | None = None) -> Path:
     seed_file = Path(seed_file or out.with_suffix(".grading-seed"))
     seed, made = seed_from_file(seed_file)
     with zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as archive:
-        scripts = (("setup.sh", SETUP.format(pins=pins())), ("run_autograder", RUN.format()))
+        scripts = (("setup.sh", SETUP.format(requirements=REQUIREMENTS.name)),
+                   ("run_autograder", RUN.format()))  # fmt: skip
         for name, text in scripts:
             info = zipfile.ZipInfo(name)
             info.external_attr = 0o755 << 16
             archive.writestr(info, text)
-        info = zipfile.ZipInfo("source/grading-seed")
+        info = zipfile.ZipInfo("grading-seed")
         info.external_attr = 0o600 << 16  # and setup.sh closes source/ to root
         archive.writestr(info, f"{HEADER}{seed}\n")
+        archive.write(REQUIREMENTS, REQUIREMENTS.name)
         for folder in ("raykit", "raykit_grading", "scenes", "grading/hidden-scenes"):
             for path in sorted((REPO / folder).rglob("*")):
                 if path.is_file() and "__pycache__" not in path.parts:
-                    archive.write(path, f"source/{path.relative_to(REPO)}")
+                    archive.write(path, str(path.relative_to(REPO)))
     kept = "made now" if made else "kept"
     print(f"wrote {out}: grading seed {fingerprint(seed)} from {seed_file} ({kept}: build "
           "the zip again with it for the same graded inputs)")  # fmt: skip

@@ -4,9 +4,9 @@ The graded inputs (:meth:`raykit_grading.catalog.GradingTest.graded_inputs`) are
 seed. The seed is made once, when an assignment's grading is set up, and kept in a *seed file*
 that only the instructor (and the grader, as root) can read:
 
-* ``gradescope -o autograder.zip``: the zip carries it as ``source/grading-seed``, which
-  ``setup.sh`` closes to root with the rest of ``source/``; the builder keeps a copy beside the
-  zip (``autograder.grading-seed``), so a rebuilt zip grades with the same inputs.
+* ``gradescope -o autograder.zip``: the zip carries it as ``grading-seed`` at its top, which
+  ``setup.sh`` closes to root with the rest of ``/autograder/source``; the builder keeps a copy
+  beside the zip (``autograder.grading-seed``), so a rebuilt zip grades with the same inputs.
 * ``batch SUBMISSIONS -o OUT``: ``OUT/grading-seed``, so a batch that is run again (new students,
   ``--regrade``) grades with the same inputs.
 * ``grade SUBMISSION -o results.json``: ``grading-seed`` beside results.json.

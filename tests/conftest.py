@@ -166,6 +166,19 @@ def child_python() -> str:
     return sys.executable
 
 
+@pytest.fixture(scope="session")
+def grader_python() -> str:
+    """A Python like the zip's ``setup.sh`` makes (only the grader's pinned requirements),
+    that every uid can run (tests/support/grader_python.py); skips saying why where it cannot
+    be made."""
+    from grader_python import grader_python as make
+
+    python, why = make()
+    if python is None:
+        pytest.skip(why)
+    return python
+
+
 def pytest_collection_modifyitems(config, items):
     """Grading runs submissions in bubblewrap sandboxes; where bwrap is not installed, say so
     and skip those tests (but never in CI, which installs it: there they must run)."""

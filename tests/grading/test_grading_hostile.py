@@ -5,13 +5,15 @@ and the grader's own.
 Every test that grades through :func:`grade_as_deployed` runs three ways (the ``autograder``
 fixture's parameter), each skipped with its reason where this machine cannot make it:
 
-* ``root``: the autograder zip's own ``run_autograder`` as root, in a Gradescope-like folder
-  layout (``source/`` closed to everyone but root): bubblewrap's sandbox;
+* ``root``: the autograder zip's own ``run_autograder`` as root, the zip unpacked as
+  Gradescope does (into ``source/``, ``run_autograder`` copied beside it, ``source/`` closed to
+  everyone but root), run by a grader Python with only what ``setup.sh`` installs
+  (tests/support/grader_python.py): bubblewrap's sandbox;
 * ``docker``: the same ``run_autograder`` as root under an emulation of Docker's default
   confinement with a 768 MB memory limit (``tests/support/docker_confinement.py``), as
   Gradescope runs it: no namespaces, so the chroot sandbox (:mod:`raykit_grading.confine`);
 * ``user``: the README's ``python -m raykit_grading grade`` as a normal user (this one, or as
-  root ``setpriv`` to uid 65534 with a Python that uid can run: ``RAYKIT_USER_PYTHON``).
+  root ``setpriv`` to uid 65534 with the same grader Python, which that uid can run).
 
 The batch tests run as the user running the suite. Every attack that needs something outside
 its sandbox has a way to profit if it got it (it then answers right and scores), so a defence
@@ -83,20 +85,6 @@ def canary(tmp_path_factory):
     shutil.rmtree(folder, ignore_errors=True)
 
 
-def user_python() -> str | None:
-    """A Python with numpy and Pillow that uid 65534 can run (for the ``user`` way as root)."""
-    for python in (os.environ.get("RAYKIT_USER_PYTHON"), sys.executable):
-        if not python:
-            continue
-        probe = subprocess.run(
-            ["setpriv", f"--reuid={NOBODY}", f"--regid={NOBODY}", "--clear-groups", python,
-             "-c", "import numpy, PIL"], capture_output=True, cwd="/",
-        )  # fmt: skip
-        if probe.returncode == 0:
-            return python
-    return None
-
-
 def _deployment_skip(way: str) -> str | None:
     """Why ``way`` cannot run on this machine, or None."""
     if way in ("root", "docker") and not AS_ROOT:
@@ -108,18 +96,16 @@ def _deployment_skip(way: str) -> str | None:
         )  # fmt: skip
         if probe.returncode != 0:
             return f"cannot emulate Docker's confinement here: {probe.stderr.strip()}"
-    if way == "user" and AS_ROOT and (shutil.which("setpriv") is None or user_python() is None):
-        return (
-            "as root, the user way needs setpriv and a Python uid 65534 can run "
-            "(set RAYKIT_USER_PYTHON)"
-        )
+    if way == "user" and AS_ROOT and shutil.which("setpriv") is None:
+        return "as root, the user way needs setpriv to become uid 65534"
     return None
 
 
 @pytest.fixture(scope="module", params=DEPLOYMENTS)
-def autograder(request, tmp_path_factory):
-    """The autograder zip unpacked as Gradescope does, source closed to everyone but root;
-    its folder's name ends in the way it is graded (:data:`DEPLOYMENTS`)."""
+def autograder(request, tmp_path_factory, grader_python):
+    """The autograder zip unpacked as Gradescope does (into ``source/``, ``run_autograder``
+    copied from there beside it), source closed to everyone but root; its folder's name ends in
+    the way it is graded (:data:`DEPLOYMENTS`)."""
     why = _deployment_skip(request.param)
     if why:
         pytest.skip(why)
@@ -128,9 +114,8 @@ def autograder(request, tmp_path_factory):
     (root / "source").mkdir(parents=True)
     archive = build_zip(tmp_path_factory.mktemp("zip") / "autograder.zip")
     with zipfile.ZipFile(archive) as opened:
-        opened.extractall(root / "zipped")
-    shutil.copytree(root / "zipped/source", root / "source", dirs_exist_ok=True)
-    shutil.copy(root / "zipped/run_autograder", root / "run_autograder")
+        opened.extractall(root / "source")
+    shutil.copy(root / "source/run_autograder", root / "run_autograder")
     os.chmod(root, 0o755)
     os.chmod(root / "source", 0o700)
     yield root
@@ -145,6 +130,9 @@ def grade_as_deployed(
     autograder: Path, submission: Path, only: list[str], tmp_path: Path, extra: str = ""
 ) -> tuple[dict, subprocess.CompletedProcess]:
     """Grade the way an instructor does (see the module's docstring)."""
+    from grader_python import grader_python
+
+    python = grader_python()[0]
     options = f"--only {' '.join(only)} --wall-seconds {WALL} --seed {SEED} {extra}"
     if way(autograder) in ("root", "docker"):
         shutil.rmtree(autograder / "submission", ignore_errors=True)
@@ -153,7 +141,7 @@ def grade_as_deployed(
         env = {
             "PATH": "/usr/bin:/bin",
             "AUTOGRADER_ROOT": str(autograder),
-            "RAYKIT_GRADER_PYTHON": sys.executable,
+            "RAYKIT_GRADER_PYTHON": python,
             "RAYKIT_GRADE_OPTIONS": options,
         }
         command = ["bash", str(autograder / "run_autograder")]
@@ -178,7 +166,7 @@ def grade_as_deployed(
             path = folder / "results" / "results.json"
             run = subprocess.run(
                 ["setpriv", f"--reuid={NOBODY}", f"--regid={NOBODY}", "--clear-groups",
-                 user_python(), "-m", "raykit_grading", "grade", str(folder / "submission"),
+                 python, "-m", "raykit_grading", "grade", str(folder / "submission"),
                  "-o", str(path), *options.split()],
                 capture_output=True, text=True, timeout=300, cwd=REPO,
                 env={"PATH": "/usr/bin:/bin", "PYTHONPATH": str(REPO), "TMPDIR": str(folder)},

@@ -8,6 +8,7 @@ import ast
 import hashlib
 import json
 import os
+import shutil
 import stat
 import subprocess
 import sys
@@ -263,7 +264,7 @@ def test_batch_grades_every_student_under_one_seed_and_regrades_under_another(
     }
 
 
-def test_the_zip_carries_the_seed_kept_beside_it_and_grades_under_it(tmp_path, child_python):
+def test_the_zip_carries_the_seed_kept_beside_it_and_grades_under_it(tmp_path, grader_python):
     from raykit_grading.autograder import build_zip
 
     archive = build_zip(tmp_path / "autograder.zip")
@@ -273,16 +274,18 @@ def test_the_zip_carries_the_seed_kept_beside_it_and_grades_under_it(tmp_path, c
     rebuilt = build_zip(tmp_path / "again.zip", seed_file=kept)
     for path in (archive, rebuilt):
         with zipfile.ZipFile(path) as opened:
-            inside = opened.read("source/grading-seed").decode()
+            inside = opened.read("grading-seed").decode()
             assert inside.split()[-1] == str(seed)
-            assert opened.getinfo("source/grading-seed").external_attr >> 16 == 0o600
-            opened.extractall(tmp_path / "unpacked")
-    root = tmp_path / "unpacked"
+            assert opened.getinfo("grading-seed").external_attr >> 16 == 0o600
+    root = tmp_path / "autograder"  # laid out as Gradescope lays it out
+    with zipfile.ZipFile(archive) as opened:
+        opened.extractall(root / "source")
+    shutil.copy(root / "source/run_autograder", root / "run_autograder")
     make_submission(root / "submission")
     run = subprocess.run(
         ["bash", str(root / "run_autograder")],
         env={"PATH": "/usr/bin:/bin", "AUTOGRADER_ROOT": str(root),
-             "RAYKIT_GRADER_PYTHON": child_python, "RAYKIT_GRADE_OPTIONS": "--only 2.1"},
+             "RAYKIT_GRADER_PYTHON": grader_python, "RAYKIT_GRADE_OPTIONS": "--only 2.1"},
         capture_output=True, text=True,
     )  # fmt: skip
     assert run.returncode == 0, run.stderr
