@@ -2,7 +2,7 @@
 deserves, nothing outside its sandbox is read or written, and results.json is always valid
 and the grader's own.
 
-Every test that grades through :func:`grade_as_deployed` runs three ways (the ``autograder``
+Every test that grades through :func:`grade_as_deployed` runs four ways (the ``autograder``
 fixture's parameter), each skipped with its reason where this machine cannot make it:
 
 * ``root``: the autograder zip's own ``run_autograder`` as root, the zip unpacked as
@@ -13,7 +13,14 @@ fixture's parameter), each skipped with its reason where this machine cannot mak
   confinement with a 768 MB memory limit (``tests/support/docker_confinement.py``), as
   Gradescope runs it: no namespaces, so the chroot sandbox (:mod:`raykit_grading.confine`);
 * ``user``: the README's ``python -m raykit_grading grade`` as a normal user (this one, or as
-  root ``setpriv`` to uid 65534 with the same grader Python, which that uid can run).
+  root ``setpriv`` to uid 65534 with the same grader Python, which that uid can run);
+* ``container``: the zip in a real Docker container, as Gradescope builds and runs it
+  (:mod:`raykit_grading.containers`): an image built once per session from the zip on a base
+  image (``RAYKIT_CONTAINER_BASE``, default the Debian one made with debootstrap, made here if
+  missing), ``setup.sh`` run at build time, then a fresh container per submission with
+  Docker's default seccomp profile and capabilities, 768 MB and half a CPU, the submission
+  copied to ``/autograder/submission``, ``/autograder/run_autograder`` as the command: the
+  chroot sandbox, for real. Skipped, saying why, where Docker cannot run containers.
 
 The batch tests run as the user running the suite. Every attack that needs something outside
 its sandbox has a way to profit if it got it (it then answers right and scores), so a defence
@@ -53,6 +60,7 @@ from raykit_grading.autograder import build_zip
 from raykit_grading.catalog import TESTS
 from raykit_grading.confine import TREES
 from raykit_grading.release import build_release
+from raykit_grading.seeds import HEADER
 
 pytestmark = pytest.mark.slow
 
@@ -60,7 +68,7 @@ AS_ROOT = os.geteuid() == 0
 WALL = 4.0
 NOBODY = 65534
 EMULATION = REPO / "tests" / "support" / "docker_confinement.py"
-DEPLOYMENTS = ("root", "docker", "user")
+DEPLOYMENTS = ("root", "docker", "user", "container")
 POINTS = {t.key: t.points for t in TESTS}
 SEED = 20261123
 
@@ -98,7 +106,33 @@ def _deployment_skip(way: str) -> str | None:
             return f"cannot emulate Docker's confinement here: {probe.stderr.strip()}"
     if way == "user" and AS_ROOT and shutil.which("setpriv") is None:
         return "as root, the user way needs setpriv to become uid 65534"
+    if way == "container":
+        from raykit_grading.containers import docker_problem
+
+        problem = docker_problem()
+        if problem:
+            return f"the container way needs Docker: {problem}"
     return None
+
+
+def container_image(folder: Path, archive: Path) -> str:
+    """The image Gradescope would build from ``archive`` (built once, then reused while the
+    zip's contents are the same), on ``RAYKIT_CONTAINER_BASE`` (default the Debian base image,
+    made with debootstrap if missing); skips saying why where it cannot be made."""
+    from raykit_grading import containers
+
+    base = os.environ.get("RAYKIT_CONTAINER_BASE", containers.DEBIAN_BASE)
+    try:
+        if base == containers.DEBIAN_BASE and not containers.image_exists(base):
+            if not AS_ROOT:
+                pytest.skip(f"no base image {base}, and only root can make it (debootstrap)")
+            containers.make_base_image(base)
+        built = containers.build_image(archive, base, log_dir=folder)
+    except containers.ContainerError as exc:
+        pytest.fail(f"the zip's image does not build, as it would not on Gradescope: {exc}")
+    how = "reused" if built.cached else f"built in {built.seconds:.0f} s, log {built.log}"
+    print(f"container way: image {built.image} on {base}: {how}")
+    return built.image
 
 
 @pytest.fixture(scope="module", params=DEPLOYMENTS)
@@ -112,6 +146,15 @@ def autograder(request, tmp_path_factory, grader_python):
     root = Path("/tmp") / f"raykit-autograder-{os.getpid()}-{request.param}"
     shutil.rmtree(root, ignore_errors=True)
     (root / "source").mkdir(parents=True)
+    if request.param == "container":  # a fixed seed: the same code makes the same image
+        seed_file = tmp_path_factory.mktemp("seed") / "grading-seed"
+        seed_file.write_text(f"{HEADER}{SEED}\n")
+        seed_file.chmod(0o600)
+        archive = build_zip(tmp_path_factory.mktemp("zip") / "autograder.zip", seed_file)
+        (root / "image").write_text(container_image(root, archive))
+        yield root
+        shutil.rmtree(root, ignore_errors=True)
+        return
     archive = build_zip(tmp_path_factory.mktemp("zip") / "autograder.zip")
     with zipfile.ZipFile(archive) as opened:
         opened.extractall(root / "source")
@@ -134,6 +177,8 @@ def grade_as_deployed(
 
     python = grader_python()[0]
     options = f"--only {' '.join(only)} --wall-seconds {WALL} --seed {SEED} {extra}"
+    if way(autograder) == "container":
+        return _grade_in_a_container(autograder, submission, options, tmp_path)
     if way(autograder) in ("root", "docker"):
         shutil.rmtree(autograder / "submission", ignore_errors=True)
         shutil.rmtree(autograder / "results", ignore_errors=True)
@@ -183,6 +228,27 @@ def grade_as_deployed(
     sandbox = results["extra_data"].get("sandbox", "")
     assert sandbox.startswith(expected_sandbox) or sandbox.startswith("none"), sandbox
     return results, run
+
+
+def _grade_in_a_container(
+    autograder: Path, submission: Path, options: str, tmp_path: Path
+) -> tuple[dict, subprocess.CompletedProcess]:
+    """A fresh container of the zip's image grades ``submission``, as on Gradescope; the
+    options reach ``run_autograder`` as ``RAYKIT_GRADE_OPTIONS`` (``docker create -e``)."""
+    from raykit_grading.containers import grade_in_container
+
+    image = (autograder / "image").read_text()
+    graded = grade_in_container(
+        image, submission, tmp_path / "container-results",
+        env={"RAYKIT_GRADE_OPTIONS": options}, timeout=300,
+    )  # fmt: skip
+    assert graded.results is not None, f"{graded.problem}:\n{graded.output[-3000:]}"
+    sandbox = graded.results["extra_data"].get("sandbox", "")
+    assert sandbox.startswith("chroot+uid+") or sandbox.startswith("none"), sandbox
+    run = subprocess.CompletedProcess(
+        ["docker", "start", "--attach"], graded.status, graded.output, graded.output
+    )
+    return graded.results, run
 
 
 def submission_with(release: Path, tmp_path: Path, edits: dict[str, str], **fmt) -> Path:
@@ -993,18 +1059,33 @@ def _held(lock: Path) -> bool:
         os.close(fd)
 
 
+def _owner(proc: Path) -> int | None:
+    """The uid of a /proc entry's process, or None (not a process, or gone meanwhile: other
+    processes come and go on this machine)."""
+    try:
+        return proc.stat().st_uid if proc.name.isdigit() else None
+    except FileNotFoundError:
+        return None
+
+
 def test_nothing_is_left_behind(autograder):
     """No process of a sandbox uid, no grader workspace, no test folder in a chroot tree that
     no running grader holds (this runs after the tests above, for each way)."""
     from raykit_grading.isolation import SANDBOX_UIDS, UID_LOCKS
 
+    if way(autograder) == "container":  # every grading's container removed
+        listed = subprocess.run(
+            ["docker", "ps", "--all", "--quiet", "--filter", "name=raykit-grade-"],
+            capture_output=True, text=True, check=True,
+        )  # fmt: skip
+        assert listed.stdout.split() == []
     if AS_ROOT:
         folders = TREES.glob("tree-*/tasks/p*-*")
         gone = [f for f in folders if not Path(f"/proc/{f.name[1:].split('-')[0]}").exists()]
         assert gone == []  # named p<grader's pid>-...: a grader that is gone left it
     uids = set(SANDBOX_UIDS)
-    left = [p for p in Path("/proc").iterdir() if p.name.isdigit() and p.stat().st_uid in uids]
-    assert [p for p in left if not _held(UID_LOCKS / str(p.stat().st_uid))] == []
+    left = [(p, uid) for p in Path("/proc").iterdir() if (uid := _owner(p)) in uids]
+    assert [p for p, uid in left if not _held(UID_LOCKS / str(uid))] == []
     mine = [
         p
         for p in Path(tempfile.gettempdir()).glob("raykit-grading-*")
