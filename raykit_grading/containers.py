@@ -243,7 +243,13 @@ def build_image(
         with open(log, "w") as out:
             built = subprocess.run([*command, context], stdout=out, stderr=subprocess.STDOUT)
     if built.returncode != 0:
-        tail = log.read_text(errors="replace").splitlines()[-15:]
+        legacy = (
+            "DEPRECATED: The legacy builder",
+            "Install the buildx",
+            "https://docs.docker.com/go/buildx",
+        )
+        lines = log.read_text(errors="replace").splitlines()
+        tail = [li for li in lines if li.strip() and not li.strip().startswith(legacy)][-15:]
         raise ContainerError(
             f"building the image from {archive} on {base_image} failed (the whole log: {log}):\n"
             + "\n".join(tail)
