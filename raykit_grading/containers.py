@@ -316,7 +316,7 @@ def grade_in_container(
             return Graded(status, None, None, output, seconds, "no results.json was written")
         try:
             results = json.loads(path.read_text())
-        except (ValueError, UnicodeDecodeError) as exc:
+        except (OSError, ValueError) as exc:  # UnicodeDecodeError is a ValueError
             return Graded(status, None, path, output, seconds, f"results.json is not JSON: {exc}")
         return Graded(status, results, path, output, seconds)
     finally:
@@ -387,7 +387,12 @@ def try_zip(
     for index, submission in enumerate(submissions):
         submission = Path(submission)
         out_dir = Path(output) / f"{index + 1:02d}-{submission.name or 'submission'}"
-        graded = grade_in_container(built.image, submission, out_dir, env=env)
+        try:
+            graded = grade_in_container(built.image, submission, out_dir, env=env)
+        except ContainerError as exc:
+            failed += 1
+            print(f"{submission}: NOT GRADED ({exc})")
+            continue
         if graded.results is None or graded.status != 0:
             failed += 1
             why = graded.problem or f"run_autograder exited {graded.status}"
