@@ -156,8 +156,18 @@ def autograder(request, tmp_path_factory, grader_python):
         seed_file.write_text(f"{HEADER}{SEED}\n")
         seed_file.chmod(0o600)
         archive = build_zip(tmp_path_factory.mktemp("zip") / "autograder.zip", seed_file)
-        reporter = request.config.pluginmanager.get_plugin("terminalreporter")
-        say = reporter.write_line if reporter else print  # in CI's log, past the capture
+        plugins = request.config.pluginmanager
+        reporter, capture = (
+            plugins.get_plugin("terminalreporter"),
+            plugins.get_plugin("capturemanager"),
+        )
+
+        def say(line: str) -> None:  # in CI's log, past pytest's capture
+            if reporter is None or capture is None:
+                return print(line)
+            with capture.global_and_fixture_disabled():
+                reporter.write_line(line)
+
         (root / "image").write_text(container_image(root, archive, say))
         yield root
         shutil.rmtree(root, ignore_errors=True)
