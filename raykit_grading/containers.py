@@ -109,7 +109,8 @@ def make_base_image(
                 capture_output=True, text=True,
             )  # fmt: skip
             if made.returncode != 0:
-                raise ContainerError(f"debootstrap failed: {_last_line(made.stderr)}")
+                why = _last_line(made.stderr) or _last_line(made.stdout)
+                raise ContainerError(f"debootstrap {suite} from {mirror} failed: {why}")
             log(f"debootstrap {suite}: {time.perf_counter() - start:.0f} s")
         tar = subprocess.Popen(["tar", "-C", str(rootfs), "-c", "."], stdout=subprocess.PIPE)
         imported = subprocess.run(
