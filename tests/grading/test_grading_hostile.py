@@ -855,7 +855,11 @@ def test_6_nothing_outside_the_sandbox_is_written(release, autograder, canary, t
 
 
 def test_7_forged_results_and_a_killed_parent_change_nothing(release, autograder, tmp_path):
-    targets = [str(autograder / "results/results.json"), str(tmp_path / "results/results.json")]
+    targets = [
+        str(autograder / "results/results.json"),
+        str(tmp_path / "results/results.json"),
+        "/autograder/results/results.json",  # where the container way's grader writes it
+    ]
     code = (
         "import json, os, signal\n"
         f"for path in {targets!r}:\n"
