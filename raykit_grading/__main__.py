@@ -70,14 +70,24 @@ def build_parser() -> argparse.ArgumentParser:
         "try-zip", help="build the zip's image and grade submissions in Docker, as Gradescope will"
     )
     try_zip.add_argument("zip", type=Path, help="autograder.zip")
-    try_zip.add_argument("submissions", type=Path, nargs="+", metavar="SUBMISSION")
+    try_zip.add_argument(
+        "submissions",
+        type=Path,
+        nargs="+",
+        metavar="SUBMISSION",
+        help="a folder (its contents go to /autograder/submission, as on Gradescope) or a zip",
+    )
     try_zip.add_argument(
         "--base-image",
         default="gradescope/autograder-base:ubuntu-22.04",
         help="image to build on (default: Gradescope's, gradescope/autograder-base:ubuntu-22.04)",
     )
     try_zip.add_argument(
-        "-o", "--output", type=Path, default=Path("try-zip"), help="folder for the results"
+        "-o",
+        "--output",
+        type=Path,
+        default=Path("try-zip"),
+        help="folder for the results (try-zip/)",
     )
 
     for sub, beside in ((grade, "beside results.json"), (batch, "in the output folder")):
