@@ -92,8 +92,8 @@ def main() -> None:
             sandbox.check()
             calls[f"test, {kind}"] = lambda sandbox=sandbox: sandbox.run("probe", {}, {})
         if as_root:
-            tree = sandboxes["chroot"].tree
-            copy = tree / confine.TASKS / "benchmark-copy"
+            copy_slot, _ = confine.lease_slot(sandboxes["chroot"].tree)
+            copy = copy_slot.outside / "submission"
             calls["copy the submission"] = lambda: (
                 shutil.copytree(submission, copy, copy_function=_link_or_copy),
                 shutil.rmtree(copy),
@@ -103,6 +103,8 @@ def main() -> None:
         finally:
             if as_root:
                 cleanup()
+                copy_slot.empty()
+                copy_slot.release()
     user = "root" if as_root else "a normal user"
     load = ", ".join(f"{x:.1f}" for x in os.getloadavg())
     lines += [f"Per test, as {user}: medians of {repeats} runs of each, in turns, on "
@@ -143,14 +145,14 @@ def _chrooted_imports(python, sandbox: Sandbox):
     """The import command in the chroot sandbox, as a test's child is confined; and what
     removes its folder and ends its uid's lease."""
     sandbox.check()
-    folder = sandbox.tree / confine.TASKS / "benchmark"
-    shutil.rmtree(folder, ignore_errors=True)
-    (folder / "tmp").mkdir(parents=True)
+    slot, _ = confine.lease_slot(sandbox.tree)
+    folder = slot.outside
+    (folder / "tmp").mkdir()
     lease = sandbox.uids.lease()
     os.chown(folder / "tmp", lease.uid, lease.uid)
     plan = confine.ChildConfinement(
         tree=str(sandbox.tree),
-        folder=f"/{confine.TASKS}/benchmark",
+        folder=slot.inside,
         uid=lease.uid,
         rlimits=sandbox._rlimits(),
         landlock_abi=sandbox.landlock,
@@ -167,7 +169,8 @@ def _chrooted_imports(python, sandbox: Sandbox):
 
     def cleanup() -> None:
         lease.release()
-        shutil.rmtree(folder, ignore_errors=True)
+        slot.empty()
+        slot.release()
 
     return run, cleanup
 

@@ -64,14 +64,22 @@ RUN = """#!/usr/bin/env bash
 set -uo pipefail
 root="${{AUTOGRADER_ROOT:-/autograder}}"
 grader_python="${{RAYKIT_GRADER_PYTHON:-/opt/raykit-grader/bin/python}}"
-[ -x "$grader_python" ] || grader_python=python3
+results="$root/results/results.json"
 mkdir -p "$root/results"
+rm -f "$results"
 cd "$root/source" || exit 3
 # RAYKIT_GRADE_OPTIONS (e.g. "--only 3.6 --wall-seconds 5") is for testing this script
 # shellcheck disable=SC2086
-PYTHONPATH="$root/source" exec "$grader_python" -m raykit_grading grade "$root/submission" \\
-  -o "$root/results/results.json" --seed-file "$root/source/grading-seed" \\
-  ${{RAYKIT_GRADE_OPTIONS:-}}
+PYTHONPATH="$root/source" "$grader_python" -m raykit_grading grade "$root/submission" \\
+  -o "$results" --seed-file "$root/source/grading-seed" ${{RAYKIT_GRADE_OPTIONS:-}}
+status=$?
+if [ ! -s "$results" ]; then  # the grader did not run at all: say so, never a silent zero
+  echo "raykit_grading: error: the grader could not run (exit status $status)" >&2
+  printf '%s\\n' '{{"score": 0, "visibility": "visible", "tests": [], "output":' \\
+    '"NOT GRADED: the autograder could not run here; ask your instructor"}}' > "$results"
+  exit 3
+fi
+exit "$status"
 """
 
 

@@ -12,7 +12,7 @@ test's child makes for itself between ``fork`` and ``exec`` (:func:`confine_chil
 2. ``chroot`` into a minimal tree (:func:`chroot_tree`: the interpreter, its standard library
    without ``site-packages``, numpy and Pillow at :data:`raykit_grading.isolation.SITE`, the
    shared libraries they load, made once, root-owned and read-only) and ``chdir`` into the
-   test's own folder in it (``/tasks/<random>``, mode 750 root:its gid, holding the child
+   test's own folder in it (a slot, ``/tasks/<n>``, mode 750 root:its gid, holding the child
    script, the inputs, a copy of the submission, and ``tmp/`` of its uid, mode 700);
 3. the test's own uid and gid, leased (``setgroups([])``, ``setgid``, ``setuid``: a process
    that leaves uid 0 this way keeps no capability), then ``PR_SET_NO_NEW_PRIVS``;
@@ -28,6 +28,14 @@ then ``exec`` of the child Python. After the test every process of its uid is ki
 The tree is built where only root can reach it (:data:`TREES`), once per interpreter and set
 of packages: Gradescope's ``setup.sh`` builds it when the image is made; elsewhere the first
 grading builds it. Bind mounts need a mount namespace, so its files are copies.
+
+**Slots.** A test sees its own folder and, by ``..``, the folder that holds it, which ``stat``
+shows whatever Landlock says (its link count, its times). So the test folders are a fixed set
+of :data:`SLOTS` folders made with the tree and never made or removed afterwards: ``/tasks``
+looks the same whether other tests ran, run now or left anything. A test leases a slot
+(:func:`lease_slot`, an ``flock`` outside the tree), which is emptied before it is filled (what
+a killed grader left, too) and after the test; only what is inside a slot changes, and that is
+the test's own.
 """
 
 from __future__ import annotations
@@ -44,12 +52,15 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from raykit_grading.isolation import SITE, ChildPython, IsolationUnavailable
+from raykit_grading.leftovers import remove_tree
 
 TREES = Path("/var/cache/raykit-grading")  # root only (mode 700)
-TREE_LAYOUT = 2  # raise when what goes into a tree changes: old trees are then not used
+TREE_LAYOUT = 3  # raise when what goes into a tree changes: old trees are then not used
 LEFT_OUT = {"site-packages", "dist-packages", "test", "idlelib", "tkinter", "turtledemo",
             "ensurepip", "lib2to3", "pydoc_data"}  # fmt: skip
 TASKS = "tasks"  # the tree's folder of test folders (mode 711: entered, never listed)
+SLOTS = 32  # test folders in it, made with the tree: more than graders run at once on a machine
+QUARANTINE = "quarantine"  # beside the trees: what could not be removed, moved aside
 DEVICES_WRITTEN = ("/dev/null",)  # what code may write beside its tmp/ (os.devnull, as anywhere)
 
 _libc = ctypes.CDLL(None, use_errno=True)
@@ -297,6 +308,8 @@ def _build_tree(python: ChildPython, tree: Path) -> None:
         except OSError:
             pass
     (tree / TASKS).mkdir(mode=0o711)
+    for slot in range(SLOTS):
+        (tree / TASKS / str(slot)).mkdir(mode=0o700)
     for folder, dirs, files in os.walk(tree):
         for name in dirs + files:
             path = Path(folder) / name
@@ -304,7 +317,9 @@ def _build_tree(python: ChildPython, tree: Path) -> None:
                 continue
             info = path.lstat()
             os.chown(path, 0, 0)
-            if stat.S_ISDIR(info.st_mode):
+            if stat.S_ISDIR(info.st_mode) and Path(folder) == tree / TASKS:
+                os.chmod(path, 0o700)  # a slot: its test's gid is given it while it runs
+            elif stat.S_ISDIR(info.st_mode):
                 os.chmod(path, 0o711 if name == TASKS and folder == str(tree) else 0o755)
             elif stat.S_ISREG(info.st_mode):  # readable by all, writable by none but root
                 os.chmod(path, 0o755 if info.st_mode & 0o111 else 0o644)
@@ -319,12 +334,52 @@ def top_entries(tree: Path) -> list[str]:
     return sorted(f"/{e.name}" for e in tree.iterdir() if e.name != TASKS and e.exists())
 
 
-def stale_task_folders(tree: Path) -> None:
-    """Remove test folders left by graders that were killed (named ``p<pid>-...``)."""
-    for folder in (tree / TASKS).glob("p*-*"):
-        pid = folder.name[1:].split("-", 1)[0]
-        if pid.isdigit() and not Path(f"/proc/{pid}").exists():
-            shutil.rmtree(folder, ignore_errors=True)
+class SlotLease:
+    """One of the tree's test folders, held (by an ``flock``) for one test; see
+    :func:`lease_slot`. ``outside`` is its path here, ``inside`` as the child sees it."""
+
+    def __init__(self, tree: Path, number: int, lock_fd: int) -> None:
+        self.outside = tree / TASKS / str(number)
+        self.inside = f"/{TASKS}/{number}"
+        self._lock_fd = lock_fd
+
+    def empty(self) -> list[str]:
+        """Remove everything in the slot (never raises): what could not be removed is moved
+        into the quarantine and named in the list returned."""
+        problems = []
+        try:
+            names = os.listdir(self.outside)
+        except OSError as exc:
+            return [f"cannot list {self.outside}: {exc.strerror}"]
+        for name in names:
+            removal = remove_tree(self.outside / name, self.outside.parents[2] / QUARANTINE)
+            if removal.problem:
+                problems.append(removal.problem)
+        try:
+            os.chown(self.outside, 0, 0)
+            os.chmod(self.outside, 0o700)
+        except OSError as exc:
+            problems.append(f"cannot close {self.outside}: {exc.strerror}")
+        return problems
+
+    def release(self) -> None:
+        os.close(self._lock_fd)
+
+
+def lease_slot(tree: Path) -> tuple[SlotLease, list[str]]:
+    """A free slot of ``tree``, emptied: (the lease, what could not be removed from it)."""
+    locks = tree.parent / f".slots-{tree.name}"
+    _root_only_folder(locks)
+    for number in range(SLOTS):
+        fd = os.open(locks / str(number), os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW, 0o600)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            os.close(fd)
+            continue
+        lease = SlotLease(tree, number, fd)
+        return lease, lease.empty()
+    raise IsolationUnavailable(f"all {SLOTS} test folders of {tree} are in use")
 
 
 @dataclass(frozen=True)

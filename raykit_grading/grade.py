@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import functools
 import json
+import os
 import sys
 import tempfile
 import time
@@ -147,21 +148,21 @@ def grade(
             sandbox_kind = sandbox.description
             print(f"raykit_grading: sandbox: {sandbox_kind}", file=sys.stderr)
             deadline = time.monotonic() + options.total_seconds
-            for test in tests:
+            graded = {}
+            for test in _visible_first(tests):
                 try:
-                    results.append(_grade_one(sandbox, test, seed, feedback, options, deadline))
+                    graded[test.key] = _grade_one(sandbox, test, seed, feedback, options, deadline)
                 except Exception as exc:  # noqa: BLE001 - one test's failure stays its own
                     failures.append(f"{test.key}: {type(exc).__name__}: {exc}")
-                    results.append(
-                        test_entry(
-                            test,
-                            0.0,
-                            "not graded: the autograder failed on this test (not your "
-                            "code's fault); your instructor has to regrade it",
-                        )
+                    graded[test.key] = test_entry(
+                        test,
+                        0.0,
+                        "not graded: the autograder failed on this test (not your "
+                        "code's fault); your instructor has to regrade it",
                     )
                 if progress:
                     progress(test)
+            results = [graded[test.key] for test in tests]  # in the catalog's order
     summary = [f"raykit autograder: {len(tests)} tests"]
     summary += [f"Note: {note}" for note in notes]
     if package is None:  # the submission's shape, said once at the top as well
@@ -208,11 +209,14 @@ def _grade_one(
     ran = sandbox.run(
         test.task, spec, arrays, files, wall_seconds=min(options.limits.wall_seconds, left)
     )
+    # what the grader had to force to remove is said on visible tests (a hidden test's code
+    # could choose what to leave by its inputs)
+    note = f"\nNote: {ran.left}" if ran.left and test.visibility == VISIBLE else ""
     if ran.outputs is None:
         problem = ran.problem if test.visibility == VISIBLE else withheld(ran.problem)
-        return test_entry(test, 0.0, problem, ran.output)
+        return test_entry(test, 0.0, problem + note, ran.output)
     if test.kind == "image":
-        return _image_result(test, seed, ran.outputs, feedback, options.scoring, ran.output)
+        return _image_result(test, seed, ran.outputs, feedback, options.scoring, ran.output, note)
     want = expected(test.name, seed)
     verdict = judge_arrays(ran.outputs, want, tolerance=test.tolerance)
     if verdict.share < 1.0:  # say why: the inputs, the mistake, where it starts
@@ -228,7 +232,16 @@ def _grade_one(
             hidden=test.visibility != VISIBLE,
         )
     score = test.points if verdict.share >= 1.0 else 0.0  # array tests: all or nothing
-    return test_entry(test, score, verdict.message, ran.output)
+    return test_entry(test, score, verdict.message + note, ran.output)
+
+
+def _visible_first(tests: list[GradingTest]) -> list[GradingTest]:
+    """The order tests run in: every visible test before any hidden one, so that nothing a
+    hidden test's code does (or leaves, or how long it takes) can reach a visible test's
+    output."""
+    return [t for t in tests if t.visibility == VISIBLE] + [
+        t for t in tests if t.visibility != VISIBLE
+    ]
 
 
 # the student function each array task calls first, as the callee lines name it
@@ -298,7 +311,13 @@ def reference_results(test: GradingTest, spec, arrays, files, mistake: str | Non
 
 
 def _image_result(
-    test: GradingTest, seed: int, got: dict, feedback: Path | None, scoring: Scoring, printed=""
+    test: GradingTest,
+    seed: int,
+    got: dict,
+    feedback: Path | None,
+    scoring: Scoring,
+    printed="",
+    note="",
 ) -> dict:
     want = quantize(expected(test.name, seed)["rgb"])
     rgb = got.get("rgb")
@@ -322,7 +341,7 @@ def _image_result(
     hidden = test.visibility != VISIBLE
     inputs = "" if hidden else describe_inputs(*test.graded_inputs(seed)[:2])
     verdict = judge_image(mine, want, mistakes, scoring, inputs)
-    message = verdict.message
+    message = verdict.message + note
     if feedback is not None:
         feedback.mkdir(parents=True, exist_ok=True)
         path = feedback / f"{test.key}.png"
@@ -340,6 +359,7 @@ def grade_to_file(submission: Path, output: Path, **options) -> int:
     submission with nothing to grade; 3 some or all tests could not be graded; results.json
     says which)."""
     names = options.get("names")
+    reserve = _reserve_room(Path(output).parent)
     try:
         results = grade(submission, **options)
         status = 0
@@ -349,5 +369,25 @@ def grade_to_file(submission: Path, output: Path, **options) -> int:
     except GradingImpossible as exc:
         results, status = not_graded_results(str(exc), by_name(names)), 3
         print(f"raykit_grading: error: cannot grade: {exc}", file=sys.stderr)
+    finally:
+        if reserve is not None:
+            reserve.unlink(missing_ok=True)
     write_results(results, output)
     return status
+
+
+RESERVED_BYTES = 16 * 2**20  # more than the largest results.json, pictures and all
+
+
+def _reserve_room(folder: Path) -> Path | None:
+    """Hold room for results.json beside it while grading (a file of written blocks, let go
+    just before results.json is written), so that whatever filled the disk meanwhile, the
+    results can still be written."""
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        handle, name = tempfile.mkstemp(prefix=".reserved-for-results.", dir=folder)
+        with os.fdopen(handle, "wb") as stream:
+            stream.write(bytes(RESERVED_BYTES))
+        return Path(name)
+    except OSError:
+        return None  # the disk is full already: results.json is tried all the same

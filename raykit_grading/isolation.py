@@ -5,8 +5,9 @@ Every task runs in a sandbox made by bubblewrap (``bwrap``, Debian/Ubuntu packag
 
 * **mount**: a tree holding nothing but the Python it runs on (the interpreter and its standard
   library, with ``site-packages`` masked), numpy and Pillow (mounted at :data:`SITE`), the shared
-  libraries those load, the task's own work folder (read-only, at :data:`WORK`), and a private
-  ``/tmp`` of :attr:`Limits.tmp_bytes`. No other file of the machine exists in there: not the
+  libraries those load, the task's own work folder (read-only, at :data:`WORK`), and its own
+  ``tmp/`` folder, writable, at ``/tmp`` (measured against :attr:`Limits.disk` while the child
+  runs, as in every sandbox kind). No other file of the machine exists in there: not the
   grader, not the reference raykit, not the hidden scenes, not a classmate's folder.
 * **pid**: the child can name only its own processes, so it cannot signal or trace the grader
   or read another process's command line; when the task ends every process in it is killed.
@@ -29,8 +30,7 @@ kernel state namespaces do not isolate: the keyrings (``add_key``, ``request_key
 a uid's keyring outlives its processes and would carry a hidden test's data to a later test or
 student), and ``bpf``, ``perf_event_open``, ``userfaultfd``, ``io_uring_*``, module and kexec
 loading; and any call of another architecture's numbering (32-bit or x32 calls on x86_64).
-The tree is mounted read-only but for ``/tmp`` (of :attr:`Limits.tmp_bytes`), so the child can
-fill no other memory-backed folder.
+The tree is mounted read-only but for ``/tmp``, so the child can fill no memory-backed folder.
 
 If bwrap is missing or the kernel refuses namespaces, :func:`preflight` says so in one line and
 the grader grades nothing (no score is written as if it had).
@@ -144,7 +144,11 @@ def _shared_libraries(binaries: list[str], packages: list[str]) -> tuple[tuple[s
 # namespace of its own (the chroot kind) a segment or queue outlives its test, open to every
 # later test's uid (a hidden test's inputs, read by a visible one) and holding memory no
 # process owns; and memfd_create, whose files hold memory the address-space limit does not
-# count (each is cut at the file size limit, but there may be many).
+# count (each is cut at the file size limit, but there may be many). fallocate reserves disk
+# without writing it, so that neither the file size limit nor a measure of blocks written
+# keeps up with it (refused with EPERM, so the C library's posix_fallocate does not fall back
+# to writing); statfs and fstatfs show the free space and inodes of a file system other tests
+# share, a count another test's leftovers would change.
 SECCOMP_ARCHES = {
     "x86_64": (0xC000003E, {
         "add_key": 248, "request_key": 249, "keyctl": 250, "bpf": 321, "perf_event_open": 298,
@@ -160,6 +164,7 @@ SECCOMP_ARCHES = {
         "msgctl": 71, "mq_open": 240, "mq_unlink": 241, "mq_timedsend": 242,
         "mq_timedreceive": 243, "mq_notify": 244, "mq_getsetattr": 245,
         "memfd_create": 319, "memfd_secret": 447,
+        "fallocate": 285, "statfs": 137, "fstatfs": 138,
     }),
     "aarch64": (0xC00000B7, {
         "add_key": 217, "request_key": 218, "keyctl": 219, "bpf": 280, "perf_event_open": 241,
@@ -175,6 +180,7 @@ SECCOMP_ARCHES = {
         "msgctl": 187, "mq_open": 180, "mq_unlink": 181, "mq_timedsend": 182,
         "mq_timedreceive": 183, "mq_notify": 184, "mq_getsetattr": 185,
         "memfd_create": 279, "memfd_secret": 447,
+        "fallocate": 47, "statfs": 43, "fstatfs": 44,
     }),
 }  # fmt: skip
 SOCKET_CALL = {"x86_64": 41, "aarch64": 198}  # socket(2): only AF_UNIX is let through
@@ -259,7 +265,7 @@ def _parents(path: str) -> list[str]:
 
 
 def sandbox_arguments(
-    python: ChildPython, work: Path, submission: Path, tmp_bytes: int, as_root: bool
+    python: ChildPython, work: Path, submission: Path, as_root: bool
 ) -> list[str]:
     """bwrap's arguments (without the command) for one task: the tree described above."""
     arguments = ["--unshare-ipc", "--unshare-pid", "--unshare-net", "--unshare-uts"]
@@ -297,8 +303,7 @@ def sandbox_arguments(
     # and /proc/1/mem would let the child write its code (leave the process group, drop
     # --die-with-parent, outlive the test); nothing the child runs needs /proc
     arguments += ["--dev", "/dev", "--remount-ro", "/dev"]
-    private_tmp = ["--size", str(tmp_bytes), "--perms", "01777", "--tmpfs", "/tmp"]
-    arguments += [*private_tmp, "--chdir", "/tmp"]
+    arguments += ["--bind", str(work / "tmp"), "/tmp", "--chdir", "/tmp"]
     arguments += ["--remount-ro", "/"]  # nothing but /tmp (of a fixed size) can be written
     for name, value in child_environment("/tmp").items():
         arguments += ["--setenv", name, value]

@@ -35,6 +35,7 @@ WITHHELD_KINDS = (
     "your code crashed",
     "your code used more memory than allowed",
     "returned something that is not plain arrays",
+    "your code used more disk than allowed",
 )
 
 

@@ -27,7 +27,6 @@ import io
 import json
 import os
 import resource
-import secrets
 import selectors
 import shutil
 import signal
@@ -53,6 +52,8 @@ from raykit_grading.isolation import (
     sandbox_arguments,
     seccomp_filter,
 )
+from raykit_grading.leftovers import DiskBudget, Removal, measure, remove_tree
+from raykit_grading.workspace import quarantine
 
 CHILD_SCRIPT = Path(__file__).with_name("child.py")
 TASKS_SCRIPT = Path(__file__).with_name("tasks.py")  # the child loads it by path
@@ -60,6 +61,7 @@ OUTPUT_EXCERPT = 2000
 KINDS = ("bubblewrap", "chroot")  # strongest first; RAYKIT_SANDBOX=KIND asks for one
 GRADER_MEMORY = 320 * 2**20  # what the grader itself may need beside one child
 CHILD_MEMORY_FLOOR = 256 * 2**20  # below this a child cannot render; the grader says so
+WATCH_SECONDS = 0.1  # how often a running child's tmp/ is measured against its disk budget
 
 
 @dataclass(frozen=True)
@@ -74,18 +76,21 @@ class Limits:
     # that the address-space limit does not count, so their number bounds that memory
     open_files: int = 64
     file_bytes: int = 64 * 1024**2
-    tmp_bytes: int = 64 * 1024**2
+    disk: DiskBudget = DiskBudget()  # what its tmp/ may hold at once (bytes, entries, depth)
     returned_bytes: int = 64 * 1024**2
 
 
 @dataclass
 class ChildResult:
-    """What came back: ``outputs`` (None if the child failed) and why it failed."""
+    """What came back: ``outputs`` (None if the child failed) and why it failed; ``left``
+    what the child left in its ``tmp/`` that the grader had to force to remove ("" if
+    nothing)."""
 
     outputs: dict[str, np.ndarray] | None
     problem: str = ""
     output: str = ""
     seconds: float = 0.0
+    left: str = ""
 
 
 class Sandbox:
@@ -163,7 +168,6 @@ class Sandbox:
             if not self.as_root:
                 raise IsolationUnavailable("a chroot sandbox needs root")
             self.tree = confine.chroot_tree(self.python)
-            confine.stale_task_folders(self.tree)
             self.landlock = confine.landlock_abi()
             made_of = ["chroot", "uid"]
             if self.landlock:
@@ -197,6 +201,7 @@ class Sandbox:
                     "outputs_fd": returned_write,
                 }
                 self._fill(work, order, arrays, files or {})
+                _writable_tmp(work / "tmp", lease.uid if lease else None)
                 start = time.perf_counter()
                 child, printed_read = self._start(work, returned_write)
             finally:
@@ -208,6 +213,7 @@ class Sandbox:
                     printed_read,
                     wall_seconds or self.limits.wall_seconds,
                     self.limits.returned_bytes,
+                    lambda: _over_budget(measure(work / "tmp", self.limits.disk), self.limits),
                 )
             finally:
                 _kill_group(child)
@@ -216,19 +222,25 @@ class Sandbox:
             os.close(returned_read)
             if lease is not None:
                 lease.release()
-            shutil.rmtree(work, ignore_errors=True)
-        return _result(returned, printed, status, why, time.perf_counter() - start, self.limits)
+            left_over = measure(work / "tmp", self.limits.disk)
+            removal = remove_tree(work, quarantine(self.workspace))
+            if removal.problem:
+                print(f"raykit_grading: {removal.problem}", file=sys.stderr)
+        why = why or _over_budget(left_over, self.limits)
+        return _result(returned, printed, status, why, time.perf_counter() - start, self.limits,
+                       removal)  # fmt: skip
 
     def _run_chrooted(self, task, spec, arrays, files, wall_seconds) -> ChildResult:
         """The same as :meth:`run`, in a chroot of its own (:mod:`raykit_grading.confine`)."""
-        name = f"p{os.getpid()}-{secrets.token_hex(8)}"
-        outside, inside = self.tree / confine.TASKS / name, f"/{confine.TASKS}/{name}"
+        slot, problems = confine.lease_slot(self.tree)
+        for problem in problems:
+            print(f"raykit_grading: {problem}", file=sys.stderr)
+        outside, inside = slot.outside, slot.inside
         lease = self.uids.lease()
         returned_read, returned_write = os.pipe()
         printed_read = None
         try:
             try:
-                outside.mkdir(mode=0o700)
                 order = {
                     "task": task,
                     "spec": spec,
@@ -241,10 +253,9 @@ class Sandbox:
                 shutil.copytree(
                     self.submission, outside / "submission", True, copy_function=_link_or_copy
                 )
-                for path in [outside, *outside.rglob("*")]:
+                for path in outside.rglob("*"):
                     os.chmod(path, 0o755 if path.is_dir() else 0o644)
-                (outside / "tmp").mkdir(mode=0o700)
-                os.chown(outside / "tmp", lease.uid, lease.uid)
+                _writable_tmp(outside / "tmp", lease.uid)
                 os.chown(outside, 0, lease.uid)  # its uid may read it, no other uid enter it
                 os.chmod(outside, 0o750)
                 plan = confine.ChildConfinement(
@@ -285,6 +296,7 @@ class Sandbox:
                     printed_read,
                     wall_seconds or self.limits.wall_seconds,
                     self.limits.returned_bytes,
+                    lambda: _over_budget(measure(outside / "tmp", self.limits.disk), self.limits),
                 )
             finally:
                 _kill_group(child)
@@ -293,8 +305,14 @@ class Sandbox:
             if printed_read is not None:
                 os.close(printed_read)
             lease.release()  # every process of the uid is dead after this
-            shutil.rmtree(outside, ignore_errors=True)
-        return _result(returned, printed, status, why, time.perf_counter() - start, self.limits)
+            left_over = measure(outside / "tmp", self.limits.disk)
+            removal = remove_tree(outside / "tmp", self.tree.parent / confine.QUARANTINE)
+            for problem in slot.empty() + ([removal.problem] if removal.problem else []):
+                print(f"raykit_grading: {problem}", file=sys.stderr)
+            slot.release()
+        why = why or _over_budget(left_over, self.limits)
+        return _result(returned, printed, status, why, time.perf_counter() - start, self.limits,
+                       removal)  # fmt: skip
 
     def _rlimits(self) -> tuple[tuple[int, int], ...]:
         limits = self.limits
@@ -328,9 +346,7 @@ class Sandbox:
         with tempfile.TemporaryFile() as arguments, tempfile.TemporaryFile() as seccomp:
             seccomp.write(self.seccomp)
             seccomp.seek(0)
-            listed = sandbox_arguments(
-                self.python, work, self.submission, self.limits.tmp_bytes, self.as_root
-            )
+            listed = sandbox_arguments(self.python, work, self.submission, self.as_root)
             listed += ["--seccomp", str(seccomp.fileno())]
             arguments.write(b"\0".join(a.encode() for a in listed) + b"\0")
             arguments.seek(0)
@@ -377,6 +393,23 @@ class Sandbox:
                 resource.setrlimit(resource.RLIMIT_NPROC, (cap, cap))
 
 
+def _writable_tmp(folder: Path, uid: int | None) -> None:
+    """The one folder the child may write: its own (``uid``'s, as root), closed to others."""
+    folder.mkdir(mode=0o700)
+    if uid is not None:
+        os.chown(folder, uid, uid)
+
+
+def _over_budget(passed: str, limits: Limits) -> str:
+    """The problem of a child whose tmp/ passed its disk budget ("" if it did not)."""
+    if not passed:
+        return ""
+    return (
+        f"your code used more disk than allowed: it wrote {passed} in its tmp/ folder and was "
+        f"stopped (a test may keep at most {limits.disk.describe()} there)"
+    )
+
+
 def fit_to_container(limits: Limits, container: confine.ContainerLimits) -> Limits:
     """``limits`` with a child's memory cut to what the container leaves beside the grader
     (:data:`GRADER_MEMORY`), so that a child that takes all it may dies of its own limit
@@ -415,10 +448,12 @@ def _confine_or_say(plan) -> None:
         raise
 
 
-def _collect(child, returned_fd, printed_fd, wall_seconds, returned_limit):
-    """Read both pipes until the child is done, the wall time is up or it returns too much:
-    (returned bytes, printed excerpt, exit status, why it was stopped or "")."""
+def _collect(child, returned_fd, printed_fd, wall_seconds, returned_limit, watch=None):
+    """Read both pipes until the child is done, the wall time is up, it returns too much or
+    ``watch()`` (called every :data:`WATCH_SECONDS`) says what it passed: (returned bytes,
+    printed excerpt, exit status, why it was stopped or "")."""
     deadline = time.monotonic() + wall_seconds
+    next_watch = time.monotonic() + WATCH_SECONDS
     returned, printed = bytearray(), bytearray()
     open_fds = {returned_fd, printed_fd}
     with selectors.DefaultSelector() as selector:
@@ -426,8 +461,14 @@ def _collect(child, returned_fd, printed_fd, wall_seconds, returned_limit):
             os.set_blocking(fd, False)
             selector.register(fd, selectors.EVENT_READ)
         while open_fds or child.poll() is None:
-            left = deadline - time.monotonic()
-            if left <= 0:
+            now = time.monotonic()
+            if watch is not None and now >= next_watch:
+                passed = watch()
+                if passed:
+                    return bytes(returned), bytes(printed), None, passed
+                next_watch = time.monotonic() + WATCH_SECONDS
+            left = min(deadline - now, WATCH_SECONDS)
+            if deadline - now <= 0:
                 return (
                     bytes(returned),
                     bytes(printed),
@@ -462,19 +503,27 @@ def _collect(child, returned_fd, printed_fd, wall_seconds, returned_limit):
     return bytes(returned), bytes(printed), child.returncode, ""
 
 
-def _result(returned, printed, status, why, seconds, limits: Limits) -> ChildResult:
+def _result(
+    returned, printed, status, why, seconds, limits: Limits, removal: Removal
+) -> ChildResult:
     output = printed.decode("utf-8", "replace")
+    left = ""
+    if removal.forced:
+        left = (
+            f"your code left {' and '.join(sorted(removal.forced))} in its tmp/ folder; "
+            "the grader removed them"
+        )
     if why:
-        return ChildResult(None, why, output, seconds)
+        return ChildResult(None, why, output, seconds, left)
     if status != 0:
-        return ChildResult(None, _describe_exit(status, output), output, seconds)
+        return ChildResult(None, _describe_exit(status, output), output, seconds, left)
     try:
         outputs = read_returned(returned, limits.returned_bytes)
     except ValueError as exc:
         return ChildResult(
-            None, f"returned something that is not plain arrays ({exc})", output, seconds
+            None, f"returned something that is not plain arrays ({exc})", output, seconds, left
         )
-    return ChildResult(outputs, "", output, seconds)
+    return ChildResult(outputs, "", output, seconds, left)
 
 
 def _kill_group(child: subprocess.Popen) -> None:

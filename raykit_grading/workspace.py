@@ -5,19 +5,37 @@ other user may enter it) and holds an ``flock`` on ``.lock`` inside it for as lo
 On leaving, the folder is removed. A grader that was killed cannot remove its folder; the next
 grader started by the same user finds it unlocked and removes it (:func:`clean_stale`), so
 nothing is left behind for long.
+
+Removal is :func:`raykit_grading.leftovers.remove_tree`'s, which never raises: whatever a
+test's code left that still cannot be removed is moved into ``<TMPDIR>/raykit-grading-
+quarantine`` (:func:`quarantine`) and named in one line on stderr, and the next grading starts
+as if it were not there.
 """
 
 from __future__ import annotations
 
 import fcntl
 import os
-import shutil
 import stat
+import sys
 import tempfile
 import time
 from pathlib import Path
 
+from raykit_grading.leftovers import remove_tree
+
 PREFIX = "raykit-grading-"
+
+
+def quarantine(workspace: Path) -> Path:
+    """Where what cannot be removed from under ``workspace`` is moved (same file system)."""
+    return Path(workspace).parent / f"{PREFIX}quarantine"
+
+
+def _remove(folder: Path) -> None:
+    removal = remove_tree(folder, quarantine(folder))
+    if removal.problem:
+        print(f"raykit_grading: {removal.problem}", file=sys.stderr)
 
 
 class Workspace:
@@ -38,7 +56,7 @@ class Workspace:
         return self.path
 
     def __exit__(self, *exc) -> None:
-        shutil.rmtree(self.path, ignore_errors=True)
+        _remove(self.path)
         os.close(self._lock)
 
 
@@ -46,6 +64,8 @@ def clean_stale(parent: Path) -> list[Path]:
     """Remove this user's grading folders whose grader is gone (their lock is free)."""
     removed = []
     for folder in parent.glob(f"{PREFIX}*"):
+        if folder.name == quarantine(folder).name:
+            continue
         try:
             info = os.lstat(folder)
         except OSError:
@@ -56,7 +76,7 @@ def clean_stale(parent: Path) -> list[Path]:
             lock = os.open(folder / ".lock", os.O_RDWR | os.O_NOFOLLOW)
         except FileNotFoundError:  # never locked: a grader killed as it began, long ago
             if time.time() - info.st_mtime > 600:
-                shutil.rmtree(folder, ignore_errors=True)
+                _remove(folder)
                 removed.append(folder)
             continue
         except OSError:
@@ -66,7 +86,7 @@ def clean_stale(parent: Path) -> list[Path]:
         except BlockingIOError:
             os.close(lock)
             continue  # a grader is using it
-        shutil.rmtree(folder, ignore_errors=True)
+        _remove(folder)
         os.close(lock)
         removed.append(folder)
     return removed

@@ -234,6 +234,8 @@ def grade_as_deployed(
                 env={"PATH": "/usr/bin:/bin", "PYTHONPATH": str(REPO), "TMPDIR": str(folder)},
             )  # fmt: skip
             results = json.loads(path.read_text())
+            left = [p.name for p in folder.glob("raykit-grading-*")]  # its TMPDIR
+            assert left == [], f"the grader left {left}"
         finally:
             shutil.rmtree(folder, ignore_errors=True)
         assert results["extra_data"]["sandbox"] in (
@@ -528,8 +530,9 @@ def test_4_a_test_that_kills_its_own_child_costs_only_that_test(release, autogra
 
 def test_5_a_hidden_test_cannot_leave_its_inputs_for_a_visible_one(release, autograder, tmp_path):
     """The hidden ray-sphere tests (2.4, 2.5) hide their inputs everywhere they can write; the
-    visible plane-side test (2.6, graded after them: tests run in the catalogue's order)
-    prints whatever it finds."""
+    visible plane-side test (2.6) prints whatever it finds (it runs before them, as every
+    visible test does: test_10_visible_tests_run_before_hidden_ones; the stashes would be gone
+    in any order)."""
     stash = ["/tmp/stash", "/dev/shm/stash", "/var/tmp/stash", "/work/stash"]
     code = (
         "def hit_sphere(origins, directions, center, radius):\n    import os\n"
@@ -551,7 +554,7 @@ def test_5_a_hidden_test_cannot_leave_its_inputs_for_a_visible_one(release, auto
         tmp_path, {"spheres.py": ("hit_sphere", code), "planes.py": ("plane_side", peek)}
     )
     results, run = grade_as_deployed(autograder, submission, ["2.4", "2.5", "2.6"], tmp_path)
-    assert [t["number"] for t in results["tests"]] == ["2.4", "2.5", "2.6"]  # hidden first
+    assert [t["number"] for t in results["tests"]] == ["2.4", "2.5", "2.6"]  # as catalogued
     assert scores(results) == {"2.4": 1, "2.5": 2, "2.6": 1}, results
     visible = next(t for t in results["tests"] if t["number"] == "2.6")["output"]
     assert "uid" in visible  # what it printed does show (a visible test)
@@ -1064,6 +1067,235 @@ def test_a_correct_submission_scores_full_marks_as_deployed(autograder, tmp_path
     assert results["score"] == pytest.approx(sum(POINTS.values()))
 
 
+# ---- 10: what one test leaves reaches no other test, and no later student -----------------
+
+# the attacks of this section, each written into the solution's hit_plane (test 2.1), which
+# then answers right: a test that keeps to its disk budget keeps its score
+DEEP_TREE = (
+    "def hit_plane(origins, directions, a, n):\n    import os\n"
+    "    here = os.open(os.environ['HOME'], os.O_RDONLY)\n"
+    "    for _ in range(200_000):\n"
+    "        os.mkdir('d', dir_fd=here)\n"
+    "        deeper = os.open('d', os.O_RDONLY, dir_fd=here)\n"
+    "        os.close(here)\n        here = deeper\n"
+    "    return _hit_plane(origins, directions, a, n)\n"
+)
+RESERVED = (
+    "def hit_plane(origins, directions, a, n):\n    import os\n"
+    "    fd = os.open(os.path.join(os.environ['HOME'], 'big'), os.O_CREAT | os.O_WRONLY)\n"
+    "    try:\n        os.posix_fallocate(fd, 0, 960 * 2**20)\n"
+    "    except OSError as e:\n        print('FALLOCATE', e.errno)\n"
+    "    os.ftruncate(fd, 60 * 2**20)  # sparse: no block held\n"
+    "    print('HELD', os.fstat(fd).st_blocks * 512)\n"
+    "    return _hit_plane(origins, directions, a, n)\n"
+)
+WRITES_TOO_MUCH = (
+    "def hit_plane(origins, directions, a, n):\n    import os\n"
+    "    block = b'x' * 2**20\n"
+    "    for i in range(200):\n"
+    "        with open(os.path.join(os.environ['HOME'], f'f{i}'), 'wb') as f:\n"
+    "            for _ in range(50):\n                f.write(block)\n"
+    "    return _hit_plane(origins, directions, a, n)\n"
+)
+CLOSED_LEFTOVERS = (
+    "def hit_plane(origins, directions, a, n):\n    import os\n"
+    "    home = os.environ['HOME']\n"
+    "    os.makedirs(os.path.join(home, 'a/b/c'))\n"
+    "    os.mkfifo(os.path.join(home, 'a/b/c/pipe'))\n"
+    "    open(os.path.join(home, 'a/b/file'), 'w').write('x')\n"
+    "    for folder in ('a/b/c', 'a/b', 'a'):\n"
+    "        os.chmod(os.path.join(home, folder), 0)\n"
+    "    return _hit_plane(origins, directions, a, n)\n"
+)
+DISK_ATTACKS = {
+    "a tree too deep to name": (DEEP_TREE, 0, "used more disk than allowed"),
+    "200 files of 50 MB": (WRITES_TOO_MUCH, 0, "used more disk than allowed"),
+    "960 MB reserved, 60 MB sparse": (RESERVED, 2, "FALLOCATE 1\nHELD 0"),
+    "folders closed to their owner, a FIFO": (CLOSED_LEFTOVERS, 2, "the grader removed them"),
+}
+
+
+def _leftovers() -> list[str]:
+    """What no running grader holds: test folders' contents in the chroot trees' slots,
+    graders' workspaces, the quarantines."""
+    found = []
+    for slot in TREES.glob("tree-*/tasks/*") if AS_ROOT else ():
+        lock = TREES / f".slots-{slot.parent.parent.name}" / slot.name
+        if not _held(lock):
+            found += [str(p) for p in slot.iterdir()]
+    for quarantine in [
+        TREES / "quarantine",
+        Path(tempfile.gettempdir()) / "raykit-grading-quarantine",
+    ]:
+        if quarantine.is_dir():
+            found += [str(p) for p in quarantine.iterdir()]
+    for folder in Path(tempfile.gettempdir()).glob("raykit-grading-*"):
+        if folder.name != "raykit-grading-quarantine" and not _held(folder / ".lock"):
+            found.append(str(folder))
+    return found
+
+
+@pytest.mark.parametrize("name", sorted(DISK_ATTACKS))
+def test_10_disk_attacks_cost_their_own_test_and_leave_nothing(name, autograder, tmp_path):
+    """Each attack in 2.1, beside an honest 2.3: the attack's test scores what its budget
+    allows (a test past its budget is stopped and scores 0, saying so; one within it keeps
+    its score, told what the grader had to force), 2.3 is graded in full, nothing is left on
+    disk, and the solution graded right after on the same machine scores in full."""
+    code, points, says = DISK_ATTACKS[name]
+    submission = submission_wrapping(tmp_path / "attack", {"planes.py": ("hit_plane", code)})
+    start = time.perf_counter()
+    results, run = grade_as_deployed(autograder, submission, ["2.1", "2.3"], tmp_path / "a")
+    assert run.returncode == 0, run.stderr[-2000:]
+    assert scores(results) == {"2.1": points, "2.3": 2}, results
+    assert says in results["tests"][0]["output"], results["tests"][0]["output"]
+    assert "autograder failed" not in everything_visible(results)
+    assert time.perf_counter() - start < 2 * (WALL + 15)
+    assert _leftovers() == []
+    honest = make_submission(tmp_path / "honest" / "submission")
+    results, run = grade_as_deployed(autograder, honest, ["2.1", "2.3"], tmp_path / "h")
+    assert run.returncode == 0 and scores(results) == {"2.1": 2, "2.3": 2}, results
+
+
+SPY = (
+    "def plane_side(p, a, n):\n    import os, json, time\n"
+    "    home = os.environ['HOME']\n    seen = {{}}\n"
+    "    looks = [('parent', '..'), ('here', '.'), ('tmp', home), ('tmp parent', home + '/..')]\n"
+    "    for what, path in looks:\n"
+    "        try:\n"
+    "            got = os.stat(path)\n"
+    "            seen[what] = [got.st_nlink, got.st_size, time.time() - got.st_mtime > 5]\n"
+    "        except OSError as e:\n            seen[what] = e.strerror\n"
+    "    seen['tmp entries'] = sorted(os.listdir(home))\n"
+    "    try:\n        seen['free inodes'] = os.statvfs(home).f_ffree\n"
+    "    except OSError as e:\n        seen['free inodes'] = e.strerror\n"
+    "    print('SPY', json.dumps(seen, sort_keys=True))\n"
+    "    return _plane_side(p, a, n)\n"
+)
+LEAVE = (
+    "def hit_sphere(origins, directions, center, radius):\n    import os\n"
+    "    home = os.environ['HOME']\n"
+    "    count = int(abs(center[0]) * 100) % 500 + 1  # the hidden input, as a count\n"
+    "    for i in range(count):\n        os.mkdir(os.path.join(home, f'x{{i}}'))\n"
+    "    return _hit_sphere(origins, directions, center, radius)\n"
+)
+
+
+def test_10_visible_tests_run_before_hidden_ones():
+    from raykit_grading.catalog import VISIBLE
+    from raykit_grading.grade import _visible_first
+
+    order = [t.visibility == VISIBLE for t in _visible_first(TESTS)]
+    assert order == sorted(order, reverse=True) and order.count(True) == sum(
+        t.visibility == VISIBLE for t in TESTS
+    )
+
+
+def test_10_a_test_sees_nothing_of_the_tests_before_it(release, autograder, tmp_path):
+    """Hidden 2.4 and 2.5 leave folders in their tmp/ counted from their inputs; visible
+    2.6 (graded with them) and 2.1's plane side look at everything they can stat: their
+    folder's parent, their tmp/ and its parent, the free inodes. What each visible test sees is
+    the same, whatever ran before it: the folder's parent and tmp/ are the same fixed ones,
+    tmp/ is empty, and the file system's counts are refused."""
+    submission = submission_wrapping(
+        tmp_path,
+        {"spheres.py": ("hit_sphere", LEAVE.format()), "planes.py": ("plane_side", SPY.format())},
+    )
+    seen = []
+    for only in (["2.6"], ["2.4", "2.5", "2.6"], ["2.3", "2.4", "2.6"]):
+        results, run = grade_as_deployed(autograder, submission, only, tmp_path / "-".join(only))
+        assert run.returncode == 0, run.stderr[-2000:]
+        visible = next(t for t in results["tests"] if t["number"] == "2.6")["output"]
+        seen.append(re.search(r"SPY (.*)", visible).group(1))
+    assert seen[0] == seen[1] == seen[2], seen
+    facts = json.loads(seen[0])
+    assert facts["tmp entries"] == [] and facts["free inodes"] == "Operation not permitted"
+
+
+def test_10_a_batch_grades_the_students_after_an_attacker_in_full(release, tmp_path):
+    """ada, then mallory (a tree too deep to name, 10 GB asked of fallocate, 200 files of 50
+    MB, in three tests), then zoe: ada and zoe score in full, mallory what her budget allows,
+    and nothing is left."""
+    students = tmp_path / "submissions"
+    make_submission(students / "ada")
+    make_submission(students / "zoe")
+    mallory = submission_wrapping(
+        tmp_path / "m",
+        {
+            "planes.py": ("hit_plane", DEEP_TREE),
+            "spheres.py": (
+                "hit_sphere",
+                WRITES_TOO_MUCH.replace("hit_plane", "hit_sphere").replace(
+                    "origins, directions, a, n", "origins, directions, center, radius"
+                ),
+            ),
+        },
+    )
+    shutil.copytree(mallory, students / "mallory")
+    out = tmp_path / "out"
+    run = subprocess.run(
+        [sys.executable, "-m", "raykit_grading", "batch", str(students), "-o", str(out),
+         "--only", "2.1", "2.3", "2.6", "--wall-seconds", str(WALL), "--jobs", "1",
+         "--seed", str(SEED)],
+        capture_output=True, text=True, cwd=REPO, timeout=600,
+    )  # fmt: skip
+    assert run.returncode == 0, run.stderr[-2000:]
+    rows = {row["student"]: row for row in csv.DictReader((out / "scores.csv").open())}
+    assert {k: (rows[k]["status"], float(rows[k]["score"])) for k in rows} == {
+        "ada": ("graded", 5.0),
+        "mallory": ("graded", 1.0),
+        "zoe": ("graded", 5.0),
+    }
+    assert _leftovers() == []
+
+
+def test_removal_copes_with_any_tree_a_child_can_leave(tmp_path):
+    """Folders nested deeper than a path can name, closed to their owner, FIFOs, sockets and
+    links: removed by a walk that never recurses; as a normal user too, where the owner must
+    open what it closed."""
+    from raykit_grading.leftovers import remove_tree
+
+    def plant(top: Path) -> None:
+        here = os.open(top, os.O_RDONLY)
+        for _ in range(1500):  # 1500 x len("nested/") passes PATH_MAX
+            os.mkdir("nested", dir_fd=here)
+            deeper = os.open("nested", os.O_RDONLY, dir_fd=here)
+            os.close(here)
+            here = deeper
+        os.mkfifo("pipe", dir_fd=here)
+        os.symlink("/etc/passwd", "link", dir_fd=here)
+        os.close(here)
+        (top / "closed" / "inner").mkdir(parents=True)
+        (top / "closed" / "inner" / "file").write_text("x")
+        bound = socket.socket(socket.AF_UNIX)
+        bound.bind(str(top / "closed" / "socket"))
+        bound.close()
+        os.chmod(top / "closed" / "inner", 0)
+        os.chmod(top / "closed", 0o500)
+
+    tree = tmp_path / "left"
+    tree.mkdir()
+    plant(tree)
+    with pytest.raises((RecursionError, OSError)):
+        shutil.rmtree(tree)  # what the grader used to call: raises part way, or never ends
+    removal = remove_tree(tree, tmp_path / "quarantine")
+    assert removal.problem == "" and not tree.exists() and removal.left_in is None
+    assert removal.forced == {
+        "special files (FIFOs, sockets or devices)",
+        "folders closed to their owner",
+    }
+    assert os.listdir(tmp_path) == []
+
+
+def test_removal_sets_aside_what_it_cannot_finish_in_time(tmp_path):
+    from raykit_grading.leftovers import remove_tree
+
+    tree = tmp_path / "left"
+    (tree / "a" / "b").mkdir(parents=True)
+    removal = remove_tree(tree, tmp_path / "quarantine", seconds=-1)
+    assert not tree.exists() and removal.left_in.parent == tmp_path / "quarantine"
+    assert "took too long" in removal.problem and (removal.left_in / "a").is_dir()
+
+
 def _held(lock: Path) -> bool:
     """Whether a live grader holds ``lock`` (other graders may be running on this machine:
     only what none of them holds was left behind)."""
@@ -1080,18 +1312,10 @@ def _held(lock: Path) -> bool:
         os.close(fd)
 
 
-def _owner(proc: Path) -> int | None:
-    """The uid of a /proc entry's process, or None (not a process, or gone meanwhile: other
-    processes come and go on this machine)."""
-    try:
-        return proc.stat().st_uid if proc.name.isdigit() else None
-    except FileNotFoundError:
-        return None
-
-
 def test_nothing_is_left_behind(autograder):
-    """No process of a sandbox uid, no grader workspace, no test folder in a chroot tree that
-    no running grader holds (this runs after the tests above, for each way)."""
+    """No process of a sandbox uid, no grader workspace, nothing in a chroot tree's test
+    folder and nothing in a quarantine that no running grader holds (this runs after the
+    tests above, for each way)."""
     from raykit_grading.isolation import SANDBOX_UIDS, UID_LOCKS
 
     if way(autograder) == "container":  # every grading's container removed
@@ -1100,19 +1324,17 @@ def test_nothing_is_left_behind(autograder):
             capture_output=True, text=True, check=True,
         )  # fmt: skip
         assert listed.stdout.split() == []
-    if AS_ROOT:
-        folders = TREES.glob("tree-*/tasks/p*-*")
-        gone = [f for f in folders if not Path(f"/proc/{f.name[1:].split('-')[0]}").exists()]
-        assert gone == []  # named p<grader's pid>-...: a grader that is gone left it
+    assert _leftovers() == []
     uids = set(SANDBOX_UIDS)
-    left = [(p, uid) for p in Path("/proc").iterdir() if (uid := _owner(p)) in uids]
-    assert [p for p, uid in left if not _held(UID_LOCKS / str(uid))] == []
-    mine = [
-        p
-        for p in Path(tempfile.gettempdir()).glob("raykit-grading-*")
-        if p.stat().st_uid == os.geteuid() and not _held(p / ".lock")
-    ]
-    assert mine == []
+    left = []
+    for proc in Path("/proc").iterdir():
+        try:
+            uid = proc.stat().st_uid
+        except FileNotFoundError:  # a process of this machine that ended meanwhile
+            continue
+        if proc.name.isdigit() and uid in uids and not _held(UID_LOCKS / str(uid)):
+            left.append(proc.name)
+    assert left == []
 
 
 def test_read_returned_refuses_what_is_not_plain_stored_arrays():

@@ -9,7 +9,8 @@ enter), readable by every uid, so the same interpreter serves the normal-user wa
 
 Made once per requirements file and Python (kept in ``/tmp``, keyed by both), with pip from
 the package index; where that cannot be done, :func:`grader_python` says why, and the tests
-that need it skip saying so.
+that need it skip saying so. ``RAYKIT_USER_PYTHON`` names one to use instead (it must have
+numpy and Pillow, and be runnable by uid 65534).
 """
 
 from __future__ import annotations
