@@ -32,6 +32,8 @@ Grading
     * :mod:`~raykit_grading.results`: Gradescope's results.json format.
     * :mod:`~raykit_grading.batch`: a folder of submissions into a CSV.
     * :mod:`~raykit_grading.autograder`: the Gradescope autograder zip.
+    * :mod:`~raykit_grading.containers`: the zip in a real Docker container, as Gradescope
+      builds and runs it (``try-zip``).
 
 It needs a clone of the course repository: the example scenes (``scenes/``) and the hidden ones
 (``grading/hidden-scenes/``) are not in any wheel.
