@@ -32,6 +32,10 @@ extensions = [
     # in its layout and warns (and so fails -W) on the others
     "sphinx.ext.napoleon",
     "sphinx.ext.mathjax",
+    # MathJax 3.2.2 served from the site itself (the sphinx-mathjax-offline package of the docs
+    # extra copies it into _static/mathjax/ as the build ends), not from a CDN: the pages'
+    # formulas must render in a lecture room or on a train with no network
+    "sphinx-mathjax-offline",
 ]
 
 # ---- sources -------------------------------------------------------------------------------
@@ -66,6 +70,9 @@ myst_enable_extensions = ["colon_fence", "dollarmath", "deflist"]
 myst_heading_anchors = 3  # "page.md#a-heading" links, as a repository host makes them
 nb_execution_mode = "off"  # rendered from the outputs stored in the notebooks, no kernel, no pandoc
 nb_merge_streams = True
+# the site's own copy of MathJax (see extensions above), never a CDN's; tex-chtml reads the TeX
+# that MyST's dollarmath and the notebooks' \( \) write
+mathjax_path = "mathjax/tex-chtml.js"
 
 # ---- API reference -------------------------------------------------------------------------
 autosummary_generate = True
