@@ -115,6 +115,24 @@ html_theme_options = {
 html_sidebars = {"index": [], "students": [], "instructors": [], "lecturers": []}
 
 
+def _top_section(env, docname: str, root: str) -> str:
+    """The page of the site's top menu that ``docname`` is under (itself, for a top page)."""
+    parents = {child: parent for parent, children in env.toctree_includes.items() for child in children}
+    while parents.get(docname, root) != root:
+        docname = parents[docname]
+    return docname
+
+
+def _no_empty_sidebar(app, pagename: str, templatename, context: dict, doctree) -> None:
+    """The left column ("Section Navigation") lists the pages under the current page's top menu
+    entry; for a top page with none under it (the gallery, rendering, speed, every page under
+    "More", the search and index pages) the theme still drew it, 320 pixels wide and empty, and
+    the text beside it too narrow for its commands. Draw no column there."""
+    top = _top_section(app.env, pagename, app.config.root_doc)
+    if not app.env.toctree_includes.get(top):
+        context["sidebars"] = []
+
+
 # ---- pages written for a repository host, read by Sphinx -------------------------------------
 BENCHMARK_TITLE = re.compile(r"\A\s*#\s")
 
@@ -217,4 +235,5 @@ def _process_docstring(app, what, name, obj, options, lines: list[str]) -> None:
 
 def setup(app):
     app.connect("source-read", _source_read)
+    app.connect("html-page-context", _no_empty_sidebar)
     app.connect("autodoc-process-docstring", _process_docstring)
