@@ -117,7 +117,8 @@ html_sidebars = {"index": [], "students": [], "instructors": [], "lecturers": []
 
 def _top_section(env, docname: str, root: str) -> str:
     """The page of the site's top menu that ``docname`` is under (itself, for a top page)."""
-    parents = {child: parent for parent, children in env.toctree_includes.items() for child in children}
+    includes = env.toctree_includes
+    parents = {child: parent for parent, children in includes.items() for child in children}
     while parents.get(docname, root) != root:
         docname = parents[docname]
     return docname
