@@ -100,7 +100,9 @@ linkcheck_ignore = [r"https?://.*"]
 html_theme = "pydata_sphinx_theme"
 html_title = "raykit"
 html_logo = None
-html_static_path: list[str] = []
+# _static/raykit.css: long names wrap instead of widening the page (tests/test_site.py)
+html_static_path = ["_static"]
+html_css_files = ["raykit.css"]
 html_show_sourcelink = False
 html_theme_options = {
     "navigation_with_keys": False,
