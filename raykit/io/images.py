@@ -173,7 +173,8 @@ def fit_for_projector(figure, dpi: float, tight: bool = False) -> float:
         if text_px is None:
             break
         width, height = _stored_size(figure, dpi, tight)
-        needed = SMALLEST_SCREEN_TEXT * max(width / SCREEN[0], height / SCREEN[1])
+        # 3% to spare: a tight crop's stored size can differ a little from this estimate
+        needed = 1.03 * SMALLEST_SCREEN_TEXT * max(width / SCREEN[0], height / SCREEN[1])
         if text_px >= needed:
             break
         figure.set_size_inches(figure.get_size_inches() * max(0.5, 0.98 * text_px / needed))
