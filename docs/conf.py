@@ -70,6 +70,10 @@ myst_enable_extensions = ["colon_fence", "dollarmath", "deflist"]
 myst_heading_anchors = 3  # "page.md#a-heading" links, as a repository host makes them
 nb_execution_mode = "off"  # rendered from the outputs stored in the notebooks, no kernel, no pandoc
 nb_merge_streams = True
+# no widget manager: Jupyter's (require.js and @jupyter-widgets/html-manager) comes from a CDN,
+# which a page with no network cannot reach, and a slider without a kernel cannot move anyway;
+# each slider cell of the notebooks is followed by a cell that draws its first setting
+nb_ipywidgets_js: dict[str, dict[str, str]] = {}
 # the site's own copy of MathJax (see extensions above), never a CDN's; tex-chtml reads the TeX
 # that MyST's dollarmath and the notebooks' \( \) write
 mathjax_path = "mathjax/tex-chtml.js"

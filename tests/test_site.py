@@ -45,13 +45,6 @@ CHROMIUM = next(
     None,
 )
 DOCS_EXTRA = ("sphinx", "myst_nb", "pydata_sphinx_theme", "sphinx-mathjax-offline")
-# the two notebook cells with sliders: their widgets are drawn by Jupyter's widget manager, which
-# myst-nb loads from a CDN; with no network the page shows the cell's code and no slider (a
-# slider cannot run without a kernel on a static site anyway). Everything else is the site's own.
-WIDGET_MANAGER = (
-    "https://cdnjs.cloudflare.com/ajax/libs/require.js/",
-    "https://cdn.jsdelivr.net/npm/@jupyter-widgets/html-manager@",
-)
 
 
 @pytest.fixture(scope="module")
@@ -105,7 +98,7 @@ def test_no_page_loads_anything_from_another_site(site):
                 r"rel=\"(stylesheet|preload|icon|modulepreload)", tag
             ):
                 continue  # a link to another page, not something the page loads
-            if url.startswith(("http:", "https:", "//")) and not url.startswith(WIDGET_MANAGER):
+            if url.startswith(("http:", "https:", "//")):
                 outside.setdefault(url, []).append(page)
     for css in site.glob("_static/**/*.css"):
         if CSS_URL.search(css.read_text(encoding="utf-8", errors="replace")):
