@@ -8,7 +8,9 @@ CI runs: it adds what takes seconds a test, marked ``slow`` here in one place:
 * the grader's tests, each grading submissions in sandboxes;
 * the compiled engine's, which compile or load numba kernels;
 * commands run whole: the benchmarks, the committed pictures remade, outputs under other machines'
-  settings.
+  settings;
+* the documentation site, built and measured page by page in headless Chromium (test_site.py,
+  skipped without the docs extra or Chromium).
 """
 
 from __future__ import annotations
@@ -27,6 +29,7 @@ SLOW_MODULES = {
     "test_baselines.py",
     "test_gallery.py",
     "test_machine_independent.py",
+    "test_site.py",
 }
 
 
