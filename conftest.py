@@ -33,5 +33,6 @@ SLOW_MODULES = {
 def pytest_collection_modifyitems(config, items):
     slow = pytest.mark.slow
     for item in items:
-        if item.path.suffix == ".ipynb" or item.path.name in SLOW_MODULES:
+        compiled = item.path.parent.name == "compiled"  # tests/compiled/: the compiled engine's
+        if item.path.suffix == ".ipynb" or item.path.name in SLOW_MODULES or compiled:
             item.add_marker(slow)

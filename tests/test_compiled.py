@@ -846,8 +846,8 @@ def test_cache_folder_is_keyed_on_the_engines_source(tmp_path, monkeypatch):
     import shutil
 
     monkeypatch.setenv("RAYKIT_CACHE_DIR", str(tmp_path))
-    package = tmp_path / "compiled"
-    shutil.copytree(choice.COMPILED_SOURCE, package, ignore=shutil.ignore_patterns("__py*"))
+    shutil.copytree(REPO / "raykit", tmp_path / "raykit", ignore=shutil.ignore_patterns("__py*"))
+    package = tmp_path / "raykit/engine/compiled"
     monkeypatch.setattr(choice, "COMPILED_SOURCE", package)
     before = choice.cache_folder()
     source = package / "spheres.py"  # a kernel that the others call
@@ -865,9 +865,10 @@ def test_a_second_copy_of_the_same_source_gets_its_own_cache_folder(tmp_path, mo
     import shutil
 
     monkeypatch.setenv("RAYKIT_CACHE_DIR", str(tmp_path / "cache"))
-    one, two = tmp_path / "one" / "compiled", tmp_path / "two" / "compiled"
+    one, two = (tmp_path / copy / "raykit/engine/compiled" for copy in ("one", "two"))
     for package in (one, two):
-        shutil.copytree(choice.COMPILED_SOURCE, package, ignore=shutil.ignore_patterns("__py*"))
+        shutil.copytree(REPO / "raykit", package.parent.parent,
+                        ignore=shutil.ignore_patterns("__py*"))  # fmt: skip
     monkeypatch.setattr(choice, "COMPILED_SOURCE", one)
     first = choice.cache_folder()
     choice.marker("trace_flat").write_text("20.0 s\n")  # as the first copy's first render leaves it

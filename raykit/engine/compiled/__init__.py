@@ -51,7 +51,8 @@ cent of points; with the reference given the same pow, the two engines agree
 bit for bit, and as they stand, within 4 units in the last place and to the PNG byte (tests).
 
 Compiling. Each kernel is compiled on first use, with the kernels it calls, and cached on disk,
-kernel by kernel, in a folder keyed on the package's sources: a flat scene compiles only what
+kernel by kernel, in a folder keyed on the sources they are made from (the reference modules
+of :mod:`.twins` included): a flat scene compiles only what
 flat scenes use, a progress line shows it, and Ctrl-C leaves a usable cache (:mod:`.compiling`;
 how long it takes: docs/benchmarks/compile_time.md, written by ``python
 benchmarks/compile_time.py``). Only float64 is compiled.

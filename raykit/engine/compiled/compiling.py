@@ -8,11 +8,13 @@ scene compiles only the flat scene's kernels (:func:`raykit.engine.compiled.driv
 names no shading kernel), a lit scene adds its own, and a scene with mirrors its mirror rays
 (:func:`raykit.engine.compiled.mirrors.mirror_rays`).
 
-The cache lives in a folder named after a hash of the package's sources and its folder
-(:func:`raykit.engine.choice.cache_folder`): editing a kernel makes a new folder, so no kernel
-compiled from older source is ever served (numba keeps no account of which kernels a cached
-kernel calls). numba writes each kernel's files whole (a temporary file, then a rename), so
-a compile stopped part way, by Ctrl-C or otherwise, leaves the kernels it finished, usable,
+The cache lives in a folder named after a hash of the package's sources, its folder, and the
+reference modules the kernels repeat or read a constant of
+(:func:`raykit.engine.choice.cache_folder`, from the twin table, :mod:`.twins`): editing a
+kernel, or a constant it freezes, makes a new folder, so no kernel compiled from older source
+is ever served (numba keeps no account of which kernels a cached kernel calls, nor of the
+globals it froze). numba writes each kernel's files whole (a temporary file, then a rename),
+so a compile stopped part way, by Ctrl-C or otherwise, leaves the kernels it finished, usable,
 and the next run compiles the rest. A marker per entry point (:func:`finished`) says that one
 render compiled everything it needs: :func:`marked` and
 :func:`raykit.engine.choice.compiled_once` read it.
@@ -36,7 +38,7 @@ from numba.core import event
 
 from raykit.engine.choice import cache_folder, marker
 
-CACHE = cache_folder()  # keyed on the package's source and where it is
+CACHE = cache_folder()  # keyed on the sources the kernels are made from, and where they are
 numba.config.CACHE_DIR = str(CACHE) if CACHE is not None else ""  # read as kernels are made
 # a kernel that makes arrays: cached on disk; x / 0 gives inf as numpy does; no GIL held
 MAKES_ARRAYS = dict(cache=CACHE is not None, error_model="numpy", nogil=True)
