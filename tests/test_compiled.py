@@ -59,7 +59,7 @@ def _boards(arrays, origins, directions, board):
 def _texels(arrays, board, alpha, beta):
     out = np.empty((len(alpha), 4))
     for i in range(len(alpha)):
-        r, g, b, opaque = compiled.billboard_color(arrays, board, alpha[i], beta[i])
+        r, g, b, opaque = compiled.billboard_color_at(arrays, board, alpha[i], beta[i])
         out[i, 0], out[i, 1], out[i, 2], out[i, 3] = r, g, b, opaque
     return out
 
@@ -68,7 +68,7 @@ def _texels(arrays, board, alpha, beta):
 def _viewing_rays(camera, x, y):
     out = np.empty((len(x), 6))
     for i in range(len(x)):
-        out[i] = compiled.viewing_ray(camera, x[i], y[i])
+        out[i] = compiled.rays_through(camera, x[i], y[i])
     return out
 
 
@@ -261,7 +261,7 @@ def _shade(arrays, tree, shading, origins, directions, index, t, color):
     stack = compiled.new_stack()
     for i in range(len(origins)):
         o, d, c = origins[i], directions[i], color[i]
-        out[i, 0], out[i, 1], out[i, 2] = compiled.shade_ray(
+        out[i, 0], out[i, 1], out[i, 2] = compiled.shade(
             arrays, tree, shading, stack, o[0], o[1], o[2], d[0], d[1], d[2],
             index[i], t[i], c[0], c[1], c[2],
         )  # fmt: skip
@@ -553,7 +553,7 @@ def _scan_entry_by_entry(entries, x, y, t_of):
 
 
 def test_a_ray_reading_its_list_in_chunks_offers_what_a_scan_entry_by_entry_offers(monkeypatch):
-    # primary_ray, run as Python with offer recording what it is given: lists of every length
+    # primary_ray, run as Python with keep_nearer recording what it is given: lists of every length
     # around the chunk's, entries sorted nearest first as screen_tiles sorts them, some
     # holding the point and some hit
     rng = np.random.default_rng(23)
@@ -565,8 +565,8 @@ def test_a_ray_reading_its_list_in_chunks_offers_what_a_scan_entry_by_entry_offe
             return obj, t_of[obj], r, g, b
         return best, best_t, r, g, b
 
-    monkeypatch.setattr(compiled.tiles, "offer", recording_offer)  # primary_ray's own module
-    monkeypatch.setattr(compiled.tiles, "viewing_ray", lambda camera, x, y: (0.0,) * 6)
+    monkeypatch.setattr(compiled.tiles, "keep_nearer", recording_offer)  # primary_ray's own module
+    monkeypatch.setattr(compiled.tiles, "rays_through", lambda camera, x, y: (0.0,) * 6)
     arrays = compiled.Arrays._make([np.zeros(3)] * len(compiled.Arrays._fields))
     chunk = compiled.HOLDING_CHUNK
     for length in [0, 1, chunk - 1, chunk, chunk + 1, 2 * chunk, 2 * chunk + 1, 5 * chunk + 3]:
@@ -1058,7 +1058,8 @@ def test_a_lit_scene_without_mirrors_never_types_the_mirror_rays():
     from numba.core.analysis import dead_branch_prune
     from numba.core.compiler import run_frontend
 
-    from raykit.engine.compiled import driver, mirrors
+    from raykit.engine.compiled import driver
+    from raykit.engine.compiled import shading as kernels
 
     parameters = list(inspect.signature(driver.lit_job.py_func).parameters)
 
@@ -1068,7 +1069,7 @@ def test_a_lit_scene_without_mirrors_never_types_the_mirror_rays():
         dead_branch_prune(lit_job, tuple(kind if p == "bounces" else types.pyobject
                                          for p in parameters))  # fmt: skip
         return any(
-            isinstance(statement.value, ir.Global) and statement.value.value is mirrors.mirror_rays
+            isinstance(statement.value, ir.Global) and statement.value.value is kernels.mirror_rays
             for block in lit_job.blocks.values()
             for statement in block.find_insts(ir.Assign)
         )

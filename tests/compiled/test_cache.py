@@ -99,7 +99,7 @@ def test_the_cache_key_holds_every_raykit_module_whose_globals_a_kernel_reads():
 
 def test_the_cache_key_holds_the_modules_the_twins_repeat_and_no_python_side_import():
     key = choice.frozen_modules()
-    for module in ("raykit.spheres", "raykit.shading", "raykit.render"):
+    for module in ("raykit.spheres", "raykit.shading", "raykit.mirrors", "raykit.render"):
         assert module in key
     # imported by the compiled engine only for Python-side work (prepare, annotations)
     for module in ("raykit.scene", "raykit.engine.adaptive", "raykit.engine.screen_bounds"):
@@ -127,11 +127,11 @@ from raykit.engine import choice
 from raykit.engine.compiled import surfaces
 from raykit.surfaces import SurfacePoints
 p, n, error = (0.5, -2.0, 3.0), (0.0, 0.6, 0.8), 1e-15
-kernel = surfaces.off_surface(*p, *n, error)
+kernel = surfaces.start(*p, *n, error, *n)
 reference = SurfacePoints(np.array([p]), np.array([n]), np.array([error])).start(np.array([n]))
 print(json.dumps({"kernel": list(kernel), "reference": list(reference[0]),
                   "folder": str(choice.cache_folder()),
-                  "hits": sum(surfaces.off_surface.stats.cache_hits.values())}))
+                  "hits": sum(surfaces.start.stats.cache_hits.values())}))
 """
 
 

@@ -37,14 +37,14 @@ the lower object index, whatever order objects come in, and a cut-out texel is n
 answer is :func:`raykit.render.cast`'s. All of it is made once per scene by :func:`prepare`,
 which a caller may keep and render many times.
 
-Lit scenes. :func:`.mirrors.shade_ray` and :func:`.shading.surface_color` repeat
+Lit scenes. :func:`.shading.shade` and :func:`.shading.surface_color` repeat
 :mod:`raykit.shading` for one ray: ambient, Lambert and Blinn-Phong per light, shadow rays
 (:mod:`raykit.shadows`, through the BVH) and mirror bounces (:mod:`raykit.mirrors`), with the
 surface points and offsets of :mod:`raykit.surfaces`. A job's viewing rays are shaded together,
 light by light, in lanes (:func:`.shading.surface_lanes`, :func:`.shading.light_lanes`): each
 ray's operations in the same order, the steps that every ray takes in vector instructions, and
 the shadow rays against the tile's lists; a mirror's rays then go on one at a time
-(:func:`.mirrors.mirror_rays`, :func:`.mirrors.bounce_on`), compiled only for a scene with
+(:func:`.shading.mirror_rays`, :func:`.shading.bounce_on`), compiled only for a scene with
 mirrors. One operation differs: the highlight's power is the C library's pow here and numpy's
 vectorised power in the reference, which disagree by one unit in the last place on a few per
 cent of points; with the reference given the same pow, the two engines agree
@@ -60,9 +60,9 @@ benchmarks/compile_time.py``). Only float64 is compiled.
 
 from __future__ import annotations
 
-from raykit.engine.compiled.billboards import billboard_color, hit_billboard
+from raykit.engine.compiled.billboards import billboard_color_at, hit_billboard
 from raykit.engine.compiled.bvh import DIRECT_HITS, nearest_hit, new_stack
-from raykit.engine.compiled.camera import camera_tuple, viewing_ray
+from raykit.engine.compiled.camera import camera_tuple, rays_through
 from raykit.engine.compiled.compiling import KERNEL
 from raykit.engine.compiled.driver import (
     CHUNK,
@@ -77,8 +77,8 @@ from raykit.engine.compiled.driver import (
     trace_flat,
     trace_lit,
 )
-from raykit.engine.compiled.hits import offer
-from raykit.engine.compiled.mirrors import bounce_on, mirror_rays, shade_ray
+from raykit.engine.compiled.hits import keep_nearer
+from raykit.engine.compiled.mirrors import reflect
 from raykit.engine.compiled.scene import (
     Arrays,
     Shading,
@@ -89,14 +89,19 @@ from raykit.engine.compiled.scene import (
 )
 from raykit.engine.compiled.shading import (
     Lanes,
-    highlight,
+    blinn_phong,
+    bounce_on,
+    lambert,
     light_lanes,
+    mirror_rays,
     new_lanes,
+    shade,
     surface_color,
     surface_lanes,
 )
 from raykit.engine.compiled.shadows import DIRECT_LISTS, SHADOW_CANDIDATES, shadow_lists
 from raykit.engine.compiled.spheres import hit_sphere
+from raykit.engine.compiled.surfaces import start, surface_points
 from raykit.engine.compiled.tiles import (
     CROWDED_SIDE,
     HOLDING_CHUNK,
@@ -113,10 +118,11 @@ from raykit.surfaces import OFFSET_FACTOR
 __all__ = [
     "CHUNK", "CROWDED_SIDE", "DIRECT_HITS", "DIRECT_LISTS", "HOLDING_CHUNK", "KERNEL",
     "OFFSET_FACTOR", "PACKET_SIDE", "SHADOW_CANDIDATES", "WIDE_SIDE", "Arrays", "Lanes",
-    "Prepared", "RayRoom", "Shading", "ShadingRoom", "Tiles", "Tree", "billboard_color",
-    "bounce_on", "camera_tuple", "cast_rays", "caster", "hit_billboard", "hit_sphere",
-    "highlight", "light_lanes", "mirror_rays", "nearest_hit", "new_lanes", "new_stack", "offer",
-    "prepare", "primary_ray", "primary_rays", "render", "scene_arrays", "scene_shading",
-    "scene_tree", "screen_tiles", "shade_ray", "shadow_lists", "surface_color", "surface_lanes",
-    "take", "tile_side", "trace_flat", "trace_lit", "viewing_ray",
+    "Prepared", "RayRoom", "Shading", "ShadingRoom", "Tiles", "Tree", "billboard_color_at",
+    "blinn_phong", "bounce_on", "camera_tuple", "cast_rays", "caster", "hit_billboard",
+    "hit_sphere", "keep_nearer", "lambert", "light_lanes", "mirror_rays", "nearest_hit",
+    "new_lanes", "new_stack", "prepare", "primary_ray", "primary_rays", "rays_through", "reflect",
+    "render", "scene_arrays", "scene_shading", "scene_tree", "screen_tiles", "shade",
+    "shadow_lists", "start", "surface_color", "surface_lanes", "surface_points", "take",
+    "tile_side", "trace_flat", "trace_lit",
 ]  # fmt: skip

@@ -9,7 +9,7 @@ import numpy as np
 from numba import njit
 
 from raykit.engine.compiled.compiling import INLINED, MAKES_ARRAYS
-from raykit.engine.compiled.hits import offer
+from raykit.engine.compiled.hits import keep_nearer
 
 STACK = 128  # nodes a ray may have still to visit: a median-split tree of 2^63 objects is 63 deep
 
@@ -50,7 +50,7 @@ def nearest_hit(arrays, tree, stack, o0, o1, o2, d0, d1, d2, t_max, any_blocker=
     lies before it: the nodes visited are those a test at each visit would visit, with one slab
     test fewer per node."""
     background = arrays.background
-    # int64, not the literal -1: a kernel given the hit (surface_point) is typed for it once
+    # int64, not the literal -1: a kernel given the hit (surface_points) is typed for it once
     best, best_t = np.int64(-1), np.inf
     r, g, b = background[0], background[1], background[2]
     objects = len(tree.order)  # the tree holds each of the scene's objects once
@@ -97,10 +97,10 @@ def nearest_hit(arrays, tree, stack, o0, o1, o2, d0, d1, d2, t_max, any_blocker=
                     top += 1
                 continue
             first, count = tree.first[node], tree.count[node]
-        # one call site for offer: a second loop for DIRECT_HITS rendered mirror_balls a little
-        # faster, but cost more to compile than it saved
+        # one call site for keep_nearer: a second loop for DIRECT_HITS rendered mirror_balls a
+        # little faster, but cost more to compile than it saved
         for k in range(first, first + count):
-            best, best_t, r, g, b = offer(
+            best, best_t, r, g, b = keep_nearer(
                 arrays, tree.order[k], o0, o1, o2, d0, d1, d2, best, best_t, r, g, b
             )
             if any_blocker and best_t < t_max:

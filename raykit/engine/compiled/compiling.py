@@ -6,7 +6,7 @@ needs it, with the kernels it calls, each once, and cached on disk by itself; a 
 per ray is inlined into those, by LLVM (``ONE_RAY``) or by numba (``INLINED``). So a flat
 scene compiles only the flat scene's kernels (:func:`raykit.engine.compiled.driver.trace_flat`
 names no shading kernel), a lit scene adds its own, and a scene with mirrors its mirror rays
-(:func:`raykit.engine.compiled.mirrors.mirror_rays`).
+(:func:`raykit.engine.compiled.shading.mirror_rays`).
 
 The cache lives in a folder named after a hash of the package's sources, its folder, and the
 reference modules the kernels repeat or read a constant of
@@ -54,7 +54,7 @@ KERNEL = dict(MAKES_ARRAYS, _nrt=False)
 # is left in the kernels a render runs: benchmarks/compile_time.py checks). numba's own
 # inlining (INLINED) copies the kernel and types it anew at each place it is called, which was
 # most of the compile: it is kept for those LLVM leaves as calls, the large ones (nearest_hit,
-# offer, primary_ray, surface_color, bounce_on) and the box tests (enters, box_apart,
+# keep_nearer, primary_ray, surface_color, bounce_on) and the box tests (enters, box_apart,
 # sphere_apart)
 ONE_RAY = KERNEL
 INLINED = dict(KERNEL, inline="always")

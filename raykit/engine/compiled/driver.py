@@ -31,7 +31,6 @@ from raykit.engine.compiled.compiling import (
     finished,
     marked,
 )
-from raykit.engine.compiled.mirrors import mirror_rays
 from raykit.engine.compiled.scene import (
     _NO_TREE,
     Arrays,
@@ -41,7 +40,13 @@ from raykit.engine.compiled.scene import (
     scene_shading,
     scene_tree,
 )
-from raykit.engine.compiled.shading import Lanes, light_lanes, new_lanes, surface_lanes
+from raykit.engine.compiled.shading import (
+    Lanes,
+    light_lanes,
+    mirror_rays,
+    new_lanes,
+    surface_lanes,
+)
 from raykit.engine.compiled.shadows import SHADOW_CANDIDATES, shadow_lists
 from raykit.engine.compiled.tiles import (
     HOLDING_CHUNK,
@@ -372,7 +377,7 @@ def lit_job(arrays, tiles, tree, shading, camera, bounces, width, xs, ys, offset
     if shading.lit:
         light_lanes(arrays, tree, shading, stack, rays, best, shaded, lanes, candidates, counts)
     total = lanes.total
-    for i in range(shaded):  # as shade_ray weighs them: 1 x the colour, added to nothing
+    for i in range(shaded):  # as shade weighs them: 1 x the colour, added to nothing
         if not made[i]:
             continue
         if best[i] < 0:  # the background

@@ -9,9 +9,9 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from raykit.engine.compiled.camera import viewing_ray
+from raykit.engine.compiled.camera import rays_through
 from raykit.engine.compiled.compiling import INLINED, KERNEL, MAKES_ARRAYS
-from raykit.engine.compiled.hits import offer
+from raykit.engine.compiled.hits import keep_nearer
 from raykit.engine.compiled.scene import Arrays
 from raykit.engine.compiled.spheres import hit_sphere
 from raykit.engine.screen_bounds import scene_bounds
@@ -121,9 +121,9 @@ def primary_ray(arrays, tiles, camera, x, y, tile, holding):
             if entries[k, 4] > best_t:
                 break  # every object from here on is farther than the hit
             if not made:
-                o0, o1, o2, d0, d1, d2 = viewing_ray(camera, x, y)
+                o0, o1, o2, d0, d1, d2 = rays_through(camera, x, y)
                 made = True
-            best, best_t, r, g, b = offer(
+            best, best_t, r, g, b = keep_nearer(
                 arrays, objects[k], o0, o1, o2, d0, d1, d2, best, best_t, r, g, b
             )
         if entries[stop - 1, 4] > best_t:
@@ -149,7 +149,7 @@ def primary_rays(arrays, tiles, camera, tile, n, xy, rays, best, best_t, colors,
     :func:`primary_ray`, and its ray is not used)."""
     background = arrays.background
     for i in range(n):
-        rays[0, i], rays[1, i], rays[2, i], rays[3, i], rays[4, i], rays[5, i] = viewing_ray(
+        rays[0, i], rays[1, i], rays[2, i], rays[3, i], rays[4, i], rays[5, i] = rays_through(
             camera, xy[0, i], xy[1, i]
         )
     for i in range(n):
@@ -172,7 +172,7 @@ def primary_rays(arrays, tiles, camera, tile, n, xy, rays, best, best_t, colors,
                     rays[0, i], rays[1, i], rays[2, i], rays[3, i], rays[4, i], rays[5, i],
                     c0, c1, c2, R,
                 )  # fmt: skip
-            for i in range(n):  # offer's rule, with masks
+            for i in range(n):  # keep_nearer's rule, with masks
                 nearest = best_t[i]
                 still = alive[i] & (closest <= nearest)
                 x, y = xy[0, i], xy[1, i]
@@ -193,7 +193,7 @@ def primary_rays(arrays, tiles, camera, tile, n, xy, rays, best, best_t, colors,
                 x, y = xy[0, i], xy[1, i]
                 if still and x0 <= x and x <= x1 and y0 <= y and y <= y1:
                     made[i] = True
-                    best[i], best_t[i], colors[0, i], colors[1, i], colors[2, i] = offer(
+                    best[i], best_t[i], colors[0, i], colors[1, i], colors[2, i] = keep_nearer(
                         arrays, obj, rays[0, i], rays[1, i], rays[2, i], rays[3, i], rays[4, i],
                         rays[5, i], best[i], best_t[i], colors[0, i], colors[1, i], colors[2, i],
                     )  # fmt: skip
