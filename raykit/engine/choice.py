@@ -91,8 +91,9 @@ def _module_file(module: str) -> Path:
 def _modules_read(tree: ast.Module) -> frozenset[str]:
     """The raykit modules (not the compiled engine's) whose globals a kernel module reads where
     numba freezes them: in the body of a kernel (a function under a decorator, ``@njit`` or
-    ``@intrinsic``) or in a top-level assignment (a constant the kernels may read). A name
-    imported from a module that imports it in turn is followed to where it is defined."""
+    ``@intrinsic``), or in the value of a top-level name a kernel reads (a constant computed at
+    import). A name imported from a module that imports it in turn is followed to where it is
+    defined."""
     imported: dict[str, tuple[str, str | None]] = {}  # local name: (module, its name there)
     for node in tree.body:
         if isinstance(node, ast.ImportFrom) and _ours(node.module):
@@ -102,12 +103,17 @@ def _modules_read(tree: ast.Module) -> frozenset[str]:
             for alias in node.names:
                 if _ours(alias.name) and alias.asname:
                     imported[alias.asname] = (alias.name, None)
-    frozen: list[ast.AST] = []
+    kernels: list[ast.AST] = []
+    constants: dict[str, ast.AST] = {}  # a top-level name: the value assigned to it
     for node in tree.body:
         if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef) and node.decorator_list:
-            frozen += [*node.body, *node.args.defaults]
+            kernels += [*node.body, *node.args.defaults]
         elif isinstance(node, ast.Assign | ast.AnnAssign) and node.value is not None:
-            frozen.append(node.value)
+            for target in node.targets if isinstance(node, ast.Assign) else [node.target]:
+                if isinstance(target, ast.Name):
+                    constants[target.id] = node.value
+    names = {n.id for part in kernels for n in ast.walk(part) if isinstance(n, ast.Name)}
+    frozen = kernels + [constants[name] for name in names & constants.keys()]
     read: set[str] = set()
     for node in (inner for part in frozen for inner in ast.walk(part)):
         if isinstance(node, ast.Name) and node.id in imported:
@@ -140,11 +146,13 @@ def _defined_in(module: str, name: str, depth: int = 0) -> str:
 
 
 def cache_key() -> str:
-    """A hash of everything the compiled kernels are made from: the compiled engine's sources,
-    its folder, and the sources of :func:`frozen_modules`."""
+    """A hash of everything the compiled kernels are made from: the compiled engine's sources
+    (but the twin table, which no kernel reads), its folder, and the sources of
+    :func:`frozen_modules`."""
     digest = hashlib.sha256(os.path.abspath(COMPILED_SOURCE).encode())
     for source in sorted(COMPILED_SOURCE.glob("*.py")):
-        digest.update(source.name.encode() + b"\0" + source.read_bytes())
+        if source.name != "twins.py":  # read by no kernel: its modules count, below
+            digest.update(source.name.encode() + b"\0" + source.read_bytes())
     for module in frozen_modules():
         digest.update(module.encode() + b"\0" + _module_file(module).read_bytes())
     return digest.hexdigest()[:16]
