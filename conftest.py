@@ -21,7 +21,6 @@ SLOW_MODULES = {
     "test_grading_isolation.py",
     "test_grading_seeds.py",
     "test_submission_shapes.py",
-    "test_compiled.py",
     "test_benchmarks.py",
     "test_reproducible.py",
     "test_baselines.py",

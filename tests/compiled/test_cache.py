@@ -1,5 +1,7 @@
 """The compiled engine's cache: its folder's key covers every source the kernels are made from,
-the kernels' own and the reference modules they repeat or read a constant of."""
+the kernels' own and the reference modules they repeat or read a constant of; an edited kernel
+or constant is compiled again; a second copy of raykit gets its own folder; Ctrl-C leaves a
+usable cache."""
 
 from __future__ import annotations
 
@@ -15,8 +17,14 @@ import types
 
 import pytest
 
-from conftest import REPO
+from conftest import REPO, SCENES
 from raykit.engine import choice
+from raykit.io.scene_json import load_scene
+from raykit.render import render
+
+from .harness import (
+    run_python,
+)
 
 numba = pytest.importorskip("numba")
 compiled = pytest.importorskip("raykit.engine.compiled")
@@ -99,7 +107,7 @@ def test_the_cache_key_holds_every_raykit_module_whose_globals_a_kernel_reads():
 
 def test_the_cache_key_holds_the_modules_the_twins_repeat_and_no_python_side_import():
     key = choice.frozen_modules()
-    for module in ("raykit.spheres", "raykit.shading", "raykit.mirrors", "raykit.render"):
+    for module in ("raykit.spheres", "raykit.shading", "raykit.render"):
         assert module in key
     # imported by the compiled engine only for Python-side work (prepare, annotations)
     for module in ("raykit.scene", "raykit.engine.adaptive", "raykit.engine.screen_bounds"):
@@ -159,3 +167,115 @@ def test_a_constant_edited_in_a_reference_module_gets_kernels_compiled_anew(tmp_
     after = run()
     assert after["folder"] != first["folder"] and after["hits"] == 0  # compiled anew
     assert after["kernel"] == after["reference"] != first["reference"]
+
+
+def test_cache_folder_is_keyed_on_the_engines_source(tmp_path, monkeypatch):
+    import shutil
+
+    monkeypatch.setenv("RAYKIT_CACHE_DIR", str(tmp_path))
+    shutil.copytree(REPO / "raykit", tmp_path / "raykit", ignore=shutil.ignore_patterns("__py*"))
+    package = tmp_path / "raykit/engine/compiled"
+    monkeypatch.setattr(choice, "COMPILED_SOURCE", package)
+    before = choice.cache_folder()
+    source = package / "spheres.py"  # a kernel that the others call
+    text = source.read_text()
+    edited = text.replace("if not discriminant >= 0:", "if not discriminant >= 9:")
+    assert edited != text
+    source.write_text(edited)
+    assert choice.cache_folder() != before
+    assert choice.cache_folder().parent == before.parent == tmp_path / "raykit"
+
+
+def test_a_second_copy_of_the_same_source_gets_its_own_cache_folder(tmp_path, monkeypatch):
+    # numba keeps each source folder's kernels apart, so a second copy (another checkout, a
+    # reinstall elsewhere) compiles again: it must say so, and auto must not count on a cache
+    import shutil
+
+    monkeypatch.setenv("RAYKIT_CACHE_DIR", str(tmp_path / "cache"))
+    one, two = (tmp_path / copy / "raykit/engine/compiled" for copy in ("one", "two"))
+    for package in (one, two):
+        shutil.copytree(REPO / "raykit", package.parent.parent,
+                        ignore=shutil.ignore_patterns("__py*"))  # fmt: skip
+    monkeypatch.setattr(choice, "COMPILED_SOURCE", one)
+    first = choice.cache_folder()
+    choice.marker("trace_flat").write_text("20.0 s\n")  # as the first copy's first render leaves it
+    assert choice.compiled_once("trace_flat")
+    monkeypatch.setattr(choice, "COMPILED_SOURCE", two)
+    assert choice.cache_folder() != first
+    assert not choice.compiled_once("trace_flat")
+
+
+def test_an_edited_kernel_is_compiled_again_not_served_from_the_cache(tmp_path):
+    """The edit keeps the file's size and time, which numba's own cache check would miss."""
+    import shutil
+
+    shutil.copytree(REPO / "raykit", tmp_path / "raykit", ignore=shutil.ignore_patterns("__py*"))
+    kernel = tmp_path / "raykit/engine/compiled/spheres.py"
+    code = (
+        "from raykit.io.scene_json import load_scene; from raykit.render import render\n"
+        f"scene = load_scene({str(SCENES / 'classic.json')!r})\n"
+        "print((render(scene, engine='compiled').object_index >= 0).sum())\n"
+    )
+    env = {"PYTHONPATH": str(tmp_path), "RAYKIT_CACHE_DIR": str(tmp_path / "cache")}
+    first = run_python(code, cwd=tmp_path, **env)
+    assert first.returncode == 0, first.stderr
+    assert "compiling raykit's fast kernels, once" in first.stderr
+    # the progress line names the kernels it compiles: a flat scene's, and no shading
+    assert "trace_flat" in first.stderr and "light_lanes" not in first.stderr
+    again = run_python(code, cwd=tmp_path, **env)
+    assert "compiling" not in again.stderr and again.stdout == first.stdout  # served cached
+    stat = kernel.stat()
+    text = kernel.read_text()
+    edited = text.replace("if not discriminant >= 0:", "if not discriminant >= 9:")
+    assert edited != text and len(edited) == len(text)
+    kernel.write_text(edited)
+    os.utime(kernel, ns=(stat.st_atime_ns, stat.st_mtime_ns))
+    third = run_python(code, cwd=tmp_path, **env)
+    assert "compiling raykit's fast kernels, once" in third.stderr
+    assert int(third.stdout) < int(first.stdout)  # the edit shows: fewer spheres are hit
+
+
+def test_ctrl_c_during_the_first_compile_leaves_a_cache_the_next_run_renders_right_from(tmp_path):
+    """numba writes each kernel's cache files whole; the marker comes only after a render."""
+    import signal
+    import threading
+    import time
+
+    from raykit.engine.compiled.compiling import MESSAGE
+
+    code = (
+        "from raykit.io.scene_json import load_scene; from raykit.render import render\n"
+        f"scene = load_scene({str(SCENES / 'classic.json')!r})\n"
+        "print((render(scene, engine='compiled').object_index >= 0).sum())\n"
+    )
+    cache = tmp_path / "cache"
+    env = {**os.environ, "RAYKIT_CACHE_DIR": str(cache)}
+    # Ctrl-C as in a terminal: a child started where SIGINT is ignored (a shell's background
+    # job) would inherit that, and finish its compile
+    child = subprocess.Popen(
+        [sys.executable, "-c", code], cwd=REPO, env=env, stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE, text=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )  # fmt: skip
+    said = []  # its standard error, read as it comes (the progress line)
+    reader = threading.Thread(target=lambda: said.extend(iter(child.stderr.readline, "")))
+    reader.start()
+    deadline = time.monotonic() + 300
+    while time.monotonic() < deadline and not (
+        list(cache.rglob("*.nbi")) and MESSAGE in "".join(said)  # a kernel cached, and the
+    ):  # progress line up: the entry point's compile is under way
+        time.sleep(0.05)
+    child.send_signal(signal.SIGINT)
+    stdout = child.stdout.read()
+    child.wait(timeout=300)
+    reader.join()
+    stderr = "".join(said)
+    assert child.returncode != 0, f"the compile finished before it was interrupted: {stdout}"
+    assert "KeyboardInterrupt" in stderr, (child.returncode, stdout, stderr[-2000:])
+    assert list(cache.rglob("*.nbi")) and not list(cache.rglob("*.ok"))
+    again = run_python(code, RAYKIT_CACHE_DIR=str(cache))
+    assert again.returncode == 0, again.stderr
+    assert "compiling raykit's fast kernels, once" in again.stderr  # what was not cached
+    expected = (render(load_scene(SCENES / "classic.json")).object_index >= 0).sum()
+    assert int(again.stdout) == expected
+    assert [path.name for path in cache.rglob("*.ok")] == ["trace_flat.ok"]

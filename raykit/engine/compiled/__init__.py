@@ -13,9 +13,11 @@ Install with ``pip install "raykit[fast]"``; :func:`raykit.render.render` takes 
 
 What it repeats, and how it is held to it. The lecture's numpy functions are the reference. Each
 kernel below names the function it repeats and does *the same float64 operations in the same
-order* on one ray, so its answers agree with the reference bit for bit, but for one pow (below):
-``tests/test_compiled.py`` checks t values, object indices and colours on 10^5 seeded random
-rays per kernel, the stability cases, and the PNG bytes of every example scene. Dot products are
+order* on one ray, so its answers agree with the reference bit for bit, but for one pow (below).
+Which function each kernel repeats is data, the twin table (:mod:`.twins`), from which come a
+differential test per pair (``tests/compiled/test_<module>.py``, beside 10^5-ray checks, the
+stability cases, and the PNG bytes of every example scene), the cache's key, and the line in
+each reference function's documentation that names its twin. Dot products are
 summed left to right with no fused multiply-add, as :func:`raykit.rays.dot` sums them (numba,
 like numpy, contracts a·b + c into an FMA only under fastmath, which is off).
 

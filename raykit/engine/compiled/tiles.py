@@ -95,7 +95,7 @@ def primary_ray(arrays, tiles, camera, x, y, tile, holding):
     is not NaN where the scene's numbers are finite (as :mod:`raykit.io` checks every scene
     file's), and the nearest hit only comes nearer, so an entry checked past the one a scan
     entry by entry stops at can only be farther than the hit, and is not offered either
-    (tests/test_compiled.py compares the two scans)."""
+    (tests/compiled/test_tiles.py compares the two scans)."""
     size, entries, objects = tiles.size, tiles.entries, tiles.objects
     background = arrays.background
     best, best_t = -1, np.inf
