@@ -96,9 +96,9 @@ def test_a_ray_reading_its_list_in_chunks_offers_what_a_scan_entry_by_entry_offe
             t_of = dict(enumerate(np.where(hit, closest + rng.uniform(0, 3, length), np.inf)))
             tiles = compiled.Tiles(np.array([0, length]), np.arange(length), entries, 1, 16, False)
             offered.clear()
-            made, *_ = compiled.primary_ray.py_func(
+            made = compiled.primary_ray.py_func(
                 arrays, tiles, None, 0.5, 0.5, 0, np.empty(chunk, dtype=np.int64)
-            )
+            ).made
             expected = _scan_entry_by_entry(entries, 0.5, 0.5, t_of)
             assert offered == expected, (length, closest, holds, hit)
             assert made == bool(expected)

@@ -89,62 +89,100 @@ def cast_rays(arrays, tree, origins, directions, t_max):
         stack = new_stack()
         for i in range(chunk * CHUNK, min(count, (chunk + 1) * CHUNK)):
             o, d = origins[i], directions[i]
-            index[i], t[i], color[i, 0], color[i, 1], color[i, 2] = nearest_hit(
-                arrays, tree, stack, o[0], o[1], o[2], d[0], d[1], d[2], t_max[i]
-            )
+            hit = nearest_hit(arrays, tree, stack, o[0], o[1], o[2], d[0], d[1], d[2], t_max[i])
+            index[i], t[i] = hit.index, hit.t
+            color[i, 0], color[i, 1], color[i, 2] = hit.r, hit.g, hit.b
     return index, t, color
 
 
+class Frame(NamedTuple):
+    """What every job of one call of :func:`trace_flat` or :func:`trace_lit` shares: the scene's
+    ``arrays`` and screen ``tiles``, its ``tree`` and ``shading`` (None in a flat scene), the
+    ``camera`` (:func:`camera_tuple`), the image's ``width``; the image points ``xs``, ``ys``
+    (empty: whole tiles' pixels, see :func:`trace_flat`), the sample ``offsets (S, 2)`` and the
+    ``centre`` sample (-1: a ray of its own); and where the results go, ``rgb (P, 3)``,
+    ``index`` and ``t (P,)``. Made inside the parallel loop, by each worker (:class:`Lanes` says
+    why)."""
+
+    arrays: Arrays
+    tiles: Tiles
+    tree: Tree | None
+    shading: Shading | None
+    camera: tuple
+    width: int
+    xs: np.ndarray
+    ys: np.ndarray
+    offsets: np.ndarray
+    centre: int
+    rgb: np.ndarray
+    index: np.ndarray
+    t: np.ndarray
+
+
+class TileJob(NamedTuple):
+    """One job of :func:`trace_flat` or :func:`trace_lit` (:func:`job_of`): ``rows`` x
+    ``across`` pixels, the upper-left one at (``left``, ``top``), in ``tile``; or (``tile``
+    -1) a row of image points from point ``first``, each in whichever tile holds it."""
+
+    first: int
+    rows: int
+    top: int
+    left: int
+    across: int
+    tile: int
+
+
 @njit(**ONE_RAY)
-def job_pixel(down, along, points, first, top, left, across, width, xs, ys):
-    """The pixel ``down`` rows and ``along`` columns into a job of :func:`trace_flat` or
-    :func:`trace_lit` (``across`` columns wide): ``(p, x, y)``, where its results go and its
-    upper-left corner. (Rows and columns, not a running count: an integer division per pixel
-    cost more than its ray.)"""
-    if points:
-        q = first + down * across + along
-        return q, xs[q], ys[q]
-    return (top + down) * width + left + along, float(left + along), float(top + down)
+def job_pixel(frame, job, down, along):
+    """The pixel ``down`` rows and ``along`` columns into ``job`` (a :class:`TileJob`):
+    ``(p, x, y)``, where its results go and its upper-left corner. (Rows and columns, not a
+    running count: an integer division per pixel cost more than its ray.)"""
+    if len(frame.xs):
+        q = job.first + down * job.across + along
+        return q, frame.xs[q], frame.ys[q]
+    top, left = job.top + down, job.left + along
+    return top * frame.width + left, float(left), float(top)
 
 
 @njit(**KERNEL)
 def job_of(jobs, j, points, tiles, width, height):
-    """Job ``jobs[j]`` of :func:`trace_flat` or :func:`trace_lit`: ``(first, rows, top, left,
-    across, tile)``, its first point and ``rows`` x ``across`` pixels, in ``tile`` (-1: a row of
-    ``points``, each in whichever tile holds it), the upper-left one at (``left``, ``top``)."""
+    """Job ``jobs[j]`` of :func:`trace_flat` or :func:`trace_lit`, a :class:`TileJob`: a tile's
+    pixels, or a row of CHUNK of the ``points``."""
     if points:
         first = jobs[j] * CHUNK
-        return first, 1, 0, 0, min(CHUNK, points - first), -1
+        return TileJob(first, 1, 0, 0, min(CHUNK, points - first), -1)
     size = tiles.size
     tile = jobs[j]
     top = (tile // tiles.tiles_x) * size
     left = (tile % tiles.tiles_x) * size
-    return 0, min(size, height - top), top, left, min(size, width - left), tile
+    return TileJob(0, min(size, height - top), top, left, min(size, width - left), tile)
 
 
 @njit(**KERNEL)
-def background_job(empty, width, top, left, rows, across, rgb, index, t):
+def background_job(frame, job, empty):
     """A tile that no object's screen rectangle meets: its pixels get ``empty (3,)``, index -1
     and t = inf, and no ray."""
-    for down in range(rows):
-        for along in range(across):
-            p = (top + down) * width + left + along
+    rgb, index, t = frame.rgb, frame.index, frame.t
+    for down in range(job.rows):
+        for along in range(job.across):
+            p = (job.top + down) * frame.width + job.left + along
             rgb[p, 0], rgb[p, 1], rgb[p, 2] = empty[0], empty[1], empty[2]
             index[p], t[p] = -1, np.inf
 
 
 @njit(**KERNEL)
-def job_points(points, first, rows, top, left, across, width, xs, ys, offsets, centre, xy):
+def job_points(frame, job, xy):
     """Each of a job's rays' image points into ``xy (2, N)``: ray i is sample i % S of the
     job's pixel i // S; the rays through the pixel centres, if cast apart (``centre`` -1), come
     after all those. Returns how many rays."""
+    offsets = frame.offsets
     samples = len(offsets)
-    pixels = rows * across
-    extra = 1 if centre < 0 else 0
-    for down in range(rows):
-        for along in range(across):
-            q = down * across + along
-            _, px, py = job_pixel(down, along, points, first, top, left, across, width, xs, ys)
+    pixels = job.rows * job.across
+    extra = 1 if frame.centre < 0 else 0
+    for down in range(job.rows):
+        for along in range(job.across):
+            q = down * job.across + along
+            _, px, py = job_pixel(frame, job, down, along)
             for sample in range(samples):  # offsets in [0, 1): the point stays in its tile
                 i = q * samples + sample
                 xy[0, i], xy[1, i] = px + offsets[sample, 0], py + offsets[sample, 1]
@@ -155,16 +193,17 @@ def job_points(points, first, rows, top, left, across, width, xs, ys, offsets, c
 
 
 @njit(**KERNEL)
-def pixel_means(points, first, rows, top, left, across, width, xs, ys, samples, centre, colors,
-                best, best_t, rgb, index, t):  # fmt: skip
+def pixel_means(frame, job, colors, best, best_t):
     """Each of a job's pixels: the mean of its samples' ``colors (3, N)`` (laid out as
     :func:`job_points` lays out the rays) into ``rgb``, and the object index and t of the ray
     through its centre into ``index`` and ``t``."""
-    pixels = rows * across
-    for down in range(rows):
-        for along in range(across):
-            q = down * across + along
-            p, _, _ = job_pixel(down, along, points, first, top, left, across, width, xs, ys)
+    rgb, index, t, centre = frame.rgb, frame.index, frame.t, frame.centre
+    samples = len(frame.offsets)
+    pixels = job.rows * job.across
+    for down in range(job.rows):
+        for along in range(job.across):
+            q = down * job.across + along
+            p, _, _ = job_pixel(frame, job, down, along)
             r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
             for sample in range(samples):
                 i = q * samples + sample
@@ -257,59 +296,55 @@ def trace_flat(arrays, tiles, camera, width, height, jobs, workers, xs, ys, offs
     taken = np.zeros(1, dtype=np.int64)
     for _ in prange(workers):
         room = new_ray_room((CHUNK if points else tiles.size * tiles.size) * (len(offsets) + 1))
+        frame = Frame(arrays, tiles, None, None, camera, width, xs, ys, offsets, centre, rgb,
+                      index, t)  # fmt: skip
         while True:
             first_job = take(taken, grain)
             if first_job >= len(jobs):
                 break
             for j in range(first_job, min(len(jobs), first_job + grain)):
-                first, rows, top, left, across, tile = job_of(jobs, j, points, tiles, width,
-                                                              height)  # fmt: skip
-                if points or tiles.start[tile] < tiles.start[tile + 1]:
-                    flat_job(arrays, tiles, camera, width, xs, ys, offsets, centre, rgb, index,
-                             t, first, rows, top, left, across, tile, room)  # fmt: skip
+                job = job_of(jobs, j, points, tiles, width, height)
+                if points or tiles.start[job.tile] < tiles.start[job.tile + 1]:
+                    flat_job(frame, job, room)
                 else:
-                    background_job(empty, width, top, left, rows, across, rgb, index, t)
+                    background_job(frame, job, empty)
 
 
 @njit(**KERNEL)
-def flat_job(arrays, tiles, camera, width, xs, ys, offsets, centre, rgb, index, t, first, rows,
-             top, left, across, tile, room):  # fmt: skip
-    """One job of :func:`trace_flat`: its ``rows`` x ``across`` pixels (:func:`job_pixel`), all
-    in ``tile`` (-1: points, each in its own), with the worker's ``room`` (:func:`new_ray_room`).
-    One ray at a time, each colour goes straight into its pixel's sum and no ray is kept; in
-    packets, the rays are traced together (:func:`primary_rays`), then summed."""
-    xy, rays, best, best_t, colors = room.xy, room.rays, room.best, room.best_t, room.colors
-    made, alive, ts, holding = room.made, room.alive, room.ts, room.holding
-    points = len(xs)
+def flat_job(frame, job, room):
+    """One job of :func:`trace_flat` (a :class:`TileJob`): its pixels (:func:`job_pixel`), all
+    in its tile (-1: points, each in its own), with the worker's ``room``
+    (:func:`new_ray_room`). One ray at a time, each colour goes straight into its pixel's sum
+    and no ray is kept; in packets, the rays are traced together (:func:`primary_rays`), then
+    summed."""
+    arrays, tiles, camera, offsets = frame.arrays, frame.tiles, frame.camera, frame.offsets
+    rgb, index, t, centre = frame.rgb, frame.index, frame.t, frame.centre
     samples = len(offsets)
+    tile = job.tile
     if tile < 0 or not tiles.packets:
-        for down in range(rows):
-            for along in range(across):
-                p, px, py = job_pixel(down, along, points, first, top, left, across, width, xs, ys)
+        for down in range(job.rows):
+            for along in range(job.across):
+                p, px, py = job_pixel(frame, job, down, along)
                 r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
                 for sample in range(samples):
                     x, y = px + offsets[sample, 0], py + offsets[sample, 1]
-                    _, hit, t_hit, r, g, b, _, _, _, _, _, _ = primary_ray(
-                        arrays, tiles, camera, x, y, tile, holding
-                    )
+                    hit = primary_ray(arrays, tiles, camera, x, y, tile, room.holding)
                     if sample == centre:
-                        index[p], t[p] = hit, t_hit
-                    r_sum += r
-                    g_sum += g
-                    b_sum += b
+                        index[p], t[p] = hit.index, hit.t
+                    r_sum += hit.r
+                    g_sum += hit.g
+                    b_sum += hit.b
                 rgb[p, 0] = r_sum / samples
                 rgb[p, 1] = g_sum / samples
                 rgb[p, 2] = b_sum / samples
                 if centre < 0:
-                    _, hit, t_hit, _, _, _, _, _, _, _, _, _ = primary_ray(
-                        arrays, tiles, camera, px + 0.5, py + 0.5, tile, holding
-                    )
-                    index[p], t[p] = hit, t_hit
+                    hit = primary_ray(arrays, tiles, camera, px + 0.5, py + 0.5, tile, room.holding)
+                    index[p], t[p] = hit.index, hit.t
         return
-    n = job_points(points, first, rows, top, left, across, width, xs, ys, offsets, centre, xy)
-    primary_rays(arrays, tiles, camera, tile, n, xy, rays, best, best_t, colors, made, alive, ts)
-    pixel_means(points, first, rows, top, left, across, width, xs, ys, samples, centre, colors,
-                best, best_t, rgb, index, t)  # fmt: skip
+    n = job_points(frame, job, room.xy)
+    primary_rays(arrays, tiles, camera, tile, n, room.xy, room.rays, room.best, room.best_t,
+                 room.colors, room.made, room.alive, room.ts)  # fmt: skip
+    pixel_means(frame, job, room.colors, room.best, room.best_t)
 
 
 @njit(parallel=True, **MAKES_ARRAYS)
@@ -324,50 +359,50 @@ def trace_lit(arrays, tiles, tree, shading, camera, bounces, width, height, jobs
     for _ in prange(workers):
         n = (CHUNK if points else tiles.size * tiles.size) * (len(offsets) + 1)
         room, shading_room = new_ray_room(n), new_shading_room(n, shading)
+        frame = Frame(arrays, tiles, tree, shading, camera, width, xs, ys, offsets, centre, rgb,
+                      index, t)  # fmt: skip
         while True:
             first_job = take(taken, grain)
             if first_job >= len(jobs):
                 break
             for j in range(first_job, min(len(jobs), first_job + grain)):
-                first, rows, top, left, across, tile = job_of(jobs, j, points, tiles, width,
-                                                              height)  # fmt: skip
-                if points or tiles.start[tile] < tiles.start[tile + 1]:
-                    lit_job(arrays, tiles, tree, shading, camera, bounces, width, xs, ys, offsets,
-                            centre, rgb, index, t, first, rows, top, left, across, tile,
-                            room, shading_room)  # fmt: skip
+                job = job_of(jobs, j, points, tiles, width, height)
+                if points or tiles.start[job.tile] < tiles.start[job.tile + 1]:
+                    lit_job(frame, bounces, job, room, shading_room)
                 else:
-                    background_job(empty, width, top, left, rows, across, rgb, index, t)
+                    background_job(frame, job, empty)
 
 
 @njit(**KERNEL)
-def lit_job(arrays, tiles, tree, shading, camera, bounces, width, xs, ys, offsets, centre, rgb,
-            index, t, first, rows, top, left, across, tile, room, shading_room):  # fmt: skip
-    """One job of :func:`trace_lit`, with the worker's ``room`` (:class:`RayRoom`) and
-    ``shading_room`` (:class:`ShadingRoom`): all its viewing rays' hits first, then each light's
-    :func:`shadow_lists` for the box their surface points lie in, each light for all the
-    points at once (:func:`surface_lanes`, :func:`light_lanes`), then, in a scene with mirrors
-    (``bounces`` True, not None: see :func:`_entry`), their rays (:func:`mirror_rays`), and the
-    pixels' means (:func:`pixel_means`)."""
+def lit_job(frame, bounces, job, room, shading_room):
+    """One job of :func:`trace_lit` (a :class:`TileJob`), with the worker's ``room``
+    (:class:`RayRoom`) and ``shading_room`` (:class:`ShadingRoom`): all its viewing rays' hits
+    first, then each light's :func:`shadow_lists` for the box their surface points lie in, each
+    light for all the points at once (:func:`surface_lanes`, :func:`light_lanes`), then, in a
+    scene with mirrors (``bounces`` True, not None: see :func:`_entry`), their rays
+    (:func:`mirror_rays`), and the pixels' means (:func:`pixel_means`). ``bounces`` is an
+    argument of its own, not a field of ``frame``: numba drops the branch it decides only for
+    an argument's type."""
+    arrays, tiles, tree, shading = frame.arrays, frame.tiles, frame.tree, frame.shading
+    camera, tile = frame.camera, job.tile
     xy, rays, best, best_t, colors = room.xy, room.rays, room.best, room.best_t, room.colors
-    made, alive, ts, holding = room.made, room.alive, room.ts, room.holding
+    made, holding = room.made, room.holding
     stack, box, volume, lanes = (
         shading_room.stack, shading_room.box, shading_room.volume, shading_room.lanes
     )  # fmt: skip
     candidates, counts = shading_room.candidates, shading_room.counts
-    points = len(xs)
-    samples = len(offsets)
-    n = job_points(points, first, rows, top, left, across, width, xs, ys, offsets, centre, xy)
+    n = job_points(frame, job, xy)
     if tile >= 0 and tiles.packets:
-        primary_rays(
-            arrays, tiles, camera, tile, n, xy, rays, best, best_t, colors, made, alive, ts
-        )
+        primary_rays(arrays, tiles, camera, tile, n, xy, rays, best, best_t, colors, made,
+                     room.alive, room.ts)  # fmt: skip
     else:
         for i in range(n):
-            made[i], best[i], best_t[i], colors[0, i], colors[1, i], colors[2, i], rays[0, i], \
-                rays[1, i], rays[2, i], rays[3, i], rays[4, i], rays[5, i] = primary_ray(
-                    arrays, tiles, camera, xy[0, i], xy[1, i], tile, holding
-                )  # fmt: skip
-    shaded = rows * across * samples
+            hit = primary_ray(arrays, tiles, camera, xy[0, i], xy[1, i], tile, holding)
+            made[i], best[i], best_t[i] = hit.made, hit.index, hit.t
+            colors[0, i], colors[1, i], colors[2, i] = hit.r, hit.g, hit.b
+            rays[0, i], rays[1, i], rays[2, i] = hit.o0, hit.o1, hit.o2
+            rays[3, i], rays[4, i], rays[5, i] = hit.d0, hit.d1, hit.d2
+    shaded = job.rows * job.across * len(frame.offsets)
     largest = surface_lanes(arrays, shading, rays, best, best_t, colors, shaded, lanes, box)
     if shading.shadows:
         # shadow rays start off the surface by OFFSET_FACTOR x error x |n|, and |n| < 2 but
@@ -387,8 +422,7 @@ def lit_job(arrays, tiles, tree, shading, camera, bounces, width, xs, ys, offset
         colors[0, i], colors[1, i], colors[2, i] = 0.0 + 1.0 * c0, 0.0 + 1.0 * c1, 0.0 + 1.0 * c2
     if bounces is not None:  # None in a scene with no mirror: this branch is not compiled
         mirror_rays(arrays, tree, shading, stack, lanes, rays, best, made, shaded, colors)
-    pixel_means(points, first, rows, top, left, across, width, xs, ys, samples, centre, colors,
-                best, best_t, rgb, index, t)  # fmt: skip
+    pixel_means(frame, job, colors, best, best_t)
 
 
 def caster(scene: Scene, arrays: Arrays | None = None) -> Callable[..., Hits]:

@@ -75,10 +75,8 @@ def surface_color(
         if shading.shadows:  # raykit.shadows.light_reach and in_shadow
             s0, s1, s2 = start(p0, p1, p2, n0, n1, n2, error, l0, l1, l2)
             reach = point_light_reach(v0, v1, v2, s0, s1, s2) if shading.point_light[j] else np.inf
-            _, blocker, _, _, _ = nearest_hit(
-                arrays, tree, stack, s0, s1, s2, l0, l1, l2, reach, True
-            )
-            if blocker < reach:
+            blocker = nearest_hit(arrays, tree, stack, s0, s1, s2, l0, l1, l2, reach, True)
+            if blocker.t < reach:
                 continue
         I0, I1, I2 = intensity[j, 0], intensity[j, 1], intensity[j, 2]
         a0, a1, a2 = lambert(k0, k1, k2, I0, I1, I2, n_dot_l)
@@ -211,11 +209,11 @@ def light_lanes(arrays, tree, shading, stack, rays, best, count, lanes, candidat
         if shading.shadows and counts[j] < 0:  # raykit.shadows.in_shadow, through the tree
             for i in range(count):
                 if lit[i]:
-                    _, blocker, _, _, _ = nearest_hit(
+                    blocker = nearest_hit(
                         arrays, tree, stack, s[0, i], s[1, i], s[2, i], l[0, i], l[1, i],
                         l[2, i], reach[i], True,
                     )  # fmt: skip
-                    lit[i] = not blocker < reach[i]
+                    lit[i] = not blocker.t < reach[i]
         elif shading.shadows:  # against the list: a point is dark if any opaque hit is nearer
             for m in range(counts[j]):  # than the light, whichever is nearest
                 obj = candidates[j, m]
@@ -280,7 +278,8 @@ def bounce_on(arrays, tree, shading, stack, depth, hit, p0, p1, p2, n0, n1, n2, 
         o0, o1, o2 = start(p0, p1, p2, n0, n1, n2, error, d0, d1, d2)
         km = shading.mirror
         w0, w1, w2 = w0 * km[hit, 0], w1 * km[hit, 1], w2 * km[hit, 2]
-        hit, t, r, g, b = nearest_hit(arrays, tree, stack, o0, o1, o2, d0, d1, d2, np.inf)
+        found = nearest_hit(arrays, tree, stack, o0, o1, o2, d0, d1, d2, np.inf)
+        hit, t, r, g, b = found.index, found.t, found.r, found.g, found.b
         depth += 1
         if hit < 0:
             return c0 + w0 * r, c1 + w1 * g, c2 + w2 * b  # the background

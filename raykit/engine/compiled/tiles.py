@@ -77,6 +77,26 @@ class Tiles(NamedTuple):
 HOLDING_CHUNK = 8  # entries of a tile's list that primary_ray checks at a time
 
 
+class ViewingHit(NamedTuple):
+    """:func:`primary_ray`'s answer for one viewing ray: whether the ray was ``made``, the
+    nearest hit's object ``index`` (-1: none), ``t`` and colour (``r``, ``g``, ``b``), and the
+    ray, origin (``o0``, ``o1``, ``o2``) and direction (``d0``, ``d1``, ``d2``), all 0 if not
+    made."""
+
+    made: bool
+    index: int
+    t: float
+    r: float
+    g: float
+    b: float
+    o0: float
+    o1: float
+    o2: float
+    d0: float
+    d1: float
+    d2: float
+
+
 @njit(**INLINED)
 def primary_ray(arrays, tiles, camera, x, y, tile, holding):
     """:func:`nearest_hit` for the viewing ray through image point (x, y), from the list of its
@@ -84,8 +104,8 @@ def primary_ray(arrays, tiles, camera, x, y, tile, holding):
     screen rectangle holds the point (as :meth:`raykit.engine.tiles.Region.holding` decides),
     nearest first, until the next can only be farther than the hit found. The ray is made at
     the first rectangle that holds the point: if none does, it would see the background, and is
-    not made at all (as in :meth:`raykit.engine.regions.Plan.viewing_rays`). Returns ``(made,
-    index, t, r, g, b, o0, o1, o2, d0, d1, d2)`` (the ray 0 if not made).
+    not made at all (as in :meth:`raykit.engine.regions.Plan.viewing_rays`). Returns a
+    :class:`ViewingHit`.
 
     The list is read HOLDING_CHUNK entries at a time: first which of them hold the point, into
     ``holding (HOLDING_CHUNK,)``, with no branch, then those in order. In a crowded picture an
@@ -129,7 +149,7 @@ def primary_ray(arrays, tiles, camera, x, y, tile, holding):
         if entries[stop - 1, 4] > best_t:
             break
         first = stop
-    return made, best, best_t, r, g, b, o0, o1, o2, d0, d1, d2
+    return ViewingHit(made, best, best_t, r, g, b, o0, o1, o2, d0, d1, d2)
 
 
 @njit(**KERNEL)
