@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import io
 import sys
 
 import pytest
@@ -53,13 +54,21 @@ def test_the_progress_line_counts_a_kernel_as_it_compiles_up_to_its_measured_sec
     assert clock.own == {"light_lanes": 12.0, "lit_job": 33.0}
 
 
+class Terminal(io.StringIO):
+    """A stream that says it is a terminal, as a user's stderr is."""
+
+    def isatty(self):
+        return True
+
+
 def test_the_line_ends_full_when_some_of_the_tables_kernels_came_from_the_cache(
-    fake_compile, monkeypatch, capsys
+    fake_compile, monkeypatch
 ):
     compiling, now, event = fake_compile
     monkeypatch.setattr(compiling, "measured_seconds", lambda: {"trace_mirrors": {
         "mirror_rays": 7.0, "light_lanes": 4.0}})  # fmt: skip
-    clock = compiling.CompileClock("trace_mirrors", show=True)
+    terminal = Terminal()
+    clock = compiling.CompileClock("trace_mirrors", show=True, stream=terminal)
     clock.on_start(event("mirror_rays"))  # light_lanes is cached (trace_lit compiled it)
     now[0] += 7.0
     clock.on_end(event("mirror_rays"))
@@ -67,7 +76,30 @@ def test_the_line_ends_full_when_some_of_the_tables_kernels_came_from_the_cache(
     clock.finish()
     assert clock.bar.n == clock.bar.total == 11.0
     clock.bar.close()
-    assert "100%" in capsys.readouterr().err
+    assert "100%" in terminal.getvalue()
+
+
+def test_off_a_terminal_a_compile_writes_a_line_at_its_start_and_one_at_its_end(fake_compile):
+    """Into a CI log or a redirected file, no carriage return: the end's line says how long the
+    compile took and names the kernels it compiled."""
+    compiling, now, event = fake_compile
+    log = io.StringIO()
+    clock = compiling.CompileClock("trace_flat", show=True, stream=log)
+    clock.expected = {"flat_job": 20.0, "primary_rays": 5.0}
+    for name in ("flat_job", "primary_rays"):
+        clock.on_start(event(name))
+        for _ in range(30):  # the ticker redraws each second
+            now[0] += 1.0
+            clock._show()
+    clock.on_end(event("primary_rays"))
+    clock.on_end(event("flat_job"))
+    clock.finish()
+    clock.close()
+    clock.close()  # once only
+    start, end = log.getvalue().splitlines()
+    assert "\r" not in log.getvalue()
+    assert start == f"{compiling.MESSAGE}: started, about 00:25"
+    assert end == f"{compiling.MESSAGE}: ended after 01:00 (2 kernels: primary_rays, flat_job)"
 
 
 def test_the_time_left_starts_at_the_tables_seconds_and_follows_this_machines_pace(
@@ -145,3 +177,21 @@ def test_any_other_error_a_callback_swallows_goes_to_the_hook_that_was_there(mon
         callback()
     assert not clock.interrupted
     assert [str(error) for error in reported] == ["not a Ctrl-C"]
+
+
+def test_a_moving_line_moves_on_a_terminal_and_elsewhere_writes_two_lines(fake_compile):
+    compiling, now, _ = fake_compile
+    terminal, log = Terminal(), io.StringIO()
+    for stream in (terminal, log):
+        line = compiling.moving_line("compiling", 30.0, stream, bar_format="{desc} {n}/{total}")
+        for step in range(5):
+            line.n = step
+            line.set_description_str(f"compiling: kernel {step}")
+            line.refresh()
+        now[0] += 75.0
+        line.close()
+    assert terminal.getvalue().count("\r") >= 5 and "kernel 4" in terminal.getvalue()
+    assert log.getvalue().splitlines() == [
+        "compiling: started, about 00:30",
+        "compiling: ended after 01:15",
+    ]
