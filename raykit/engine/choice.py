@@ -35,7 +35,7 @@ STARTER_KIT = (
 )
 COMPILED_SOURCE = Path(__file__).with_name("compiled")  # the package of kernels
 # The numpy engine's time per ray, flat and shaded, and what loading numba and the cached
-# kernels costs a process: measured on the 2-core machine by benchmarks/engines.py
+# kernels costs a process: measured by benchmarks/engines.py
 # (`raykit bench` prints them again on yours)
 NUMPY_SECONDS_PER_RAY = {"flat": 2.0e-7, "lit": 8.0e-7}
 AUTO_FROM = 0.5  # seconds of numpy rendering from which the compiled engine wins, load included

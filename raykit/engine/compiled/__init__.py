@@ -21,13 +21,14 @@ each reference function's documentation that names its twin. Dot products are
 summed left to right with no fused multiply-add, as :func:`raykit.rays.dot` sums them (numba,
 like numpy, contracts a·b + c into an FMA only under fastmath, which is off).
 
-What it skips. Primary rays: the image is cut into square tiles (:func:`.tiles.tile_side`: 16 or
-8 pixels a side, 4 in a crowded picture), and each tile keeps the objects whose screen rectangle
-(:mod:`raykit.engine.screen_bounds`) meets it, nearest first (:func:`.tiles.screen_tiles`). A
-tile no object is seen in gets the background and no ray; elsewhere a viewing ray tests only the
-objects whose rectangle holds its image point, and stops at the first that cannot come nearer
-than the hit it has: one ray at a time in a crowded picture, else a whole tile's rays at once,
-in vectors, with masks for what each ray would skip (:func:`.tiles.primary_rays`). Shadow rays
+What it skips. Primary rays: the image is cut into square tiles (their side chosen by
+:func:`.tiles.tile_side`, smaller in a crowded picture), and each tile keeps the objects whose
+screen rectangle (:mod:`raykit.engine.screen_bounds`) meets it, nearest first
+(:func:`.tiles.screen_tiles`). A tile no object is seen in gets the background and no ray; elsewhere
+a viewing ray tests only the objects whose rectangle holds its image point, and stops at the first
+that cannot come nearer than the hit it has: one ray at a time in a crowded picture, else a whole
+tile's rays at once, in vectors, with masks for what each ray would skip
+(:func:`.tiles.primary_rays`). Shadow rays
 from what a tile sees test only the objects that may lie between it and each light: the tile's
 viewing rays are all traced first, then each light's volume of shadow rays from the box of their
 surface points picks its candidates from the scene (:func:`.shadows.shadow_lists`; with too

@@ -1,6 +1,6 @@
 """Repeats :func:`raykit.render.render` and :mod:`raykit.engine.regions`: the lecture's loop
-over pixels, as jobs (a screen tile's pixels, or a row of points) that both cores take in turn,
-with :func:`trace_flat` for a flat scene and :func:`trace_lit` for a shaded one (two entry
+over pixels, as jobs (a screen tile's pixels, or a row of points) that numba's workers take in
+turn, with :func:`trace_flat` for a flat scene and :func:`trace_lit` for a shaded one (two entry
 points, so that a flat scene never compiles shading; and a shaded scene compiles mirror rays
 only if it has mirrors, :func:`_entry`); and :func:`raykit.render.cast` for any
 rays (:func:`cast_rays`, :func:`caster`). :func:`prepare` makes a scene ready once, and
@@ -61,9 +61,9 @@ from raykit.scene import Scene
 from raykit.surfaces import OFFSET_FACTOR
 
 ROWS_PER_CALL = 32  # rows of pixels per kernel call when a progress bar is to move
-CHUNK = 256  # rays or pixels per parallel step: many per core, and one stack each
-GRAINS_PER_WORKER = 16  # takes of jobs per core: few enough that taking costs nothing, and
-# many enough that a core slowed by other work leaves little for the other to wait on
+CHUNK = 256  # rays or pixels per parallel step: many per worker, and one stack each
+GRAINS_PER_WORKER = 16  # takes of jobs per worker: few enough that taking costs nothing, and
+# many enough that a worker slowed by other work leaves little for the others to wait on
 
 
 @intrinsic
@@ -287,9 +287,9 @@ def trace_flat(arrays, tiles, camera, width, height, jobs, workers, xs, ys, offs
       :func:`_mean_of_samples`), index -1 and t = inf, and no ray;
     * points (``xs``, ``ys (P,)``, the upper-left corners): ``jobs`` are CHUNKs of them.
 
-    One worker per core (``workers``: numba.get_num_threads()), each with its own room for a
+    One worker per numba thread (``workers``: numba.get_num_threads()), each with its own room for a
     job's rays (making it for each job cost more than a small tile's rays), takes the next
-    grain of jobs whenever it is free: a core slowed by other work takes fewer. Each job runs
+    grain of jobs whenever it is free: a worker slowed by other work takes fewer. Each job runs
     on one core, whole (:func:`flat_job`)."""
     points = len(xs)
     grain = max(1, len(jobs) // (workers * GRAINS_PER_WORKER))
@@ -480,13 +480,13 @@ def render(scene: Scene | Prepared, samples: int = 1, *, adaptive: bool = False,
     width, height = scene.camera.width, scene.camera.height
     centre = centre_sample(n)
     empty = _mean_of_samples(arrays.background, len(offsets))
-    rgb = np.empty((height * width, 3))  # first written by both cores: faster than by numpy
+    rgb = np.empty((height * width, 3))  # first written by the workers: faster than by numpy
     index = np.empty(height * width, dtype=np.int64)
     t = np.empty(height * width)
     tiles_x, size = tiles.tiles_x, tiles.size
     tile_count = -(-height // size) * tiles_x
     # tiles per kernel call: bands of rows for a progress bar, else all at once (each call
-    # starts both cores anew, and waits for the slower)
+    # starts every worker anew, and waits for the slowest)
     band = max(1, ROWS_PER_CALL // size) * tiles_x if progress is not None else tile_count
     nothing = np.zeros(0)
     for first in range(0, tile_count, band):

@@ -174,11 +174,11 @@ def light_lanes(arrays, tree, shading, stack, rays, best, count, lanes, candidat
     N)``, light by light, each step for all points at once: l and n·l; whether the light
     reaches the point (its shadow ray, against light j's ``candidates[j, :counts[j]]``
     (:func:`shadow_lists`), or walking the tree where counts[j] is -1); the Lambert term; the
-    highlight. Each point's operations are :func:`surface_color`'s, in its order, so its bits
-    are the same; a step that is the same for every point (l, n·l, the start of a shadow ray,
-    a sphere or a billboard's plane tested against every shadow ray, the Lambert term, kept or
-    not) is one loop the compiler turns into vector instructions, 4 points at a time with
-    AVX2 or AVX-512. A point with no hit or facing away from the light takes nothing from them."""
+    highlight. Each point's operations are :func:`surface_color`'s, in its order, so its bits are
+    the same; a step that is the same for every point (l, n·l, the start of a shadow ray, a sphere
+    or a billboard's plane tested against every shadow ray, the Lambert term, kept or not) is one
+    loop the compiler turns into vector instructions, as many points at a time as the processor's
+    vectors hold. A point with no hit or facing away from the light takes nothing from them."""
     spheres = len(arrays.radii)
     centers, radii, corners, planes = arrays.centers, arrays.radii, arrays.corners, arrays.n
     p, n, error, k, total = lanes.p, lanes.n, lanes.error, lanes.k, lanes.total

@@ -159,14 +159,14 @@ def primary_rays(arrays, tiles, camera, tile, n, xy, rays, best, best_t, colors,
     points ``xy (2, L)`` in, ``rays (6, L)``, ``best (L,)``, ``best_t``, ``colors (3, L)``,
     ``made`` out; ``alive``, ``ts`` room). The tile's objects are taken in turn, and each is
     tested against every lane with one loop of :func:`hit_sphere` that the compiler turns into
-    vector instructions (4 lanes at a time, with AVX2 or AVX-512); masks then keep, for each
-    lane, only what :func:`primary_ray` would: a lane whose rectangle does not hold its point,
-    or that has stopped (its next object can only be farther than its hit), takes nothing from
-    the test. So each lane offers the same objects in the same order as :func:`primary_ray` and
-    gets the same bits; the other lanes' answers are computed and thrown away, which costs less
-    than a branch per ray when the tile's list is short. Billboards are offered lane by lane.
-    Every lane's ray is made (a lane that no rectangle holds is not ``made``, as in
-    :func:`primary_ray`, and its ray is not used)."""
+    vector instructions (as many lanes at a time as the processor's vectors hold); masks then
+    keep, for each lane, only what :func:`primary_ray` would: a lane whose rectangle does not
+    hold its point, or that has stopped (its next object can only be farther than its hit),
+    takes nothing from the test. So each lane offers the same objects in the same order as
+    :func:`primary_ray` and gets the same bits; the other lanes' answers are computed and thrown
+    away, which costs less than a branch per ray when the tile's list is short. Billboards are
+    offered lane by lane. Every lane's ray is made (a lane that no rectangle holds is not
+    ``made``, as in :func:`primary_ray`, and its ray is not used)."""
     background = arrays.background
     for i in range(n):
         rays[0, i], rays[1, i], rays[2, i], rays[3, i], rays[4, i], rays[5, i] = rays_through(
@@ -257,10 +257,10 @@ def screen_tiles(
 
 # which tiles primary rays take their objects from, and whether in packets (tile_side; timed by
 # python benchmarks/engines.py --tile-sides, docs/benchmarks/tile_sides.md):
-WIDE_SIDE = 16  # packets of 16 pixels a side
-PACKET_SIDE = 8  # or of 8 (fewer than 64 rays fill too few vectors), whichever costs less,
+WIDE_SIDE = 16  # packets of this many pixels a side
+PACKET_SIDE = 8  # or of this side (fewer rays fill too few vectors), whichever costs less,
 PACKET_OBJECTS = 12  # where tiles of PACKET_SIDE list this many objects or fewer on average;
-CROWDED_SIDE = 4  # else one ray at a time, in tiles of 4 pixels a side
+CROWDED_SIDE = 4  # else one ray at a time, in tiles of this side
 # what a packet costs besides its rays' tests (its rays' image points, set-up, the call), in
 # tests of one object against one ray: fitted to the 1-thread renders of classic and 1,000
 # spheres at 1080p in packets of both sides (python benchmarks/compile_time.py --cpus native)
@@ -294,18 +294,16 @@ def packet_cost(bounds: np.ndarray, width: int, height: int, side: int) -> float
 
 
 def tile_side(bounds: np.ndarray, width: int, height: int) -> tuple[int, bool]:
-    """``(side, packets)`` for the objects' screen rectangles ``bounds (K, 4)`` on a ``width``
-    x ``height`` image. A packet (:func:`primary_rays`) tests each object of its tile against
-    all its rays, 4 to a vector instruction (LLVM keeps to 256-bit vectors on AVX-512 too, as
-    on AVX2), where one ray at a time (:func:`primary_ray`) tests only the objects whose
-    rectangle holds the ray's point, with a branch each (on the objects, not on the entries
-    checked for them, :func:`primary_ray`): packets win while a tile's list is short. The
-    larger the packet, the fewer tiles' costs, but the more rays each object is tested
-    against, and the fewer tiles see nothing. So: packets where tiles of PACKET_SIDE list
-    PACKET_OBJECTS or fewer on average, of WIDE_SIDE or PACKET_SIDE, whichever
-    :func:`packet_cost` finds cheaper, and else one ray at a time in CROWDED_SIDE tiles.
-    ``python benchmarks/engines.py --tile-sides`` times each choice
-    (docs/benchmarks/tile_sides.md)."""
+    """``(side, packets)`` for the objects' screen rectangles ``bounds (K, 4)`` on a ``width`` x
+    ``height`` image. A packet (:func:`primary_rays`) tests each object of its tile against all its
+    rays, several to a vector instruction, where one ray at a time (:func:`primary_ray`) tests only
+    the objects whose rectangle holds the ray's point, with a branch each (on the objects, not on
+    the entries checked for them, :func:`primary_ray`): packets win while a tile's list is short.
+    The larger the packet, the fewer tiles' costs, but the more rays each object is tested against,
+    and the fewer tiles see nothing. So: packets where tiles of PACKET_SIDE list PACKET_OBJECTS or
+    fewer on average, of WIDE_SIDE or PACKET_SIDE, whichever :func:`packet_cost` finds cheaper, and
+    else one ray at a time in CROWDED_SIDE tiles. ``python benchmarks/engines.py --tile-sides``
+    times each choice (docs/benchmarks/tile_sides.md)."""
     seen = bounds[~np.isnan(bounds).any(axis=1)]
 
     def listed(side: int) -> float:  # objects in an average tile of this side
