@@ -43,6 +43,13 @@ def random_rays(rng, count, scale=10.0):
     return origins, directions
 
 
+def rays_into_crowd(rng, count):
+    """``count`` rays from around a :func:`crowd`, each aimed at a point inside it."""
+    origins, _ = random_rays(rng, count, 6.0)
+    toward = rng.normal(size=(count, 3)) * 4 - origins
+    return origins, toward / np.linalg.norm(toward, axis=1, keepdims=True)
+
+
 def exactly(a, b):
     """Equal bit for bit, NaN where NaN, and the same sign of zero."""
     a, b = np.asarray(a), np.asarray(b)
@@ -222,3 +229,17 @@ def twin_test(module: str, checks: dict[str, Callable[[np.random.Generator], Non
         checks[twin.kernel](np.random.default_rng(41))
 
     return test_the_twin_repeats_its_reference
+
+
+def caster_answers_what_cast_answers(rng):
+    """The compiled engine's caster (:func:`raykit.engine.compiled.driver.cast_rays`, a
+    :func:`raykit.engine.compiled.bvh.nearest_hit` per ray) against raykit.render.cast."""
+    from raykit.render import cast
+
+    scene = crowd(rng, 40)
+    origins, directions = rays_into_crowd(rng, 20_000)
+    expected = cast(scene, origins, directions)
+    got = compiled.caster(scene)(origins, directions)
+    assert np.array_equal(got.index, expected.index)
+    exactly(got.t, expected.t)
+    exactly(got.color, expected.color)

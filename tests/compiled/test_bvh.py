@@ -13,9 +13,11 @@ from raykit.render import cast
 
 from .harness import (
     RAYS,
+    caster_answers_what_cast_answers,
     crowd,
     exactly,
     random_rays,
+    rays_into_crowd,
     twin_test,
 )
 
@@ -32,9 +34,7 @@ def test_bvh_caster_answers_what_cast_answers_with_ties_and_holes(objects):
         scene = replace(scene, spheres=(*scene.spheres, twin))
     direct = len(scene.spheres) + len(scene.billboards) <= compiled.DIRECT_HITS
     assert direct == (objects < 4)  # the small crowd takes that path, the others the tree's
-    origins, directions = random_rays(rng, RAYS, 6.0)
-    toward = rng.normal(size=(RAYS, 3)) * 4 - origins  # aimed into the crowd
-    directions = toward / np.linalg.norm(toward, axis=1, keepdims=True)
+    origins, directions = rays_into_crowd(rng, RAYS)
     expected = cast(scene, origins, directions)
     got = compiled.caster(scene)(origins, directions)
     assert np.array_equal(got.index, expected.index)
@@ -42,18 +42,6 @@ def test_bvh_caster_answers_what_cast_answers_with_ties_and_holes(objects):
     exactly(got.color, expected.color)
     assert (expected.index >= 0).mean() > 0.05  # thousands of hits, and misses
     assert (expected.index == 0).sum() > 25  # rays that meet sphere 0 and its twin at one t
-
-
-def _nearest_hit(rng):  # through compiled.caster: cast_rays, a nearest_hit per ray
-    scene = crowd(rng, 40)
-    origins, _ = random_rays(rng, 20_000, 6.0)
-    toward = rng.normal(size=(len(origins), 3)) * 4 - origins
-    directions = toward / np.linalg.norm(toward, axis=1, keepdims=True)
-    expected = cast(scene, origins, directions)
-    got = compiled.caster(scene)(origins, directions)
-    assert np.array_equal(got.index, expected.index)
-    exactly(got.t, expected.t)
-    exactly(got.color, expected.color)
 
 
 @numba.njit
@@ -82,5 +70,8 @@ def _enters(rng):
     assert np.array_equal(_enters_each(origins, inverse, lower, upper, t_max), expected)
 
 
-CHECKS = {"bvh.nearest_hit": _nearest_hit, "bvh.enters": _enters}
+CHECKS = {
+    "bvh.nearest_hit": caster_answers_what_cast_answers,  # cast_rays: a nearest_hit per ray
+    "bvh.enters": _enters,
+}
 test_the_twin_repeats_its_reference = twin_test("bvh", CHECKS)

@@ -12,13 +12,12 @@ import pytest
 
 from conftest import SCENES, shifted_scene
 from raykit.io.scene_json import load_scene, scene_from_dict
-from raykit.render import cast
 
 from .harness import (
+    caster_answers_what_cast_answers,
     crowd,
     exactly,
     packet_scenes,
-    random_rays,
     same_render,
     twin_test,
 )
@@ -273,18 +272,8 @@ def _small(name, **options):
     )
 
 
-def _cast_rays(rng):
-    scene = crowd(rng, 40)
-    origins, directions = random_rays(rng, 20_000, 6.0)
-    expected = cast(scene, origins, directions)
-    got = compiled.caster(scene)(origins, directions)
-    assert np.array_equal(got.index, expected.index)
-    exactly(got.t, expected.t)
-    exactly(got.color, expected.color)
-
-
 CHECKS = {
-    "driver.cast_rays": _cast_rays,
+    "driver.cast_rays": caster_answers_what_cast_answers,
     "driver.trace_flat": _small("classic"),
     "driver.flat_job": _small("cutouts"),
     "driver.trace_lit": _small("classic_lit"),

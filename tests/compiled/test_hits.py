@@ -14,7 +14,7 @@ compiled = pytest.importorskip("raykit.engine.compiled")
 from raykit.engine.compiled import hits as kernels  # noqa: E402
 from raykit.render import cast  # noqa: E402
 
-from .harness import crowd, random_rays  # noqa: E402
+from .harness import crowd, rays_into_crowd  # noqa: E402
 
 
 @numba.njit
@@ -34,9 +34,7 @@ def _offer_all(arrays, objects, origins, directions):
 
 def _keep_nearer(rng):
     scene = crowd(rng, 30)
-    origins, _ = random_rays(rng, 20_000, 6.0)
-    toward = rng.normal(size=(len(origins), 3)) * 4 - origins
-    directions = toward / np.linalg.norm(toward, axis=1, keepdims=True)
+    origins, directions = rays_into_crowd(rng, 20_000)
     expected = cast(scene, origins, directions)
     got = _offer_all(compiled.scene_arrays(scene), scene.object_count, origins, directions)
     assert np.array_equal(got[:, 0], expected.index) and (expected.index >= 0).mean() > 0.05

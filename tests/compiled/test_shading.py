@@ -21,7 +21,7 @@ from .harness import (
     RAYS,
     exactly,
     lit_crowd,
-    random_rays,
+    rays_into_crowd,
     same_render,
     twin_test,
 )
@@ -46,9 +46,7 @@ def _shade(arrays, tree, shading, origins, directions, index, t, color):
 def test_shading_kernel_repeats_shade_bit_for_bit_with_the_same_pow():
     rng = np.random.default_rng(45)
     scene = lit_crowd(rng, 40)
-    origins, directions = random_rays(rng, RAYS, 6.0)
-    toward = rng.normal(size=(RAYS, 3)) * 4 - origins
-    directions = toward / np.linalg.norm(toward, axis=1, keepdims=True)
+    origins, directions = rays_into_crowd(rng, RAYS)
     hits = cast(scene, origins, directions)
     with libm_power():
         expected = shading.shade(scene, secondary_caster(scene), origins, directions, hits)
@@ -206,9 +204,7 @@ def _blinn_phong(rng):
 
 def _shade_checked(rng, max_depth):
     scene = replace(lit_crowd(rng, 30), max_depth=max_depth)
-    origins, _ = random_rays(rng, 5000, 6.0)
-    toward = rng.normal(size=(len(origins), 3)) * 4 - origins
-    directions = toward / np.linalg.norm(toward, axis=1, keepdims=True)
+    origins, directions = rays_into_crowd(rng, 5000)
     hits = cast(scene, origins, directions)
     with libm_power():
         expected = shading.shade(scene, secondary_caster(scene), origins, directions, hits)

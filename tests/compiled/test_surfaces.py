@@ -15,14 +15,12 @@ from raykit.engine.compiled import surfaces as kernels  # noqa: E402
 from raykit.render import cast  # noqa: E402
 from raykit.surfaces import SurfacePoints, surface_points  # noqa: E402
 
-from .harness import lit_crowd, random_rays  # noqa: E402
+from .harness import lit_crowd, rays_into_crowd  # noqa: E402
 
 
 def _surface_points(rng):
     scene = lit_crowd(rng, 30)
-    origins, _ = random_rays(rng, 4000, 6.0)
-    toward = rng.normal(size=(len(origins), 3)) * 4 - origins
-    directions = toward / np.linalg.norm(toward, axis=1, keepdims=True)
+    origins, directions = rays_into_crowd(rng, 4000)
     hits = cast(scene, origins, directions)
     hit = np.flatnonzero(hits.index >= 0)
     o, d, t, index = origins[hit], directions[hit], hits.t[hit], hits.index[hit]
