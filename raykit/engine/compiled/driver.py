@@ -95,20 +95,14 @@ def cast_rays(arrays, tree, origins, directions, t_max):
     return index, t, color
 
 
-class Frame(NamedTuple):
-    """What every job of one call of :func:`trace_flat` or :func:`trace_lit` shares: the scene's
-    ``arrays`` and screen ``tiles``, its ``tree`` and ``shading`` (None in a flat scene), the
-    ``camera`` (:func:`camera_tuple`), the image's ``width``; the image points ``xs``, ``ys``
-    (empty: whole tiles' pixels, see :func:`trace_flat`), the sample ``offsets (S, 2)`` and the
-    ``centre`` sample (-1: a ray of its own); and where the results go, ``rgb (P, 3)``,
-    ``index`` and ``t (P,)``. Made inside the parallel loop, by each worker (:class:`Lanes` says
-    why)."""
+class Film(NamedTuple):
+    """The image a call of :func:`trace_flat` or :func:`trace_lit` exposes: its ``width``, the
+    image points ``xs``, ``ys`` (empty: whole tiles' pixels, see :func:`trace_flat`), the sample
+    ``offsets (S, 2)`` and the ``centre`` sample (-1: a ray of its own), and where the results
+    go, ``rgb (P, 3)``, ``index`` and ``t (P,)``. The scene's arrays travel beside it, not in it:
+    a kernel called once a job is passed only what it reads (every array is a handful of numbers
+    at each call). Made inside the parallel loop, by each worker (:class:`Lanes` says why)."""
 
-    arrays: Arrays
-    tiles: Tiles
-    tree: Tree | None
-    shading: Shading | None
-    camera: tuple
     width: int
     xs: np.ndarray
     ys: np.ndarray
@@ -133,15 +127,15 @@ class TileJob(NamedTuple):
 
 
 @njit(**ONE_RAY)
-def job_pixel(frame, job, down, along):
+def job_pixel(film, job, down, along):
     """The pixel ``down`` rows and ``along`` columns into ``job`` (a :class:`TileJob`):
     ``(p, x, y)``, where its results go and its upper-left corner. (Rows and columns, not a
     running count: an integer division per pixel cost more than its ray.)"""
-    if len(frame.xs):
+    if len(film.xs):
         q = job.first + down * job.across + along
-        return q, frame.xs[q], frame.ys[q]
+        return q, film.xs[q], film.ys[q]
     top, left = job.top + down, job.left + along
-    return top * frame.width + left, float(left), float(top)
+    return top * film.width + left, float(left), float(top)
 
 
 @njit(**KERNEL)
@@ -159,30 +153,30 @@ def job_of(jobs, j, points, tiles, width, height):
 
 
 @njit(**KERNEL)
-def background_job(frame, job, empty):
+def background_job(film, job, empty):
     """A tile that no object's screen rectangle meets: its pixels get ``empty (3,)``, index -1
     and t = inf, and no ray."""
-    rgb, index, t = frame.rgb, frame.index, frame.t
+    rgb, index, t = film.rgb, film.index, film.t
     for down in range(job.rows):
         for along in range(job.across):
-            p = (job.top + down) * frame.width + job.left + along
+            p = (job.top + down) * film.width + job.left + along
             rgb[p, 0], rgb[p, 1], rgb[p, 2] = empty[0], empty[1], empty[2]
             index[p], t[p] = -1, np.inf
 
 
 @njit(**KERNEL)
-def job_points(frame, job, xy):
+def job_points(film, job, xy):
     """Each of a job's rays' image points into ``xy (2, N)``: ray i is sample i % S of the
     job's pixel i // S; the rays through the pixel centres, if cast apart (``centre`` -1), come
     after all those. Returns how many rays."""
-    offsets = frame.offsets
+    offsets = film.offsets
     samples = len(offsets)
     pixels = job.rows * job.across
-    extra = 1 if frame.centre < 0 else 0
+    extra = 1 if film.centre < 0 else 0
     for down in range(job.rows):
         for along in range(job.across):
             q = down * job.across + along
-            _, px, py = job_pixel(frame, job, down, along)
+            _, px, py = job_pixel(film, job, down, along)
             for sample in range(samples):  # offsets in [0, 1): the point stays in its tile
                 i = q * samples + sample
                 xy[0, i], xy[1, i] = px + offsets[sample, 0], py + offsets[sample, 1]
@@ -193,17 +187,17 @@ def job_points(frame, job, xy):
 
 
 @njit(**KERNEL)
-def pixel_means(frame, job, colors, best, best_t):
+def pixel_means(film, job, colors, best, best_t):
     """Each of a job's pixels: the mean of its samples' ``colors (3, N)`` (laid out as
     :func:`job_points` lays out the rays) into ``rgb``, and the object index and t of the ray
     through its centre into ``index`` and ``t``."""
-    rgb, index, t, centre = frame.rgb, frame.index, frame.t, frame.centre
-    samples = len(frame.offsets)
+    rgb, index, t, centre = film.rgb, film.index, film.t, film.centre
+    samples = len(film.offsets)
     pixels = job.rows * job.across
     for down in range(job.rows):
         for along in range(job.across):
             q = down * job.across + along
-            p, _, _ = job_pixel(frame, job, down, along)
+            p, _, _ = job_pixel(film, job, down, along)
             r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
             for sample in range(samples):
                 i = q * samples + sample
@@ -296,8 +290,7 @@ def trace_flat(arrays, tiles, camera, width, height, jobs, workers, xs, ys, offs
     taken = np.zeros(1, dtype=np.int64)
     for _ in prange(workers):
         room = new_ray_room((CHUNK if points else tiles.size * tiles.size) * (len(offsets) + 1))
-        frame = Frame(arrays, tiles, None, None, camera, width, xs, ys, offsets, centre, rgb,
-                      index, t)  # fmt: skip
+        film = Film(width, xs, ys, offsets, centre, rgb, index, t)
         while True:
             first_job = take(taken, grain)
             if first_job >= len(jobs):
@@ -305,26 +298,25 @@ def trace_flat(arrays, tiles, camera, width, height, jobs, workers, xs, ys, offs
             for j in range(first_job, min(len(jobs), first_job + grain)):
                 job = job_of(jobs, j, points, tiles, width, height)
                 if points or tiles.start[job.tile] < tiles.start[job.tile + 1]:
-                    flat_job(frame, job, room)
+                    flat_job(arrays, tiles, camera, film, job, room)
                 else:
-                    background_job(frame, job, empty)
+                    background_job(film, job, empty)
 
 
 @njit(**KERNEL)
-def flat_job(frame, job, room):
-    """One job of :func:`trace_flat` (a :class:`TileJob`): its pixels (:func:`job_pixel`), all
-    in its tile (-1: points, each in its own), with the worker's ``room``
-    (:func:`new_ray_room`). One ray at a time, each colour goes straight into its pixel's sum
-    and no ray is kept; in packets, the rays are traced together (:func:`primary_rays`), then
-    summed."""
-    arrays, tiles, camera, offsets = frame.arrays, frame.tiles, frame.camera, frame.offsets
-    rgb, index, t, centre = frame.rgb, frame.index, frame.t, frame.centre
+def flat_job(arrays, tiles, camera, film, job, room):
+    """One job of :func:`trace_flat` (a :class:`TileJob`) into ``film`` (:class:`Film`): its
+    pixels (:func:`job_pixel`), all in its tile (-1: points, each in its own), with the
+    worker's ``room`` (:func:`new_ray_room`). One ray at a time, each colour goes straight into
+    its pixel's sum and no ray is kept; in packets, the rays are traced together
+    (:func:`primary_rays`), then summed."""
+    offsets, rgb, index, t, centre = film.offsets, film.rgb, film.index, film.t, film.centre
     samples = len(offsets)
     tile = job.tile
     if tile < 0 or not tiles.packets:
         for down in range(job.rows):
             for along in range(job.across):
-                p, px, py = job_pixel(frame, job, down, along)
+                p, px, py = job_pixel(film, job, down, along)
                 r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
                 for sample in range(samples):
                     x, y = px + offsets[sample, 0], py + offsets[sample, 1]
@@ -341,10 +333,10 @@ def flat_job(frame, job, room):
                     hit = primary_ray(arrays, tiles, camera, px + 0.5, py + 0.5, tile, room.holding)
                     index[p], t[p] = hit.index, hit.t
         return
-    n = job_points(frame, job, room.xy)
+    n = job_points(film, job, room.xy)
     primary_rays(arrays, tiles, camera, tile, n, room.xy, room.rays, room.best, room.best_t,
                  room.colors, room.made, room.alive, room.ts)  # fmt: skip
-    pixel_means(frame, job, room.colors, room.best, room.best_t)
+    pixel_means(film, job, room.colors, room.best, room.best_t)
 
 
 @njit(parallel=True, **MAKES_ARRAYS)
@@ -359,8 +351,7 @@ def trace_lit(arrays, tiles, tree, shading, camera, bounces, width, height, jobs
     for _ in prange(workers):
         n = (CHUNK if points else tiles.size * tiles.size) * (len(offsets) + 1)
         room, shading_room = new_ray_room(n), new_shading_room(n, shading)
-        frame = Frame(arrays, tiles, tree, shading, camera, width, xs, ys, offsets, centre, rgb,
-                      index, t)  # fmt: skip
+        film = Film(width, xs, ys, offsets, centre, rgb, index, t)
         while True:
             first_job = take(taken, grain)
             if first_job >= len(jobs):
@@ -368,30 +359,30 @@ def trace_lit(arrays, tiles, tree, shading, camera, bounces, width, height, jobs
             for j in range(first_job, min(len(jobs), first_job + grain)):
                 job = job_of(jobs, j, points, tiles, width, height)
                 if points or tiles.start[job.tile] < tiles.start[job.tile + 1]:
-                    lit_job(frame, bounces, job, room, shading_room)
+                    lit_job(arrays, tiles, tree, shading, camera, bounces, film, job, room,
+                            shading_room)  # fmt: skip
                 else:
-                    background_job(frame, job, empty)
+                    background_job(film, job, empty)
 
 
 @njit(**KERNEL)
-def lit_job(frame, bounces, job, room, shading_room):
+def lit_job(arrays, tiles, tree, shading, camera, bounces, film, job, room, shading_room):
     """One job of :func:`trace_lit` (a :class:`TileJob`), with the worker's ``room``
     (:class:`RayRoom`) and ``shading_room`` (:class:`ShadingRoom`): all its viewing rays' hits
     first, then each light's :func:`shadow_lists` for the box their surface points lie in, each
     light for all the points at once (:func:`surface_lanes`, :func:`light_lanes`), then, in a
     scene with mirrors (``bounces`` True, not None: see :func:`_entry`), their rays
-    (:func:`mirror_rays`), and the pixels' means (:func:`pixel_means`). ``bounces`` is an
-    argument of its own, not a field of ``frame``: numba drops the branch it decides only for
-    an argument's type."""
-    arrays, tiles, tree, shading = frame.arrays, frame.tiles, frame.tree, frame.shading
-    camera, tile = frame.camera, job.tile
+    (:func:`mirror_rays`), and the pixels' means (:func:`pixel_means`) into ``film``
+    (:class:`Film`). ``bounces`` is an argument of its own, not a field of a tuple: numba drops
+    the branch it decides only for an argument's type."""
+    tile = job.tile
     xy, rays, best, best_t, colors = room.xy, room.rays, room.best, room.best_t, room.colors
     made, holding = room.made, room.holding
     stack, box, volume, lanes = (
         shading_room.stack, shading_room.box, shading_room.volume, shading_room.lanes
     )  # fmt: skip
     candidates, counts = shading_room.candidates, shading_room.counts
-    n = job_points(frame, job, xy)
+    n = job_points(film, job, xy)
     if tile >= 0 and tiles.packets:
         primary_rays(arrays, tiles, camera, tile, n, xy, rays, best, best_t, colors, made,
                      room.alive, room.ts)  # fmt: skip
@@ -402,7 +393,7 @@ def lit_job(frame, bounces, job, room, shading_room):
             colors[0, i], colors[1, i], colors[2, i] = hit.r, hit.g, hit.b
             rays[0, i], rays[1, i], rays[2, i] = hit.o0, hit.o1, hit.o2
             rays[3, i], rays[4, i], rays[5, i] = hit.d0, hit.d1, hit.d2
-    shaded = job.rows * job.across * len(frame.offsets)
+    shaded = job.rows * job.across * len(film.offsets)
     largest = surface_lanes(arrays, shading, rays, best, best_t, colors, shaded, lanes, box)
     if shading.shadows:
         # shadow rays start off the surface by OFFSET_FACTOR x error x |n|, and |n| < 2 but
@@ -422,7 +413,7 @@ def lit_job(frame, bounces, job, room, shading_room):
         colors[0, i], colors[1, i], colors[2, i] = 0.0 + 1.0 * c0, 0.0 + 1.0 * c1, 0.0 + 1.0 * c2
     if bounces is not None:  # None in a scene with no mirror: this branch is not compiled
         mirror_rays(arrays, tree, shading, stack, lanes, rays, best, made, shaded, colors)
-    pixel_means(frame, job, colors, best, best_t)
+    pixel_means(film, job, colors, best, best_t)
 
 
 def caster(scene: Scene, arrays: Arrays | None = None) -> Callable[..., Hits]:
