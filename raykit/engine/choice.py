@@ -16,6 +16,7 @@ import ast
 import functools
 import hashlib
 import importlib.util
+import json
 import os
 import runpy
 import tempfile
@@ -68,7 +69,35 @@ def frozen_modules() -> list[str]:
     """The modules besides the kernels' own whose source the kernels depend on, sorted: those
     whose functions they repeat (:func:`twin_table`), and those whose globals they read
     (:func:`_modules_read`), found in the kernels' source, so that the list cannot drift from
-    it."""
+    it. Reading the sources' syntax takes a tenth of a second or more, in every process that
+    loads the engine: the list is kept on disk beside the caches, under a hash of every source
+    of this copy of raykit, and read from there while none changes."""
+    package = COMPILED_SOURCE.parent.parent
+    digest = hashlib.sha256(os.path.abspath(package).encode())
+    for source in sorted(package.rglob("*.py")):
+        digest.update(str(source.relative_to(package)).encode() + b"\0" + source.read_bytes())
+    for base in _bases():
+        kept = Path(base) / "raykit" / f"frozen-{digest.hexdigest()[:16]}.json"
+        try:
+            return json.loads(kept.read_text())
+        except (OSError, ValueError):
+            pass
+    found = _frozen_modules()
+    for base in _bases():
+        kept = Path(base) / "raykit" / f"frozen-{digest.hexdigest()[:16]}.json"
+        try:
+            kept.parent.mkdir(parents=True, exist_ok=True)
+            partial = kept.with_suffix(f".{os.getpid()}.tmp")  # whole, or not at all
+            partial.write_text(json.dumps(found))
+            partial.replace(kept)
+            break
+        except OSError:
+            continue
+    return found
+
+
+def _frozen_modules() -> list[str]:
+    """:func:`frozen_modules`, from the sources."""
     read = set(twin_table()["reference_modules"]())
     for source in sorted(COMPILED_SOURCE.glob("*.py")):
         read |= _modules_read(_parsed(source.read_bytes()))
@@ -171,13 +200,7 @@ def cache_folder() -> Path | None:
     (:func:`compiled_once`). None when no folder can be written (the kernels then compile in
     every process)."""
     key = cache_key()
-    bases = [
-        os.environ.get("RAYKIT_CACHE_DIR"),
-        os.environ.get("XDG_CACHE_HOME"),
-        os.path.join(os.path.expanduser("~"), ".cache"),
-        os.path.join(tempfile.gettempdir(), f"raykit-{os.getuid()}"),
-    ]
-    for base in filter(None, bases):
+    for base in _bases():
         folder = Path(base) / "raykit" / f"numba-{key}"
         try:
             folder.mkdir(parents=True, exist_ok=True)
@@ -187,6 +210,17 @@ def cache_folder() -> Path | None:
             continue
         return folder
     return None
+
+
+def _bases() -> list[str]:
+    """Where the caches may go, in order (:func:`cache_folder`)."""
+    bases = [
+        os.environ.get("RAYKIT_CACHE_DIR"),
+        os.environ.get("XDG_CACHE_HOME"),
+        os.path.join(os.path.expanduser("~"), ".cache"),
+        os.path.join(tempfile.gettempdir(), f"raykit-{os.getuid()}"),
+    ]
+    return [base for base in bases if base]
 
 
 def marker(entry: str, folder: Path | None = None) -> Path | None:

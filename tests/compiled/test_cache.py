@@ -279,3 +279,21 @@ def test_ctrl_c_during_the_first_compile_leaves_a_cache_the_next_run_renders_rig
     expected = (render(load_scene(SCENES / "classic.json")).object_index >= 0).sum()
     assert int(again.stdout) == expected
     assert [path.name for path in cache.rglob("*.ok")] == ["trace_flat.ok"]
+
+
+def test_the_list_of_modules_read_is_kept_on_disk_until_a_source_changes(tmp_path, monkeypatch):
+    shutil.copytree(REPO / "raykit", tmp_path / "raykit", ignore=shutil.ignore_patterns("__py*"))
+    monkeypatch.setenv("RAYKIT_CACHE_DIR", str(tmp_path / "cache"))
+    monkeypatch.setattr(choice, "COMPILED_SOURCE", tmp_path / "raykit/engine/compiled")
+    found = choice.frozen_modules()
+    assert list((tmp_path / "cache/raykit").glob("frozen-*.json"))
+
+    def not_again():
+        raise AssertionError("the sources read again, though none changed")
+
+    monkeypatch.setattr(choice, "_frozen_modules", not_again)
+    assert choice.frozen_modules() == found
+    shading = tmp_path / "raykit/shading.py"
+    shading.write_text(shading.read_text() + "\n")
+    with pytest.raises(AssertionError, match="read again"):
+        choice.frozen_modules()
