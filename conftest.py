@@ -23,7 +23,6 @@ SLOW_MODULES = {
     "test_grading_isolation.py",
     "test_grading_seeds.py",
     "test_submission_shapes.py",
-    "test_compiled.py",
     "test_benchmarks.py",
     "test_reproducible.py",
     "test_baselines.py",
@@ -36,5 +35,6 @@ SLOW_MODULES = {
 def pytest_collection_modifyitems(config, items):
     slow = pytest.mark.slow
     for item in items:
-        if item.path.suffix == ".ipynb" or item.path.name in SLOW_MODULES:
+        compiled = item.path.parent.name == "compiled"  # tests/compiled/: the compiled engine's
+        if item.path.suffix == ".ipynb" or item.path.name in SLOW_MODULES or compiled:
             item.add_marker(slow)

@@ -11,6 +11,7 @@ the test suite is what runs them); the API reference is made from the docstrings
 from __future__ import annotations
 
 import re
+import runpy
 import sys
 from pathlib import Path
 
@@ -236,8 +237,17 @@ def docstring_as_written(lines: list[str]) -> list[str]:
     return out
 
 
+# each reference function's compiled twin, from the twin table (raykit/engine/compiled/twins.py,
+# read as a file: importing it through its package would import numba). Added here, in the
+# build, so that the sources, and the student release made from them, never hold the line
+TWINS = REPO / "raykit/engine/compiled/twins.py"
+twin_lines = runpy.run_path(str(TWINS))["doc_lines"] if TWINS.exists() else lambda name: []
+
+
 def _process_docstring(app, what, name, obj, options, lines: list[str]) -> None:
     lines[:] = docstring_as_written(lines)
+    if what in ("function", "method"):
+        lines += [line for twin in twin_lines(name) for line in ("", twin)]
 
 
 def setup(app):
