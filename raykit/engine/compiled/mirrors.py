@@ -1,5 +1,6 @@
 """Repeats :mod:`raykit.mirrors` for one ray: its mirror direction. (The bounces themselves
-are :func:`raykit.shading.shade`'s loop, and so :mod:`.shading`'s.)"""
+are :func:`raykit.shading.shade`'s loop, and so
+:mod:`raykit.engine.compiled.shading`'s.)"""
 
 from __future__ import annotations
 

@@ -270,8 +270,8 @@ def bounce_on(arrays, tree, shading, stack, depth, hit, p0, p1, p2, n0, n1, n2, 
               c0, c1, c2, w0, w1, w2):  # fmt: skip
     """The rest of :func:`shade` after the surface at ``depth`` (object ``hit`` at p, normal
     n, seen along d, rounding bound ``error``) has added its colour to the pixel's (c0, c1, c2):
-    mirror rays (:func:`.mirrors.reflect`, started off the surface, :func:`.surfaces.start`) up
-    to max_depth, each
+    mirror rays (:func:`raykit.engine.compiled.mirrors.reflect`, started off the surface,
+    :func:`raykit.engine.compiled.surfaces.start`) up to max_depth, each
     surface's colour weighted by the mirrors' km on the way (w)."""
     while depth < shading.max_depth and shading.is_mirror[hit]:
         d0, d1, d2 = reflect(d0, d1, d2, n0, n1, n2)
