@@ -269,6 +269,7 @@ class Graded:
     output: str  # what run_autograder printed
     seconds: float
     problem: str | None = None  # why results is None
+    container: str = ""  # the container's name (removed by now)
 
 
 def grade_in_container(
@@ -314,12 +315,13 @@ def grade_in_container(
         fetched = _docker("cp", f"{name}:/autograder/results/results.json", str(path))
         seconds = time.perf_counter() - start
         if fetched.returncode != 0:
-            return Graded(status, None, None, output, seconds, "no results.json was written")
+            return Graded(status, None, None, output, seconds, "no results.json was written", name)
         try:
             results = json.loads(path.read_text())
         except (OSError, ValueError) as exc:  # UnicodeDecodeError is a ValueError
-            return Graded(status, None, path, output, seconds, f"results.json is not JSON: {exc}")
-        return Graded(status, results, path, output, seconds)
+            why = f"results.json is not JSON: {exc}"
+            return Graded(status, None, path, output, seconds, why, name)
+        return Graded(status, results, path, output, seconds, None, name)
     finally:
         _docker("rm", "--force", "--volumes", name)
 

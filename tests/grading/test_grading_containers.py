@@ -143,3 +143,31 @@ def test_try_zip_scores_what_the_local_grade_scores(tmp_path):
     assert float(re.search(r"solution: ([\d.]+) of", run.stdout).group(1)) > float(
         re.search(r"flipped: ([\d.]+) of", run.stdout).group(1)
     )
+
+
+@pytest.mark.slow
+def test_a_zipped_submission_and_a_grading_past_the_timeout(tmp_path):
+    """A submission uploaded as a zip is put into /autograder/submission as Gradescope puts it
+    and graded; a grading stopped at the timeout has no results, says so, and leaves no
+    container behind."""
+    base = _base_image()
+    seed_file = tmp_path / "grading-seed"
+    seed_file.write_text(f"{HEADER}{SEED}\n")
+    seed_file.chmod(0o600)
+    image = containers.build_image(build_zip(tmp_path / "autograder.zip", seed_file), base).image
+    solution = make_submission(tmp_path / "solution")
+    with zipfile.ZipFile(tmp_path / "work.zip", "w") as archive:
+        for path in sorted((solution / "raykit").rglob("*.py")):
+            archive.write(path, path.relative_to(solution).as_posix())
+    options = {"RAYKIT_GRADE_OPTIONS": f"--only 2.1 --wall-seconds 4 --seed {SEED}"}
+    graded = containers.grade_in_container(image, tmp_path / "work.zip", tmp_path / "a", options)
+    assert graded.status == 0 and graded.results["score"] == 2, graded.output[-2000:]
+    stopped = containers.grade_in_container(image, solution, tmp_path / "b", timeout=3)
+    assert stopped.status is None and stopped.results is None
+    assert (
+        stopped.problem == "no results.json was written" and "stopped after 3 s" in stopped.output
+    )
+    for name in (graded.container, stopped.container):
+        assert name.startswith("raykit-grade-")
+        gone = subprocess.run(["docker", "container", "inspect", name], capture_output=True)
+        assert gone.returncode != 0  # removed
