@@ -74,10 +74,11 @@ def main() -> None:
             path.chmod(0o755 if path.is_dir() else 0o644)
         work = Path(tempfile.mkdtemp(dir=workspace))
         (work / "submission").mkdir()
+        (work / "tmp").mkdir(mode=0o777)  # the test's own tmp/, bound at /tmp
         work.chmod(0o755)
         site = str(Path(python.packages[0]).parent)
         bare = [python.executable, "-I", "-S", "-c", IMPORTS.format(site=site)]
-        boxed = [find_bwrap(), *sandbox_arguments(python, work, submission, 2**20, as_root),
+        boxed = [find_bwrap(), *sandbox_arguments(python, work, submission, as_root),
                  python.executable, "-I", "-S", "-c", IMPORTS.format(site=SITE)]  # fmt: skip
         calls = {
             "bare": lambda: subprocess.run(bare, check=True, env=child_environment("/tmp")),
@@ -150,6 +151,8 @@ def _chrooted_imports(python, sandbox: Sandbox):
     (folder / "tmp").mkdir()
     lease = sandbox.uids.lease()
     os.chown(folder / "tmp", lease.uid, lease.uid)
+    os.chown(folder, 0, lease.uid)  # as a test's slot is: its uid may read it, no other enter
+    os.chmod(folder, 0o750)
     plan = confine.ChildConfinement(
         tree=str(sandbox.tree),
         folder=slot.inside,
