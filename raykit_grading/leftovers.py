@@ -98,7 +98,8 @@ def _open_to_count(fd: int, name: str) -> int | None:
         return None
     try:
         os.chmod(f"/proc/self/fd/{handle}", 0o700)
-        return os.open(f"/proc/self/fd/{handle}", DIRECTORY)
+        # the handle's link in /proc is the folder itself, so it is followed (no O_NOFOLLOW)
+        return os.open(f"/proc/self/fd/{handle}", os.O_RDONLY | os.O_DIRECTORY | os.O_CLOEXEC)
     except OSError:
         return None
     finally:
