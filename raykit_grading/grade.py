@@ -49,8 +49,10 @@ from raykit_grading.compare import (
 from raykit_grading.isolation import IsolationUnavailable
 from raykit_grading.mistakes import MISTAKES
 from raykit_grading.results import (
+    NOT_IMPORTED,
     html_output,
     not_graded_results,
+    stage_lines,
     test_entry,
     withheld,
     write_results,
@@ -127,6 +129,7 @@ def grade(
     check_clone()
     results, notes, failures = [], [], []
     sandbox_kind = "none: nothing of the submission was run"
+    broken = ""  # why the submission's raykit does not import ("" if it does)
     with Workspace() as workspace:
         try:
             staged = stage(Path(submission), workspace / "submission")
@@ -147,9 +150,10 @@ def grade(
                 raise GradingImpossible(str(exc)) from None
             sandbox_kind = sandbox.description
             print(f"raykit_grading: sandbox: {sandbox_kind}", file=sys.stderr)
+            broken = _import_error(sandbox, options)
             deadline = time.monotonic() + options.total_seconds
-            graded = {}
-            for test in _visible_first(tests):
+            graded = {t.key: test_entry(t, 0.0, NOT_IMPORTED) for t in tests} if broken else {}
+            for test in [] if broken else _visible_first(tests):
                 try:
                     graded[test.key] = _grade_one(sandbox, test, seed, feedback, options, deadline)
                 except Exception as exc:  # noqa: BLE001 - one test's failure stays its own
@@ -167,6 +171,9 @@ def grade(
     summary += [f"Note: {note}" for note in notes]
     if package is None:  # the submission's shape, said once at the top as well
         summary.append(problem)
+    if broken:  # said once here; every test says it was not run
+        summary.append(f"raykit does not import, so no test was run: {broken}")
+    summary += stage_lines(tests, results)
     if failures:
         summary.append(f"{len(failures)} test(s) could not be graded; they need a regrade")
     graded = {
@@ -181,6 +188,7 @@ def grade(
             "seed_fingerprint": fingerprint(seed),
             "not_graded": failures,
             "sandbox": sandbox_kind,
+            **({"does_not_import": broken} if broken else {}),
         },
         "tests": results,
     }
@@ -232,7 +240,33 @@ def _grade_one(
             hidden=test.visibility != VISIBLE,
         )
     score = test.points if verdict.share >= 1.0 else 0.0  # array tests: all or nothing
-    return test_entry(test, score, verdict.message + note, ran.output)
+    return _diagnosed(test_entry(test, score, verdict.message + note, ran.output), verdict)
+
+
+IMPORT_FAILURES = ("your code stopped with an error", "not written yet", "your code crashed")
+
+
+def _import_error(sandbox: Sandbox, options: Options) -> str:
+    """Why the submission's raykit does not import, with what it printed ("" if it imports;
+    a hang or a memory blow-up at import is left to each test to say)."""
+    ran = sandbox.run("imports", {}, {}, wall_seconds=options.limits.wall_seconds)
+    if ran.outputs is not None or not ran.problem.startswith(IMPORT_FAILURES):
+        return ""
+    printed = ran.output.strip()
+    return ran.problem + (f"\n{printed[-2000:]}" if printed else "")
+
+
+def _diagnosed(entry: dict, verdict) -> dict:
+    """The classic mistake a verdict names, as a field of the test's entry (``extra_data``:
+    ``mistake``, its key, or its words for a one-pixel shift; ``says``; ``where``): what a
+    class report counts, never parsed back from the message."""
+    if verdict.diagnosed is not None:
+        says, where = verdict.diagnosed
+        key = next((m.key for m in MISTAKES if m.says == says), None)
+        if key is None and says.startswith("the picture is shifted by one pixel"):
+            key = "shifted_by_one"
+        entry["extra_data"] = {"mistake": key or says, "says": says, "where": where}
+    return entry
 
 
 def _visible_first(tests: list[GradingTest]) -> list[GradingTest]:
@@ -347,7 +381,7 @@ def _image_result(
         path = feedback / f"{test.key}.png"
         save_image(verdict.picture, path)
         message += f"\nfeedback picture (yours | expected | where they differ): {path.name}"
-    entry = test_entry(test, test.points * verdict.share, message, printed)
+    entry = _diagnosed(test_entry(test, test.points * verdict.share, message, printed), verdict)
     if test.visibility == VISIBLE:  # hidden tests show nothing a student could copy
         entry["output"] = html_output(entry["output"], verdict.picture)
         entry["output_format"] = "html"
