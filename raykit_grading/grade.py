@@ -252,8 +252,12 @@ def _import_error(sandbox: Sandbox, options: Options) -> str:
     ran = sandbox.run("imports", {}, {}, wall_seconds=options.limits.wall_seconds)
     if ran.outputs is not None or not ran.problem.startswith(IMPORT_FAILURES):
         return ""
-    printed = ran.output.strip()
-    return ran.problem + (f"\n{printed[-2000:]}" if printed else "")
+    lines = ran.output.strip().splitlines()
+    theirs = next((i for i, line in enumerate(lines) if "/submission/" in line), None)
+    if theirs is not None:  # from the submission's first frame: the grader's own say nothing
+        lines = ["Traceback (most recent call last):", *lines[theirs:]]
+    printed = "\n".join(lines[-30:])
+    return ran.problem + (f"\n{printed}" if printed else "")
 
 
 def _diagnosed(entry: dict, verdict) -> dict:
