@@ -37,7 +37,9 @@ STYLE = (
 table { border-collapse: collapse; margin: 0.4em 0 1em; }
 th, td { border-bottom: 1px solid #ddd; padding: 0.25em 0.6em; text-align: left;
          vertical-align: top; }
-th, td.n, td.w { white-space: nowrap; overflow-wrap: normal; }
+th, td { overflow-wrap: normal; }
+th, td.n, td.w { white-space: nowrap; }
+@media (max-width: 40em) { td.b, th.b { display: none; } }
 td.n { text-align: right; font-variant-numeric: tabular-nums; }
 img.plot { max-width: 100%; height: auto; }
 img.example { max-width: 22em; width: 100%; height: auto; image-rendering: pixelated; }
@@ -203,8 +205,8 @@ def _page(out, tests, rows, results, scores, rates, total) -> str:
         + (f", {len(others)} not graded (listed below)" if others else "")
         + ".</strong>"
         + (
-            f" Mean {_number(statistics.mean(values))}, median "
-            f"{_number(statistics.median(values))} of {_number(total)} points."
+            f" Mean {statistics.mean(values):.1f}, median "
+            f"{statistics.median(values):.1f} of {_number(total)} points."
             if values
             else ""
         )
@@ -216,7 +218,9 @@ def _page(out, tests, rows, results, scores, rates, total) -> str:
     ]
     for stage in dict.fromkeys(t.stage for t in tests):
         parts.append(f"<h3>Stage {e(stage)}</h3><div class='scroll'><table>")
-        parts.append("<tr><th>test</th><th>points</th><th>shown</th><th>pass</th><th></th></tr>")
+        parts.append(
+            "<tr><th>test</th><th>points</th><th>shown</th><th>pass</th><th class='b'></th></tr>"
+        )
         for test in (t for t in tests if t.stage == stage):
             rate = rates[test.key]
             known = rate == rate
@@ -224,7 +228,7 @@ def _page(out, tests, rows, results, scores, rates, total) -> str:
                 f"<tr><td>{e(test.name)}</td><td class='n'>{_number(test.points)}</td>"
                 f"<td class='w'>{'visible' if test.visibility == VISIBLE else 'hidden'}</td>"
                 f"<td class='n'>{f'{rate:.0%}' if known else '-'}</td>"
-                f"<td><span class='bar' style='width: {4 * rate if known else 0:.2f}em'>"
+                f"<td class='b'><span class='bar' style='width: {4 * rate if known else 0:.2f}em'>"
                 "</span></td></tr>"
             )
         parts.append("</table></div>")

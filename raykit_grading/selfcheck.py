@@ -1,12 +1,14 @@
 """Check your raykit before you submit it: the practice tests, judged as the grader judges.
 
     python check.py            (in the starter kit's folder)
+    python check.py 3.6        (one test; ``python check.py 3``: stage 3's tests)
 
-runs every practice test in ``tests/expected/`` on your functions, with the grader's own
-comparison: arrays within the stated tolerance, renders compared fairly at silhouettes and
-against the classic mistakes (a render that shows one scores nothing for that test, and the
-picture says which). It writes ``check/<test>.png`` for each render (yours | expected | where
-they differ, captioned) and ``check/index.html`` with all of them; open that in a browser.
+runs every practice test (or those named) in ``tests/expected/`` on your functions, with the
+grader's own comparison: arrays within the stated tolerance, renders compared fairly at
+silhouettes and against the classic mistakes (a render that shows one scores nothing for that
+test, and the picture says which). It writes ``check/<test>.png`` for each render (yours |
+expected | where they differ, captioned) and ``check/index.html`` with all of them; open that
+in a browser.
 
 The grader runs the same kinds of test on inputs it draws fresh each time, plus hidden tests:
 passing here is a good sign, not the grade. (This file is copied into the starter kit from
@@ -122,11 +124,42 @@ def page(rows: list[dict]) -> str:
     return feedback_page(rows)
 
 
-def main() -> int:
+def _chosen(cases: list[Path], wanted: list[str], parser) -> list[Path]:
+    """The cases a student asked for: a test's number (``3.6``) or a stage's (``3``)."""
+    if not wanted:
+        return cases
+    numbers = {".".join(map(str, _number(case))): case for case in cases}
+    chosen = []
+    for text in wanted:
+        found = [c for n, c in numbers.items() if n == text or n.split(".")[0] == text]
+        if not found:
+            parser.error(f"no practice test {text}: they are {', '.join(numbers)}")
+        chosen += [c for c in found if c not in chosen]
+    return sorted(chosen, key=_number)
+
+
+def main(argv: list[str] | None = None) -> int:
+    import argparse
+
+    parser = argparse.ArgumentParser(
+        prog="python check.py",
+        description=__doc__.split("\n\n", 1)[0],
+        epilog="Examples: python check.py (every practice test); python check.py 3.6 (test "
+        "3.6 only); python check.py 1 2 (stages 1 and 2). The page is check/index.html.",
+    )
+    parser.add_argument(
+        "tests",
+        nargs="*",
+        metavar="TEST",
+        help="a test's number (3.6) or a stage's (3); default: every practice test",
+    )
+    args = parser.parse_args(argv)
+    cases = sorted((p for p in EXPECTED.iterdir() if p.is_dir()), key=_number)
+    cases = _chosen(cases, args.tests, parser)
     out = HERE / "check"
     out.mkdir(exist_ok=True)
     rows = []
-    for case in sorted((p for p in EXPECTED.iterdir() if p.is_dir()), key=_number):
+    for case in cases:
         row = run_case(case, out)
         rows.append(row)
         passed = row["share"] >= 1.0
