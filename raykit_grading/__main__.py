@@ -39,7 +39,11 @@ def build_parser() -> argparse.ArgumentParser:
     grade.add_argument("--feedback", type=Path, help="folder for feedback pictures")
 
     batch = command("batch", help="grade a folder of submissions, a few at a time")
-    batch.add_argument("submissions", type=Path, help="folder with one folder per student")
+    batch.add_argument(
+        "submissions",
+        type=Path,
+        help="folder of student folders and/or zips, or Gradescope's export (zip or folder)",
+    )
     batch.add_argument(
         "-o",
         "--output",
@@ -64,7 +68,7 @@ def build_parser() -> argparse.ArgumentParser:
         "(default: autograder.grading-seed beside the zip)",
     )
 
-    command("tests", help="list the grading tests, their points and visibility")
+    command("tests", help="list the grading tests by stage: points, visibility, totals")
 
     for sub, beside in ((grade, "beside results.json"), (batch, "in the output folder")):
         sub.add_argument(
@@ -147,10 +151,9 @@ def main(argv: list[str] | None = None) -> int:
             print(f"raykit_grading: error: {exc}", file=sys.stderr)
             return 2
     elif args.command == "tests":
-        from raykit_grading.catalog import TESTS
+        from raykit_grading.catalog import listing
 
-        for test in TESTS:
-            print(f"{test.points:>4g}  {test.visibility:<15} {test.name}")
+        print(listing())
     return 0
 
 
