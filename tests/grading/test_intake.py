@@ -109,3 +109,19 @@ def test_names_are_unique_and_fit_a_folder(tmp_path):
     with zipfile.ZipFile(students / "erin.zip", "w") as archive:
         archive.write(erin / "raykit/__init__.py", "raykit/__init__.py")
     assert sorted(_found(students, tmp_path / "scratch")) == ["erin", "erin (2)"]
+
+
+def test_a_zip_of_a_class_folder_is_read_as_the_folder(tmp_path):
+    erin = _student(tmp_path / "erin")
+    path = tmp_path / "class.zip"
+    with zipfile.ZipFile(path, "w") as archive:
+        archive.write(erin / "raykit/__init__.py", "ada/raykit/__init__.py")
+        with zipfile.ZipFile(tmp_path / "erin.zip", "w") as inner:
+            inner.write(erin / "raykit/__init__.py", "raykit/__init__.py")
+        archive.write(tmp_path / "erin.zip", "erin.zip")
+        archive.writestr("notes.txt", "to do")
+    assert _found(path, tmp_path / "scratch") == {
+        "ada": (True, ""),
+        "erin": (True, ""),
+        "notes.txt": (False, "not a folder or a zip"),
+    }
