@@ -195,6 +195,10 @@ def _grade(args, options) -> int:
         print(f"wrote {args.output}: NOT GRADED (see above)")
     else:
         print(f"wrote {args.output}: {results['score']:g} of {total:g} points")
+    broken = results.get("extra_data", {}).get("does_not_import")
+    if status == 0 and broken:
+        print(f"raykit_grading: note: {args.submission}: raykit does not import, so no test "
+              f"ran: {broken.splitlines()[0]}", file=sys.stderr)  # fmt: skip
     if status == 0 and any("no raykit package" in t["output"] for t in results["tests"]):
         why = results["tests"][0]["output"].splitlines()[0]  # what was found, what expected
         print(f"raykit_grading: note: {args.submission}: {why}: graded 0", file=sys.stderr)

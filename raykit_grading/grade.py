@@ -249,7 +249,10 @@ IMPORT_FAILURES = ("your code stopped with an error", "not written yet", "your c
 def _import_error(sandbox: Sandbox, options: Options) -> str:
     """Why the submission's raykit does not import, with what it printed ("" if it imports;
     a hang or a memory blow-up at import is left to each test to say)."""
-    ran = sandbox.run("imports", {}, {}, wall_seconds=options.limits.wall_seconds)
+    try:
+        ran = sandbox.run("imports", {}, {}, wall_seconds=options.limits.wall_seconds)
+    except Exception:  # noqa: BLE001 - the grader's trouble: each test meets and says it
+        return ""
     if ran.outputs is not None or not ran.problem.startswith(IMPORT_FAILURES):
         return ""
     lines = ran.output.strip().splitlines()
