@@ -39,7 +39,7 @@ th, td { border-bottom: 1px solid #ddd; padding: 0.25em 0.6em; text-align: left;
          vertical-align: top; }
 th, td { overflow-wrap: normal; }
 th, td.n, td.w { white-space: nowrap; }
-@media (max-width: 40em) { td.b, th.b { display: none; } }
+@media (max-width: 40em) { td.b, th.b, td.w, th.w { display: none; } }
 td.n { text-align: right; font-variant-numeric: tabular-nums; }
 img.plot { max-width: 100%; height: auto; }
 img.example { max-width: 22em; width: 100%; height: auto; image-rendering: pixelated; }
@@ -184,6 +184,11 @@ def _number(value: float) -> str:
     return f"{value:.4g}"
 
 
+def _order(key: str) -> tuple[int, ...]:
+    """A test's number as numbers: 3.2 before 3.10."""
+    return tuple(int(part) for part in key.split(".") if part.isdigit())
+
+
 def _link(name: str) -> str:
     return f"feedback/{quote(name)}/index.html"
 
@@ -219,13 +224,15 @@ def _page(out, tests, rows, results, scores, rates, total) -> str:
     for stage in dict.fromkeys(t.stage for t in tests):
         parts.append(f"<h3>Stage {e(stage)}</h3><div class='scroll'><table>")
         parts.append(
-            "<tr><th>test</th><th>points</th><th>shown</th><th>pass</th><th class='b'></th></tr>"
+            "<tr><th>test</th><th>points</th><th class='w'>shown</th><th>pass</th>"
+            "<th class='b'></th></tr>"
         )
         for test in (t for t in tests if t.stage == stage):
             rate = rates[test.key]
             known = rate == rate
+            name = e(test.name).replace("/", "/<wbr>")  # a long path may break at its slashes
             parts.append(
-                f"<tr><td>{e(test.name)}</td><td class='n'>{_number(test.points)}</td>"
+                f"<tr><td>{name}</td><td class='n'>{_number(test.points)}</td>"
                 f"<td class='w'>{'visible' if test.visibility == VISIBLE else 'hidden'}</td>"
                 f"<td class='n'>{f'{rate:.0%}' if known else '-'}</td>"
                 f"<td class='b'><span class='bar' style='width: {4 * rate if known else 0:.2f}em'>"
@@ -257,7 +264,8 @@ def _page(out, tests, rows, results, scores, rates, total) -> str:
         parts.append(
             f"<tr><td class='n'>{len(mistake['students'])}</td><td>{e(mistake['says'])}"
             + (f"<br><small>made in {e(mistake['where'])}</small>" if mistake["where"] else "")
-            + f"<br><small>tests {e(', '.join(sorted(mistake['tests'])))}; {who}</small></td>"
+            + f"<br><small>tests {e(', '.join(sorted(mistake['tests'], key=_order)))}; {who}"
+            "</small></td>"
             f"<td>{example}</td></tr>"
         )
     if mistakes:
