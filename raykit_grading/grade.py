@@ -150,8 +150,8 @@ def grade(
                 raise GradingImpossible(str(exc)) from None
             sandbox_kind = sandbox.description
             print(f"raykit_grading: sandbox: {sandbox_kind}", file=sys.stderr)
-            broken = _import_error(sandbox, options)
-            deadline = time.monotonic() + options.total_seconds
+            deadline = time.monotonic() + options.total_seconds  # the import check's too
+            broken = _import_error(sandbox, options, deadline)
             graded = {t.key: test_entry(t, 0.0, NOT_IMPORTED) for t in tests} if broken else {}
             for test in [] if broken else _visible_first(tests):
                 try:
@@ -246,11 +246,15 @@ def _grade_one(
 IMPORT_FAILURES = ("your code stopped with an error", "not written yet", "your code crashed")
 
 
-def _import_error(sandbox: Sandbox, options: Options) -> str:
+def _import_error(sandbox: Sandbox, options: Options, deadline: float) -> str:
     """Why the submission's raykit does not import, with what it printed ("" if it imports;
-    a hang or a memory blow-up at import is left to each test to say)."""
+    a hang or a memory blow-up at import is left to each test to say). It takes its time from
+    the submission's total, as a test does."""
+    left = deadline - time.monotonic()
     try:
-        ran = sandbox.run("imports", {}, {}, wall_seconds=options.limits.wall_seconds)
+        ran = sandbox.run(
+            "imports", {}, {}, wall_seconds=max(1.0, min(options.limits.wall_seconds, left))
+        )
     except Exception:  # noqa: BLE001 - the grader's trouble: each test meets and says it
         return ""
     if ran.outputs is not None or not ran.problem.startswith(IMPORT_FAILURES):
