@@ -17,6 +17,14 @@ def _student(folder):
     return folder
 
 
+def _zipped(path):
+    """A student's zip of ``raykit/`` (an empty package), as uploaded."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with zipfile.ZipFile(path, "w") as archive:
+        archive.writestr("raykit/__init__.py", "")
+    return path
+
+
 def _found(submissions, scratch):
     return {e.name: (e.folder is not None, e.why) for e in entries(submissions, scratch)}
 
@@ -40,9 +48,7 @@ def test_the_exports_yaml_reads_no_names_from_the_history_and_falls_back_to_the_
 def test_a_folder_of_folders_zips_and_other_files_lists_every_entry(tmp_path):
     students = tmp_path / "class"
     _student(students / "ada")
-    erin = _student(tmp_path / "erin")
-    with zipfile.ZipFile(students / "erin.zip", "w") as archive:
-        archive.write(erin / "raykit/__init__.py", "raykit/__init__.py")
+    _zipped(students / "erin.zip")
     (students / "notes.txt").write_text("to do")
     os.symlink("/etc", students / "link")
     found = _found(students, tmp_path / "scratch")
@@ -105,20 +111,15 @@ def test_an_export_member_that_leaves_its_folder_refuses_that_submission_only(tm
 def test_names_are_unique_and_fit_a_folder(tmp_path):
     students = tmp_path / "class"
     _student(students / "erin")
-    erin = _student(tmp_path / "erin")
-    with zipfile.ZipFile(students / "erin.zip", "w") as archive:
-        archive.write(erin / "raykit/__init__.py", "raykit/__init__.py")
+    _zipped(students / "erin.zip")
     assert sorted(_found(students, tmp_path / "scratch")) == ["erin", "erin (2)"]
 
 
 def test_a_zip_of_a_class_folder_is_read_as_the_folder(tmp_path):
-    erin = _student(tmp_path / "erin")
     path = tmp_path / "class.zip"
     with zipfile.ZipFile(path, "w") as archive:
-        archive.write(erin / "raykit/__init__.py", "ada/raykit/__init__.py")
-        with zipfile.ZipFile(tmp_path / "erin.zip", "w") as inner:
-            inner.write(erin / "raykit/__init__.py", "raykit/__init__.py")
-        archive.write(tmp_path / "erin.zip", "erin.zip")
+        archive.writestr("ada/raykit/__init__.py", "")
+        archive.write(_zipped(tmp_path / "erin.zip"), "erin.zip")
         archive.writestr("notes.txt", "to do")
     assert _found(path, tmp_path / "scratch") == {
         "ada": (True, ""),
