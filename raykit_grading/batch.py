@@ -1,6 +1,7 @@
-"""Grading a folder of submissions (one folder per student), a few at a time.
+"""Grading a class (:mod:`raykit_grading.intake`: folders, zips, Gradescope's export), a few
+students at a time, into ``scores.csv`` and a class report.
 
-    python -m raykit_grading batch SUBMISSIONS/ -o OUT/ [--jobs N] [--regrade]
+    python -m raykit_grading batch SUBMISSIONS -o OUT/ [--jobs N] [--regrade]
 
 First a preflight (:func:`raykit_grading.grade.preflight`): if no sandbox can be made here,
 nothing is graded and the command says why. Then each student is graded by a grader process of
@@ -15,9 +16,13 @@ Every student is graded on the same inputs, drawn from the assignment's secret s
 (:mod:`raykit_grading.seeds`): ``OUT/grading-seed``, made (mode 600) when the batch is first
 run, or ``--seed-file``/``--seed``. A student graded earlier under another seed is graded again.
 
-``OUT/scores.csv``: student, status (``graded`` or ``could not grade: why``), score,
-max_score, then one column per test. ``OUT/feedback/<student>/``: results.json and feedback
-pictures. The exit status is 1 (and the students are listed) if any could not be graded.
+``OUT/scores.csv``: student, status, score, max_score, then one column per test; the status is
+``graded``, ``does not import`` (0 points: the submission's raykit does not import, so no test
+ran), ``could not grade: why`` or ``not graded: why`` (an entry that is no submission). Every
+entry of the class is a row. ``OUT/feedback/<student>/``: results.json, feedback pictures and
+the student's page (``index.html``); ``OUT/report.html``: the class report
+(:mod:`raykit_grading.report`). The exit status is 1 (and the entries are listed) if any could
+not be graded.
 """
 
 from __future__ import annotations
@@ -61,7 +66,8 @@ def grade_folder(
     seed: int | None = None,
     seed_file: Path | None = None,
 ) -> int:
-    """Grade every student folder in ``submissions``; returns the exit status."""
+    """Grade every submission in ``submissions`` (a folder or a zip); returns the exit
+    status."""
     options = options or Options()
     submissions = Path(submissions)
     if not submissions.is_dir() and not (submissions.is_file() and is_zipfile(submissions)):
