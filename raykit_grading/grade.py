@@ -151,7 +151,8 @@ def grade(
             sandbox_kind = sandbox.description
             print(f"raykit_grading: sandbox: {sandbox_kind}", file=sys.stderr)
             deadline = time.monotonic() + options.total_seconds  # the import check's too
-            broken = _import_error(sandbox, options, deadline)
+            broken, unimported = _import_error(sandbox, options, deadline)
+            notes = notes + unimported
             graded = {t.key: test_entry(t, 0.0, NOT_IMPORTED) for t in tests} if broken else {}
             for test in [] if broken else _visible_first(tests):
                 try:
@@ -246,25 +247,34 @@ def _grade_one(
 IMPORT_FAILURES = ("your code stopped with an error", "not written yet", "your code crashed")
 
 
-def _import_error(sandbox: Sandbox, options: Options, deadline: float) -> str:
-    """Why the submission's raykit does not import, with what it printed ("" if it imports;
-    a hang or a memory blow-up at import is left to each test to say). It takes its time from
-    the submission's total, as a test does."""
+def _import_error(sandbox: Sandbox, options: Options, deadline: float) -> tuple[str, list]:
+    """Why the submission's raykit does not import at all, with what it printed ("" if it
+    does; a hang or a memory blow-up at import is left to each test to say), and a note
+    naming the modules that do not import when others do (the tests that use them fail, each
+    saying why). It takes its time from the submission's total, as a test does."""
     left = deadline - time.monotonic()
     try:
         ran = sandbox.run(
             "imports", {}, {}, wall_seconds=max(1.0, min(options.limits.wall_seconds, left))
         )
     except Exception:  # noqa: BLE001 - the grader's trouble: each test meets and says it
-        return ""
-    if ran.outputs is not None or not ran.problem.startswith(IMPORT_FAILURES):
-        return ""
+        return "", []
+    if ran.outputs is not None:
+        flags = np.asarray(ran.outputs.get("imports", ()), dtype=float).ravel()
+        if flags.shape != (len(tasks.IMPORTED),):
+            return "", []
+        failing = [name for name, ok in zip(tasks.IMPORTED, flags, strict=True) if ok != 1.0]
+        if not failing:
+            return "", []
+        return "", [f"{', '.join(failing)}: does not import; the tests that use it fail"]
+    if not ran.problem.startswith(IMPORT_FAILURES):
+        return "", []
     lines = ran.output.strip().splitlines()
     theirs = next((i for i, line in enumerate(lines) if "/submission/" in line), None)
     if theirs is not None:  # from the submission's first frame: the grader's own say nothing
         lines = ["Traceback (most recent call last):", *lines[theirs:]]
     printed = "\n".join(lines[-30:])
-    return ran.problem + (f"\n{printed}" if printed else "")
+    return ran.problem + (f"\n{printed}" if printed else ""), []
 
 
 def _diagnosed(entry: dict, verdict) -> dict:

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import html
 import json
+import os
 import re
 import statistics
 from pathlib import Path
@@ -94,7 +95,7 @@ def student_page(name: str, results: dict, folder: Path) -> str:
         })  # fmt: skip
     return feedback_page(
         rows,
-        heading=f"raykit: {name}'s grade",
+        heading=f"raykit: {_shown(name)}'s grade",
         tests="tests",
         note="Hidden tests say only what kind of failure they found.",
         top=results.get("output", ""),
@@ -189,8 +190,18 @@ def _order(key: str) -> tuple[int, ...]:
     return tuple(int(part) for part in key.split(".") if part.isdigit())
 
 
+def _shown(name: str) -> str:
+    """A student's name as the page shows it (a folder name that is not UTF-8, readable)."""
+    return name.encode("utf-8", "surrogateescape").decode("utf-8", "replace")
+
+
+def _url(name: str) -> str:
+    """A folder name as a relative URL: its bytes, percent-encoded."""
+    return quote(os.fsencode(name))
+
+
 def _link(name: str) -> str:
-    return f"feedback/{quote(name)}/index.html"
+    return f"feedback/{_url(name)}/index.html"
 
 
 def _page(out, tests, rows, results, scores, rates, total) -> str:
@@ -198,7 +209,10 @@ def _page(out, tests, rows, results, scores, rates, total) -> str:
     broken = sorted(n for n in results if rows[n]["status"] == DOES_NOT_IMPORT)
     others = sorted(n for n in rows if n not in results)
     values = list(scores.values())
-    e = html.escape
+
+    def e(text: str) -> str:
+        return html.escape(_shown(text))
+
     parts = [
         "<!doctype html><html lang='en'><meta charset='utf-8'>",
         "<meta name='viewport' content='width=device-width, initial-scale=1'>",
@@ -256,7 +270,7 @@ def _page(out, tests, rows, results, scores, rates, total) -> str:
         example = "no picture (array tests only)"
         if mistake["example"]:
             name, key, _ = mistake["example"]
-            source = f"feedback/{quote(name)}/{quote(key)}.png"
+            source = f"feedback/{_url(name)}/{quote(key)}.png"
             example = (
                 f"<a href='{source}'><img class='example' src='{source}' "
                 f"alt='{e(name)}, test {e(key)}'></a><br>{e(name)}, test {e(key)}"

@@ -45,7 +45,10 @@ def graded_class(tmp_path_factory, release):
     make_submission(students / "mo", "u_v_swapped")
     make_submission(students / "flo", "rows_flipped")
     bo = make_submission(students / "bo")  # does not import
-    with open(bo / "raykit/camera.py", "a") as module:
+    with open(bo / "raykit/__init__.py", "a") as module:
+        module.write("\ndef broken(:\n")
+    cy = make_submission(students / "cy")  # one module of stage 4 does not import
+    with open(cy / "raykit/mirrors.py", "a") as module:
         module.write("\ndef broken(:\n")
     erin = make_submission(root / "erin")  # zipped, beside the folders
     with zipfile.ZipFile(students / "erin.zip", "w") as archive:
@@ -81,9 +84,10 @@ def test_batch_grades_every_entry_of_a_mixed_class_or_says_why_not(graded_class)
         "Alan Turing & Kathleen O'Brien": ("graded", "2.0"),
         "flo": ("graded", "3.0"),  # the render is upside down
         "bo": ("does not import", "0.0"),
+        "cy": ("graded", "3.0"),  # what needs mirrors.py (the render) fails, the rest passes
         "notes.txt": ("not graded: not a folder or a zip", ""),
     }
-    assert "wrote" in run.stdout and "8 of 9 students graded" in run.stdout
+    assert "wrote" in run.stdout and "9 of 10 students graded" in run.stdout
     assert "notes.txt: not graded: not a folder or a zip" in run.stderr
 
 
@@ -94,8 +98,18 @@ def test_a_submission_that_does_not_import_says_its_error_once_and_runs_no_test(
     assert results["score"] == 0
     assert "raykit does not import" in results["output"]
     assert "SyntaxError" in results["extra_data"]["does_not_import"]
-    assert 'raykit/camera.py", line' in results["output"]  # where, from the student's file
+    assert 'raykit/__init__.py", line' in results["output"]  # where, from the student's file
     assert "/work/child.py" not in results["output"]  # not the grader's frames
+
+
+def test_a_module_that_does_not_import_is_noted_once_and_fails_only_its_tests(graded_class):
+    out, _ = graded_class
+    results = json.loads((out / "feedback/cy/results.json").read_text())
+    assert "Note: raykit.mirrors: does not import; the tests that use it fail" in (
+        results["output"].splitlines()
+    )
+    assert {t["number"]: t["score"] for t in results["tests"]} == {"2.3": 2, "3.1": 1, "3.6": 0}
+    assert "SyntaxError" in results["tests"][2]["output"]
 
 
 def test_results_sum_up_each_stage_and_carry_the_diagnosed_mistake(graded_class):
@@ -119,12 +133,12 @@ def test_the_class_report_shows_scores_pass_rates_mistakes_and_who_was_not_grade
     for plot in ("report/scores.png", "report/pass_rates.png"):
         assert f"src='{plot}'" in page
         assert (out / plot).read_bytes().startswith(b"\x89PNG")
-    assert "9 submissions: 7 graded, 1 whose raykit does not import (0 points), 1 not graded" in (
+    assert "10 submissions: 8 graded, 1 whose raykit does not import (0 points), 1 not graded" in (
         page
     )
-    assert "Mean 3.6, median 2.5 of 7 points" in page  # 7 7 7 1 2 2 3 0
+    assert "Mean 3.6, median 3.0 of 7 points" in page  # 7 7 7 1 2 2 3 3 0
     rates = dict(re.findall(r"<tr><td>(\d\.\d+) .*?<td class='n'>(\d+%)</td>", page))
-    assert rates == {"2.3": "75%", "3.1": "62%", "3.6": "38%"}  # of the 8 students scored
+    assert rates == {"2.3": "78%", "3.1": "67%", "3.6": "33%"}  # of the 9 students scored
     assert page.index("Stage 2 rays") < page.index("2.3 ray-sphere") < page.index("Stage 3")
     swapped = page.index("u and v are swapped")
     flipped = page.index("image rows are counted from the bottom")
