@@ -266,7 +266,11 @@ def _import_error(sandbox: Sandbox, options: Options, deadline: float) -> tuple[
         failing = [name for name, ok in zip(tasks.IMPORTED, flags, strict=True) if ok != 1.0]
         if not failing:
             return "", []
-        return "", [f"{', '.join(failing)}: does not import; the tests that use it fail"]
+        one = len(failing) == 1
+        return "", [
+            f"{', '.join(failing)}: {'does' if one else 'do'} not import; the tests that use "
+            f"{'it' if one else 'them'} fail"
+        ]
     if not ran.problem.startswith(IMPORT_FAILURES):
         return "", []
     lines = ran.output.strip().splitlines()
