@@ -8,7 +8,9 @@ CI runs: it adds what takes seconds a test, marked ``slow`` here in one place:
 * the grader's tests, each grading submissions in sandboxes;
 * the compiled engine's, which compile or load numba kernels;
 * commands run whole: the benchmarks, the committed pictures remade, outputs under other machines'
-  settings.
+  settings;
+* the documentation site, built and measured page by page in headless Chromium (test_site.py,
+  skipped without the docs extra or Chromium).
 """
 
 from __future__ import annotations
@@ -22,17 +24,18 @@ SLOW_MODULES = {
     "test_grading_isolation.py",
     "test_grading_seeds.py",
     "test_submission_shapes.py",
-    "test_compiled.py",
     "test_benchmarks.py",
     "test_reproducible.py",
     "test_baselines.py",
     "test_gallery.py",
     "test_machine_independent.py",
+    "test_site.py",
 }
 
 
 def pytest_collection_modifyitems(config, items):
     slow = pytest.mark.slow
     for item in items:
-        if item.path.suffix == ".ipynb" or item.path.name in SLOW_MODULES:
+        compiled = item.path.parent.name == "compiled"  # tests/compiled/: the compiled engine's
+        if item.path.suffix == ".ipynb" or item.path.name in SLOW_MODULES or compiled:
             item.add_marker(slow)

@@ -11,6 +11,7 @@ the test suite is what runs them); the API reference is made from the docstrings
 from __future__ import annotations
 
 import re
+import runpy
 import sys
 from pathlib import Path
 
@@ -32,6 +33,10 @@ extensions = [
     # in its layout and warns (and so fails -W) on the others
     "sphinx.ext.napoleon",
     "sphinx.ext.mathjax",
+    # MathJax 3.2.2 served from the site itself (the sphinx-mathjax-offline package of the docs
+    # extra copies it into _static/mathjax/ as the build ends), not from a CDN: the pages'
+    # formulas must render in a lecture room or on a train with no network
+    "sphinx-mathjax-offline",
 ]
 
 # ---- sources -------------------------------------------------------------------------------
@@ -66,6 +71,13 @@ myst_enable_extensions = ["colon_fence", "dollarmath", "deflist"]
 myst_heading_anchors = 3  # "page.md#a-heading" links, as a repository host makes them
 nb_execution_mode = "off"  # rendered from the outputs stored in the notebooks, no kernel, no pandoc
 nb_merge_streams = True
+# no widget manager: Jupyter's (require.js and @jupyter-widgets/html-manager) comes from a CDN,
+# which a page with no network cannot reach, and a slider without a kernel cannot move anyway;
+# each slider cell of the notebooks is followed by a cell that draws its first setting
+nb_ipywidgets_js: dict[str, dict[str, str]] = {}
+# the site's own copy of MathJax (see extensions above), never a CDN's; tex-chtml reads the TeX
+# that MyST's dollarmath and the notebooks' \( \) write
+mathjax_path = "mathjax/tex-chtml.js"
 
 # ---- API reference -------------------------------------------------------------------------
 autosummary_generate = True
@@ -93,7 +105,9 @@ linkcheck_ignore = [r"https?://.*"]
 html_theme = "pydata_sphinx_theme"
 html_title = "raykit"
 html_logo = None
-html_static_path: list[str] = []
+# _static/raykit.css: long names wrap instead of widening the page (tests/test_site.py)
+html_static_path = ["_static"]
+html_css_files = ["raykit.css"]
 html_show_sourcelink = False
 html_theme_options = {
     "navigation_with_keys": False,
@@ -106,6 +120,25 @@ html_theme_options = {
     "footer_end": [],
 }
 html_sidebars = {"index": [], "students": [], "instructors": [], "lecturers": []}
+
+
+def _top_section(env, docname: str, root: str) -> str:
+    """The page of the site's top menu that ``docname`` is under (itself, for a top page)."""
+    includes = env.toctree_includes
+    parents = {child: parent for parent, children in includes.items() for child in children}
+    while parents.get(docname, root) != root:
+        docname = parents[docname]
+    return docname
+
+
+def _no_empty_sidebar(app, pagename: str, templatename, context: dict, doctree) -> None:
+    """The left column ("Section Navigation") lists the pages under the current page's top menu
+    entry; for a top page with none under it (the gallery, rendering, speed, every page under
+    "More", the search and index pages) the theme still drew it, 320 pixels wide and empty, and
+    the text beside it too narrow for its commands. Draw no column there."""
+    top = _top_section(app.env, pagename, app.config.root_doc)
+    if not app.env.toctree_includes.get(top):
+        context["sidebars"] = []
 
 
 # ---- pages written for a repository host, read by Sphinx -------------------------------------
@@ -204,10 +237,20 @@ def docstring_as_written(lines: list[str]) -> list[str]:
     return out
 
 
+# each reference function's compiled twin, from the twin table (raykit/engine/compiled/twins.py,
+# read as a file: importing it through its package would import numba). Added here, in the
+# build, so that the sources, and the student release made from them, never hold the line
+TWINS = REPO / "raykit/engine/compiled/twins.py"
+twin_lines = runpy.run_path(str(TWINS))["doc_lines"] if TWINS.exists() else lambda name: []
+
+
 def _process_docstring(app, what, name, obj, options, lines: list[str]) -> None:
     lines[:] = docstring_as_written(lines)
+    if what in ("function", "method"):
+        lines += [line for twin in twin_lines(name) for line in ("", twin)]
 
 
 def setup(app):
     app.connect("source-read", _source_read)
+    app.connect("html-page-context", _no_empty_sidebar)
     app.connect("autodoc-process-docstring", _process_docstring)

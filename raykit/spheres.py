@@ -153,6 +153,14 @@ def hit_sphere(
     # END SOLUTION
 
 
+def sphere_f(points: np.ndarray, center: np.ndarray, radius) -> np.ndarray:
+    """The slide's implicit function of a sphere, f(p) = (p - c)·(p - c) - R², at points
+    ``(N, k)``: negative inside, zero on the sphere, positive outside. Putting p(t) = o + t d
+    into f(p) = 0 gives the ray–sphere quadratic (:func:`sphere_roots`). Returns ``(N,)``."""
+    offset = np.atleast_2d(np.asarray(points, float)) - np.asarray(center, float)
+    return dot(offset, offset) - float(radius) ** 2
+
+
 def sphere_normals(points: np.ndarray, center: np.ndarray, radius) -> np.ndarray:
     """Unit outward normals n = (p - c)/r ``(N, 3)`` at points ``(N, 3)`` on the sphere.
 

@@ -34,6 +34,8 @@ Grading
     * :mod:`~raykit_grading.intake`: what a batch takes in: folders, zips, Gradescope's export.
     * :mod:`~raykit_grading.report`: the class report, and each student's feedback page.
     * :mod:`~raykit_grading.autograder`: the Gradescope autograder zip.
+    * :mod:`~raykit_grading.containers`: the zip in a real Docker container, as Gradescope
+      builds and runs it (``try-zip``).
 
 It needs a clone of the course repository: the example scenes (``scenes/``) and the hidden ones
 (``grading/hidden-scenes/``) are not in any wheel.

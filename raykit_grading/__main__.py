@@ -1,4 +1,4 @@
-"""``python -m raykit_grading COMMAND``: release, grade, batch, gradescope, tests.
+"""``python -m raykit_grading COMMAND``: release, grade, batch, gradescope, tests, try-zip.
 
 Exit status: 0 done (grade: graded, whatever the score); 1 batch: some student could not be
 graded; 2 bad arguments; 3 the grader could not grade (no sandbox here, or it
@@ -70,6 +70,30 @@ def build_parser() -> argparse.ArgumentParser:
 
     command("tests", help="list the grading tests by stage: points, visibility, totals")
 
+    try_zip = command(
+        "try-zip", help="build the zip's image and grade submissions in Docker, as Gradescope will"
+    )
+    try_zip.add_argument("zip", type=Path, help="autograder.zip")
+    try_zip.add_argument(
+        "submissions",
+        type=Path,
+        nargs="+",
+        metavar="SUBMISSION",
+        help="a folder (its contents go to /autograder/submission, as on Gradescope) or a zip",
+    )
+    try_zip.add_argument(
+        "--base-image",
+        default="gradescope/autograder-base:ubuntu-22.04",
+        help="image to build on (default: Gradescope's, gradescope/autograder-base:ubuntu-22.04)",
+    )
+    try_zip.add_argument(
+        "-o",
+        "--output",
+        type=Path,
+        default=Path("try-zip"),
+        help="folder for the results (try-zip/)",
+    )
+
     for sub, beside in ((grade, "beside results.json"), (batch, "in the output folder")):
         sub.add_argument(
             "--seed-file",
@@ -136,6 +160,10 @@ def main(argv: list[str] | None = None) -> int:
             seed=args.seed,
             seed_file=args.seed_file,
         )
+    if args.command == "try-zip":
+        from raykit_grading.containers import try_zip
+
+        return try_zip(args.zip, args.submissions, args.base_image, args.output)
     if args.command == "release":
         from raykit_grading.release import build_release
 

@@ -127,6 +127,15 @@ def _corner_pixel_x(pixels: int, samples: int = 1) -> np.ndarray:
     return -1.0 + (i + k / samples) * (2.0 / pixels)
 
 
+def _corner_in_plane(camera: Camera, x, y) -> np.ndarray:
+    """s·u + t·v half a pixel up and left: the pixel's corner, x - 0.5, not its centre x."""
+    u, v, _ = camera.frame
+    Wp, Hp = camera.plane_size
+    s = -Wp / 2 + (np.asarray(x, float) - 0.5) * (Wp / camera.width)
+    t = Hp / 2 - (np.asarray(y, float) - 0.5) * (Hp / camera.height)
+    return s[:, None] * u + t[:, None] * v
+
+
 def _stretched(camera: Camera, x, y) -> np.ndarray:
     """The image plane's points with the slide's u_i = i·2/N_cols: the first and the last
     pixel centres on the plane's edges, the rest spread evenly between."""
@@ -204,7 +213,10 @@ def _patch(*where: tuple) -> Callable[[], list]:
     return lambda: [mock.patch.object(owner, name, wrong) for owner, name, wrong in where]
 
 
-CAMERA, PLANE_SIZE = "raykit/camera.py: _in_plane", "raykit/camera.py: Camera.plane_size"
+# ``where`` always names a function the student writes (the release's stubs): a mistake made
+# in given code a student function calls (Camera.plane_size, which _in_plane reads) is named
+# by that student function, where a student computing it wrongly would have written it
+CAMERA = "raykit/camera.py: _in_plane"
 SWAP_UV = lambda u, v, w: (v, u, w)  # noqa: E731
 
 MISTAKES = [
@@ -232,22 +244,20 @@ MISTAKES = [
         "fov_horizontal",
         "fov_angle is used as the horizontal field of view",
         patches=lambda: _plane_size(_horizontal_fov),
-        where=PLANE_SIZE,
+        where=CAMERA,
     ),
     Mistake(
         "aspect_ignored",
         "the aspect ratio is ignored (the image plane is made square)",
         patches=lambda: _plane_size(_no_aspect),
-        where=PLANE_SIZE,
+        where=CAMERA,
     ),
     Mistake(
         "pixel_corners",
         "rays go through pixel corners instead of pixel centres (as the slide's second formula "
         "u_i = i·2/N_cols does when its first N_cols positions are kept)",
-        patches=lambda: [
-            mock.patch.object(raykit.engine.regions, "sample_offsets", lambda n: np.zeros((1, 2)))
-        ],
-        where="raykit/camera.py: sample_offsets",
+        patches=_patch((raykit.camera, "_in_plane", _corner_in_plane)),
+        where=CAMERA,
     ),
     Mistake(
         "pixel_x_corners",
@@ -271,7 +281,7 @@ MISTAKES = [
             *_plane_size(_radians),
             mock.patch.object(LineCamera, "D", property(_line_radians)),
         ],
-        where=f"{PLANE_SIZE} (LineCamera.D in the line-scan camera)",
+        where=CAMERA,
     ),
     Mistake(
         "far_root",

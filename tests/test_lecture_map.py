@@ -110,3 +110,16 @@ def test_every_item_has_a_cell_that_ran_and_a_figure(row, cells):
     assert shown, f"item {row[0]}: no figure in its section of {path}"
     if "cell figure" in row[5]:  # the map promises a figure drawn by the item's own cells
         assert "output" in shown, f"item {row[0]}: its cells draw no figure"
+
+
+QUOTED = re.compile(r'"([^"]+)"')
+
+
+@pytest.mark.parametrize("row, cells", SECTIONS, ids=[row[0] for row, _ in SECTIONS])
+def test_the_slides_words_quoted_in_the_map_are_in_the_items_section(row, cells):
+    # the map quotes the slide only where its notebook section does, with the same words
+    # (bold and case aside), so a quotation in either is the slide's, not a rewording
+    text = " ".join("".join(cell["source"]) for cell in cells if cell["cell_type"] == "markdown")
+    text = " ".join(text.replace("**", "").split()).lower()
+    for quote in QUOTED.findall(row[1]):
+        assert " ".join(quote.split()).lower() in text, f"item {row[0]}: {quote!r}"

@@ -32,7 +32,7 @@ def test_full_suite_block_runs_every_test():
 
 def test_fast_lane_block_tests_the_compiled_engine():
     assert _block("fast-lane") == [
-        'pip install -e ".[fast]" && python -m pytest tests/test_compiled.py tests/test_cli.py'
+        'pip install -e ".[fast]" && python -m pytest tests/compiled tests/test_cli.py'
     ]
 
 

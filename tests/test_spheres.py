@@ -3,7 +3,7 @@ import pytest
 
 from exact import exact_sphere_hit
 from raykit.rays import MISS, normalize
-from raykit.spheres import hit_sphere, hit_sphere_textbook
+from raykit.spheres import hit_sphere, hit_sphere_textbook, sphere_f
 
 
 def rays(origins, directions):
@@ -87,3 +87,13 @@ def test_stable_and_textbook_forms_agree_on_ordinary_rays():
     assert (np.isfinite(stable) == np.isfinite(textbook)).all()
     assert np.isfinite(stable).sum() > 20
     assert stable[np.isfinite(stable)] == pytest.approx(textbook[np.isfinite(textbook)], rel=1e-9)
+
+
+def test_sphere_f_is_negative_inside_zero_on_and_positive_outside():
+    c = np.array([1.0, 2.0, 3.0])
+    points = np.array([c, c + [0, 0, 2.0], c + [0, 3.0, 0], c + [1.0, 0, 0]])
+    assert sphere_f(points, c, 2.0).tolist() == [-4.0, 0.0, 5.0, -3.0]
+    # a ray's hit is where f(p(t)) = 0
+    o, d = rays([1, 2, 13], [0, 0, -1])
+    t_hit = hit_sphere(o, d, c, 2.0)
+    assert sphere_f(o + t_hit[:, None] * d, c, 2.0)[0] == pytest.approx(0.0, abs=1e-12)

@@ -84,7 +84,9 @@ def camera_diagram(camera: Camera, *, ax: Axes | None = None) -> Figure:
     draw_lines(
         ax, view, np.stack([eye, lookat])[None], colors="black", linewidths=1, linestyles="dotted"
     )
-    ax.scatter(*view.project(np.stack([eye, lookat])).T, color="black", s=18, depthshade=False)
+    ax.scatter(
+        *view.project(np.stack([eye, lookat])).T, color="black", s=18, depthshade=False, zorder=11
+    )
     _label(ax, view.project(eye), " e", fontsize=12, ha="left", va="bottom")
     _label(ax, view.project(lookat), "lookat ", fontsize=11, ha="right", va="top")
     _label(ax, view.project((eye + lookat) / 2), " d", fontsize=12, style="italic", va="top")
@@ -112,8 +114,10 @@ def camera_diagram(camera: Camera, *, ax: Axes | None = None) -> Figure:
         setter(c - half, c + half)
     ax.set_box_aspect((1, 1, 1))
     ax.view_init(elev=18, azim=-62)
+    # draw in zorder, not by depth: the point labels (zorder 10) then lie over the pixel dots
+    ax.computed_zorder = False
     ax.set_title(
-        f"{camera.projection}: {camera.width} x {camera.height} pixels "
+        f"{camera.projection}: {camera.width} x {camera.height} pixels\n"
         f"(drawn {grid.width} x {grid.height}), fov_angle = {camera.fov_angle:g}°",
         fontsize=11,
     )
@@ -123,10 +127,12 @@ def camera_diagram(camera: Camera, *, ax: Axes | None = None) -> Figure:
 
 
 def _label(ax: Axes, where, text: str, **style) -> None:
-    """A point's label on a white ground, so lines under it do not strike it through."""
+    """A point's label on a white ground, drawn over the lines and pixel dots under it so that
+    none strikes it through (the axes draw in zorder, see camera_diagram)."""
     ax.text(
         *where,
         text,
+        zorder=10,
         bbox={
             "boxstyle": "round,pad=0.1",
             "facecolor": "white",

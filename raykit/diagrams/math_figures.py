@@ -46,6 +46,25 @@ def _arrow(ax: Axes, start, end, label: str | None = None, color="black", **text
         )
 
 
+def _t_ticks(ax: Axes, o: np.ndarray, d: np.ndarray, t_last: float, color="tab:blue") -> None:
+    """Ticks across the ray o + t d at t = 1, 2, ... up to ``t_last``, each numbered: with d
+    drawn at its own length (t = 0 to 1), t at any point is read off the picture."""
+    across = np.array([-d[1], d[0]]) / float(length(d))
+    for step in range(1, int(np.floor(t_last)) + 1):
+        p = o + step * d
+        ax.plot(*np.stack([p - 0.08 * across, p + 0.08 * across]).T, color=color, lw=1.2)
+        ax.annotate(
+            f"{step}",
+            p - 0.08 * across,
+            xytext=(0, -3),
+            textcoords="offset points",
+            ha="center",
+            va="top",
+            color=color,
+            fontsize=SMALLEST_FONT,
+        )
+
+
 def _ray_case(ax: Axes, height: float) -> None:
     o, d = np.array([[-2.6, height]]), np.array([[1.0, 0.0]])
     t0, t1, discriminant = sphere_roots(o, d, CENTER, RADIUS)
@@ -53,8 +72,9 @@ def _ray_case(ax: Axes, height: float) -> None:
     ax.plot(*CENTER, "k+", ms=8)
     ax.annotate("c", CENTER, xytext=(5, -14), textcoords="offset points", fontsize=11)
     ax.plot([o[0, 0], 2.6], [height, height], color="tab:blue", lw=1.4)
-    # d under the ray, where no root's label goes
-    _arrow(ax, o[0], o[0] + 0.6 * d[0], "d", color="tab:blue", offset=(-4, -16))
+    # d at its own length (a unit vector here, so t is the distance along the ray), labelled
+    # under the ray where no root's label goes
+    _arrow(ax, o[0], o[0] + d[0], "d", color="tab:blue", offset=(-4, -16))
     ax.plot(*o[0], "o", color="tab:blue")
     ax.annotate("o", o[0], xytext=(-4, -16), textcoords="offset points", fontsize=11)
     roots = sorted({float(t) for t in (t0[0], t1[0]) if np.isfinite(t)})
@@ -102,13 +122,14 @@ def plane_hit(ax: Axes | None = None) -> Figure:
     a, n = np.array([1.5, 0.5]), np.array([-1.0, 0.35])
     n = n / length(n)
     along = np.array([n[1], -n[0]])
+    a = a - 0.9 * along  # a lower point of the same plane: n's arrow clear of the ray
     o, d = np.array([[-2.0, -0.8]]), np.array([[1.0, 0.55]])
     t_hit = hit_plane(o, d, a, n)
     p = point_at(o, d, t_hit)[0]
-    ax.plot(*np.stack([a - 2.4 * along, a + 2.0 * along]).T, color="black", lw=2)
+    ax.plot(*np.stack([a - 1.5 * along, a + 2.9 * along]).T, color="black", lw=2)
     ax.annotate(
         "plane: (p - a)·n = 0",
-        a - 2.3 * along,
+        a - 1.4 * along,
         xytext=(8, 0),
         textcoords="offset points",
         fontsize=SMALLEST_FONT,
@@ -116,9 +137,11 @@ def plane_hit(ax: Axes | None = None) -> Figure:
     )
     ax.plot(*a, "ks")
     ax.annotate("a", a, xytext=(6, -12), textcoords="offset points", fontsize=11)
-    _arrow(ax, a, a + 0.9 * n, "n")
+    _arrow(ax, a, a + n, "n")  # unit length, as hit_plane takes it
     ax.plot([o[0, 0], p[0]], [o[0, 1], p[1]], color="tab:blue", lw=1.4)
-    _arrow(ax, o[0], o[0] + 0.7 * d[0], "d", color="tab:blue", offset=(4, -14))
+    # d at its own length and the ray ticked at t = 1, 2, 3: t_hit is read off the picture
+    _arrow(ax, o[0], o[0] + d[0], "d", color="tab:blue", offset=(-20, 4))
+    _t_ticks(ax, o[0], d[0], float(t_hit[0]))
     ax.plot(*o[0], "o", color="tab:blue")
     ax.annotate("o", o[0], xytext=(-4, -14), textcoords="offset points", fontsize=11)
     ax.plot(*p, "o", color="black", ms=7, zorder=5)

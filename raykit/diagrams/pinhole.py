@@ -54,14 +54,31 @@ def pinhole_figure(scene: Scene) -> Figure:
         color = hits.color[k]
         path = local(np.stack([wall[k], eye, ends[k]]))
         side.plot(*path.T, color=color, lw=1.6, ls="-" if np.isfinite(hits.t[k]) else "--")
+        if np.isfinite(hits.t[k]) and hits.t[k] < d / -dot(directions[k], w):
+            # it hits before the image plane (the plane cuts through that object): the same
+            # ray goes on, dotted, to its dot on the plane
+            beyond = local(np.stack([ends[k], front[k]]))
+            side.plot(*beyond.T, color=color, lw=1.2, ls=":")
         side.plot(*local(front[k : k + 1]).T, "o", color=color, ms=5)
         side.plot(*local(wall[k : k + 1]).T, "s", color=color, ms=6)
-    limits = local(np.vstack([wall, ends]))
+    limits = local(np.vstack([wall, ends, front]))
     top, bottom = limits[:, 1].max(), limits[:, 1].min()
-    for depth, label in ((-d, "back wall (camera obscura)"), (d, "image plane (pinhole camera)")):
+    # the walls' names in a band above every ray, each on its own side of its line
+    band = 0.3 * (top - bottom)
+    side.set_ylim(bottom - 0.08 * (top - bottom), top + band)
+    for depth, label, dx, align in (
+        (-d, "back wall\n(camera obscura)", 6, "left"),
+        (d, "image plane\n(pinhole camera)", -6, "right"),
+    ):
         side.axvline(depth, color="0.3", lw=2)
         side.annotate(
-            label, (depth, top), xytext=(4, -2), textcoords="offset points", va="top", fontsize=10
+            label,
+            (depth, top + band),
+            xytext=(dx, -3),
+            textcoords="offset points",
+            ha=align,
+            va="top",
+            fontsize=10,
         )
     side.plot(0, 0, "ko", ms=7)
     side.annotate("hole e", (0, 0), xytext=(-10, -16), textcoords="offset points", fontsize=10)
@@ -75,8 +92,8 @@ def pinhole_figure(scene: Scene) -> Figure:
     side.set_xlabel("depth in front of the hole, along -w")
     side.set_ylabel("height along v")
     side.set_title(
-        f"{ROWS_DRAWN} rows of the middle column: each ray crosses at the hole, so the top of "
-        "the scene lands at the bottom of the wall",
+        f"{ROWS_DRAWN} rows of the middle column: each ray crosses at the hole,\nso the top of "
+        "the scene lands at the bottom of the wall (dotted: a ray on past its hit)",
         fontsize=10,
     )
     obscura = render_obscura(scene).color.reshape(camera.height, camera.width, 3)

@@ -155,14 +155,17 @@ def ray_diagram(
     for light in scene.lights:
         if isinstance(light, PointLight):
             _mark(ax, shown, light.position, "light", marker="*")
-    _mark(ax, shown, corners[1], "image plane", marker=None)
     if shown.is_3d:
+        _mark(ax, shown, corners[1], "image plane", marker=None)
         ax.scatter(*shown.project(ends[hit]).T, color="black", s=4, depthshade=False)
     else:
         ax.plot(*shown.project(ends[hit]).T, "o", color="black", ms=2, zorder=6)
     finish_axes(ax, shown, np.vstack([extent, ends[hit]]), camera)
     title = f"{len(rows)} rays through pixel centres ({int(hit.sum())} hit): solid = hit, "
     title += "dashed = miss"
+    if not shown.is_3d:
+        # named here, not beside the outline: there a name crosses the rays or leaves the axes
+        title += ";\nthe black outline across the rays: the image plane"
     if paths:
         shadow = sum(len(p.t) for p in paths if p.kind == "shadow")
         blocked = sum(int(p.blocked.sum()) for p in paths if p.kind == "shadow")

@@ -12,9 +12,13 @@ nothing here imports it.
 
 from __future__ import annotations
 
+import ast
+import functools
 import hashlib
 import importlib.util
+import json
 import os
+import runpy
 import tempfile
 from pathlib import Path
 
@@ -32,7 +36,7 @@ STARTER_KIT = (
 )
 COMPILED_SOURCE = Path(__file__).with_name("compiled")  # the package of kernels
 # The numpy engine's time per ray, flat and shaded, and what loading numba and the cached
-# kernels costs a process: measured on the 2-core machine by benchmarks/engines.py
+# kernels costs a process: measured by benchmarks/engines.py
 # (`raykit bench` prints them again on yours)
 NUMPY_SECONDS_PER_RAY = {"flat": 2.0e-7, "lit": 8.0e-7}
 AUTO_FROM = 0.5  # seconds of numpy rendering from which the compiled engine wins, load included
@@ -55,27 +59,148 @@ def compiled_available() -> bool:
     return COMPILED_SOURCE.exists() and importlib.util.find_spec("numba") is not None
 
 
-def cache_folder() -> Path | None:
-    """Where numba keeps the compiled kernels: ``$RAYKIT_CACHE_DIR``, else ``$XDG_CACHE_HOME``
-    or ``~/.cache``, else the temporary folder, under ``raykit/numba-<hash of the compiled
-    engine's sources and its folder>``: the first of them that can be written, so a read-only
-    install still caches. Editing a kernel makes a new folder, so no kernel compiled from older
-    source is ever loaded (numba checks a kernel's own file, not the files of the kernels it
-    calls). The folder counts too because numba keeps the kernels of each source folder apart:
-    a second copy of raykit compiles its own, and must find no marker saying it need not
-    (:func:`compiled_once`). None when no folder can be written (the kernels then compile in
-    every process)."""
+def twin_table() -> dict:
+    """The twin table (:mod:`raykit.engine.compiled.twins`) as its module's globals, read from
+    its file: importing it through its package would import numba."""
+    return runpy.run_path(str(COMPILED_SOURCE / "twins.py"))
+
+
+def frozen_modules() -> list[str]:
+    """The modules besides the kernels' own whose source the kernels depend on, sorted: those
+    whose functions they repeat (:func:`twin_table`), and those whose globals they read
+    (:func:`_modules_read`), found in the kernels' source, so that the list cannot drift from
+    it. Reading the sources' syntax takes a tenth of a second or more, in every process that
+    loads the engine: the list is kept on disk beside the caches, under a hash of every source
+    of this copy of raykit, and read from there while none changes."""
+    package = COMPILED_SOURCE.parent.parent
+    digest = hashlib.sha256(os.path.abspath(package).encode())
+    for source in sorted(package.rglob("*.py")):
+        digest.update(str(source.relative_to(package)).encode() + b"\0" + source.read_bytes())
+    for base in _bases():
+        kept = Path(base) / "raykit" / f"frozen-{digest.hexdigest()[:16]}.json"
+        try:
+            return json.loads(kept.read_text())
+        except (OSError, ValueError):
+            pass
+    found = _frozen_modules()
+    for base in _bases():
+        kept = Path(base) / "raykit" / f"frozen-{digest.hexdigest()[:16]}.json"
+        try:
+            kept.parent.mkdir(parents=True, exist_ok=True)
+            partial = kept.with_suffix(f".{os.getpid()}.tmp")  # whole, or not at all
+            partial.write_text(json.dumps(found))
+            partial.replace(kept)
+            break
+        except OSError:
+            continue
+    return found
+
+
+def _frozen_modules() -> list[str]:
+    """:func:`frozen_modules`, from the sources."""
+    read = set(twin_table()["reference_modules"]())
+    for source in sorted(COMPILED_SOURCE.glob("*.py")):
+        read |= _modules_read(_parsed(source.read_bytes()))
+    return sorted(read)
+
+
+@functools.lru_cache(maxsize=256)
+def _parsed(source: bytes) -> ast.Module:
+    """A source file's syntax tree, parsed once per process for each content."""
+    return ast.parse(source)
+
+
+def _module_file(module: str) -> Path:
+    """The source file of ``module``, a module of this copy of raykit (none is imported)."""
+    path = COMPILED_SOURCE.parent.parent.joinpath(*module.split(".")[1:])
+    return path / "__init__.py" if path.is_dir() else path.with_suffix(".py")
+
+
+@functools.lru_cache(maxsize=256)
+def _modules_read(tree: ast.Module) -> frozenset[str]:
+    """The raykit modules (not the compiled engine's) whose globals a kernel module reads where
+    numba freezes them: in the body of a kernel (a function under a decorator, ``@njit`` or
+    ``@intrinsic``), or in the value of a top-level name a kernel reads (a constant computed at
+    import). A name imported from a module that imports it in turn is followed to where it is
+    defined."""
+    imported: dict[str, tuple[str, str | None]] = {}  # local name: (module, its name there)
+    for node in tree.body:
+        if isinstance(node, ast.ImportFrom) and _ours(node.module):
+            for alias in node.names:
+                imported[alias.asname or alias.name] = (node.module, alias.name)
+        elif isinstance(node, ast.Import):
+            for alias in node.names:
+                if _ours(alias.name) and alias.asname:
+                    imported[alias.asname] = (alias.name, None)
+    kernels: list[ast.AST] = []
+    constants: dict[str, ast.AST] = {}  # a top-level name: the value assigned to it
+    for node in tree.body:
+        if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef) and node.decorator_list:
+            kernels += [*node.body, *node.args.defaults]
+        elif isinstance(node, ast.Assign | ast.AnnAssign) and node.value is not None:
+            for target in node.targets if isinstance(node, ast.Assign) else [node.target]:
+                if isinstance(target, ast.Name):
+                    constants[target.id] = node.value
+    names = {n.id for part in kernels for n in ast.walk(part) if isinstance(n, ast.Name)}
+    frozen = kernels + [constants[name] for name in names & constants.keys()]
+    read: set[str] = set()
+    for node in (inner for part in frozen for inner in ast.walk(part)):
+        if isinstance(node, ast.Name) and node.id in imported:
+            module, name = imported[node.id]
+            read.add(_defined_in(module, name) if name else module)
+    return frozenset(read)
+
+
+def _ours(module: str | None) -> bool:
+    """Whether ``module`` is raykit's, and not the compiled engine's (hashed whole already)."""
+    return (
+        bool(module)
+        and (module + ".").startswith("raykit.")
+        and not (module + ".").startswith("raykit.engine.compiled.")
+    )
+
+
+def _defined_in(module: str, name: str, depth: int = 0) -> str:
+    """The module where ``name``, imported from ``module``, is defined: ``module``, unless it
+    imports ``name`` from another of raykit's modules in turn."""
+    path = _module_file(module)
+    if depth > 8 or not path.exists():
+        return module
+    for node in _parsed(path.read_bytes()).body:
+        if isinstance(node, ast.ImportFrom) and _ours(node.module):
+            for alias in node.names:
+                if (alias.asname or alias.name) == name:
+                    return _defined_in(node.module, alias.name, depth + 1)
+    return module
+
+
+def cache_key() -> str:
+    """A hash of everything the compiled kernels are made from: the compiled engine's sources
+    (but the twin table, which no kernel reads), its folder, and the sources of
+    :func:`frozen_modules`."""
     digest = hashlib.sha256(os.path.abspath(COMPILED_SOURCE).encode())
     for source in sorted(COMPILED_SOURCE.glob("*.py")):
-        digest.update(source.name.encode() + b"\0" + source.read_bytes())
-    key = digest.hexdigest()[:16]
-    bases = [
-        os.environ.get("RAYKIT_CACHE_DIR"),
-        os.environ.get("XDG_CACHE_HOME"),
-        os.path.join(os.path.expanduser("~"), ".cache"),
-        os.path.join(tempfile.gettempdir(), f"raykit-{os.getuid()}"),
-    ]
-    for base in filter(None, bases):
+        if source.name != "twins.py":  # read by no kernel: its modules count, below
+            digest.update(source.name.encode() + b"\0" + source.read_bytes())
+    for module in frozen_modules():
+        digest.update(module.encode() + b"\0" + _module_file(module).read_bytes())
+    return digest.hexdigest()[:16]
+
+
+def cache_folder() -> Path | None:
+    """Where numba keeps the compiled kernels: ``$RAYKIT_CACHE_DIR``, else ``$XDG_CACHE_HOME``
+    or ``~/.cache``, else the temporary folder, under ``raykit/numba-<``:func:`cache_key```>``:
+    the first of them that can be written, so a read-only install still caches. The key hashes
+    the compiled engine's sources and the reference modules they repeat or read a constant of
+    (numba freezes a global's value into the kernel), so editing any of them makes a new
+    folder, and no kernel compiled from older source is ever loaded (numba checks a kernel's
+    own file, not the files of the kernels it calls or the modules it reads). The folder
+    counts too because numba keeps the kernels of each source folder apart: a second copy of
+    raykit compiles its own, and must find no marker saying it need not
+    (:func:`compiled_once`). None when no folder can be written (the kernels then compile in
+    every process)."""
+    key = cache_key()
+    for base in _bases():
         folder = Path(base) / "raykit" / f"numba-{key}"
         try:
             folder.mkdir(parents=True, exist_ok=True)
@@ -85,6 +210,17 @@ def cache_folder() -> Path | None:
             continue
         return folder
     return None
+
+
+def _bases() -> list[str]:
+    """Where the caches may go, in order (:func:`cache_folder`)."""
+    bases = [
+        os.environ.get("RAYKIT_CACHE_DIR"),
+        os.environ.get("XDG_CACHE_HOME"),
+        os.path.join(os.path.expanduser("~"), ".cache"),
+        os.path.join(tempfile.gettempdir(), f"raykit-{os.getuid()}"),
+    ]
+    return [base for base in bases if base]
 
 
 def marker(entry: str, folder: Path | None = None) -> Path | None:
@@ -130,5 +266,7 @@ def choose(engine: str, scene: Scene, samples: int = 1, dtype: type = np.float64
         if dtype != np.float64:
             raise ValueError("the compiled engine renders in float64 only; use engine='numpy'")
         return "compiled"
-    fast = compiled_available() and dtype == np.float64 and compiled_once(entry_point(scene))
-    return "compiled" if fast and numpy_seconds(scene, samples) >= AUTO_FROM else "numpy"
+    if numpy_seconds(scene, samples) < AUTO_FROM or dtype != np.float64:
+        return "numpy"  # before the cache's key, whose hash of the sources costs a little
+    fast = compiled_available() and compiled_once(entry_point(scene))
+    return "compiled" if fast else "numpy"

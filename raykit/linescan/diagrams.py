@@ -132,10 +132,11 @@ def _draw_camera(ax: Axes, scene: LineScene, taken: Scan, annotate: bool) -> Non
         ax.plot(*centres.T, "o", color="white", mec="black", ms=2.5, mew=0.6, zorder=6)
     if not annotate:
         return
-    # past the line's end along u; the first and last pixel's i beside the ends, off the line
-    ax.annotate("image line", ends[1] + 0.45 * u, fontsize=10, ha="center", va="center")
+    # past the line's end along u; the first and last pixel's i beside the ends, on the eye's
+    # side of the line, where no ray has fanned out yet
+    ax.annotate("image line", ends[1] + 0.75 * u, fontsize=10, ha="center", va="center")
     for i, end in ((0, ends[0]), (cam.pixels - 1, ends[1])):
-        ax.annotate(f"i={i}", end + 0.45 * w, fontsize=10, ha="center", va="center")
+        ax.annotate(f"i={i}", end - 0.45 * w, fontsize=10, ha="center", va="center")
     if cam.projection == "perspective":
         side = -0.35 * u  # the D dimension line, set off to the right of w
         ax.annotate(
@@ -169,9 +170,9 @@ def _draw_camera(ax: Axes, scene: LineScene, taken: Scan, annotate: bool) -> Non
         ax.annotate(
             f"fov_angle = {cam.fov_angle:g}°",
             e + radius * np.array([math.cos(edge), math.sin(edge)]),
-            xytext=e + 1.9 * u + 0.3 * w,
+            xytext=e + 2.6 * u + 0.1 * w,
             fontsize=10,
-            ha="center",
+            ha="left",
             va="bottom",
             arrowprops=dict(arrowstyle="-", color="0.4", lw=0.7, shrinkA=1, shrinkB=1),
         )
@@ -409,7 +410,7 @@ def paths_of_light(
     ax.set_yticks([])
     ax.set_title(
         f"{photons} photons from the light: {int(hit.sum())} hit something, "
-        f"{int(arrives.sum())} bounce into the camera (solid); the rest never reach the image",
+        f"{int(arrives.sum())} bounce into the camera (solid);\nthe rest never reach the image",
         fontsize=10,
     )
     return ax.figure

@@ -28,6 +28,10 @@ def _says(key):
     return next(m.says for m in MISTAKES if m.key == key)
 
 
+def _where(key):
+    return next(m.where for m in MISTAKES if m.key == key)
+
+
 def _text(output: str) -> str:
     return html.unescape(re.sub(r"<[^>]+>", "", output))
 
@@ -46,9 +50,15 @@ def test_each_mistake_is_named_in_its_functions_test_with_the_scores_percentages
     submission = make_submission(tmp_path / "submission", key)
     results = grade(submission, names=NAMED_IN[key], options=Options(child_python), seed=SEED)
     assert [t["number"] for t in results["tests"]] == NAMED_IN[key]
+    made_in = [
+        name.split(": ")[1] for name in re.findall(r"raykit/[\w/]+\.py: [\w.]+", _where(key))
+    ]
     for entry in results["tests"]:
         text = _text(entry["output"])
         assert f"when {_says(key)}" in text, (entry["number"], text)
+        # the function the mistake was planted in, which the student writes, is named
+        assert any(name in text for name in made_in), (entry["number"], made_in, text)
+        assert "plane_size" not in text and "sample_offsets" not in text
         others = [m.key for m in MISTAKES if m.key != key and f"when {m.says}" in text]
         assert others == [], (entry["number"], others)
         assert entry["score"] == 0.0

@@ -2,7 +2,7 @@
 deserves, nothing outside its sandbox is read or written, and results.json is always valid
 and the grader's own.
 
-Every test that grades through :func:`grade_as_deployed` runs three ways (the ``autograder``
+Every test that grades through :func:`grade_as_deployed` runs four ways (the ``autograder``
 fixture's parameter), each skipped with its reason where this machine cannot make it:
 
 * ``root``: the autograder zip's own ``run_autograder`` as root, the zip unpacked as
@@ -13,7 +13,14 @@ fixture's parameter), each skipped with its reason where this machine cannot mak
   confinement with a 768 MB memory limit (``tests/support/docker_confinement.py``), as
   Gradescope runs it: no namespaces, so the chroot sandbox (:mod:`raykit_grading.confine`);
 * ``user``: the README's ``python -m raykit_grading grade`` as a normal user (this one, or as
-  root ``setpriv`` to uid 65534 with the same grader Python, which that uid can run).
+  root ``setpriv`` to uid 65534 with the same grader Python, which that uid can run);
+* ``container``: the zip in a real Docker container, as Gradescope builds and runs it
+  (:mod:`raykit_grading.containers`): an image built once per session from the zip on a base
+  image (``RAYKIT_CONTAINER_BASE``, default the Debian one made with debootstrap, made here if
+  missing), ``setup.sh`` run at build time, then a fresh container per submission with
+  Docker's default seccomp profile and capabilities, 768 MB and half a CPU, the submission
+  copied to ``/autograder/submission``, ``/autograder/run_autograder`` as the command: the
+  chroot sandbox, for real. Skipped, saying why, where Docker cannot run containers.
 
 The batch tests run as the user running the suite. Every attack that needs something outside
 its sandbox has a way to profit if it got it (it then answers right and scores), so a defence
@@ -53,6 +60,7 @@ from raykit_grading.autograder import build_zip
 from raykit_grading.catalog import TESTS
 from raykit_grading.confine import TREES
 from raykit_grading.release import build_release
+from raykit_grading.seeds import HEADER
 
 pytestmark = pytest.mark.slow
 
@@ -60,9 +68,10 @@ AS_ROOT = os.geteuid() == 0
 WALL = 4.0
 NOBODY = 65534
 EMULATION = REPO / "tests" / "support" / "docker_confinement.py"
-DEPLOYMENTS = ("root", "docker", "user")
+DEPLOYMENTS = ("root", "docker", "user", "container")
 POINTS = {t.key: t.points for t in TESTS}
 SEED = 20261123
+CONTAINERS: list[str] = []  # the container way's containers, each to be gone after its grading
 
 
 @pytest.fixture(scope="module")
@@ -98,7 +107,38 @@ def _deployment_skip(way: str) -> str | None:
             return f"cannot emulate Docker's confinement here: {probe.stderr.strip()}"
     if way == "user" and AS_ROOT and shutil.which("setpriv") is None:
         return "as root, the user way needs setpriv to become uid 65534"
+    if way == "container":
+        from raykit_grading.containers import docker_problem
+
+        problem = docker_problem()
+        if problem:
+            return f"the container way needs Docker: {problem}"
     return None
+
+
+def container_image(folder: Path, archive: Path, say) -> str:
+    """The image Gradescope would build from ``archive`` (built once, then reused while the
+    zip's contents are the same), on ``RAYKIT_CONTAINER_BASE`` (default the Debian base image,
+    made with debootstrap if missing: skips saying why where it cannot be). A zip whose image
+    does not build fails, as it would on Gradescope."""
+    from raykit_grading import containers
+
+    base = os.environ.get("RAYKIT_CONTAINER_BASE", containers.DEBIAN_BASE)
+    if not containers.image_exists(base):
+        if base != containers.DEBIAN_BASE or not AS_ROOT:
+            pytest.skip(f"no base image {base} (as root: python -m raykit_grading.containers "
+                        "base-image)")  # fmt: skip
+        try:
+            containers.make_base_image(base, log=say)
+        except containers.ContainerError as exc:
+            pytest.skip(f"cannot make the base image {base}: {exc}")
+    try:
+        built = containers.build_image(archive, base, log_dir=Path(tempfile.gettempdir()))
+    except containers.ContainerError as exc:
+        pytest.fail(f"the zip's image does not build, so it would not on Gradescope: {exc}")
+    how = "reused (same zip)" if built.cached else f"built in {built.seconds:.0f} s ({built.log})"
+    say(f"container way: the zip's image {built.image} on {base}: {how}")
+    return built.image
 
 
 @pytest.fixture(scope="module", params=DEPLOYMENTS)
@@ -112,6 +152,27 @@ def autograder(request, tmp_path_factory, grader_python):
     root = Path("/tmp") / f"raykit-autograder-{os.getpid()}-{request.param}"
     shutil.rmtree(root, ignore_errors=True)
     (root / "source").mkdir(parents=True)
+    if request.param == "container":  # a fixed seed: the same code makes the same image
+        seed_file = tmp_path_factory.mktemp("seed") / "grading-seed"
+        seed_file.write_text(f"{HEADER}{SEED}\n")
+        seed_file.chmod(0o600)
+        archive = build_zip(tmp_path_factory.mktemp("zip") / "autograder.zip", seed_file)
+        plugins = request.config.pluginmanager
+        reporter, capture = (
+            plugins.get_plugin("terminalreporter"),
+            plugins.get_plugin("capturemanager"),
+        )
+
+        def say(line: str) -> None:  # in CI's log, past pytest's capture
+            if reporter is None or capture is None:
+                return print(line)
+            with capture.global_and_fixture_disabled():
+                reporter.write_line(line)
+
+        (root / "image").write_text(container_image(root, archive, say))
+        yield root
+        shutil.rmtree(root, ignore_errors=True)
+        return
     archive = build_zip(tmp_path_factory.mktemp("zip") / "autograder.zip")
     with zipfile.ZipFile(archive) as opened:
         opened.extractall(root / "source")
@@ -134,6 +195,8 @@ def grade_as_deployed(
 
     python = grader_python()[0]
     options = f"--only {' '.join(only)} --wall-seconds {WALL} --seed {SEED} {extra}"
+    if way(autograder) == "container":
+        return _grade_in_a_container(autograder, submission, options, tmp_path)
     if way(autograder) in ("root", "docker"):
         shutil.rmtree(autograder / "submission", ignore_errors=True)
         shutil.rmtree(autograder / "results", ignore_errors=True)
@@ -185,6 +248,28 @@ def grade_as_deployed(
     sandbox = results["extra_data"].get("sandbox", "")
     assert sandbox.startswith(expected_sandbox) or sandbox.startswith("none"), sandbox
     return results, run
+
+
+def _grade_in_a_container(
+    autograder: Path, submission: Path, options: str, tmp_path: Path
+) -> tuple[dict, subprocess.CompletedProcess]:
+    """A fresh container of the zip's image grades ``submission``, as on Gradescope; the
+    options reach ``run_autograder`` as ``RAYKIT_GRADE_OPTIONS`` (``docker create -e``)."""
+    from raykit_grading.containers import grade_in_container
+
+    image = (autograder / "image").read_text()
+    graded = grade_in_container(
+        image, submission, tmp_path / "container-results",
+        env={"RAYKIT_GRADE_OPTIONS": options}, timeout=300,
+    )  # fmt: skip
+    CONTAINERS.append(graded.container)
+    assert graded.results is not None, f"{graded.problem}:\n{graded.output[-3000:]}"
+    sandbox = graded.results["extra_data"].get("sandbox", "")
+    assert sandbox.startswith("chroot+uid+") or sandbox.startswith("none"), sandbox
+    run = subprocess.CompletedProcess(
+        ["docker", "start", "--attach"], graded.status, graded.output, graded.output
+    )
+    return graded.results, run
 
 
 def submission_with(release: Path, tmp_path: Path, edits: dict[str, str], **fmt) -> Path:
@@ -775,7 +860,11 @@ def test_6_nothing_outside_the_sandbox_is_written(release, autograder, canary, t
 
 
 def test_7_forged_results_and_a_killed_parent_change_nothing(release, autograder, tmp_path):
-    targets = [str(autograder / "results/results.json"), str(tmp_path / "results/results.json")]
+    targets = [
+        str(autograder / "results/results.json"),
+        str(tmp_path / "results/results.json"),
+        "/autograder/results/results.json",  # where the container way's grader writes it
+    ]
     code = (
         "import json, os, signal\n"
         f"for path in {targets!r}:\n"
@@ -1231,6 +1320,12 @@ def test_nothing_is_left_behind(autograder):
     tests above, for each way)."""
     from raykit_grading.isolation import SANDBOX_UIDS, UID_LOCKS
 
+    if way(autograder) == "container":  # every grading's container removed (by its name:
+        for name in CONTAINERS:  # other suites may be grading on the same daemon)
+            inspected = subprocess.run(
+                ["docker", "container", "inspect", name], capture_output=True
+            )
+            assert inspected.returncode != 0, f"container {name} left"
     assert _leftovers() == []
     uids = set(SANDBOX_UIDS)
     left = []

@@ -2,7 +2,7 @@
 differently (raykit.engine.compiled's docstring). numpy's vectorised power and the C library's
 pow, which the compiled engine calls, differ in the last place on a few per cent of inputs on
 some processors; with this, the reference's colours are the compiled engine's bit for bit.
-Used by tests/test_compiled.py and benchmarks/engine_agreement.py."""
+Used by tests/compiled/ and benchmarks/engine_agreement.py."""
 
 from __future__ import annotations
 

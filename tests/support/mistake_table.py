@@ -1,17 +1,17 @@
 """Where each classic mistake of tests/support/mistaken_submissions.py must be named: the tests
 of the function it is made in (and of its callers that have array tests), and one render or scan
-that shows it."""
+that shows it; a camera mistake made in _in_plane, in every visible render too."""
 
 NAMED_IN = {
     "rows_flipped": ["3.2", "3.6"],
     "u_v_swapped": ["3.1", "3.2", "3.6"],
     "u_negated": ["3.2", "3.6"],
-    "fov_horizontal": ["3.2", "3.6"],
-    "aspect_ignored": ["3.2", "3.6"],
-    "pixel_corners": ["3.6", "3.8"],
+    "fov_horizontal": ["3.2", "3.6", "3.7", "4.8", "4.9"],
+    "aspect_ignored": ["3.2", "3.6", "3.7", "4.8", "4.9"],
+    "pixel_corners": ["3.2", "3.6", "3.7", "3.8", "4.8", "4.9"],
     "pixel_x_corners": ["1.1", "1.2", "1.3", "1.6", "1.7"],
     "slide_second_formula": ["3.2", "3.6"],
-    "degrees_as_radians": ["3.2", "3.6"],
+    "degrees_as_radians": ["3.2", "3.6", "3.7", "4.8", "4.9"],
     "far_root": ["2.3", "4.8"],
     "textbook_discriminant": ["2.5"],
     "texture_rows_flipped": ["3.5", "3.7"],

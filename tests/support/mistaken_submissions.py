@@ -1,5 +1,7 @@
 """Submissions with one classic mistake each: the solution with one line written wrong, the way
-students get it wrong, in the one function where they make it. Each entry: the mistake's key in
+students get it wrong, in the one function where they make it: always a function the student
+writes (the release's stubs; a wrong image plane size is computed in _in_plane, which the
+solution has read from the given Camera.plane_size). Each entry: the mistake's key in
 raykit_grading.mistakes, then (file, the right line, the wrong line) edits applied to a copy of
 raykit/."""
 
@@ -29,17 +31,30 @@ EDITS = {
     "fov_horizontal": [
         (
             "camera.py",
-            "return Hp * self.width / self.height, Hp",
-            "return Hp, Hp * self.height / self.width",
+            "    Wp, Hp = camera.plane_size\n    s = -Wp",
+            "    Wp = 2 * camera.d * math.tan(math.radians(camera.fov_angle) / 2)\n"
+            "    Hp = Wp * camera.height / camera.width\n    s = -Wp",
         )
     ],
-    "aspect_ignored": [("camera.py", "return Hp * self.width / self.height, Hp", "return Hp, Hp")],
+    "aspect_ignored": [
+        (
+            "camera.py",
+            "    Wp, Hp = camera.plane_size\n    s = -Wp",
+            "    Hp = 2 * camera.d * math.tan(math.radians(camera.fov_angle) / 2)\n"
+            "    Wp = Hp\n    s = -Wp",
+        )
+    ],
     "pixel_corners": [
         (
             "camera.py",
-            "centres = (np.arange(samples) + 0.5) / samples",
-            "centres = np.arange(samples) / samples",
-        )
+            "s = -Wp / 2 + np.asarray(x, dtype=float) * (Wp / camera.width)",
+            "s = -Wp / 2 + (np.asarray(x, dtype=float) - 0.5) * (Wp / camera.width)",
+        ),
+        (
+            "camera.py",
+            "t = Hp / 2 - np.asarray(y, dtype=float) * (Hp / camera.height)",
+            "t = Hp / 2 - (np.asarray(y, dtype=float) - 0.5) * (Hp / camera.height)",
+        ),
     ],
     "pixel_x_corners": [
         (
@@ -77,8 +92,9 @@ EDITS = {
     "degrees_as_radians": [
         (
             "camera.py",
-            "math.tan(math.radians(self.fov_angle) / 2.0)",
-            "math.tan(self.fov_angle / 2.0)",
+            "    Wp, Hp = camera.plane_size\n    s = -Wp",
+            "    Hp = 2 * camera.d * math.tan(camera.fov_angle / 2)\n"
+            "    Wp = Hp * camera.width / camera.height\n    s = -Wp",
         )
     ],
     "far_root": [

@@ -13,19 +13,22 @@ Install with ``pip install "raykit[fast]"``; :func:`raykit.render.render` takes 
 
 What it repeats, and how it is held to it. The lecture's numpy functions are the reference. Each
 kernel below names the function it repeats and does *the same float64 operations in the same
-order* on one ray, so its answers agree with the reference bit for bit, but for one pow (below):
-``tests/test_compiled.py`` checks t values, object indices and colours on 10^5 seeded random
-rays per kernel, the stability cases, and the PNG bytes of every example scene. Dot products are
+order* on one ray, so its answers agree with the reference bit for bit, but for one pow (below).
+Which function each kernel repeats is data, the twin table (:mod:`.twins`), from which come a
+differential test per pair (``tests/compiled/test_<module>.py``, beside 10^5-ray checks, the
+stability cases, and the PNG bytes of every example scene), the cache's key, and the line in
+each reference function's documentation that names its twin. Dot products are
 summed left to right with no fused multiply-add, as :func:`raykit.rays.dot` sums them (numba,
 like numpy, contracts a·b + c into an FMA only under fastmath, which is off).
 
-What it skips. Primary rays: the image is cut into square tiles (:func:`.tiles.tile_side`: 16 or
-8 pixels a side, 4 in a crowded picture), and each tile keeps the objects whose screen rectangle
-(:mod:`raykit.engine.screen_bounds`) meets it, nearest first (:func:`.tiles.screen_tiles`). A
-tile no object is seen in gets the background and no ray; elsewhere a viewing ray tests only the
-objects whose rectangle holds its image point, and stops at the first that cannot come nearer
-than the hit it has: one ray at a time in a crowded picture, else a whole tile's rays at once,
-in vectors, with masks for what each ray would skip (:func:`.tiles.primary_rays`). Shadow rays
+What it skips. Primary rays: the image is cut into square tiles (their side chosen by
+:func:`.tiles.tile_side`, smaller in a crowded picture), and each tile keeps the objects whose
+screen rectangle (:mod:`raykit.engine.screen_bounds`) meets it, nearest first
+(:func:`.tiles.screen_tiles`). A tile no object is seen in gets the background and no ray; elsewhere
+a viewing ray tests only the objects whose rectangle holds its image point, and stops at the first
+that cannot come nearer than the hit it has: one ray at a time in a crowded picture, else a whole
+tile's rays at once, in vectors, with masks for what each ray would skip
+(:func:`.tiles.primary_rays`). Shadow rays
 from what a tile sees test only the objects that may lie between it and each light: the tile's
 viewing rays are all traced first, then each light's volume of shadow rays from the box of their
 surface points picks its candidates from the scene (:func:`.shadows.shadow_lists`; with too
@@ -37,21 +40,22 @@ the lower object index, whatever order objects come in, and a cut-out texel is n
 answer is :func:`raykit.render.cast`'s. All of it is made once per scene by :func:`prepare`,
 which a caller may keep and render many times.
 
-Lit scenes. :func:`.mirrors.shade_ray` and :func:`.shading.surface_color` repeat
+Lit scenes. :func:`.shading.shade` and :func:`.shading.surface_color` repeat
 :mod:`raykit.shading` for one ray: ambient, Lambert and Blinn-Phong per light, shadow rays
 (:mod:`raykit.shadows`, through the BVH) and mirror bounces (:mod:`raykit.mirrors`), with the
 surface points and offsets of :mod:`raykit.surfaces`. A job's viewing rays are shaded together,
 light by light, in lanes (:func:`.shading.surface_lanes`, :func:`.shading.light_lanes`): each
 ray's operations in the same order, the steps that every ray takes in vector instructions, and
 the shadow rays against the tile's lists; a mirror's rays then go on one at a time
-(:func:`.mirrors.mirror_rays`, :func:`.mirrors.bounce_on`), compiled only for a scene with
+(:func:`.shading.mirror_rays`, :func:`.shading.bounce_on`), compiled only for a scene with
 mirrors. One operation differs: the highlight's power is the C library's pow here and numpy's
 vectorised power in the reference, which disagree by one unit in the last place on a few per
 cent of points; with the reference given the same pow, the two engines agree
 bit for bit, and as they stand, within 4 units in the last place and to the PNG byte (tests).
 
 Compiling. Each kernel is compiled on first use, with the kernels it calls, and cached on disk,
-kernel by kernel, in a folder keyed on the package's sources: a flat scene compiles only what
+kernel by kernel, in a folder keyed on the sources they are made from (the reference modules
+of :mod:`.twins` included): a flat scene compiles only what
 flat scenes use, a progress line shows it, and Ctrl-C leaves a usable cache (:mod:`.compiling`;
 how long it takes: docs/benchmarks/compile_time.md, written by ``python
 benchmarks/compile_time.py``). Only float64 is compiled.
@@ -59,9 +63,9 @@ benchmarks/compile_time.py``). Only float64 is compiled.
 
 from __future__ import annotations
 
-from raykit.engine.compiled.billboards import billboard_color, hit_billboard
+from raykit.engine.compiled.billboards import billboard_color_at, hit_billboard
 from raykit.engine.compiled.bvh import DIRECT_HITS, nearest_hit, new_stack
-from raykit.engine.compiled.camera import camera_tuple, viewing_ray
+from raykit.engine.compiled.camera import camera_tuple, rays_through
 from raykit.engine.compiled.compiling import KERNEL
 from raykit.engine.compiled.driver import (
     CHUNK,
@@ -76,8 +80,8 @@ from raykit.engine.compiled.driver import (
     trace_flat,
     trace_lit,
 )
-from raykit.engine.compiled.hits import offer
-from raykit.engine.compiled.mirrors import bounce_on, mirror_rays, shade_ray
+from raykit.engine.compiled.hits import keep_nearer
+from raykit.engine.compiled.mirrors import reflect
 from raykit.engine.compiled.scene import (
     Arrays,
     Shading,
@@ -88,14 +92,19 @@ from raykit.engine.compiled.scene import (
 )
 from raykit.engine.compiled.shading import (
     Lanes,
-    highlight,
+    blinn_phong,
+    bounce_on,
+    lambert,
     light_lanes,
+    mirror_rays,
     new_lanes,
+    shade,
     surface_color,
     surface_lanes,
 )
 from raykit.engine.compiled.shadows import DIRECT_LISTS, SHADOW_CANDIDATES, shadow_lists
 from raykit.engine.compiled.spheres import hit_sphere
+from raykit.engine.compiled.surfaces import start, surface_points
 from raykit.engine.compiled.tiles import (
     CROWDED_SIDE,
     HOLDING_CHUNK,
@@ -112,10 +121,11 @@ from raykit.surfaces import OFFSET_FACTOR
 __all__ = [
     "CHUNK", "CROWDED_SIDE", "DIRECT_HITS", "DIRECT_LISTS", "HOLDING_CHUNK", "KERNEL",
     "OFFSET_FACTOR", "PACKET_SIDE", "SHADOW_CANDIDATES", "WIDE_SIDE", "Arrays", "Lanes",
-    "Prepared", "RayRoom", "Shading", "ShadingRoom", "Tiles", "Tree", "billboard_color",
-    "bounce_on", "camera_tuple", "cast_rays", "caster", "hit_billboard", "hit_sphere",
-    "highlight", "light_lanes", "mirror_rays", "nearest_hit", "new_lanes", "new_stack", "offer",
-    "prepare", "primary_ray", "primary_rays", "render", "scene_arrays", "scene_shading",
-    "scene_tree", "screen_tiles", "shade_ray", "shadow_lists", "surface_color", "surface_lanes",
-    "take", "tile_side", "trace_flat", "trace_lit", "viewing_ray",
+    "Prepared", "RayRoom", "Shading", "ShadingRoom", "Tiles", "Tree", "billboard_color_at",
+    "blinn_phong", "bounce_on", "camera_tuple", "cast_rays", "caster", "hit_billboard",
+    "hit_sphere", "keep_nearer", "lambert", "light_lanes", "mirror_rays", "nearest_hit",
+    "new_lanes", "new_stack", "prepare", "primary_ray", "primary_rays", "rays_through", "reflect",
+    "render", "scene_arrays", "scene_shading", "scene_tree", "screen_tiles", "shade",
+    "shadow_lists", "start", "surface_color", "surface_lanes", "surface_points", "take",
+    "tile_side", "trace_flat", "trace_lit",
 ]  # fmt: skip

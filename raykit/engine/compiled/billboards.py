@@ -44,7 +44,7 @@ def hit_billboard(o0, o1, o2, d0, d1, d2, arrays, board):
 
 
 @njit(**ONE_RAY)
-def billboard_color(arrays, board, alpha, beta):
+def billboard_color_at(arrays, board, alpha, beta):
     """Repeats :func:`raykit.billboards.billboard_color_at` (with
     :func:`~raykit.billboards.texel_indices`) for one hit: ``(r, g, b, opaque)``, the texel's
     colour and opacity as :func:`~raykit.billboards.colors_and_opacity` gave them

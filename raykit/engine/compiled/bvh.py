@@ -4,12 +4,13 @@
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
 from raykit.engine.compiled.compiling import INLINED, MAKES_ARRAYS
-from raykit.engine.compiled.hits import offer
+from raykit.engine.compiled.hits import keep_nearer
 
 STACK = 128  # nodes a ray may have still to visit: a median-split tree of 2^63 objects is 63 deep
 
@@ -35,9 +36,20 @@ def enters(o0, o1, o2, i0, i1, i2, lower, upper, node, t_max):
     return far >= near and far >= 0 and near <= t_max, near
 
 
+class NearestHit(NamedTuple):
+    """:func:`nearest_hit`'s answer for one ray: the object ``index`` (-1: none), ``t`` (inf:
+    none) and colour (``r``, ``g``, ``b``: the background where nothing is hit)."""
+
+    index: int
+    t: float
+    r: float
+    g: float
+    b: float
+
+
 @njit(**INLINED)
 def nearest_hit(arrays, tree, stack, o0, o1, o2, d0, d1, d2, t_max, any_blocker=False):
-    """Repeats :func:`raykit.render.cast` for one ray, through the BVH: ``(index, t, r, g, b)``,
+    """Repeats :func:`raykit.render.cast` for one ray, through the BVH: a :class:`NearestHit`,
     the nearest opaque hit with t > 0 (the lower index on a tie), or (-1, inf, background).
     Hits at t > t_max may be left out (shadow rays). In a scene of :data:`DIRECT_HITS` objects
     or fewer each object is tested, as if all were one leaf, and no box is. ``any_blocker``:
@@ -50,12 +62,12 @@ def nearest_hit(arrays, tree, stack, o0, o1, o2, d0, d1, d2, t_max, any_blocker=
     lies before it: the nodes visited are those a test at each visit would visit, with one slab
     test fewer per node."""
     background = arrays.background
-    # int64, not the literal -1: a kernel given the hit (surface_point) is typed for it once
+    # int64, not the literal -1: a kernel given the hit (surface_points) is typed for it once
     best, best_t = np.int64(-1), np.inf
     r, g, b = background[0], background[1], background[2]
     objects = len(tree.order)  # the tree holds each of the scene's objects once
     if objects == 0:
-        return best, best_t, r, g, b
+        return NearestHit(best, best_t, r, g, b)
     i0, i1, i2 = 1.0 / d0, 1.0 / d1, 1.0 / d2  # ±inf along an axis the ray does not move
     lower, upper = tree.lower, tree.upper
     nodes, nears = stack
@@ -64,7 +76,7 @@ def nearest_hit(arrays, tree, stack, o0, o1, o2, d0, d1, d2, t_max, any_blocker=
     else:
         entered, near = enters(o0, o1, o2, i0, i1, i2, lower, upper, 0, t_max)
         if not entered:
-            return best, best_t, r, g, b
+            return NearestHit(best, best_t, r, g, b)
         nodes[0], nears[0] = 0, near
     top = 1
     while top > 0:  # each node on the stack was entered, at nears[top]
@@ -97,15 +109,15 @@ def nearest_hit(arrays, tree, stack, o0, o1, o2, d0, d1, d2, t_max, any_blocker=
                     top += 1
                 continue
             first, count = tree.first[node], tree.count[node]
-        # one call site for offer: a second loop for DIRECT_HITS rendered mirror_balls a little
-        # faster, but cost more to compile than it saved
+        # one call site for keep_nearer: a second loop for DIRECT_HITS rendered mirror_balls a
+        # little faster, but cost more to compile than it saved
         for k in range(first, first + count):
-            best, best_t, r, g, b = offer(
+            best, best_t, r, g, b = keep_nearer(
                 arrays, tree.order[k], o0, o1, o2, d0, d1, d2, best, best_t, r, g, b
             )
             if any_blocker and best_t < t_max:
-                return best, best_t, r, g, b
-    return best, best_t, r, g, b
+                return NearestHit(best, best_t, r, g, b)
+    return NearestHit(best, best_t, r, g, b)
 
 
 @njit(**MAKES_ARRAYS)

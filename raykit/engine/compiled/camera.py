@@ -12,7 +12,7 @@ from raykit.scene import Scene
 
 
 @njit(**ONE_RAY)
-def viewing_ray(camera, x, y):
+def rays_through(camera, x, y):
     """Repeats :func:`raykit.camera.rays_through` for one image point (x, y): ``(o0, o1, o2,
     d0, d1, d2)``. ``camera`` is the eye e, u, v, w, then -Wp/2, Wp/width, Hp/2, Hp/height, d
     and whether it is orthographic (1.0) or not (0.0), as 18 numbers: :func:`camera_tuple`."""
@@ -33,7 +33,7 @@ def viewing_ray(camera, x, y):
 
 def camera_tuple(scene: Scene) -> tuple:
     """The camera's numbers as :func:`rays_through` computes them, as plain floats (a tuple of
-    numbers, not arrays, so that a loop of :func:`viewing_ray` keeps them in registers)."""
+    numbers, not arrays, so that a loop of :func:`rays_through` keeps them in registers)."""
     camera = scene.camera
     u, v, w = camera.frame
     Wp, Hp = camera.plane_size

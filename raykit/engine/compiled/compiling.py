@@ -6,20 +6,24 @@ needs it, with the kernels it calls, each once, and cached on disk by itself; a 
 per ray is inlined into those, by LLVM (``ONE_RAY``) or by numba (``INLINED``). So a flat
 scene compiles only the flat scene's kernels (:func:`raykit.engine.compiled.driver.trace_flat`
 names no shading kernel), a lit scene adds its own, and a scene with mirrors its mirror rays
-(:func:`raykit.engine.compiled.mirrors.mirror_rays`).
+(:func:`raykit.engine.compiled.shading.mirror_rays`).
 
-The cache lives in a folder named after a hash of the package's sources and its folder
-(:func:`raykit.engine.choice.cache_folder`): editing a kernel makes a new folder, so no kernel
-compiled from older source is ever served (numba keeps no account of which kernels a cached
-kernel calls). numba writes each kernel's files whole (a temporary file, then a rename), so
-a compile stopped part way, by Ctrl-C or otherwise, leaves the kernels it finished, usable,
+The cache lives in a folder named after a hash of the package's sources, its folder, and the
+reference modules the kernels repeat or read a constant of
+(:func:`raykit.engine.choice.cache_folder`, from the twin table, :mod:`.twins`): editing a
+kernel, or a constant it freezes, makes a new folder, so no kernel compiled from older source
+is ever served (numba keeps no account of which kernels a cached kernel calls, nor of the
+globals it froze). numba writes each kernel's files whole (a temporary file, then a rename),
+so a compile stopped part way, by Ctrl-C or otherwise, leaves the kernels it finished, usable,
 and the next run compiles the rest. A marker per entry point (:func:`finished`) says that one
 render compiled everything it needs: :func:`marked` and
 :func:`raykit.engine.choice.compiled_once` read it.
 
-While a render compiles, a progress line names the kernel at hand and how much is left, by
-the seconds each kernel took when ``python benchmarks/compile_time.py`` last measured them
-(``compile_seconds.json``, written by that command), scaled to this machine's pace so far.
+While a render compiles, a progress line on a terminal names the kernel at hand and how much
+is left, by the seconds each kernel took when ``python benchmarks/compile_time.py`` last
+measured them (``compile_seconds.json``, written by that command), scaled to this machine's
+pace so far; off a terminal (a CI log, a redirected file), one line says the compile started
+and one that it ended, how long it took and which kernels it compiled.
 """
 
 from __future__ import annotations
@@ -30,19 +34,20 @@ import threading
 import time
 from contextlib import contextmanager
 from pathlib import Path
+from typing import TextIO
 
 import numba
 from numba.core import event
 
 from raykit.engine.choice import cache_folder, marker
 
-CACHE = cache_folder()  # keyed on the package's source and where it is
+CACHE = cache_folder()  # keyed on the sources the kernels are made from, and where they are
 numba.config.CACHE_DIR = str(CACHE) if CACHE is not None else ""  # read as kernels are made
 # a kernel that makes arrays: cached on disk; x / 0 gives inf as numpy does; no GIL held
 MAKES_ARRAYS = dict(cache=CACHE is not None, error_model="numpy", nogil=True)
 # every other kernel: the same, without reference counts (numba's _nrt=False). It only reads
 # and writes arrays its caller holds, and counting each array in and out of every call, on
-# counters that both cores share, cost more than most kernels' arithmetic (measured, with
+# counters that every worker shares, cost more than most kernels' arithmetic (measured, with
 # benchmarks/compile_time.py's renders against the engine of one inlined loop)
 KERNEL = dict(MAKES_ARRAYS, _nrt=False)
 # a kernel run once per ray, or per object a ray meets, must not stay a call in the loops: a
@@ -52,7 +57,7 @@ KERNEL = dict(MAKES_ARRAYS, _nrt=False)
 # is left in the kernels a render runs: benchmarks/compile_time.py checks). numba's own
 # inlining (INLINED) copies the kernel and types it anew at each place it is called, which was
 # most of the compile: it is kept for those LLVM leaves as calls, the large ones (nearest_hit,
-# offer, primary_ray, surface_color, bounce_on) and the box tests (enters, box_apart,
+# keep_nearer, primary_ray, surface_color, bounce_on) and the box tests (enters, box_apart,
 # sphere_apart)
 ONE_RAY = KERNEL
 INLINED = dict(KERNEL, inline="always")
@@ -79,9 +84,10 @@ class CompileClock(event.Listener):
     (:meth:`progress`), and the time left (:meth:`seconds_left`). A kernel credited only as
     it ended made the line jump from a few seconds left to many minutes and back."""
 
-    def __init__(self, entry: str, show: bool):
+    def __init__(self, entry: str, show: bool, stream: TextIO | None = None):
         self.expected = measured_seconds().get(entry, {})
         self.show = show
+        self.stream = stream  # None: standard error
         self.own: dict[str, float] = {}
         self.open: list[list] = []  # [name, started, seconds of its callees' compiles]
         self.bar = None
@@ -94,7 +100,7 @@ class CompileClock(event.Listener):
         if self.started is None:
             self.started = time.perf_counter()
         if self.show and self.bar is None:
-            self.bar = _progress_line(self.total)
+            self.bar = _progress_line(self.total, self.stream)
         self.open.append([name, time.perf_counter(), 0.0])
         self._show()
         self._stop_if_interrupted()
@@ -157,6 +163,14 @@ class CompileClock(event.Listener):
             self.bar.set_postfix_str(f"~{self.bar.format_interval(0)} left", refresh=False)
             self.bar.refresh()
 
+    def close(self) -> None:
+        """The line's end: off a terminal, the one line that says how long the compile took and
+        which of the package's kernels it compiled."""
+        if isinstance(self.bar, LogLine):
+            self.bar.close(f"{len(self.own)} kernels: {', '.join(self.own)}")
+        elif self.bar is not None:
+            self.bar.close()
+
     def _show(self) -> None:
         """The innermost of the package's kernels being compiled, and the progress, on the
         progress line."""
@@ -180,18 +194,80 @@ def _kernel_name(ev) -> str | None:
     return function.__name__ if function.__module__.startswith(__package__) else None
 
 
-def _progress_line(total: float):
-    from tqdm import tqdm
-
+def _progress_line(total: float, stream: TextIO | None = None):
+    """The compile's progress line (:func:`moving_line`): on a terminal, a bar that moves; in a
+    log, a line at the start and one at the end."""
     known = "{desc} {percentage:3.0f}%|{bar:20}| [{elapsed}{postfix}]"  # postfix: ", ~0:42 left"
-    return tqdm(  # with no table of seconds: what it compiles, and how long so far
-        total=round(total, 1) if total > 0 else None,
-        desc=MESSAGE,
+    return moving_line(  # with no table of seconds: what it compiles, and how long so far
+        MESSAGE,
+        round(total, 1) if total > 0 else None,
+        stream,
         unit="s",
-        file=sys.stderr,
         bar_format=known if total > 0 else "{desc} [{elapsed}]",
         leave=True,
     )
+
+
+class LogLine:
+    """A progress line for a log, with the part of tqdm's interface that :class:`CompileClock`
+    uses (``n``, ``total``, ``set_description_str``, ``set_postfix_str``, ``refresh``,
+    ``format_interval``, ``close``): one line as it is made, one as it is closed (how long the
+    work took, and a summary), and nothing between. (Here, not beside the bars of
+    :mod:`raykit.io.progress`: the engine imports nothing of raykit.io, tests/test_layout.py.)"""
+
+    def __init__(self, description: str, total: float | None, stream: TextIO) -> None:
+        self.message, self.total, self.stream = description, total, stream
+        self.n: float = 0.0
+        self.started = time.perf_counter()
+        self.closed = False
+        about = f", about {self.format_interval(round(total))}" if total else ""
+        print(f"{description}: started{about}", file=stream, flush=True)
+
+    def set_description_str(self, text: str, refresh: bool = True) -> None:
+        """Nothing to show until the end."""
+
+    def set_postfix_str(self, text: str, refresh: bool = True) -> None:
+        """Nothing to show until the end."""
+
+    def refresh(self) -> None:
+        """Nothing to show until the end."""
+
+    @staticmethod
+    def format_interval(seconds: float) -> str:
+        """``seconds`` as tqdm writes them: mm:ss, or h:mm:ss."""
+        minutes, seconds = divmod(int(seconds), 60)
+        hours, minutes = divmod(minutes, 60)
+        return f"{hours}:{minutes:02d}:{seconds:02d}" if hours else f"{minutes:02d}:{seconds:02d}"
+
+    def close(self, summary: str = "") -> None:
+        """The line at the end, once: how long since the start, and ``summary``."""
+        if self.closed:
+            return
+        self.closed = True
+        took = self.format_interval(time.perf_counter() - self.started)
+        print(f"{self.message}: ended after {took}{summary and f' ({summary})'}",
+              file=self.stream, flush=True)  # fmt: skip
+
+
+def on_a_terminal(stream: TextIO) -> bool:
+    """Whether ``stream`` is an open terminal (a closed one, or one with no isatty, is not)."""
+    try:
+        return stream.isatty()
+    except (AttributeError, ValueError):
+        return False
+
+
+def moving_line(description: str, total: float | None, stream: TextIO | None = None, **options):
+    """A progress line for work that says it is under way wherever it runs: on a terminal
+    (``stream``, default stderr), a tqdm bar of ``total`` (None: unknown) that moves with
+    carriage returns, made with tqdm's ``options``; elsewhere (a CI log, a redirected file) a
+    :class:`LogLine`, a line at the start and one at the end."""
+    stream = sys.stderr if stream is None else stream
+    if not on_a_terminal(stream):
+        return LogLine(description, total, stream)
+    from tqdm import tqdm
+
+    return tqdm(total=total, desc=description, file=stream, **options)
 
 
 @contextmanager
@@ -231,8 +307,7 @@ def compile_clock(entry: str, show: bool = True):
         sys.unraisablehook = unraisable
         stop.set()
         ticker.join()
-        if clock.bar is not None:
-            clock.bar.close()
+        clock.close()
 
 
 def finished(entry: str, seconds: float) -> None:

@@ -1,6 +1,6 @@
 """Repeats :func:`raykit.render.render` and :mod:`raykit.engine.regions`: the lecture's loop
-over pixels, as jobs (a screen tile's pixels, or a row of points) that both cores take in turn,
-with :func:`trace_flat` for a flat scene and :func:`trace_lit` for a shaded one (two entry
+over pixels, as jobs (a screen tile's pixels, or a row of points) that numba's workers take in
+turn, with :func:`trace_flat` for a flat scene and :func:`trace_lit` for a shaded one (two entry
 points, so that a flat scene never compiles shading; and a shaded scene compiles mirror rays
 only if it has mirrors, :func:`_entry`); and :func:`raykit.render.cast` for any
 rays (:func:`cast_rays`, :func:`caster`). :func:`prepare` makes a scene ready once, and
@@ -31,7 +31,6 @@ from raykit.engine.compiled.compiling import (
     finished,
     marked,
 )
-from raykit.engine.compiled.mirrors import mirror_rays
 from raykit.engine.compiled.scene import (
     _NO_TREE,
     Arrays,
@@ -41,7 +40,13 @@ from raykit.engine.compiled.scene import (
     scene_shading,
     scene_tree,
 )
-from raykit.engine.compiled.shading import Lanes, light_lanes, new_lanes, surface_lanes
+from raykit.engine.compiled.shading import (
+    Lanes,
+    light_lanes,
+    mirror_rays,
+    new_lanes,
+    surface_lanes,
+)
 from raykit.engine.compiled.shadows import SHADOW_CANDIDATES, shadow_lists
 from raykit.engine.compiled.tiles import (
     HOLDING_CHUNK,
@@ -56,9 +61,9 @@ from raykit.scene import Scene
 from raykit.surfaces import OFFSET_FACTOR
 
 ROWS_PER_CALL = 32  # rows of pixels per kernel call when a progress bar is to move
-CHUNK = 256  # rays or pixels per parallel step: many per core, and one stack each
-GRAINS_PER_WORKER = 16  # takes of jobs per core: few enough that taking costs nothing, and
-# many enough that a core slowed by other work leaves little for the other to wait on
+CHUNK = 256  # rays or pixels per parallel step: many per worker, and one stack each
+GRAINS_PER_WORKER = 16  # takes of jobs per worker: few enough that taking costs nothing, and
+# many enough that a worker slowed by other work leaves little for the others to wait on
 
 
 @intrinsic
@@ -84,62 +89,94 @@ def cast_rays(arrays, tree, origins, directions, t_max):
         stack = new_stack()
         for i in range(chunk * CHUNK, min(count, (chunk + 1) * CHUNK)):
             o, d = origins[i], directions[i]
-            index[i], t[i], color[i, 0], color[i, 1], color[i, 2] = nearest_hit(
-                arrays, tree, stack, o[0], o[1], o[2], d[0], d[1], d[2], t_max[i]
-            )
+            hit = nearest_hit(arrays, tree, stack, o[0], o[1], o[2], d[0], d[1], d[2], t_max[i])
+            index[i], t[i] = hit.index, hit.t
+            color[i, 0], color[i, 1], color[i, 2] = hit.r, hit.g, hit.b
     return index, t, color
 
 
+class Film(NamedTuple):
+    """The image a call of :func:`trace_flat` or :func:`trace_lit` exposes: its ``width``, the
+    image points ``xs``, ``ys`` (empty: whole tiles' pixels, see :func:`trace_flat`), the sample
+    ``offsets (S, 2)`` and the ``centre`` sample (-1: a ray of its own), and where the results
+    go, ``rgb (P, 3)``, ``index`` and ``t (P,)``. The scene's arrays travel beside it, not in it:
+    a kernel called once a job is passed only what it reads (every array is a handful of numbers
+    at each call). Made inside the parallel loop, by each worker (:class:`Lanes` says why)."""
+
+    width: int
+    xs: np.ndarray
+    ys: np.ndarray
+    offsets: np.ndarray
+    centre: int
+    rgb: np.ndarray
+    index: np.ndarray
+    t: np.ndarray
+
+
+class TileJob(NamedTuple):
+    """One job of :func:`trace_flat` or :func:`trace_lit` (:func:`job_of`): ``rows`` x
+    ``across`` pixels, the upper-left one at (``left``, ``top``), in ``tile``; or (``tile``
+    -1) a row of image points from point ``first``, each in whichever tile holds it."""
+
+    first: int
+    rows: int
+    top: int
+    left: int
+    across: int
+    tile: int
+
+
 @njit(**ONE_RAY)
-def job_pixel(down, along, points, first, top, left, across, width, xs, ys):
-    """The pixel ``down`` rows and ``along`` columns into a job of :func:`trace_flat` or
-    :func:`trace_lit` (``across`` columns wide): ``(p, x, y)``, where its results go and its
-    upper-left corner. (Rows and columns, not a running count: an integer division per pixel
-    cost more than its ray.)"""
-    if points:
-        q = first + down * across + along
-        return q, xs[q], ys[q]
-    return (top + down) * width + left + along, float(left + along), float(top + down)
+def job_pixel(film, job, down, along):
+    """The pixel ``down`` rows and ``along`` columns into ``job`` (a :class:`TileJob`):
+    ``(p, x, y)``, where its results go and its upper-left corner. (Rows and columns, not a
+    running count: an integer division per pixel cost more than its ray.)"""
+    if len(film.xs):
+        q = job.first + down * job.across + along
+        return q, film.xs[q], film.ys[q]
+    top, left = job.top + down, job.left + along
+    return top * film.width + left, float(left), float(top)
 
 
 @njit(**KERNEL)
 def job_of(jobs, j, points, tiles, width, height):
-    """Job ``jobs[j]`` of :func:`trace_flat` or :func:`trace_lit`: ``(first, rows, top, left,
-    across, tile)``, its first point and ``rows`` x ``across`` pixels, in ``tile`` (-1: a row of
-    ``points``, each in whichever tile holds it), the upper-left one at (``left``, ``top``)."""
+    """Job ``jobs[j]`` of :func:`trace_flat` or :func:`trace_lit`, a :class:`TileJob`: a tile's
+    pixels, or a row of CHUNK of the ``points``."""
     if points:
         first = jobs[j] * CHUNK
-        return first, 1, 0, 0, min(CHUNK, points - first), -1
+        return TileJob(first, 1, 0, 0, min(CHUNK, points - first), -1)
     size = tiles.size
     tile = jobs[j]
     top = (tile // tiles.tiles_x) * size
     left = (tile % tiles.tiles_x) * size
-    return 0, min(size, height - top), top, left, min(size, width - left), tile
+    return TileJob(0, min(size, height - top), top, left, min(size, width - left), tile)
 
 
 @njit(**KERNEL)
-def background_job(empty, width, top, left, rows, across, rgb, index, t):
+def background_job(film, job, empty):
     """A tile that no object's screen rectangle meets: its pixels get ``empty (3,)``, index -1
     and t = inf, and no ray."""
-    for down in range(rows):
-        for along in range(across):
-            p = (top + down) * width + left + along
+    rgb, index, t = film.rgb, film.index, film.t
+    for down in range(job.rows):
+        for along in range(job.across):
+            p = (job.top + down) * film.width + job.left + along
             rgb[p, 0], rgb[p, 1], rgb[p, 2] = empty[0], empty[1], empty[2]
             index[p], t[p] = -1, np.inf
 
 
 @njit(**KERNEL)
-def job_points(points, first, rows, top, left, across, width, xs, ys, offsets, centre, xy):
+def job_points(film, job, xy):
     """Each of a job's rays' image points into ``xy (2, N)``: ray i is sample i % S of the
     job's pixel i // S; the rays through the pixel centres, if cast apart (``centre`` -1), come
     after all those. Returns how many rays."""
+    offsets = film.offsets
     samples = len(offsets)
-    pixels = rows * across
-    extra = 1 if centre < 0 else 0
-    for down in range(rows):
-        for along in range(across):
-            q = down * across + along
-            _, px, py = job_pixel(down, along, points, first, top, left, across, width, xs, ys)
+    pixels = job.rows * job.across
+    extra = 1 if film.centre < 0 else 0
+    for down in range(job.rows):
+        for along in range(job.across):
+            q = down * job.across + along
+            _, px, py = job_pixel(film, job, down, along)
             for sample in range(samples):  # offsets in [0, 1): the point stays in its tile
                 i = q * samples + sample
                 xy[0, i], xy[1, i] = px + offsets[sample, 0], py + offsets[sample, 1]
@@ -150,16 +187,17 @@ def job_points(points, first, rows, top, left, across, width, xs, ys, offsets, c
 
 
 @njit(**KERNEL)
-def pixel_means(points, first, rows, top, left, across, width, xs, ys, samples, centre, colors,
-                best, best_t, rgb, index, t):  # fmt: skip
+def pixel_means(film, job, colors, best, best_t):
     """Each of a job's pixels: the mean of its samples' ``colors (3, N)`` (laid out as
     :func:`job_points` lays out the rays) into ``rgb``, and the object index and t of the ray
     through its centre into ``index`` and ``t``."""
-    pixels = rows * across
-    for down in range(rows):
-        for along in range(across):
-            q = down * across + along
-            p, _, _ = job_pixel(down, along, points, first, top, left, across, width, xs, ys)
+    rgb, index, t, centre = film.rgb, film.index, film.t, film.centre
+    samples = len(film.offsets)
+    pixels = job.rows * job.across
+    for down in range(job.rows):
+        for along in range(job.across):
+            q = down * job.across + along
+            p, _, _ = job_pixel(film, job, down, along)
             r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
             for sample in range(samples):
                 i = q * samples + sample
@@ -243,68 +281,62 @@ def trace_flat(arrays, tiles, camera, width, height, jobs, workers, xs, ys, offs
       :func:`_mean_of_samples`), index -1 and t = inf, and no ray;
     * points (``xs``, ``ys (P,)``, the upper-left corners): ``jobs`` are CHUNKs of them.
 
-    One worker per core (``workers``: numba.get_num_threads()), each with its own room for a
+    One worker per numba thread (``workers``: numba.get_num_threads()), each with its own room for a
     job's rays (making it for each job cost more than a small tile's rays), takes the next
-    grain of jobs whenever it is free: a core slowed by other work takes fewer. Each job runs
+    grain of jobs whenever it is free: a worker slowed by other work takes fewer. Each job runs
     on one core, whole (:func:`flat_job`)."""
     points = len(xs)
     grain = max(1, len(jobs) // (workers * GRAINS_PER_WORKER))
     taken = np.zeros(1, dtype=np.int64)
     for _ in prange(workers):
         room = new_ray_room((CHUNK if points else tiles.size * tiles.size) * (len(offsets) + 1))
+        film = Film(width, xs, ys, offsets, centre, rgb, index, t)
         while True:
             first_job = take(taken, grain)
             if first_job >= len(jobs):
                 break
             for j in range(first_job, min(len(jobs), first_job + grain)):
-                first, rows, top, left, across, tile = job_of(jobs, j, points, tiles, width,
-                                                              height)  # fmt: skip
-                if points or tiles.start[tile] < tiles.start[tile + 1]:
-                    flat_job(arrays, tiles, camera, width, xs, ys, offsets, centre, rgb, index,
-                             t, first, rows, top, left, across, tile, room)  # fmt: skip
+                job = job_of(jobs, j, points, tiles, width, height)
+                if points or tiles.start[job.tile] < tiles.start[job.tile + 1]:
+                    flat_job(arrays, tiles, camera, film, job, room)
                 else:
-                    background_job(empty, width, top, left, rows, across, rgb, index, t)
+                    background_job(film, job, empty)
 
 
 @njit(**KERNEL)
-def flat_job(arrays, tiles, camera, width, xs, ys, offsets, centre, rgb, index, t, first, rows,
-             top, left, across, tile, room):  # fmt: skip
-    """One job of :func:`trace_flat`: its ``rows`` x ``across`` pixels (:func:`job_pixel`), all
-    in ``tile`` (-1: points, each in its own), with the worker's ``room`` (:func:`new_ray_room`).
-    One ray at a time, each colour goes straight into its pixel's sum and no ray is kept; in
-    packets, the rays are traced together (:func:`primary_rays`), then summed."""
-    xy, rays, best, best_t, colors = room.xy, room.rays, room.best, room.best_t, room.colors
-    made, alive, ts, holding = room.made, room.alive, room.ts, room.holding
-    points = len(xs)
+def flat_job(arrays, tiles, camera, film, job, room):
+    """One job of :func:`trace_flat` (a :class:`TileJob`) into ``film`` (:class:`Film`): its
+    pixels (:func:`job_pixel`), all in its tile (-1: points, each in its own), with the
+    worker's ``room`` (:func:`new_ray_room`). One ray at a time, each colour goes straight into
+    its pixel's sum and no ray is kept; in packets, the rays are traced together
+    (:func:`primary_rays`), then summed."""
+    offsets, rgb, index, t, centre = film.offsets, film.rgb, film.index, film.t, film.centre
     samples = len(offsets)
+    tile = job.tile
     if tile < 0 or not tiles.packets:
-        for down in range(rows):
-            for along in range(across):
-                p, px, py = job_pixel(down, along, points, first, top, left, across, width, xs, ys)
+        for down in range(job.rows):
+            for along in range(job.across):
+                p, px, py = job_pixel(film, job, down, along)
                 r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
                 for sample in range(samples):
                     x, y = px + offsets[sample, 0], py + offsets[sample, 1]
-                    _, hit, t_hit, r, g, b, _, _, _, _, _, _ = primary_ray(
-                        arrays, tiles, camera, x, y, tile, holding
-                    )
+                    hit = primary_ray(arrays, tiles, camera, x, y, tile, room.holding)
                     if sample == centre:
-                        index[p], t[p] = hit, t_hit
-                    r_sum += r
-                    g_sum += g
-                    b_sum += b
+                        index[p], t[p] = hit.index, hit.t
+                    r_sum += hit.r
+                    g_sum += hit.g
+                    b_sum += hit.b
                 rgb[p, 0] = r_sum / samples
                 rgb[p, 1] = g_sum / samples
                 rgb[p, 2] = b_sum / samples
                 if centre < 0:
-                    _, hit, t_hit, _, _, _, _, _, _, _, _, _ = primary_ray(
-                        arrays, tiles, camera, px + 0.5, py + 0.5, tile, holding
-                    )
-                    index[p], t[p] = hit, t_hit
+                    hit = primary_ray(arrays, tiles, camera, px + 0.5, py + 0.5, tile, room.holding)
+                    index[p], t[p] = hit.index, hit.t
         return
-    n = job_points(points, first, rows, top, left, across, width, xs, ys, offsets, centre, xy)
-    primary_rays(arrays, tiles, camera, tile, n, xy, rays, best, best_t, colors, made, alive, ts)
-    pixel_means(points, first, rows, top, left, across, width, xs, ys, samples, centre, colors,
-                best, best_t, rgb, index, t)  # fmt: skip
+    n = job_points(film, job, room.xy)
+    primary_rays(arrays, tiles, camera, tile, n, room.xy, room.rays, room.best, room.best_t,
+                 room.colors, room.made, room.alive, room.ts)  # fmt: skip
+    pixel_means(film, job, room.colors, room.best, room.best_t)
 
 
 @njit(parallel=True, **MAKES_ARRAYS)
@@ -319,50 +351,49 @@ def trace_lit(arrays, tiles, tree, shading, camera, bounces, width, height, jobs
     for _ in prange(workers):
         n = (CHUNK if points else tiles.size * tiles.size) * (len(offsets) + 1)
         room, shading_room = new_ray_room(n), new_shading_room(n, shading)
+        film = Film(width, xs, ys, offsets, centre, rgb, index, t)
         while True:
             first_job = take(taken, grain)
             if first_job >= len(jobs):
                 break
             for j in range(first_job, min(len(jobs), first_job + grain)):
-                first, rows, top, left, across, tile = job_of(jobs, j, points, tiles, width,
-                                                              height)  # fmt: skip
-                if points or tiles.start[tile] < tiles.start[tile + 1]:
-                    lit_job(arrays, tiles, tree, shading, camera, bounces, width, xs, ys, offsets,
-                            centre, rgb, index, t, first, rows, top, left, across, tile,
-                            room, shading_room)  # fmt: skip
+                job = job_of(jobs, j, points, tiles, width, height)
+                if points or tiles.start[job.tile] < tiles.start[job.tile + 1]:
+                    lit_job(arrays, tiles, tree, shading, camera, bounces, film, job, room,
+                            shading_room)  # fmt: skip
                 else:
-                    background_job(empty, width, top, left, rows, across, rgb, index, t)
+                    background_job(film, job, empty)
 
 
 @njit(**KERNEL)
-def lit_job(arrays, tiles, tree, shading, camera, bounces, width, xs, ys, offsets, centre, rgb,
-            index, t, first, rows, top, left, across, tile, room, shading_room):  # fmt: skip
-    """One job of :func:`trace_lit`, with the worker's ``room`` (:class:`RayRoom`) and
-    ``shading_room`` (:class:`ShadingRoom`): all its viewing rays' hits first, then each light's
-    :func:`shadow_lists` for the box their surface points lie in, each light for all the
-    points at once (:func:`surface_lanes`, :func:`light_lanes`), then, in a scene with mirrors
-    (``bounces`` True, not None: see :func:`_entry`), their rays (:func:`mirror_rays`), and the
-    pixels' means (:func:`pixel_means`)."""
+def lit_job(arrays, tiles, tree, shading, camera, bounces, film, job, room, shading_room):
+    """One job of :func:`trace_lit` (a :class:`TileJob`), with the worker's ``room``
+    (:class:`RayRoom`) and ``shading_room`` (:class:`ShadingRoom`): all its viewing rays' hits
+    first, then each light's :func:`shadow_lists` for the box their surface points lie in, each
+    light for all the points at once (:func:`surface_lanes`, :func:`light_lanes`), then, in a
+    scene with mirrors (``bounces`` True, not None: see :func:`_entry`), their rays
+    (:func:`mirror_rays`), and the pixels' means (:func:`pixel_means`) into ``film``
+    (:class:`Film`). ``bounces`` is an argument of its own, not a field of a tuple: numba drops
+    the branch it decides only for an argument's type."""
+    tile = job.tile
     xy, rays, best, best_t, colors = room.xy, room.rays, room.best, room.best_t, room.colors
-    made, alive, ts, holding = room.made, room.alive, room.ts, room.holding
+    made, holding = room.made, room.holding
     stack, box, volume, lanes = (
         shading_room.stack, shading_room.box, shading_room.volume, shading_room.lanes
     )  # fmt: skip
     candidates, counts = shading_room.candidates, shading_room.counts
-    points = len(xs)
-    samples = len(offsets)
-    n = job_points(points, first, rows, top, left, across, width, xs, ys, offsets, centre, xy)
+    n = job_points(film, job, xy)
     if tile >= 0 and tiles.packets:
-        primary_rays(
-            arrays, tiles, camera, tile, n, xy, rays, best, best_t, colors, made, alive, ts
-        )
+        primary_rays(arrays, tiles, camera, tile, n, xy, rays, best, best_t, colors, made,
+                     room.alive, room.ts)  # fmt: skip
     else:
         for i in range(n):
-            made[i], best[i], best_t[i], colors[0, i], colors[1, i], colors[2, i], rays[0, i], \
-                rays[1, i], rays[2, i], rays[3, i], rays[4, i], rays[5, i] = primary_ray(
-                    arrays, tiles, camera, xy[0, i], xy[1, i], tile, holding
-                )  # fmt: skip
-    shaded = rows * across * samples
+            hit = primary_ray(arrays, tiles, camera, xy[0, i], xy[1, i], tile, holding)
+            made[i], best[i], best_t[i] = hit.made, hit.index, hit.t
+            colors[0, i], colors[1, i], colors[2, i] = hit.r, hit.g, hit.b
+            rays[0, i], rays[1, i], rays[2, i] = hit.o0, hit.o1, hit.o2
+            rays[3, i], rays[4, i], rays[5, i] = hit.d0, hit.d1, hit.d2
+    shaded = job.rows * job.across * len(film.offsets)
     largest = surface_lanes(arrays, shading, rays, best, best_t, colors, shaded, lanes, box)
     if shading.shadows:
         # shadow rays start off the surface by OFFSET_FACTOR x error x |n|, and |n| < 2 but
@@ -372,7 +403,7 @@ def lit_job(arrays, tiles, tree, shading, camera, bounces, width, xs, ys, offset
     if shading.lit:
         light_lanes(arrays, tree, shading, stack, rays, best, shaded, lanes, candidates, counts)
     total = lanes.total
-    for i in range(shaded):  # as shade_ray weighs them: 1 x the colour, added to nothing
+    for i in range(shaded):  # as shade weighs them: 1 x the colour, added to nothing
         if not made[i]:
             continue
         if best[i] < 0:  # the background
@@ -382,8 +413,7 @@ def lit_job(arrays, tiles, tree, shading, camera, bounces, width, xs, ys, offset
         colors[0, i], colors[1, i], colors[2, i] = 0.0 + 1.0 * c0, 0.0 + 1.0 * c1, 0.0 + 1.0 * c2
     if bounces is not None:  # None in a scene with no mirror: this branch is not compiled
         mirror_rays(arrays, tree, shading, stack, lanes, rays, best, made, shaded, colors)
-    pixel_means(points, first, rows, top, left, across, width, xs, ys, samples, centre, colors,
-                best, best_t, rgb, index, t)  # fmt: skip
+    pixel_means(film, job, colors, best, best_t)
 
 
 def caster(scene: Scene, arrays: Arrays | None = None) -> Callable[..., Hits]:
@@ -441,13 +471,13 @@ def render(scene: Scene | Prepared, samples: int = 1, *, adaptive: bool = False,
     width, height = scene.camera.width, scene.camera.height
     centre = centre_sample(n)
     empty = _mean_of_samples(arrays.background, len(offsets))
-    rgb = np.empty((height * width, 3))  # first written by both cores: faster than by numpy
+    rgb = np.empty((height * width, 3))  # first written by the workers: faster than by numpy
     index = np.empty(height * width, dtype=np.int64)
     t = np.empty(height * width)
     tiles_x, size = tiles.tiles_x, tiles.size
     tile_count = -(-height // size) * tiles_x
     # tiles per kernel call: bands of rows for a progress bar, else all at once (each call
-    # starts both cores anew, and waits for the slower)
+    # starts every worker anew, and waits for the slowest)
     band = max(1, ROWS_PER_CALL // size) * tiles_x if progress is not None else tile_count
     nothing = np.zeros(0)
     for first in range(0, tile_count, band):

@@ -1,6 +1,8 @@
 """Repeats :mod:`raykit.shading`: a surface's colour under the lights, for one ray
 (:func:`surface_color`) and for a job's rays in lanes (:func:`surface_lanes`,
-:func:`light_lanes`), side by side, the same operations in the same order for each ray."""
+:func:`light_lanes`), side by side, the same operations in the same order for each ray; and
+mirror bounces up to max_depth (:func:`shade`, :func:`bounce_on`, :func:`mirror_rays`), each
+surface's colour weighted by the mirrors' km on the way."""
 
 from __future__ import annotations
 
@@ -10,30 +12,37 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from raykit.engine.compiled.billboards import billboard_color, hit_billboard
+from raykit.engine.compiled.billboards import billboard_color_at, hit_billboard
 from raykit.engine.compiled.bvh import nearest_hit
 from raykit.engine.compiled.compiling import INLINED, KERNEL, MAKES_ARRAYS, ONE_RAY
 from raykit.engine.compiled.lights import toward_point_light
+from raykit.engine.compiled.mirrors import reflect
 from raykit.engine.compiled.shadows import point_light_reach
 from raykit.engine.compiled.spheres import hit_sphere
-from raykit.engine.compiled.surfaces import off_surface, surface_point
+from raykit.engine.compiled.surfaces import start, surface_points
 
 
 @njit(**ONE_RAY)
-def highlight(n0, n1, n2, l0, l1, l2, d0, d1, d2, p):
-    """Repeats the power in :func:`raykit.shading.blinn_phong`, max(0, n·h)^p with
-    h = (l + v)/|l + v| and v = -d, or -1.0 where l + v = 0 (no highlight, as
-    :func:`raykit.shading.surface_color` says). The one operation that may differ from the
-    reference: the power is the C library's pow here and numpy's own (vectorised) power there;
-    they differ by at most one unit in the last place, on a few per cent of highlight points
-    (measured), which no 8-bit pixel shows (tests/test_compiled.py bounds it)."""
-    v0, v1, v2 = -d0, -d1, -d2
-    if not (l0 + v0 != 0 or l1 + v1 != 0 or l2 + v2 != 0):
-        return -1.0
+def lambert(k0, k1, k2, I0, I1, I2, n_dot_l):
+    """Repeats :func:`raykit.shading.lambert` for one point: kd·I·max(0, n·l), given n·l (which
+    its caller has computed already, to know whether the light faces the point)."""
+    facing = 0.0 if n_dot_l <= 0 else n_dot_l  # np.maximum(0.0, n·l), NaN kept
+    return k0 * I0 * facing, k1 * I1 * facing, k2 * I2 * facing
+
+
+@njit(**ONE_RAY)
+def blinn_phong(ks0, ks1, ks2, I0, I1, I2, n0, n1, n2, l0, l1, l2, v0, v1, v2, p):
+    """Repeats :func:`raykit.shading.blinn_phong` for one point: ks·I·max(0, n·h)^p with
+    h = (l + v)/|l + v| (the caller leaves out l + v = 0, as :func:`raykit.shading.surface_color`
+    does). The one operation that may differ from the reference: the power is the C library's
+    pow here and numpy's own (vectorised) power there; they differ by at most one unit in the
+    last place, on a few per cent of highlight points, which no 8-bit pixel shows
+    (tests/compiled/test_shading.py bounds it)."""
     h0, h1, h2 = l0 + v0, l1 + v1, l2 + v2
     length = math.sqrt(h0 * h0 + h1 * h1 + h2 * h2)
     n_dot_h = n0 * (h0 / length) + n1 * (h1 / length) + n2 * (h2 / length)
-    return (n_dot_h if n_dot_h > 0 else 0.0) ** p
+    power = (n_dot_h if n_dot_h > 0 else 0.0) ** p
+    return ks0 * I0 * power, ks1 * I1 * power, ks2 * I2 * power
 
 
 @njit(**INLINED)
@@ -42,7 +51,7 @@ def surface_color(
 ):
     """Repeats :func:`raykit.shading.surface_color` for one hit: object ``hit`` at point p
     with unit normal n, seen along d, its flat colour (r, g, b); ``error`` is the point's
-    rounding bound (:func:`surface_point`). Shadow rays (:mod:`raykit.shadows`) walk the tree.
+    rounding bound (:func:`surface_points`). Shadow rays (:mod:`raykit.shadows`) walk the tree.
     A tile's viewing rays are shaded in lanes instead (:func:`light_lanes`), the same
     operations in the same order for each."""
     if not shading.lit:
@@ -64,30 +73,27 @@ def surface_color(
         if not n_dot_l > 0:
             continue
         if shading.shadows:  # raykit.shadows.light_reach and in_shadow
-            s0, s1, s2 = off_surface(p0, p1, p2, n0, n1, n2, error)
+            s0, s1, s2 = start(p0, p1, p2, n0, n1, n2, error, l0, l1, l2)
             reach = point_light_reach(v0, v1, v2, s0, s1, s2) if shading.point_light[j] else np.inf
-            _, blocker, _, _, _ = nearest_hit(
-                arrays, tree, stack, s0, s1, s2, l0, l1, l2, reach, True
-            )
-            if blocker < reach:
+            blocker = nearest_hit(arrays, tree, stack, s0, s1, s2, l0, l1, l2, reach, True)
+            if blocker.t < reach:
                 continue
-        total0 += k0 * intensity[j, 0] * n_dot_l  # raykit.shading.lambert
-        total1 += k1 * intensity[j, 1] * n_dot_l
-        total2 += k2 * intensity[j, 2] * n_dot_l
-        if shading.is_shiny[hit]:
-            power = highlight(n0, n1, n2, l0, l1, l2, d0, d1, d2, shading.shininess[hit])
-            if power >= 0:  # raykit.shading.blinn_phong
-                ks = shading.specular
-                total0 += ks[hit, 0] * intensity[j, 0] * power
-                total1 += ks[hit, 1] * intensity[j, 1] * power
-                total2 += ks[hit, 2] * intensity[j, 2] * power
+        I0, I1, I2 = intensity[j, 0], intensity[j, 1], intensity[j, 2]
+        a0, a1, a2 = lambert(k0, k1, k2, I0, I1, I2, n_dot_l)
+        total0, total1, total2 = total0 + a0, total1 + a1, total2 + a2
+        v0, v1, v2 = -d0, -d1, -d2
+        if shading.is_shiny[hit] and (l0 + v0 != 0 or l1 + v1 != 0 or l2 + v2 != 0):
+            ks = shading.specular  # no highlight where l + v = 0, as the reference leaves it
+            s0, s1, s2 = blinn_phong(ks[hit, 0], ks[hit, 1], ks[hit, 2], I0, I1, I2, n0, n1, n2,
+                                     l0, l1, l2, v0, v1, v2, shading.shininess[hit])  # fmt: skip
+            total0, total1, total2 = total0 + s0, total1 + s1, total2 + s2
     return total0, total1, total2
 
 
 class Lanes(NamedTuple):
     """Room for shading a job's N viewing rays in lanes (:func:`surface_lanes`,
     :func:`light_lanes`), a column per ray: the surface point ``p (3, N)``, its normal ``n (3,
-    N)`` and rounding bound ``error (N,)`` (:func:`surface_point`), the colour k that light
+    N)`` and rounding bound ``error (N,)`` (:func:`surface_points`), the colour k that light
     scales ``k (3, N)`` and the colour so far ``total (3, N)``; toward the light at hand, ``l
     (3, N)``, ``n_dot_l (N,)``, the shadow ray's start ``s (3, N)`` and ``reach (N,)``, room
     ``t (N,)``, and whether the light reaches the point, ``lit (N,)``. Each worker makes its
@@ -120,7 +126,7 @@ def new_lanes(count):
 def surface_lanes(arrays, shading, rays, best, best_t, colors, count, lanes, box):
     """The first part of :func:`surface_color` for each of ``count`` viewing rays ``rays (6,
     N)`` (origins, then directions) with a hit (``best`` >= 0, at ``best_t``; flat colours
-    ``colors (3, N)``): its surface point, normal and rounding bound (:func:`surface_point`),
+    ``colors (3, N)``): its surface point, normal and rounding bound (:func:`surface_points`),
     k and the ambient term (in an unlit scene, the flat colour), into ``lanes``; and the box
     of the points into ``box (2, 3)`` (empty: lower > upper). Returns the largest rounding
     bound."""
@@ -135,7 +141,7 @@ def surface_lanes(arrays, shading, rays, best, best_t, colors, count, lanes, box
                 p[row, i], n[row, i] = 0.0, 0.0
             error_of[i] = 0.0
             continue
-        p0, p1, p2, n0, n1, n2, error = surface_point(
+        p0, p1, p2, n0, n1, n2, error = surface_points(
             arrays, shading, rays[0, i], rays[1, i], rays[2, i], rays[3, i], rays[4, i],
             rays[5, i], hit, best_t[i],
         )  # fmt: skip
@@ -168,11 +174,11 @@ def light_lanes(arrays, tree, shading, stack, rays, best, count, lanes, candidat
     N)``, light by light, each step for all points at once: l and n·l; whether the light
     reaches the point (its shadow ray, against light j's ``candidates[j, :counts[j]]``
     (:func:`shadow_lists`), or walking the tree where counts[j] is -1); the Lambert term; the
-    highlight. Each point's operations are :func:`surface_color`'s, in its order, so its bits
-    are the same; a step that is the same for every point (l, n·l, the start of a shadow ray,
-    a sphere or a billboard's plane tested against every shadow ray, the Lambert term, kept or
-    not) is one loop the compiler turns into vector instructions, 4 points at a time with
-    AVX2 or AVX-512. A point with no hit or facing away from the light takes nothing from them."""
+    highlight. Each point's operations are :func:`surface_color`'s, in its order, so its bits are
+    the same; a step that is the same for every point (l, n·l, the start of a shadow ray, a sphere
+    or a billboard's plane tested against every shadow ray, the Lambert term, kept or not) is one
+    loop the compiler turns into vector instructions, as many points at a time as the processor's
+    vectors hold. A point with no hit or facing away from the light takes nothing from them."""
     spheres = len(arrays.radii)
     centers, radii, corners, planes = arrays.centers, arrays.radii, arrays.corners, arrays.n
     p, n, error, k, total = lanes.p, lanes.n, lanes.error, lanes.k, lanes.total
@@ -184,16 +190,18 @@ def light_lanes(arrays, tree, shading, stack, rays, best, count, lanes, candidat
             for i in range(count):
                 l[0, i], l[1, i], l[2, i] = toward_point_light(v0, v1, v2, p[0, i], p[1, i],
                                                                p[2, i])  # fmt: skip
-                s[0, i], s[1, i], s[2, i] = off_surface(
-                    p[0, i], p[1, i], p[2, i], n[0, i], n[1, i], n[2, i], error[i]
-                )
+                s[0, i], s[1, i], s[2, i] = start(
+                    p[0, i], p[1, i], p[2, i], n[0, i], n[1, i], n[2, i], error[i], l[0, i],
+                    l[1, i], l[2, i],
+                )  # fmt: skip
                 reach[i] = point_light_reach(v0, v1, v2, s[0, i], s[1, i], s[2, i])
         else:
             for i in range(count):
                 l[0, i], l[1, i], l[2, i] = v0, v1, v2
-                s[0, i], s[1, i], s[2, i] = off_surface(
-                    p[0, i], p[1, i], p[2, i], n[0, i], n[1, i], n[2, i], error[i]
-                )
+                s[0, i], s[1, i], s[2, i] = start(
+                    p[0, i], p[1, i], p[2, i], n[0, i], n[1, i], n[2, i], error[i], l[0, i],
+                    l[1, i], l[2, i],
+                )  # fmt: skip
                 reach[i] = np.inf
         for i in range(count):
             n_dot_l[i] = n[0, i] * l[0, i] + n[1, i] * l[1, i] + n[2, i] * l[2, i]
@@ -201,11 +209,11 @@ def light_lanes(arrays, tree, shading, stack, rays, best, count, lanes, candidat
         if shading.shadows and counts[j] < 0:  # raykit.shadows.in_shadow, through the tree
             for i in range(count):
                 if lit[i]:
-                    _, blocker, _, _, _ = nearest_hit(
+                    blocker = nearest_hit(
                         arrays, tree, stack, s[0, i], s[1, i], s[2, i], l[0, i], l[1, i],
                         l[2, i], reach[i], True,
                     )  # fmt: skip
-                    lit[i] = not blocker < reach[i]
+                    lit[i] = not blocker.t < reach[i]
         elif shading.shadows:  # against the list: a point is dark if any opaque hit is nearer
             for m in range(counts[j]):  # than the light, whichever is nearest
                 obj = candidates[j, m]
@@ -232,24 +240,88 @@ def light_lanes(arrays, tree, shading, stack, rays, best, count, lanes, candidat
                         t_hit, alpha, beta = hit_billboard(
                             s[0, i], s[1, i], s[2, i], l[0, i], l[1, i], l[2, i], arrays, board
                         )
-                        if t_hit < reach[i] and billboard_color(arrays, board, alpha, beta)[3]:
+                        if t_hit < reach[i] and billboard_color_at(arrays, board, alpha, beta)[3]:
                             lit[i] = False
         I0, I1, I2 = intensity[j, 0], intensity[j, 1], intensity[j, 2]
-        for i in range(count):  # raykit.shading.lambert, where the light reaches
-            sum0 = total[0, i] + k[0, i] * I0 * n_dot_l[i]
-            sum1 = total[1, i] + k[1, i] * I1 * n_dot_l[i]
-            sum2 = total[2, i] + k[2, i] * I2 * n_dot_l[i]
+        for i in range(count):  # where the light reaches
+            a0, a1, a2 = lambert(k[0, i], k[1, i], k[2, i], I0, I1, I2, n_dot_l[i])
+            sum0, sum1, sum2 = total[0, i] + a0, total[1, i] + a1, total[2, i] + a2
             total[0, i] = sum0 if lit[i] else total[0, i]
             total[1, i] = sum1 if lit[i] else total[1, i]
             total[2, i] = sum2 if lit[i] else total[2, i]
-        for i in range(count):  # raykit.shading.blinn_phong
+        for i in range(count):  # the highlight
             hit = best[i]
             if not lit[i] or not shading.is_shiny[hit]:
                 continue
-            power = highlight(n[0, i], n[1, i], n[2, i], l[0, i], l[1, i], l[2, i], rays[3, i],
-                              rays[4, i], rays[5, i], shading.shininess[hit])  # fmt: skip
-            if power >= 0:
+            v0, v1, v2 = -rays[3, i], -rays[4, i], -rays[5, i]
+            if l[0, i] + v0 != 0 or l[1, i] + v1 != 0 or l[2, i] + v2 != 0:
                 ks = shading.specular
-                total[0, i] += ks[hit, 0] * I0 * power
-                total[1, i] += ks[hit, 1] * I1 * power
-                total[2, i] += ks[hit, 2] * I2 * power
+                s0, s1, s2 = blinn_phong(
+                    ks[hit, 0], ks[hit, 1], ks[hit, 2], I0, I1, I2, n[0, i], n[1, i], n[2, i],
+                    l[0, i], l[1, i], l[2, i], v0, v1, v2, shading.shininess[hit],
+                )  # fmt: skip
+                total[0, i] += s0
+                total[1, i] += s1
+                total[2, i] += s2
+
+
+@njit(**INLINED)
+def bounce_on(arrays, tree, shading, stack, depth, hit, p0, p1, p2, n0, n1, n2, d0, d1, d2, error,
+              c0, c1, c2, w0, w1, w2):  # fmt: skip
+    """The rest of :func:`shade` after the surface at ``depth`` (object ``hit`` at p, normal
+    n, seen along d, rounding bound ``error``) has added its colour to the pixel's (c0, c1, c2):
+    mirror rays (:func:`raykit.engine.compiled.mirrors.reflect`, started off the surface,
+    :func:`raykit.engine.compiled.surfaces.start`) up to max_depth, each
+    surface's colour weighted by the mirrors' km on the way (w)."""
+    while depth < shading.max_depth and shading.is_mirror[hit]:
+        d0, d1, d2 = reflect(d0, d1, d2, n0, n1, n2)
+        o0, o1, o2 = start(p0, p1, p2, n0, n1, n2, error, d0, d1, d2)
+        km = shading.mirror
+        w0, w1, w2 = w0 * km[hit, 0], w1 * km[hit, 1], w2 * km[hit, 2]
+        found = nearest_hit(arrays, tree, stack, o0, o1, o2, d0, d1, d2, np.inf)
+        hit, t, r, g, b = found.index, found.t, found.r, found.g, found.b
+        depth += 1
+        if hit < 0:
+            return c0 + w0 * r, c1 + w1 * g, c2 + w2 * b  # the background
+        p0, p1, p2, n0, n1, n2, error = surface_points(arrays, shading, o0, o1, o2, d0, d1, d2,
+                                                      hit, t)  # fmt: skip
+        s0, s1, s2 = surface_color(
+            arrays, tree, shading, stack, hit, p0, p1, p2, n0, n1, n2, d0, d1, d2, error, r, g, b
+        )
+        c0, c1, c2 = c0 + w0 * s0, c1 + w1 * s1, c2 + w2 * s2
+    return c0, c1, c2
+
+
+@njit(**KERNEL)
+def mirror_rays(arrays, tree, shading, stack, lanes, rays, best, made, count, colors):
+    """The mirror rays of a job's ``count`` viewing rays ``rays (6, N)`` (origins, then
+    directions), each ray that ``made`` a hit on a mirror (object ``best``, at the surface
+    point of ``lanes``, :func:`surface_lanes`): :func:`bounce_on` from its colour so far,
+    ``colors (3, N)``, weighted 1, into which the result goes. Called once a job, and only for
+    a scene with mirrors: the rest of the engine compiles without it."""
+    point, normal, error = lanes.p, lanes.n, lanes.error
+    for i in range(count):
+        hit = best[i]
+        if not made[i] or hit < 0 or not shading.is_mirror[hit]:
+            continue
+        colors[0, i], colors[1, i], colors[2, i] = bounce_on(
+            arrays, tree, shading, stack, 0, hit, point[0, i], point[1, i], point[2, i],
+            normal[0, i], normal[1, i], normal[2, i], rays[3, i], rays[4, i], rays[5, i],
+            error[i], colors[0, i], colors[1, i], colors[2, i], 1.0, 1.0, 1.0,
+        )  # fmt: skip
+
+
+@njit(**KERNEL)
+def shade(arrays, tree, shading, stack, o0, o1, o2, d0, d1, d2, hit, t, r, g, b):
+    """Repeats :func:`raykit.shading.shade` for one viewing ray and its nearest hit: the surface
+    point (:func:`surface_points`), its colour (:func:`surface_color`), and mirror rays up to
+    max_depth (:func:`bounce_on`)."""
+    if hit < 0:
+        return 0.0 + 1.0 * r, 0.0 + 1.0 * g, 0.0 + 1.0 * b  # the background, weighted 1
+    p0, p1, p2, n0, n1, n2, error = surface_points(arrays, shading, o0, o1, o2, d0, d1, d2, hit, t)
+    s0, s1, s2 = surface_color(
+        arrays, tree, shading, stack, hit, p0, p1, p2, n0, n1, n2, d0, d1, d2, error, r, g, b
+    )
+    c0, c1, c2 = 0.0 + 1.0 * s0, 0.0 + 1.0 * s1, 0.0 + 1.0 * s2  # weighted 1, added to nothing
+    return bounce_on(arrays, tree, shading, stack, 0, hit, p0, p1, p2, n0, n1, n2, d0, d1, d2,
+                     error, c0, c1, c2, 1.0, 1.0, 1.0)  # fmt: skip

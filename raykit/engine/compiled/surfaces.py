@@ -13,7 +13,7 @@ EPS = float(np.finfo(np.float64).eps)  # the rounding unit of raykit.surfaces' e
 
 
 @njit(**ONE_RAY)
-def surface_point(arrays, shading, o0, o1, o2, d0, d1, d2, hit, t):
+def surface_points(arrays, shading, o0, o1, o2, d0, d1, d2, hit, t):
     """Repeats :func:`raykit.surfaces.surface_points` for one ray and its hit (object ``hit`` at
     ``t``): ``(p0, p1, p2, n0, n1, n2, error)``, the point p = o + t·d, the unit normal n on the
     side the ray arrives at, and the point's rounding bound."""
@@ -35,7 +35,10 @@ def surface_point(arrays, shading, o0, o1, o2, d0, d1, d2, hit, t):
 
 
 @njit(**ONE_RAY)
-def off_surface(p0, p1, p2, n0, n1, n2, error):
-    """Repeats :meth:`raykit.surfaces.SurfacePoints.start` for a ray leaving p on n's side."""
+def start(p0, p1, p2, n0, n1, n2, error, d0, d1, d2):
+    """Repeats :meth:`raykit.surfaces.SurfacePoints.start` for a ray leaving p along d: p moved
+    ε = OFFSET_FACTOR x ``error`` along n, to the side d leaves towards."""
+    side = 1.0 if n0 * d0 + n1 * d1 + n2 * d2 >= 0 else -1.0
     epsilon = OFFSET_FACTOR * error
-    return p0 + epsilon * n0, p1 + epsilon * n1, p2 + epsilon * n2
+    offset = side * epsilon
+    return p0 + offset * n0, p1 + offset * n1, p2 + offset * n2

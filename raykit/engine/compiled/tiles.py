@@ -9,9 +9,9 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from raykit.engine.compiled.camera import viewing_ray
+from raykit.engine.compiled.camera import rays_through
 from raykit.engine.compiled.compiling import INLINED, KERNEL, MAKES_ARRAYS
-from raykit.engine.compiled.hits import offer
+from raykit.engine.compiled.hits import keep_nearer
 from raykit.engine.compiled.scene import Arrays
 from raykit.engine.compiled.spheres import hit_sphere
 from raykit.engine.screen_bounds import scene_bounds
@@ -77,6 +77,26 @@ class Tiles(NamedTuple):
 HOLDING_CHUNK = 8  # entries of a tile's list that primary_ray checks at a time
 
 
+class ViewingHit(NamedTuple):
+    """:func:`primary_ray`'s answer for one viewing ray: whether the ray was ``made``, the
+    nearest hit's object ``index`` (-1: none), ``t`` and colour (``r``, ``g``, ``b``), and the
+    ray, origin (``o0``, ``o1``, ``o2``) and direction (``d0``, ``d1``, ``d2``), all 0 if not
+    made."""
+
+    made: bool
+    index: int
+    t: float
+    r: float
+    g: float
+    b: float
+    o0: float
+    o1: float
+    o2: float
+    d0: float
+    d1: float
+    d2: float
+
+
 @njit(**INLINED)
 def primary_ray(arrays, tiles, camera, x, y, tile, holding):
     """:func:`nearest_hit` for the viewing ray through image point (x, y), from the list of its
@@ -84,8 +104,8 @@ def primary_ray(arrays, tiles, camera, x, y, tile, holding):
     screen rectangle holds the point (as :meth:`raykit.engine.tiles.Region.holding` decides),
     nearest first, until the next can only be farther than the hit found. The ray is made at
     the first rectangle that holds the point: if none does, it would see the background, and is
-    not made at all (as in :meth:`raykit.engine.regions.Plan.viewing_rays`). Returns ``(made,
-    index, t, r, g, b, o0, o1, o2, d0, d1, d2)`` (the ray 0 if not made).
+    not made at all (as in :meth:`raykit.engine.regions.Plan.viewing_rays`). Returns a
+    :class:`ViewingHit`.
 
     The list is read HOLDING_CHUNK entries at a time: first which of them hold the point, into
     ``holding (HOLDING_CHUNK,)``, with no branch, then those in order. In a crowded picture an
@@ -95,7 +115,7 @@ def primary_ray(arrays, tiles, camera, x, y, tile, holding):
     is not NaN where the scene's numbers are finite (as :mod:`raykit.io` checks every scene
     file's), and the nearest hit only comes nearer, so an entry checked past the one a scan
     entry by entry stops at can only be farther than the hit, and is not offered either
-    (tests/test_compiled.py compares the two scans)."""
+    (tests/compiled/test_tiles.py compares the two scans)."""
     size, entries, objects = tiles.size, tiles.entries, tiles.objects
     background = arrays.background
     best, best_t = -1, np.inf
@@ -121,15 +141,15 @@ def primary_ray(arrays, tiles, camera, x, y, tile, holding):
             if entries[k, 4] > best_t:
                 break  # every object from here on is farther than the hit
             if not made:
-                o0, o1, o2, d0, d1, d2 = viewing_ray(camera, x, y)
+                o0, o1, o2, d0, d1, d2 = rays_through(camera, x, y)
                 made = True
-            best, best_t, r, g, b = offer(
+            best, best_t, r, g, b = keep_nearer(
                 arrays, objects[k], o0, o1, o2, d0, d1, d2, best, best_t, r, g, b
             )
         if entries[stop - 1, 4] > best_t:
             break
         first = stop
-    return made, best, best_t, r, g, b, o0, o1, o2, d0, d1, d2
+    return ViewingHit(made, best, best_t, r, g, b, o0, o1, o2, d0, d1, d2)
 
 
 @njit(**KERNEL)
@@ -139,17 +159,17 @@ def primary_rays(arrays, tiles, camera, tile, n, xy, rays, best, best_t, colors,
     points ``xy (2, L)`` in, ``rays (6, L)``, ``best (L,)``, ``best_t``, ``colors (3, L)``,
     ``made`` out; ``alive``, ``ts`` room). The tile's objects are taken in turn, and each is
     tested against every lane with one loop of :func:`hit_sphere` that the compiler turns into
-    vector instructions (4 lanes at a time, with AVX2 or AVX-512); masks then keep, for each
-    lane, only what :func:`primary_ray` would: a lane whose rectangle does not hold its point,
-    or that has stopped (its next object can only be farther than its hit), takes nothing from
-    the test. So each lane offers the same objects in the same order as :func:`primary_ray` and
-    gets the same bits; the other lanes' answers are computed and thrown away, which costs less
-    than a branch per ray when the tile's list is short. Billboards are offered lane by lane.
-    Every lane's ray is made (a lane that no rectangle holds is not ``made``, as in
-    :func:`primary_ray`, and its ray is not used)."""
+    vector instructions (as many lanes at a time as the processor's vectors hold); masks then
+    keep, for each lane, only what :func:`primary_ray` would: a lane whose rectangle does not
+    hold its point, or that has stopped (its next object can only be farther than its hit),
+    takes nothing from the test. So each lane offers the same objects in the same order as
+    :func:`primary_ray` and gets the same bits; the other lanes' answers are computed and thrown
+    away, which costs less than a branch per ray when the tile's list is short. Billboards are
+    offered lane by lane. Every lane's ray is made (a lane that no rectangle holds is not
+    ``made``, as in :func:`primary_ray`, and its ray is not used)."""
     background = arrays.background
     for i in range(n):
-        rays[0, i], rays[1, i], rays[2, i], rays[3, i], rays[4, i], rays[5, i] = viewing_ray(
+        rays[0, i], rays[1, i], rays[2, i], rays[3, i], rays[4, i], rays[5, i] = rays_through(
             camera, xy[0, i], xy[1, i]
         )
     for i in range(n):
@@ -172,7 +192,7 @@ def primary_rays(arrays, tiles, camera, tile, n, xy, rays, best, best_t, colors,
                     rays[0, i], rays[1, i], rays[2, i], rays[3, i], rays[4, i], rays[5, i],
                     c0, c1, c2, R,
                 )  # fmt: skip
-            for i in range(n):  # offer's rule, with masks
+            for i in range(n):  # keep_nearer's rule, with masks
                 nearest = best_t[i]
                 still = alive[i] & (closest <= nearest)
                 x, y = xy[0, i], xy[1, i]
@@ -193,7 +213,7 @@ def primary_rays(arrays, tiles, camera, tile, n, xy, rays, best, best_t, colors,
                 x, y = xy[0, i], xy[1, i]
                 if still and x0 <= x and x <= x1 and y0 <= y and y <= y1:
                     made[i] = True
-                    best[i], best_t[i], colors[0, i], colors[1, i], colors[2, i] = offer(
+                    best[i], best_t[i], colors[0, i], colors[1, i], colors[2, i] = keep_nearer(
                         arrays, obj, rays[0, i], rays[1, i], rays[2, i], rays[3, i], rays[4, i],
                         rays[5, i], best[i], best_t[i], colors[0, i], colors[1, i], colors[2, i],
                     )  # fmt: skip
@@ -237,10 +257,10 @@ def screen_tiles(
 
 # which tiles primary rays take their objects from, and whether in packets (tile_side; timed by
 # python benchmarks/engines.py --tile-sides, docs/benchmarks/tile_sides.md):
-WIDE_SIDE = 16  # packets of 16 pixels a side
-PACKET_SIDE = 8  # or of 8 (fewer than 64 rays fill too few vectors), whichever costs less,
+WIDE_SIDE = 16  # packets of this many pixels a side
+PACKET_SIDE = 8  # or of this side (fewer rays fill too few vectors), whichever costs less,
 PACKET_OBJECTS = 12  # where tiles of PACKET_SIDE list this many objects or fewer on average;
-CROWDED_SIDE = 4  # else one ray at a time, in tiles of 4 pixels a side
+CROWDED_SIDE = 4  # else one ray at a time, in tiles of this side
 # what a packet costs besides its rays' tests (its rays' image points, set-up, the call), in
 # tests of one object against one ray: fitted to the 1-thread renders of classic and 1,000
 # spheres at 1080p in packets of both sides (python benchmarks/compile_time.py --cpus native)
@@ -274,18 +294,16 @@ def packet_cost(bounds: np.ndarray, width: int, height: int, side: int) -> float
 
 
 def tile_side(bounds: np.ndarray, width: int, height: int) -> tuple[int, bool]:
-    """``(side, packets)`` for the objects' screen rectangles ``bounds (K, 4)`` on a ``width``
-    x ``height`` image. A packet (:func:`primary_rays`) tests each object of its tile against
-    all its rays, 4 to a vector instruction (LLVM keeps to 256-bit vectors on AVX-512 too, as
-    on AVX2), where one ray at a time (:func:`primary_ray`) tests only the objects whose
-    rectangle holds the ray's point, with a branch each (on the objects, not on the entries
-    checked for them, :func:`primary_ray`): packets win while a tile's list is short. The
-    larger the packet, the fewer tiles' costs, but the more rays each object is tested
-    against, and the fewer tiles see nothing. So: packets where tiles of PACKET_SIDE list
-    PACKET_OBJECTS or fewer on average, of WIDE_SIDE or PACKET_SIDE, whichever
-    :func:`packet_cost` finds cheaper, and else one ray at a time in CROWDED_SIDE tiles.
-    ``python benchmarks/engines.py --tile-sides`` times each choice
-    (docs/benchmarks/tile_sides.md)."""
+    """``(side, packets)`` for the objects' screen rectangles ``bounds (K, 4)`` on a ``width`` x
+    ``height`` image. A packet (:func:`primary_rays`) tests each object of its tile against all its
+    rays, several to a vector instruction, where one ray at a time (:func:`primary_ray`) tests only
+    the objects whose rectangle holds the ray's point, with a branch each (on the objects, not on
+    the entries checked for them, :func:`primary_ray`): packets win while a tile's list is short.
+    The larger the packet, the fewer tiles' costs, but the more rays each object is tested against,
+    and the fewer tiles see nothing. So: packets where tiles of PACKET_SIDE list PACKET_OBJECTS or
+    fewer on average, of WIDE_SIDE or PACKET_SIDE, whichever :func:`packet_cost` finds cheaper, and
+    else one ray at a time in CROWDED_SIDE tiles. ``python benchmarks/engines.py --tile-sides``
+    times each choice (docs/benchmarks/tile_sides.md)."""
     seen = bounds[~np.isnan(bounds).any(axis=1)]
 
     def listed(side: int) -> float:  # objects in an average tile of this side

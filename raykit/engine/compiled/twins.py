@@ -1,0 +1,206 @@
+"""The twin table: which reference function each compiled kernel repeats, in one place.
+
+Each row of :data:`TWINS` pairs a kernel (its module under :mod:`raykit.engine.compiled` and
+its name) with the reference function it repeats (module and name, a method as
+``Class.method``), and says why where the kernel's name is not the reference's. :data:`OWN`
+lists the kernels that repeat no reference function (the compiled engine's own machinery: its
+skips, its jobs, its rooms), each with why; :data:`WITHIN`, the reference functions a kernel
+repeats inside itself, and :data:`EVERYWHERE`, those every kernel writes out. Every kernel is in
+:data:`TWINS` or :data:`OWN`, and each function of the lecture's modules that the numpy engine
+runs is a twin's reference, in :data:`WITHIN` or :data:`EVERYWHERE`, or run by the compiled
+engine itself, as it prepares a scene (tests/compiled/test_twins.py).
+
+What reads the table:
+
+* the differential tests, one per row (tests/compiled/test_twins.py);
+* the cache folder's key (:func:`raykit.engine.choice.cache_folder`), which hashes the sources
+  of the reference modules named here beside the kernels' own, so that an edit of a reference
+  function or constant makes a new folder;
+* the documentation's build (docs/conf.py), which adds to each reference function's entry the
+  line naming its twin; the sources, and so the student release, never hold that line.
+
+Plain data, importing nothing: :mod:`raykit.engine.choice` reads it without importing numba
+(:func:`raykit.engine.choice.twin_table`).
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+
+class Twin(NamedTuple):
+    """Kernel ``module.name`` (under raykit.engine.compiled) repeats ``reference`` (a function's
+    full dotted name); ``why`` says why its name differs, empty where it is the same."""
+
+    kernel: str
+    reference: str
+    why: str = ""
+
+
+TWINS = (
+    Twin("rays.nearest_positive", "raykit.rays.nearest_positive"),
+    Twin("spheres.hit_sphere", "raykit.spheres.hit_sphere"),
+    Twin("billboards.hit_billboard", "raykit.billboards.hit_billboard"),
+    Twin("billboards.billboard_color_at", "raykit.billboards.billboard_color_at"),
+    Twin("camera.rays_through", "raykit.camera.rays_through"),
+    Twin("hits.keep_nearer", "raykit.hits.Hits.keep_nearer"),
+    Twin(
+        "lights.toward_point_light",
+        "raykit.lights.toward_light",
+        "a point light's only: a directional light's l is its direction, read where it is used",
+    ),
+    Twin("surfaces.surface_points", "raykit.surfaces.surface_points"),
+    Twin("surfaces.start", "raykit.surfaces.SurfacePoints.start"),
+    Twin(
+        "shadows.point_light_reach",
+        "raykit.shadows.light_reach",
+        "a point light's only: a directional light's reach is inf, set where it is used",
+    ),
+    Twin("shading.lambert", "raykit.shading.lambert"),
+    Twin("shading.blinn_phong", "raykit.shading.blinn_phong"),
+    Twin("shading.surface_color", "raykit.shading.surface_color"),
+    Twin(
+        "shading.surface_lanes",
+        "raykit.shading.surface_color",
+        "its first part (point, k, ambient) for a job's rays side by side, in lanes",
+    ),
+    Twin(
+        "shading.light_lanes",
+        "raykit.shading.surface_color",
+        "its lights' part (Lambert, shadow, highlight) for a job's rays side by side, in lanes",
+    ),
+    Twin("mirrors.reflect", "raykit.mirrors.reflect"),
+    Twin("shading.shade", "raykit.shading.shade"),
+    Twin(
+        "shading.bounce_on",
+        "raykit.shading.shade",
+        "shade's loop over mirror bounces, after the first surface",
+    ),
+    Twin(
+        "shading.mirror_rays",
+        "raykit.shading.shade",
+        "shade's mirror bounces for a job's rays, once their first surface is shaded in lanes",
+    ),
+    Twin(
+        "bvh.nearest_hit",
+        "raykit.render.cast",
+        "cast for one ray through the tree (raykit.engine.bvh), as BVH.cast answers it",
+    ),
+    Twin(
+        "bvh.enters",
+        "raykit.engine.bvh._enters",
+        "the reference's name is private to its module",
+    ),
+    Twin("driver.cast_rays", "raykit.render.cast", "cast for many rays in parallel, by the tree"),
+    Twin(
+        "tiles.primary_ray",
+        "raykit.render.cast",
+        "cast for one viewing ray, of its screen tile's objects only (raykit.engine.tiles)",
+    ),
+    Twin(
+        "tiles.primary_rays",
+        "raykit.render.cast",
+        "cast for a packet of a tile's viewing rays, in lanes",
+    ),
+    Twin(
+        "tiles.bin_by_tile",
+        "raykit.engine.tiles.regions",
+        "each tile's objects as one list, nearest first, for a ray to read straight through",
+    ),
+    Twin("driver.trace_flat", "raykit.render.render", "render's loop for a flat scene"),
+    Twin("driver.trace_lit", "raykit.render.render", "render's loop for a shaded scene"),
+    Twin("driver.flat_job", "raykit.render.render", "render's loop over one job's pixels, flat"),
+    Twin("driver.lit_job", "raykit.render.render", "render's loop over one job's pixels, shaded"),
+    Twin(
+        "driver.pixel_means",
+        "raykit.engine.regions.Image.mean",
+        "the mean of each pixel's samples, as the image takes it, for one job",
+    ),
+)
+
+# kernels that repeat no reference function, and why
+OWN = {
+    "bvh.new_stack": "room for a tree walk, reused from ray to ray",
+    "shading.new_lanes": "room for shading a job's rays in lanes",
+    "driver.new_ray_room": "room for a job's rays",
+    "driver.new_shading_room": "room for shading a job's rays",
+    "driver.take": "an atomic add: how workers take jobs",
+    "driver.job_of": "a job's pixels: the parallel loop's own cut of the image",
+    "driver.job_pixel": "a pixel of a job",
+    "driver.job_points": "a job's image points",
+    "driver.background_job": "a tile no object is seen in: the background, with no ray",
+    "shadows.extent": "the shadow lists' cull (the reference tests every object)",
+    "shadows.box_extent": "the shadow lists' cull",
+    "shadows.box_apart": "the shadow lists' cull",
+    "shadows.sphere_apart": "the shadow lists' cull",
+    "shadows.shadow_volume": "the shadow lists' cull",
+    "shadows.candidate": "the shadow lists' cull",
+    "shadows.shadow_candidates": "the shadow lists' cull",
+    "shadows.shadow_lists": "the shadow lists' cull",
+}
+
+
+# reference functions that a kernel repeats inside itself, not as a kernel of its own: the
+# reference function, and the kernel that holds its copy
+WITHIN = {
+    "raykit.spheres.sphere_roots": "spheres.hit_sphere",
+    "raykit.spheres.sphere_normals": "surfaces.surface_points",
+    "raykit.planes.hit_plane": "billboards.hit_billboard",
+    "raykit.planes.hit_points_on_plane": "billboards.hit_billboard",
+    "raykit.billboards.texel_indices": "billboards.billboard_color_at",
+    "raykit.billboards.billboard_normals": "surfaces.surface_points",
+    "raykit.camera._in_plane": "camera.rays_through",
+    "raykit.camera.region_points": "driver.job_points",
+    "raykit.hits.Hits.none": "bvh.nearest_hit",
+    "raykit.hits.solid": "hits.keep_nearer",
+    "raykit.rays.point_at": "surfaces.surface_points",
+    "raykit.shadows.in_shadow": "shading.surface_color",
+    "raykit.render.illumination": "driver.lit_job",
+}
+
+# reference functions every kernel writes out where it needs them, and why no kernel of their own
+EVERYWHERE = {
+    "raykit.rays.dot": "a0 * b0 + a1 * b1 + a2 * b2, left to right, as it sums: no kernel to call",
+    "raykit.rays.length": "math.sqrt of the dot product, written out",
+    "raykit.rays.normalize": "each component over the length, written out",
+    "raykit.surfaces.SurfacePoints.take": "rows of N points; a kernel holds one point",
+}
+
+
+def twins_of(reference: str) -> list[Twin]:
+    """The rows of :data:`TWINS` that repeat ``reference`` (a full dotted name)."""
+    return [twin for twin in TWINS if twin.reference == reference]
+
+
+def doc_lines(reference: str) -> list[str]:
+    """The lines the documentation's build adds to ``reference``'s entry (docs/conf.py): its
+    compiled twins, each with its test file and why its name differs, or the kernel it is
+    repeated in. Empty for a function with none."""
+    lines = []
+    for twin in twins_of(reference):
+        module, name = twin.kernel.split(".")
+        why = f" ({twin.why})" if twin.why else ""
+        lines.append(
+            f"Compiled twin: :func:`raykit.engine.compiled.{module}.{name}`{why}; tested by "
+            f"``tests/compiled/test_{module}.py``."
+        )
+    if reference in WITHIN:
+        module, name = WITHIN[reference].split(".")
+        lines.append(
+            f"Compiled twin: repeated inside :func:`raykit.engine.compiled.{module}.{name}`; "
+            f"tested by ``tests/compiled/test_{module}.py``."
+        )
+    return lines
+
+
+def reference_modules() -> list[str]:
+    """The modules whose functions the kernels repeat (:data:`TWINS`, :data:`WITHIN`), each
+    once, in the table's order."""
+    modules: list[str] = []
+    for reference in [twin.reference for twin in TWINS] + list(WITHIN):
+        module = reference.rpartition(".")[0]
+        while module.rpartition(".")[2][:1].isupper():  # a method: Class.method
+            module = module.rpartition(".")[0]
+        if module not in modules:
+            modules.append(module)
+    return modules

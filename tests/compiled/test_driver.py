@@ -1,0 +1,283 @@
+"""The parallel loop (raykit.engine.compiled.driver) against raykit.render.render: whole renders to
+the PNG byte, the workers' jobs, the arguments' kinds and types."""
+
+from __future__ import annotations
+
+import contextlib
+import json
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from conftest import SCENES, shifted_scene
+from raykit.io.scene_json import load_scene, scene_from_dict
+
+from .harness import (
+    caster_answers_what_cast_answers,
+    crowd,
+    exactly,
+    packet_scenes,
+    same_render,
+    twin_test,
+)
+
+numba = pytest.importorskip("numba")
+compiled = pytest.importorskip("raykit.engine.compiled")
+
+
+@pytest.mark.parametrize("path", sorted(SCENES.glob("*.json")), ids=lambda p: p.stem)
+def test_every_example_scene_gives_the_same_png_bytes_with_both_engines(path):
+    same_render(load_scene(path))
+
+
+@pytest.mark.parametrize("samples,adaptive", [(2, False), (3, False), (3, True)])
+@pytest.mark.parametrize("name", ["classic", "cutouts", "mirror_balls", "orthographic"])
+def test_samples_and_adaptive_sampling_give_the_same_image_with_both_engines(
+    name, samples, adaptive
+):
+    scene = load_scene(SCENES / f"{name}.json")
+    small = replace(scene, camera=replace(scene.camera, width=96, height=72))
+    same_render(small, samples=samples, adaptive=adaptive)
+
+
+@pytest.mark.parametrize("objects", [5, 200])
+def test_random_crowds_render_the_same_with_both_engines(objects):
+    same_render(crowd(np.random.default_rng(objects + 1), objects))
+
+
+def test_far_tiny_sphere_and_a_scene_at_1e6_render_the_same_with_both_engines():
+    fov = float(np.degrees(4e-8))
+    far = {
+        "camera": {"eye": [0, 0, 1e5], "lookat": [2e-4, -1e-4, 0], "up": [0, 1, 0],
+                   "fov_angle": fov, "width": 23, "height": 23},
+        "spheres": [{"center": [0, 0, 0], "radius": 1e-3, "color": [1, 1, 1]}],
+    }  # fmt: skip
+    same_render(scene_from_dict(far))
+    data = json.loads((SCENES / "classic_lit.json").read_text())
+    data.pop("$schema", None)
+    moved = scene_from_dict(shifted_scene(data, [1e6, 1e6, 1e6]), folder=SCENES)
+    same_render(replace(moved, camera=replace(moved.camera, width=120, height=90)))
+
+
+@numba.njit(parallel=True)
+def _times_taken(jobs, grain, workers):
+    """How often each worker takes each of ``jobs`` when ``workers`` cores take ``grain`` at a
+    time from one counter, as compiled.trace's workers do: ``(workers, jobs)``, a row each, so
+    that two workers' counts of one job never share a write."""
+    taken = np.zeros(1, dtype=np.int64)
+    arrived = np.zeros(1, dtype=np.int64)
+    times = np.zeros((workers, jobs), dtype=np.int64)
+    for worker in numba.prange(workers):
+        compiled.take(arrived, 1)
+        for _ in range(10**9):  # wait (a while at most) for the other workers: all take at once
+            if compiled.take(arrived, 0) >= workers:
+                break
+        while True:
+            first = compiled.take(taken, grain)
+            if first >= jobs:
+                break
+            for j in range(first, min(jobs, first + grain)):
+                times[worker, j] += 1
+    return times
+
+
+_TWO_CORES = pytest.mark.skipif(
+    numba.config.NUMBA_NUM_THREADS < 2, reason="needs two threads to share the work"
+)
+
+
+@_TWO_CORES
+@pytest.mark.parametrize("grain", [1, 7])
+def test_cores_taking_jobs_from_one_counter_take_each_job_exactly_once(grain):
+    # with a plain add for take, both workers took every job (measured)
+    assert (_times_taken(1_000_000, grain, 2).sum(axis=0) == 1).all()
+
+
+@_TWO_CORES
+def test_the_image_does_not_depend_on_which_core_takes_which_tile():
+    scenes = [packet_scenes()["classic_lit_at_1e6"], crowd(np.random.default_rng(11), 200)]
+    mirrors = load_scene(SCENES / "mirror_balls.json")
+    scenes.append(replace(mirrors, camera=replace(mirrors.camera, width=80, height=60)))
+    threads = numba.get_num_threads()
+    try:
+        for scene in scenes:
+            prepared = compiled.prepare(scene)
+            numba.set_num_threads(1)
+            rgb, index, t = compiled.render(prepared, 2)
+            numba.set_num_threads(threads)
+            for progress in (None, lambda rows: None) * 3:  # one call, or one per band of rows
+                again = compiled.render(prepared, 2, progress=progress)
+                assert np.array_equal(again[1], index)
+                exactly(again[2], t)
+                exactly(again[0], rgb)
+    finally:
+        numba.set_num_threads(threads)
+
+
+def test_every_kind_of_scene_hands_the_kernels_arrays_of_one_kind():
+    # numba compiles the kernels again (minutes) for each new kind of array, read-only included
+    plain = {
+        "camera": {"eye": [0, 0, 6], "lookat": [0, 0, 0], "up": [0, 1, 0], "fov_angle": 50,
+                   "width": 32, "height": 24},
+        "spheres": [{"center": [x, 0, 0], "radius": 0.5, "color": [1, 0, 0]} for x in (-1, 1)],
+    }  # fmt: skip
+    scenes = {
+        "named spheres, textures": load_scene(SCENES / "classic.json"),
+        "lights, mirrors": load_scene(SCENES / "mirror_balls.json"),
+        "plain spheres, kept as read-only columns": scene_from_dict(plain),
+        "billboards only": replace(load_scene(SCENES / "cutouts.json"), spheres=()),
+        "crowd": crowd(np.random.default_rng(5), 50),
+    }
+    kinds = {name: numba.typeof(compiled.prepare(scene)[1:]) for name, scene in scenes.items()}
+    assert len(set(kinds.values())) == 1, kinds
+
+
+@contextlib.contextmanager
+def arguments_typed_in_python():
+    """The names of the kernels whose arguments numba types in Python (its slow path) while in
+    the block. Numba's dispatcher finds the compiled code for a call by a fingerprint of its
+    arguments' types, in C; an argument it cannot fingerprint, or one whose fingerprint another
+    class took first (a NamedTuple of the same name and fields), is typed in Python on every
+    call."""
+    from numba.core.dispatcher import _DispatcherBase
+
+    typed = []
+    typeof_pyval = _DispatcherBase.typeof_pyval
+
+    def counted(dispatcher, value):
+        typed.append(dispatcher.py_func.__name__)
+        return typeof_pyval(dispatcher, value)
+
+    _DispatcherBase.typeof_pyval = counted
+    try:
+        yield typed
+    finally:
+        _DispatcherBase.typeof_pyval = typeof_pyval
+
+
+def test_numba_types_in_python_a_namedtuple_whose_name_and_fields_another_class_took():
+    # why the benchmark of the engine before and after (benchmarks/compile_time.py) runs
+    # each engine in a process of its own, and the control for the test below
+    from typing import NamedTuple
+
+    class Pair(NamedTuple):
+        a: float
+        b: float
+
+    first = Pair
+
+    class Pair(NamedTuple):  # noqa: F811 (the point: a second class of the same name)
+        a: float
+        b: float
+
+    def total(pair):
+        return pair.a + pair.b
+
+    # each class to a kernel of its own, as each engine passes its own to its own kernels
+    total_of_first, total_of_second = numba.njit(total), numba.njit(total)
+    total_of_first(first(1.0, 2.0))
+    total_of_second(Pair(1.0, 2.0))
+    with arguments_typed_in_python() as typed:
+        assert total_of_first(first(1.0, 2.0)) == 3.0
+    assert typed == []
+    with arguments_typed_in_python() as typed:
+        assert total_of_second(Pair(1.0, 2.0)) == 3.0
+    assert typed == ["total"]
+
+
+@pytest.mark.parametrize("name", ["classic.json", "shadow_on_billboard.json"])
+def test_a_prepared_render_finds_its_kernels_without_typing_an_argument_in_python(name):
+    prepared = compiled.prepare(load_scene(SCENES / name))
+    compiled.render(prepared)  # loads the kernels (their first call types its arguments)
+    with arguments_typed_in_python() as typed:
+        compiled.render(prepared)
+    assert typed == []
+
+
+def test_a_lit_scene_without_mirrors_never_types_the_mirror_rays():
+    """A scene compiles only what it uses: a lit scene with no mirror passes lit_job ``bounces``
+    None, and numba's pruning of branches on argument types, run before typing, drops the call
+    of mirror_rays (so it is never typed, compiled or linked); a scene with mirrors keeps it, and
+    its entry point is named apart (its own marker and progress line), as
+    :func:`raykit.engine.choice.entry_point` names it. (Checked on the IR: which kernels a
+    process compiles depends on what its cache already holds.)"""
+    import inspect
+
+    from numba.core import ir, types
+    from numba.core.analysis import dead_branch_prune
+    from numba.core.compiler import run_frontend
+
+    from raykit.engine.compiled import driver
+    from raykit.engine.compiled import shading as kernels
+
+    parameters = list(inspect.signature(driver.lit_job.py_func).parameters)
+
+    def calls_mirror_rays(bounces) -> bool:
+        kind = types.none if bounces is None else types.boolean
+        lit_job = run_frontend(driver.lit_job.py_func)
+        dead_branch_prune(lit_job, tuple(kind if p == "bounces" else types.pyobject
+                                         for p in parameters))  # fmt: skip
+        return any(
+            isinstance(statement.value, ir.Global) and statement.value.value is kernels.mirror_rays
+            for block in lit_job.blocks.values()
+            for statement in block.find_insts(ir.Assign)
+        )
+
+    seen = []
+    for name in ("classic", "classic_lit", "mirror_balls"):
+        scene = load_scene(SCENES / f"{name}.json")
+        entry, _, leading = driver._entry(compiled.prepare(scene))
+        seen.append((entry, calls_mirror_rays(leading[-1]) if entry != "trace_flat" else None))
+    assert seen == [("trace_flat", None), ("trace_lit", False), ("trace_mirrors", True)]
+
+
+# the kinds of scene the example scenes and the crowds above never render, and the first eight
+# scenes random_scene makes from seed 26 all have between them (with an adaptive render): one
+# image 1 pixel wide or so, a 1 or 179 degree view, the camera in a sphere, a billboard edge-on
+# to the eye, lights in and on objects, mirrors with no light, 1,500 objects, tiny spheres...
+KINDS_NEVER_RENDERED_ELSEWHERE = {
+    "odd image size (1x1, 1x37, 97x3, ...)",
+    "fov_angle 1, 2.5, 160 or 179 degrees",
+    "camera inside a sphere",
+    "billboard edge-on to the eye",
+    "point light on a surface",
+    "point light inside an object",
+    "materials, no lights nor ambient",
+    "401 to 1,500 objects",
+    "tiny spheres on pixels' rays (radius 1e-5 to 1e-4)",
+    "object behind the camera",
+    "mirrors, max_depth 4",
+}
+
+
+def test_random_scenes_of_every_kind_render_the_same_with_both_engines(tmp_path):
+    from random_scenes import make_textures, random_scene
+
+    rng = np.random.default_rng(26)
+    textures = make_textures(rng, tmp_path / "textures")
+    kinds, adaptive = set(), False
+    for _ in range(8):
+        data, options, tags = random_scene(rng, textures)
+        kinds |= tags
+        adaptive |= options["adaptive"]
+        same_render(scene_from_dict(data, folder=tmp_path), **options)
+    assert KINDS_NEVER_RENDERED_ELSEWHERE <= kinds and adaptive
+
+
+def _small(name, **options):
+    scene = load_scene(SCENES / f"{name}.json")
+    return lambda rng: same_render(
+        replace(scene, camera=replace(scene.camera, width=48, height=32)), **options
+    )
+
+
+CHECKS = {
+    "driver.cast_rays": caster_answers_what_cast_answers,
+    "driver.trace_flat": _small("classic"),
+    "driver.flat_job": _small("cutouts"),
+    "driver.trace_lit": _small("classic_lit"),
+    "driver.lit_job": _small("mirror_balls"),
+    "driver.pixel_means": _small("classic", samples=3),
+}
+test_the_twin_repeats_its_reference = twin_test("driver", CHECKS)

@@ -1,0 +1,46 @@
+"""The nearest hit so far, offered one object more (raykit.engine.compiled.hits), against
+raykit.hits.Hits.keep_nearer, as raykit.render.cast offers every object in index order."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from .harness import exactly, twin_test
+
+numba = pytest.importorskip("numba")
+compiled = pytest.importorskip("raykit.engine.compiled")
+
+from raykit.engine.compiled import hits as kernels  # noqa: E402
+from raykit.render import cast  # noqa: E402
+
+from .harness import crowd, rays_into_crowd  # noqa: E402
+
+
+@numba.njit
+def _offer_all(arrays, objects, origins, directions):
+    out = np.empty((len(origins), 5))
+    background = arrays.background
+    for i in range(len(origins)):
+        o, d = origins[i], directions[i]
+        best, best_t, r, g, b = -1, np.inf, background[0], background[1], background[2]
+        for obj in range(objects):
+            best, best_t, r, g, b = kernels.keep_nearer(
+                arrays, obj, o[0], o[1], o[2], d[0], d[1], d[2], best, best_t, r, g, b
+            )
+        out[i, 0], out[i, 1], out[i, 2], out[i, 3], out[i, 4] = best, best_t, r, g, b
+    return out
+
+
+def _keep_nearer(rng):
+    scene = crowd(rng, 30)
+    origins, directions = rays_into_crowd(rng, 20_000)
+    expected = cast(scene, origins, directions)
+    got = _offer_all(compiled.scene_arrays(scene), scene.object_count, origins, directions)
+    assert np.array_equal(got[:, 0], expected.index) and (expected.index >= 0).mean() > 0.05
+    exactly(got[:, 1], expected.t)
+    exactly(got[:, 2:], expected.color)
+
+
+CHECKS = {"hits.keep_nearer": _keep_nearer}
+test_the_twin_repeats_its_reference = twin_test("hits", CHECKS)

@@ -1,0 +1,37 @@
+"""How far a shadow ray's blocker counts (raykit.engine.compiled.shadows) against
+raykit.shadows.light_reach. (The shadow lists are the compiled engine's own: their answers are
+checked through whole renders, tests/compiled/test_shading.py.)"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from .harness import exactly, twin_test
+
+numba = pytest.importorskip("numba")
+compiled = pytest.importorskip("raykit.engine.compiled")
+
+from raykit.engine.compiled import shadows as kernels  # noqa: E402
+from raykit.lights import PointLight  # noqa: E402
+from raykit.rays import normalize  # noqa: E402
+from raykit.shadows import light_reach  # noqa: E402
+from raykit.surfaces import SurfacePoints  # noqa: E402
+
+
+def _point_light_reach(rng):
+    count = 4000
+    points = rng.normal(size=(count, 3)) * 10.0 ** rng.integers(-1, 7, size=(count, 1))
+    normals = normalize(rng.normal(size=(count, 3)))
+    surface = SurfacePoints(points, normals, rng.uniform(0, 1e-12, size=count))
+    position = rng.normal(size=3) * 20
+    light = PointLight(position, np.ones(3))
+    l = normalize(position - points)  # noqa: E741 (the slides' l)
+    expected = light_reach(surface, l, light)
+    starts = surface.start(l)
+    got = [kernels.point_light_reach(*position, *s) for s in starts]
+    exactly(got, expected)
+
+
+CHECKS = {"shadows.point_light_reach": _point_light_reach}
+test_the_twin_repeats_its_reference = twin_test("shadows", CHECKS)

@@ -1,0 +1,182 @@
+"""The screen tiles and primary rays (raykit.engine.compiled.tiles): packets and rays one at a time
+against the numpy engine, and the choice of tile side."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from libm_power import libm_power
+
+from conftest import SCENES
+from raykit.io.scene_json import load_scene
+from raykit.render import render
+
+from .harness import (
+    crowd,
+    exactly,
+    packet_scenes,
+    ties_reversed,
+    twin_test,
+)
+
+numba = pytest.importorskip("numba")
+compiled = pytest.importorskip("raykit.engine.compiled")
+
+
+# every way of casting the viewing rays: tiles of each side, their rays in packets or one at a
+# time (raykit.engine.compiled.tile_side picks one per scene); 4-pixel packets are too small to
+# fill the vector loop, so they take its one-lane remainder, and 32 pixels its full vectors
+TILINGS = [(4, False), (8, False), (4, True), (8, True), (16, True), (32, True)]
+
+
+@pytest.mark.parametrize("samples", [1, 2])
+@pytest.mark.parametrize(
+    "name", ["cutouts", "orthographic", "classic_lit_at_1e6", "crowd_with_ties"]
+)
+def test_packets_and_rays_one_at_a_time_render_what_the_numpy_engine_renders(name, samples):
+    scene = packet_scenes()[name]
+    with libm_power():
+        reference = render(scene, engine="numpy", samples=samples)
+    prepared = compiled.prepare(scene)
+    for side, packets in TILINGS:
+        tiles = compiled.screen_tiles(scene, prepared.arrays, side, packets)
+        assert (tiles.size, tiles.packets) == (side, packets)
+        reversed_ties = ties_reversed(tiles)
+        if name == "crowd_with_ties":  # its repeated spheres are listed the other way round
+            assert not np.array_equal(reversed_ties.objects, tiles.objects)
+            # and one ray at a time reads lists of several chunks (compiled.primary_ray)
+            assert np.diff(tiles.start).max() > 2 * compiled.HOLDING_CHUNK
+        for listed in (tiles, reversed_ties):
+            rgb, index, t = compiled.render(prepared._replace(tiles=listed), samples)
+            assert np.array_equal(index, reference.object_index), (side, packets)
+            exactly(t, reference.t)
+            exactly(rgb, reference.rgb)
+
+
+def _scan_entry_by_entry(entries, x, y, t_of):
+    """The objects a viewing ray through (x, y) offers, in order, scanning its tile's list
+    ``entries (E, 5)`` one entry at a time, as primary_ray did before it read chunks; object
+    k, if offered, is hit at ``t_of[k]``."""
+    offered, best_t = [], np.inf
+    for k, (x0, x1, y0, y1, closest) in enumerate(entries):
+        if closest > best_t:
+            break
+        if x0 <= x <= x1 and y0 <= y <= y1:
+            offered.append(k)
+            best_t = min(best_t, t_of[k])
+    return offered
+
+
+def test_a_ray_reading_its_list_in_chunks_offers_what_a_scan_entry_by_entry_offers(monkeypatch):
+    # primary_ray, run as Python with keep_nearer recording what it is given: lists of every length
+    # around the chunk's, entries sorted nearest first as screen_tiles sorts them, some
+    # holding the point and some hit
+    rng = np.random.default_rng(23)
+    offered, t_of = [], {}
+
+    def recording_offer(arrays, obj, o0, o1, o2, d0, d1, d2, best, best_t, r, g, b):
+        offered.append(obj)
+        if t_of[obj] < best_t:
+            return obj, t_of[obj], r, g, b
+        return best, best_t, r, g, b
+
+    monkeypatch.setattr(compiled.tiles, "keep_nearer", recording_offer)  # primary_ray's own module
+    monkeypatch.setattr(compiled.tiles, "rays_through", lambda camera, x, y: (0.0,) * 6)
+    arrays = compiled.Arrays._make([np.zeros(3)] * len(compiled.Arrays._fields))
+    chunk = compiled.HOLDING_CHUNK
+    for length in [0, 1, chunk - 1, chunk, chunk + 1, 2 * chunk, 2 * chunk + 1, 5 * chunk + 3]:
+        for _ in range(200):
+            closest = np.sort(rng.uniform(0, 10, length))
+            holds = rng.random(length) < 0.4
+            entries = np.column_stack([
+                np.where(holds, 0.0, 0.6), np.ones(length), np.zeros(length), np.ones(length),
+                closest,
+            ])  # fmt: skip
+            hit = rng.random(length) < 0.5
+            t_of = dict(enumerate(np.where(hit, closest + rng.uniform(0, 3, length), np.inf)))
+            tiles = compiled.Tiles(np.array([0, length]), np.arange(length), entries, 1, 16, False)
+            offered.clear()
+            made = compiled.primary_ray.py_func(
+                arrays, tiles, None, 0.5, 0.5, 0, np.empty(chunk, dtype=np.int64)
+            ).made
+            expected = _scan_entry_by_entry(entries, 0.5, 0.5, t_of)
+            assert offered == expected, (length, closest, holds, hit)
+            assert made == bool(expected)
+
+
+def test_tile_side_sends_rays_in_packets_unless_the_picture_is_crowded():
+    classic = load_scene(SCENES / "classic.json")
+    assert compiled.prepare(classic).tiles[-2:] == (compiled.WIDE_SIDE, True)
+    width = height = 64
+    rng = np.random.default_rng(3)
+    corners = rng.uniform(0, 48, size=(800, 2))  # 800 squares 16 pixels wide on 64 x 64
+    bounds = np.column_stack([corners[:, 0], corners[:, 0] + 16, corners[:, 1], corners[:, 1] + 16])
+    assert compiled.tile_side(bounds, width, height) == (compiled.CROWDED_SIDE, False)
+    few = bounds[:160] / 4  # 160 squares 4 pixels wide: 10 to a 16-pixel tile, 4 to an 8
+    assert compiled.tile_side(few, width, height) == (compiled.PACKET_SIDE, True)
+    # 40 such squares leave most 8-pixel tiles empty, and an empty tile costs no ray
+    assert compiled.tile_side(few[:40], width, height) == (compiled.PACKET_SIDE, True)
+    # one square over most of the picture: every tile lists it, and fewer tiles cost less
+    whole = np.array([[5.0, 60.0, 3.0, 58.0]])
+    assert compiled.tile_side(whole, width, height) == (compiled.WIDE_SIDE, True)
+
+
+@pytest.mark.parametrize("side", [4, 8, 16])
+def test_packet_cost_counts_the_lists_the_tiles_get(side):
+    """packet_cost's running sums count each tile's objects as bin_by_tile lists them (what
+    it clips to the picture, what it leaves out), on 300 seeded rectangles, some off it."""
+    rng = np.random.default_rng(11)
+    width, height = 100, 70
+    x0, y0 = rng.uniform(-30, 110, 300), rng.uniform(-30, 80, 300)
+    bounds = np.column_stack([x0, x0 + rng.uniform(0, 40, 300), y0, y0 + rng.uniform(0, 40, 300)])
+    order = np.arange(len(bounds))
+    tiles_x, tiles_y = -(-width // side), -(-height // side)
+    start, _, _ = compiled.tiles.bin_by_tile(
+        bounds, np.zeros(len(bounds)), order, tiles_x, tiles_y, side
+    )
+    listed = np.diff(start)
+    expected = (side * side * (1.0 + listed[listed > 0]) + compiled.tiles.TILE_COST).sum()
+    assert compiled.tiles.packet_cost(bounds, width, height, side) == expected
+
+
+def _tiled(side, packets):
+    def check(rng):
+        scene = crowd(rng, 60)
+        with libm_power():
+            reference = render(scene, engine="numpy")
+        prepared = compiled.prepare(scene)
+        tiles = compiled.screen_tiles(scene, prepared.arrays, side, packets)
+        rgb, index, t = compiled.render(prepared._replace(tiles=tiles))
+        assert np.array_equal(index, reference.object_index)
+        exactly(t, reference.t)
+        exactly(rgb, reference.rgb)
+
+    return check
+
+
+def _bin_by_tile(rng):
+    """Each tile's list holds the objects of the reference's region of the same pixels that
+    can be seen in it (a subset: the compiled lists are cut to the tile's own pixels), nearest
+    first, and every object a pixel centre of the tile sees."""
+    from raykit.engine.tiles import TILE, regions
+
+    scene = crowd(rng, 60)
+    prepared = compiled.prepare(scene)
+    tiles = compiled.screen_tiles(scene, prepared.arrays, TILE, False)
+    seen = render(scene, engine="numpy").object_index
+    closest = {}
+    for k in range(len(tiles.objects)):
+        closest[int(tiles.objects[k])] = tiles.entries[k, 4]
+    for number, region in enumerate(regions(scene)):
+        listed = tiles.objects[tiles.start[number] : tiles.start[number + 1]]
+        assert set(listed) <= set(region.index_of[region.index_of >= 0])
+        assert set(seen[region.pixels].ravel()) - {-1} <= set(listed)
+        assert np.all(np.diff([closest[int(obj)] for obj in listed]) >= 0)
+
+
+CHECKS = {
+    "tiles.primary_ray": _tiled(4, False),
+    "tiles.primary_rays": _tiled(8, True),
+    "tiles.bin_by_tile": _bin_by_tile,
+}
+test_the_twin_repeats_its_reference = twin_test("tiles", CHECKS)
