@@ -19,6 +19,7 @@ import pytest
 
 SLOW_MODULES = {
     "test_grading.py",
+    "test_batch_class.py",
     "test_grading_hostile.py",
     "test_grading_isolation.py",
     "test_grading_seeds.py",

@@ -30,7 +30,9 @@ Running a submission
 Grading
     * :mod:`~raykit_grading.grade`: one submission, every test.
     * :mod:`~raykit_grading.results`: Gradescope's results.json format.
-    * :mod:`~raykit_grading.batch`: a folder of submissions into a CSV.
+    * :mod:`~raykit_grading.batch`: a class of submissions into a CSV.
+    * :mod:`~raykit_grading.intake`: what a batch takes in: folders, zips, Gradescope's export.
+    * :mod:`~raykit_grading.report`: the class report, and each student's feedback page.
     * :mod:`~raykit_grading.autograder`: the Gradescope autograder zip.
     * :mod:`~raykit_grading.containers`: the zip in a real Docker container, as Gradescope
       builds and runs it (``try-zip``).

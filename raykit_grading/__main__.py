@@ -39,7 +39,11 @@ def build_parser() -> argparse.ArgumentParser:
     grade.add_argument("--feedback", type=Path, help="folder for feedback pictures")
 
     batch = command("batch", help="grade a folder of submissions, a few at a time")
-    batch.add_argument("submissions", type=Path, help="folder with one folder per student")
+    batch.add_argument(
+        "submissions",
+        type=Path,
+        help="folder of student folders and/or zips, or Gradescope's export (zip or folder)",
+    )
     batch.add_argument(
         "-o",
         "--output",
@@ -64,7 +68,7 @@ def build_parser() -> argparse.ArgumentParser:
         "(default: autograder.grading-seed beside the zip)",
     )
 
-    command("tests", help="list the grading tests, their points and visibility")
+    command("tests", help="list the grading tests by stage: points, visibility, totals")
 
     try_zip = command(
         "try-zip", help="build the zip's image and grade submissions in Docker, as Gradescope will"
@@ -175,10 +179,9 @@ def main(argv: list[str] | None = None) -> int:
             print(f"raykit_grading: error: {exc}", file=sys.stderr)
             return 2
     elif args.command == "tests":
-        from raykit_grading.catalog import TESTS
+        from raykit_grading.catalog import listing
 
-        for test in TESTS:
-            print(f"{test.points:>4g}  {test.visibility:<15} {test.name}")
+        print(listing())
     return 0
 
 
@@ -220,6 +223,10 @@ def _grade(args, options) -> int:
         print(f"wrote {args.output}: NOT GRADED (see above)")
     else:
         print(f"wrote {args.output}: {results['score']:g} of {total:g} points")
+    broken = results.get("extra_data", {}).get("does_not_import")
+    if status == 0 and broken:
+        print(f"raykit_grading: note: {args.submission}: raykit does not import, so no test "
+              f"ran: {broken.splitlines()[0]}", file=sys.stderr)  # fmt: skip
     if status == 0 and any("no raykit package" in t["output"] for t in results["tests"]):
         why = results["tests"][0]["output"].splitlines()[0]  # what was found, what expected
         print(f"raykit_grading: note: {args.submission}: {why}: graded 0", file=sys.stderr)

@@ -1,6 +1,7 @@
-"""Grading a folder of submissions (one folder per student), a few at a time.
+"""Grading a class (:mod:`raykit_grading.intake`: folders, zips, Gradescope's export), a few
+students at a time, into ``scores.csv`` and a class report.
 
-    python -m raykit_grading batch SUBMISSIONS/ -o OUT/ [--jobs N] [--regrade]
+    python -m raykit_grading batch SUBMISSIONS -o OUT/ [--jobs N] [--regrade]
 
 First a preflight (:func:`raykit_grading.grade.preflight`): if no sandbox can be made here,
 nothing is graded and the command says why. Then each student is graded by a grader process of
@@ -15,9 +16,13 @@ Every student is graded on the same inputs, drawn from the assignment's secret s
 (:mod:`raykit_grading.seeds`): ``OUT/grading-seed``, made (mode 600) when the batch is first
 run, or ``--seed-file``/``--seed``. A student graded earlier under another seed is graded again.
 
-``OUT/scores.csv``: student, status (``graded`` or ``could not grade: why``), score,
-max_score, then one column per test. ``OUT/feedback/<student>/``: results.json and feedback
-pictures. The exit status is 1 (and the students are listed) if any could not be graded.
+``OUT/scores.csv``: student, status, score, max_score, then one column per test; the status is
+``graded``, ``does not import`` (0 points: the submission's raykit does not import, so no test
+ran), ``could not grade: why`` or ``not graded: why`` (an entry that is no submission). Every
+entry of the class is a row. ``OUT/feedback/<student>/``: results.json, feedback pictures and
+the student's page (``index.html``); ``OUT/report.html``: the class report
+(:mod:`raykit_grading.report`). The exit status is 1 (and the entries are listed) if any could
+not be graded.
 """
 
 from __future__ import annotations
@@ -25,26 +30,22 @@ from __future__ import annotations
 import csv
 import json
 import os
-import stat
 import subprocess
 import sys
+import tempfile
 from concurrent.futures import ThreadPoolExecutor, as_completed
 from pathlib import Path
+from zipfile import is_zipfile
 
 from raykit_grading.catalog import by_name
 from raykit_grading.grade import GradingImpossible, Options, preflight
+from raykit_grading.intake import Entry, entries
+from raykit_grading.report import write_report
 from raykit_grading.seeds import FILE_NAME, SeedFileError, fingerprint, seed_from_file
 
 NAMES_AS_BYTES = {"encoding": "utf-8", "errors": "surrogateescape"}  # folder names as they are
+DOES_NOT_IMPORT = "does not import"  # scores.csv's status (results.json says the error)
 MARGIN_SECONDS = 180.0  # a student's grader may take its tests' total time and this much more
-
-
-def _students(submissions: Path) -> list[Path]:
-    found = []
-    for entry in sorted(os.scandir(submissions), key=lambda e: e.name):
-        if stat.S_ISDIR(entry.stat(follow_symlinks=False).st_mode):
-            found.append(Path(entry.path))
-    return found
 
 
 def _read_scores(path: Path) -> dict[str, dict]:
@@ -65,15 +66,22 @@ def grade_folder(
     seed: int | None = None,
     seed_file: Path | None = None,
 ) -> int:
-    """Grade every student folder in ``submissions``; returns the exit status."""
+    """Grade every submission in ``submissions`` (a folder or a zip); returns the exit
+    status."""
     options = options or Options()
-    if not Path(submissions).is_dir():
-        print(f"raykit_grading: error: {submissions}: no such folder", file=sys.stderr)
+    submissions = Path(submissions)
+    if not submissions.is_dir() and not (submissions.is_file() and is_zipfile(submissions)):
+        print(f"raykit_grading: error: {submissions}: no such folder or zip", file=sys.stderr)
         return 2
-    students = _students(Path(submissions))
-    if not students:
-        print(f"raykit_grading: error: {submissions}: no student folders in it", file=sys.stderr)
-        return 2
+    with tempfile.TemporaryDirectory(prefix="raykit-batch-") as scratch:
+        students = entries(submissions, Path(scratch))
+        if not students:
+            print(f"raykit_grading: error: {submissions}: no submissions in it", file=sys.stderr)
+            return 2
+        return _grade_all(students, Path(out), jobs, names, options, regrade, seed, seed_file)
+
+
+def _grade_all(students: list[Entry], out, jobs, names, options, regrade, seed, seed_file) -> int:
     try:
         preflight(options)
     except GradingImpossible as exc:
@@ -101,33 +109,48 @@ def grade_folder(
     done = {
         name
         for name, row in rows.items()
-        if row.get("status") == "graded" and _graded_under(out, name) == fingerprint(seed)
+        if row.get("status") in ("graded", DOES_NOT_IMPORT)
+        and _graded_under(out, name) == fingerprint(seed)
     }
-    todo = [s for s in students if s.name not in done]
+    todo = [s for s in students if s.name not in done and s.folder is not None]
     if rows and list(next(iter(rows.values())).keys()) != header:
-        rows, todo = {}, students  # other tests than last time: start over
+        rows, todo = {}, [s for s in students if s.folder is not None]  # other tests: start over
+    for entry in students:  # what is not graded says why, in every run
+        if entry.folder is None:
+            rows[entry.name] = {"student": entry.name, "status": f"not graded: {entry.why}"}
     _write_all(path, header, rows)
-    failed: list[str] = []
     with (
         open(path, "a", newline="", **NAMES_AS_BYTES) as stream,
         ThreadPoolExecutor(jobs or 2) as pool,
     ):
         writer = csv.writer(stream)
-        futures = {pool.submit(_grade_student, s, out, names, options, draw): s for s in todo}
+        futures = {
+            pool.submit(_grade_student, s.folder, s.name, out, names, options, draw): s
+            for s in todo
+        }
         for future in _progress(as_completed(futures), len(futures)):
             student = futures[future]
             try:
                 row = future.result()
             except Exception as exc:  # noqa: BLE001 - one student's trouble stays theirs
                 row = {"student": student.name, "status": f"could not grade: {exc!r}"[:300]}
-            if row["status"] != "graded":
-                failed.append(f"{student.name}: {row['status']}")
             rows[student.name] = row
             writer.writerow([row.get(k, "") for k in header])
             stream.flush()
     _write_all(path, header, rows)  # sorted, whole
-    graded = sum(r["status"] == "graded" for r in rows.values())
-    print(f"wrote {path}: {graded} of {len(students)} students graded")
+    failed = [
+        f"{name}: {row['status']}"
+        for name, row in rows.items()
+        if row["status"] not in ("graded", DOES_NOT_IMPORT)
+    ]
+    graded = sum(r["status"] in ("graded", DOES_NOT_IMPORT) for r in rows.values())
+    broken = sum(r["status"] == DOES_NOT_IMPORT for r in rows.values())
+    print(
+        f"wrote {path}: {graded} of {len(students)} students graded"
+        + (f" ({broken} of them: raykit does not import, 0 points)" if broken else "")
+    )
+    report = write_report(out, tests, rows)
+    print(f"wrote {report}: the class report (and each student's feedback/<student>/index.html)")
     if failed:
         print("could not grade:\n  " + "\n  ".join(failed), file=sys.stderr)
         return 1
@@ -143,9 +166,11 @@ def _graded_under(out: Path, student: str) -> str | None:
         return None
 
 
-def _grade_student(folder: Path, out: Path, names, options: Options, draw: list[str]) -> dict:
+def _grade_student(
+    folder: Path, name: str, out: Path, names, options: Options, draw: list[str]
+) -> dict:
     """One student, by a grader process of its own under a time budget: a row of scores.csv."""
-    feedback = out / "feedback" / folder.name
+    feedback = out / "feedback" / name
     feedback.mkdir(parents=True, exist_ok=True)
     results_path = feedback / "results.json"
     results_path.unlink(missing_ok=True)
@@ -159,7 +184,7 @@ def _grade_student(folder: Path, out: Path, names, options: Options, draw: list[
         command += ["--child-python", options.child_python]
     if names:
         command += ["--only", *names]
-    row = {"student": folder.name}
+    row = {"student": name}
     try:
         run = subprocess.run(
             command,
@@ -176,9 +201,11 @@ def _grade_student(folder: Path, out: Path, names, options: Options, draw: list[
         last = (run.stderr.strip().splitlines() or [f"exit status {run.returncode}"])[-1]
         return {**row, "status": f"could not grade: {last[:300]}"}
     results = json.loads(results_path.read_text())
-    if any("no raykit package" in t["output"] for t in results["tests"]):
+    if results.get("extra_data", {}).get("sandbox", "").startswith("none"):  # none of it ran
         why = results["tests"][0]["output"].splitlines()[0] if results["tests"] else ""
         row["status"] = f"could not grade: {why or 'no raykit package in the folder'}"[:300]
+    elif results.get("extra_data", {}).get("does_not_import"):
+        row["status"] = DOES_NOT_IMPORT
     else:
         row["status"] = "graded"
     row["score"] = results["score"]

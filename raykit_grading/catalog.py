@@ -566,3 +566,25 @@ def by_name(names: list[str] | None) -> list[GradingTest]:
         return test.name.startswith(name)
 
     return [t for t in TESTS if any(chosen(t, n) for n in names)]
+
+
+def listing(tests: list[GradingTest] | None = None) -> str:
+    """The tests as ``python -m raykit_grading tests`` prints them: a heading per stage with
+    its points, each test's points, visibility and name, and the totals."""
+    tests = list(TESTS if tests is None else tests)
+    lines = []
+    for stage in dict.fromkeys(t.stage for t in tests):
+        mine = [t for t in tests if t.stage == stage]
+        hidden = sum(t.visibility != VISIBLE for t in mine)
+        lines.append(
+            f"Stage {stage}: {len(mine)} tests ({hidden} hidden), "
+            f"{sum(t.points for t in mine):g} points"
+        )
+        lines += [f"  {t.points:>4g}  {t.visibility:<15} {t.name}" for t in mine]
+        lines.append("")
+    hidden = [t for t in tests if t.visibility != VISIBLE]
+    lines.append(
+        f"Total: {len(tests)} tests, {sum(t.points for t in tests):g} points; hidden until the "
+        f"due date: {len(hidden)} tests, {sum(t.points for t in hidden):g} points"
+    )
+    return "\n".join(lines)

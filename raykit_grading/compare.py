@@ -108,6 +108,7 @@ class Verdict:
     share: float
     message: str
     picture: np.ndarray | None = None
+    diagnosed: tuple[str, str] | None = None  # the classic mistake named: (says, where)
 
 
 ImageVerdict = Verdict
@@ -152,7 +153,8 @@ def judge_image(
         picture = feedback_picture(mine, want, strict_matched(mine, want), note)
     if inputs:
         lines.append(f"Inputs: {inputs}")
-    return Verdict(share, "\n".join(lines), picture)
+    named = None if mistake is None else (mistake[0], mistake[3])
+    return Verdict(share, "\n".join(lines), picture, named)
 
 
 SHIFTS = {"down": (1, 0), "up": (-1, 0), "right": (0, 1), "left": (0, -1)}
@@ -393,6 +395,7 @@ def judge_arrays(
             lines.append("Inputs: not shown (a hidden test)")
         else:
             lines.append(f"Inputs: {describe_inputs(spec or {}, arrays or {})}")
+    named = None
     if problem is None:
         named = _diagnose_arrays(got, want, mistakes)
         if named is not None:
@@ -404,7 +407,7 @@ def judge_arrays(
                    else ".")
             )  # fmt: skip
     lines += _callee_lines(list(callees), caller)
-    return Verdict(0.0, "\n".join(lines))
+    return Verdict(0.0, "\n".join(lines), diagnosed=None if named is None else (named[0], named[2]))
 
 
 def _first_differences(key, value, reference, wrong, arrays) -> list[str]:
@@ -486,3 +489,74 @@ def feedback_html(message: str, picture: str | None = None) -> str:
             'style="max-width: 100%; height: auto; image-rendering: pixelated">'
         )
     return "\n".join(parts)
+
+
+PAGE_STYLE = """
+body { font-family: system-ui, sans-serif; line-height: 1.4; max-width: 72em;
+       margin: 0 auto; padding: 0.5em 1em; overflow-wrap: anywhere; }
+.summary { font-size: 1.2em; padding: 0.6em 0.8em; border-radius: 6px; background: #f3f3f3; }
+section { border-top: 1px solid #ccc; padding: 0.3em 0 0.8em; }
+h3 { margin: 0.4em 0 0.2em; font-size: 1.05em; }
+.fail h3 { color: #a4001d; } .pass { color: #1f6b32; }
+"""
+PRACTICE_NOTE = (
+    "The grader runs the same kinds of test on inputs it draws itself, plus hidden tests: "
+    "passing here is a good sign, not the grade."
+)
+
+
+def _points(value: float) -> str:
+    return f"{value:.4g}"
+
+
+def feedback_page(
+    rows: list[dict],
+    *,
+    heading: str = "raykit: your practice tests",
+    tests: str = "practice tests",
+    note: str = PRACTICE_NOTE,
+    top: str = "",
+) -> str:
+    """The feedback page, the same for the self-check (``check.py``) and for each student of
+    a batch: the summary first, then the failing tests (each with its message, inputs and
+    picture), then the passing ones; it wraps at any width. ``rows``: each test's ``name``,
+    ``points``, ``share`` of them earned, ``message`` and ``picture`` (a URL or None);
+    ``top``: text said once above the tests (e.g. why none of them ran)."""
+    passed = [r for r in rows if r["share"] >= 1.0]
+    failing = [r for r in rows if r["share"] < 1.0]
+    earned = sum(r["share"] * r["points"] for r in rows)
+    total = sum(r["points"] for r in rows)
+    parts = [
+        "<!doctype html><html lang='en'><meta charset='utf-8'>",
+        "<meta name='viewport' content='width=device-width, initial-scale=1'>",
+        f"<title>{html.escape(heading)}: {len(passed)} of {len(rows)} pass</title>",
+        f"<style>{PAGE_STYLE}</style>",
+        f"<h1>{html.escape(heading)}</h1>",
+        f"<p class='summary'><strong>{len(passed)} of {len(rows)} {tests} pass: "
+        f"{_points(earned)} of {_points(total)} points.</strong> "
+        + ("Failing tests first." if failing else f"Every one of the {tests} passes.")
+        + (f" {html.escape(note)}" if note else "")
+        + "</p>",
+    ]
+    if top:
+        parts.append(feedback_html(top))
+    if failing:
+        parts.append(f"<h2>Failing ({len(failing)})</h2>")
+    for row in failing:
+        parts.append(
+            f"<section class='fail'><h3>FAIL: {html.escape(row['name'])}: "
+            f"{_points(row['share'] * row['points'])} of {_points(row['points'])} points</h3>"
+            + feedback_html(row["message"], row["picture"])
+            + "</section>"
+        )
+    if passed:
+        parts.append(f"<h2>Passing ({len(passed)})</h2><ul>")
+        parts += [
+            f"<li class='pass'>pass: {html.escape(r['name'])}: {_points(r['points'])} of "
+            f"{_points(r['points'])} points"
+            + (f" (<a href='{html.escape(r['picture'])}'>the picture</a>)" if r["picture"] else "")
+            + "</li>"
+            for r in passed
+        ]
+        parts.append("</ul>")
+    return "\n".join(parts) + "\n"

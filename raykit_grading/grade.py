@@ -49,8 +49,10 @@ from raykit_grading.compare import (
 from raykit_grading.isolation import IsolationUnavailable
 from raykit_grading.mistakes import MISTAKES
 from raykit_grading.results import (
+    NOT_IMPORTED,
     html_output,
     not_graded_results,
+    stage_lines,
     test_entry,
     withheld,
     write_results,
@@ -127,6 +129,7 @@ def grade(
     check_clone()
     results, notes, failures = [], [], []
     sandbox_kind = "none: nothing of the submission was run"
+    broken = ""  # why the submission's raykit does not import ("" if it does)
     with Workspace() as workspace:
         try:
             staged = stage(Path(submission), workspace / "submission")
@@ -147,9 +150,11 @@ def grade(
                 raise GradingImpossible(str(exc)) from None
             sandbox_kind = sandbox.description
             print(f"raykit_grading: sandbox: {sandbox_kind}", file=sys.stderr)
-            deadline = time.monotonic() + options.total_seconds
-            graded = {}
-            for test in _visible_first(tests):
+            deadline = time.monotonic() + options.total_seconds  # the import check's too
+            broken, unimported = _import_error(sandbox, options, deadline)
+            notes = notes + unimported
+            graded = {t.key: test_entry(t, 0.0, NOT_IMPORTED) for t in tests} if broken else {}
+            for test in [] if broken else _visible_first(tests):
                 try:
                     graded[test.key] = _grade_one(sandbox, test, seed, feedback, options, deadline)
                 except Exception as exc:  # noqa: BLE001 - one test's failure stays its own
@@ -167,6 +172,9 @@ def grade(
     summary += [f"Note: {note}" for note in notes]
     if package is None:  # the submission's shape, said once at the top as well
         summary.append(problem)
+    if broken:  # said once here; every test says it was not run
+        summary.append(f"raykit does not import, so no test was run: {broken}")
+    summary += stage_lines(tests, results)
     if failures:
         summary.append(f"{len(failures)} test(s) could not be graded; they need a regrade")
     graded = {
@@ -181,6 +189,7 @@ def grade(
             "seed_fingerprint": fingerprint(seed),
             "not_graded": failures,
             "sandbox": sandbox_kind,
+            **({"does_not_import": broken} if broken else {}),
         },
         "tests": results,
     }
@@ -232,7 +241,57 @@ def _grade_one(
             hidden=test.visibility != VISIBLE,
         )
     score = test.points if verdict.share >= 1.0 else 0.0  # array tests: all or nothing
-    return test_entry(test, score, verdict.message + note, ran.output)
+    return _diagnosed(test_entry(test, score, verdict.message + note, ran.output), verdict)
+
+
+IMPORT_FAILURES = ("your code stopped with an error", "not written yet", "your code crashed")
+
+
+def _import_error(sandbox: Sandbox, options: Options, deadline: float) -> tuple[str, list]:
+    """Why the submission's raykit does not import at all, with what it printed ("" if it
+    does; a hang or a memory blow-up at import is left to each test to say), and a note
+    naming the modules that do not import when others do (the tests that use them fail, each
+    saying why). It takes its time from the submission's total, as a test does."""
+    left = deadline - time.monotonic()
+    try:
+        ran = sandbox.run(
+            "imports", {}, {}, wall_seconds=max(1.0, min(options.limits.wall_seconds, left))
+        )
+    except Exception:  # noqa: BLE001 - the grader's trouble: each test meets and says it
+        return "", []
+    if ran.outputs is not None:
+        flags = np.asarray(ran.outputs.get("imports", ()), dtype=float).ravel()
+        if flags.shape != (len(tasks.IMPORTED),):
+            return "", []
+        failing = [name for name, ok in zip(tasks.IMPORTED, flags, strict=True) if ok != 1.0]
+        if not failing:
+            return "", []
+        one = len(failing) == 1
+        return "", [
+            f"{', '.join(failing)}: {'does' if one else 'do'} not import; the tests that use "
+            f"{'it' if one else 'them'} fail"
+        ]
+    if not ran.problem.startswith(IMPORT_FAILURES):
+        return "", []
+    lines = ran.output.strip().splitlines()
+    theirs = next((i for i, line in enumerate(lines) if "/submission/" in line), None)
+    if theirs is not None:  # from the submission's first frame: the grader's own say nothing
+        lines = ["Traceback (most recent call last):", *lines[theirs:]]
+    printed = "\n".join(lines[-30:])
+    return ran.problem + (f"\n{printed}" if printed else ""), []
+
+
+def _diagnosed(entry: dict, verdict) -> dict:
+    """The classic mistake a verdict names, as a field of the test's entry (``extra_data``:
+    ``mistake``, its key, or its words for a one-pixel shift; ``says``; ``where``): what a
+    class report counts, never parsed back from the message."""
+    if verdict.diagnosed is not None:
+        says, where = verdict.diagnosed
+        key = next((m.key for m in MISTAKES if m.says == says), None)
+        if key is None and says.startswith("the picture is shifted by one pixel"):
+            key = "shifted_by_one"
+        entry["extra_data"] = {"mistake": key or says, "says": says, "where": where}
+    return entry
 
 
 def _visible_first(tests: list[GradingTest]) -> list[GradingTest]:
@@ -347,7 +406,7 @@ def _image_result(
         path = feedback / f"{test.key}.png"
         save_image(verdict.picture, path)
         message += f"\nfeedback picture (yours | expected | where they differ): {path.name}"
-    entry = test_entry(test, test.points * verdict.share, message, printed)
+    entry = _diagnosed(test_entry(test, test.points * verdict.share, message, printed), verdict)
     if test.visibility == VISIBLE:  # hidden tests show nothing a student could copy
         entry["output"] = html_output(entry["output"], verdict.picture)
         entry["output_format"] = "html"

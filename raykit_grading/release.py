@@ -24,7 +24,7 @@ import numpy as np
 from raykit.io.images import quantize, save_image
 from raykit_grading import tasks
 from raykit_grading.cases import located
-from raykit_grading.catalog import REPO, TESTS, VISIBLE
+from raykit_grading.catalog import REPO, STAGE1, STAGE2, STAGE3, STAGE4, TESTS, VISIBLE
 from raykit_grading.markers import strip_solutions
 
 VISIBLE_TESTS = '''"""The visible grading tests: your functions against the reference results.
@@ -72,7 +72,8 @@ def test_visible(case):
 STUDENT_README = """# raykit: the starter kit
 
 You write the lecture's functions; everything around them is given. Each function below raises
-`NotImplementedError` with a hint until you write it:
+`NotImplementedError` with a hint until you write it. They come stage by stage, in the
+lecture's order; the grading tests are numbered by the same stages (test 3.6 is stage 3's):
 
 {functions}
 
@@ -82,6 +83,9 @@ You write the lecture's functions; everything around them is given. Each functio
 pip install -e ".[test]"
 python -m pytest
 ```
+
+`python -m pytest` prints one line for each test that fails, saying why; for the whole
+traceback of one, run it alone with `python -m pytest --tb=short -k 3.6`.
 
 The tests in `tests/` are the visible grading tests: your functions' results against the
 reference, within a stated tolerance, and your renders against the reference images in
@@ -95,10 +99,11 @@ There are hidden tests too. Code that only reproduces these expected results sco
 code that computes them right passes both. A render that shows a classic mistake (such as rays
 through pixel corners instead of centres) loses that test's points even when it looks close.
 
-Before you submit, run the self-check: `python check.py`. It runs the practice tests with the
-grader's own comparison and its diagnosis of the classic mistakes, and writes a captioned
-picture of each render (yours | expected | where they differ) and `check/index.html` with all
-of them: open it in a browser.
+Before you submit, run the self-check: `python check.py` (or one test: `python check.py 3.6`;
+a stage's tests: `python check.py 3`; `python check.py --help` says more). It runs the
+practice tests with the grader's own comparison and its diagnosis of the classic mistakes,
+and writes a captioned picture of each render (yours | expected | where they differ) and
+`check/index.html` with all of them: open it in a browser.
 
 Look at your pictures as you go: `raykit render scenes/classic.json -o classic.png`,
 `raykit scan scenes/linescan/slide.json -o strip.png --diagram rays.png`.
@@ -124,11 +129,13 @@ instead.
 ZIP_COMMAND = "python -m zipfile -c raykit.zip raykit"
 
 # the student README lists the functions to write in the lecture's order, stage by stage
-LECTURE_ORDER = [
-    "linescan/camera.py", "linescan/objects.py", "planes.py", "spheres.py: sphere_roots",
-    "spheres.py: hit_sphere", "hits.py", "camera.py", "billboards.py", "render.py",
-    "spheres.py: sphere_normals", "lights.py", "shading.py", "shadows.py", "mirrors.py",
-]  # fmt: skip
+LECTURE_STAGES = {
+    STAGE1: ["linescan/camera.py", "linescan/objects.py"],
+    STAGE2: ["planes.py", "spheres.py: sphere_roots", "spheres.py: hit_sphere", "hits.py"],
+    STAGE3: ["camera.py", "billboards.py", "render.py"],
+    STAGE4: ["spheres.py: sphere_normals", "lights.py", "shading.py", "shadows.py", "mirrors.py"],
+}
+LECTURE_ORDER = [key for keys in LECTURE_STAGES.values() for key in keys]
 
 
 def _lecture_order(function: str) -> int:
@@ -137,6 +144,18 @@ def _lecture_order(function: str) -> int:
         (i for i, key in enumerate(LECTURE_ORDER) if function.startswith(f"raykit/{key}")),
         len(LECTURE_ORDER),
     )
+
+
+def _by_stage(functions: list[str]) -> str:
+    """The README's list: a heading per stage (as the grading tests name them), its functions
+    in the lecture's order."""
+    stage_of = {key: stage for stage, keys in LECTURE_STAGES.items() for key in keys}
+    grouped: dict[str, list[str]] = {}
+    for name in sorted(functions, key=_lecture_order):
+        index = _lecture_order(name)
+        stage = f"Stage {stage_of[LECTURE_ORDER[index]]}" if index < len(LECTURE_ORDER) else "More"
+        grouped.setdefault(stage, []).append(f"- `{name}`")
+    return "\n\n".join(f"### {stage}\n\n" + "\n".join(lines) for stage, lines in grouped.items())
 
 
 # the compiled engine repeats the solutions in machine code: students render with their own
@@ -168,7 +187,7 @@ def build_release(out: Path) -> list[str]:
     (out / "pyproject.toml").write_text(_student_pyproject())
     _visible_tests(out / "tests")
     shutil.copy(Path(__file__).with_name("selfcheck.py"), out / "check.py")
-    functions = "\n".join(f"- `{name}`" for name in sorted(stubbed, key=_lecture_order))
+    functions = _by_stage(stubbed)
     readme = STUDENT_README.format(functions=functions, zip_command=ZIP_COMMAND)
     (out / "README.md").write_text(readme)
     print(
@@ -203,6 +222,8 @@ raykit = ["io/schemas/*.json"]
 
 [tool.pytest.ini_options]
 testpaths = ["tests"]
+# one line for each failing test (its name and why); --tb=short for the traceback
+addopts = "--tb=no -rf"
 """
 
 

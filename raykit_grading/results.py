@@ -100,3 +100,20 @@ def not_graded_results(why: str, tests: list[GradingTest] | None = None) -> dict
         "extra_data": {"not_graded": [why]},
         "tests": [test_entry(t, 0.0, message) for t in (tests or TESTS)],
     }
+
+
+NOT_IMPORTED = "not run: raykit does not import"
+
+
+def stage_lines(tests: list[GradingTest], entries: list[dict]) -> list[str]:
+    """The top output's sum-up, one line per stage: its points and its tests that pass."""
+    lines = []
+    for stage in dict.fromkeys(t.stage for t in tests):
+        mine = [(t, e) for t, e in zip(tests, entries, strict=True) if t.stage == stage]
+        earned = sum(e["score"] for _, e in mine)
+        passed = sum(e["score"] >= t.points for t, e in mine)
+        lines.append(
+            f"Stage {stage}: {earned:.4g} of {sum(t.points for t, _ in mine):.4g} points, "
+            f"{passed} of {len(mine)} tests pass"
+        )
+    return lines

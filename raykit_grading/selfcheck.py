@@ -1,12 +1,14 @@
 """Check your raykit before you submit it: the practice tests, judged as the grader judges.
 
     python check.py            (in the starter kit's folder)
+    python check.py 3.6        (one test; ``python check.py 3``: stage 3's tests)
 
-runs every practice test in ``tests/expected/`` on your functions, with the grader's own
-comparison: arrays within the stated tolerance, renders compared fairly at silhouettes and
-against the classic mistakes (a render that shows one scores nothing for that test, and the
-picture says which). It writes ``check/<test>.png`` for each render (yours | expected | where
-they differ, captioned) and ``check/index.html`` with all of them; open that in a browser.
+runs every practice test (or those named) in ``tests/expected/`` on your functions, with the
+grader's own comparison: arrays within the stated tolerance, renders compared fairly at
+silhouettes and against the classic mistakes (a render that shows one scores nothing for that
+test, and the picture says which). It writes ``check/<test>.png`` for each render (yours |
+expected | where they differ, captioned) and ``check/index.html`` with all of them; open that
+in a browser.
 
 The grader runs the same kinds of test on inputs it draws fresh each time, plus hidden tests:
 passing here is a good sign, not the grade. (This file is copied into the starter kit from
@@ -15,7 +17,6 @@ passing here is a good sign, not the grade. (This file is copied into the starte
 
 from __future__ import annotations
 
-import html
 import json
 import sys
 import traceback
@@ -28,7 +29,7 @@ import numpy as np  # noqa: E402
 from _grading.cases import read_case  # noqa: E402
 from _grading.compare import (  # noqa: E402
     describe_inputs,
-    feedback_html,
+    feedback_page,
     judge_arrays,
     judge_image,
 )
@@ -38,14 +39,6 @@ from PIL import Image  # noqa: E402
 from raykit.io.images import quantize  # noqa: E402
 
 EXPECTED = HERE / "tests" / "expected"
-STYLE = """
-body { font-family: system-ui, sans-serif; line-height: 1.4; max-width: 72em;
-       margin: 0 auto; padding: 0.5em 1em; overflow-wrap: anywhere; }
-.summary { font-size: 1.2em; padding: 0.6em 0.8em; border-radius: 6px; background: #f3f3f3; }
-section { border-top: 1px solid #ccc; padding: 0.3em 0 0.8em; }
-h3 { margin: 0.4em 0 0.2em; font-size: 1.05em; }
-.fail h3 { color: #a4001d; } .pass { color: #1f6b32; }
-"""
 
 
 def _number(case: Path) -> tuple[int, ...]:
@@ -127,51 +120,46 @@ def _points(value: float) -> str:
 
 
 def page(rows: list[dict]) -> str:
-    """The self-check page: the summary first, then the failing tests (each with its message,
-    inputs and picture), then the passing ones; it wraps at any width."""
-    passed = [r for r in rows if r["share"] >= 1.0]
-    failing = [r for r in rows if r["share"] < 1.0]
-    earned = sum(r["share"] * r["points"] for r in rows)
-    total = sum(r["points"] for r in rows)
-    parts = [
-        "<!doctype html><html lang='en'><meta charset='utf-8'>",
-        "<meta name='viewport' content='width=device-width, initial-scale=1'>",
-        f"<title>raykit self-check: {len(passed)} of {len(rows)} pass</title>",
-        f"<style>{STYLE}</style>",
-        "<h1>raykit: your practice tests</h1>",
-        f"<p class='summary'><strong>{len(passed)} of {len(rows)} practice tests pass: "
-        f"{_points(earned)} of {_points(total)} points.</strong> "
-        + ("Failing tests first." if failing else "Every practice test passes.")
-        + " The grader runs the same kinds of test on inputs it draws itself, plus hidden "
-        "tests: passing here is a good sign, not the grade.</p>",
-    ]
-    if failing:
-        parts.append(f"<h2>Failing ({len(failing)})</h2>")
-    for row in failing:
-        parts.append(
-            f"<section class='fail'><h3>FAIL: {html.escape(row['name'])}: "
-            f"{_points(row['share'] * row['points'])} of {_points(row['points'])} points</h3>"
-            + feedback_html(row["message"], row["picture"])
-            + "</section>"
-        )
-    if passed:
-        parts.append(f"<h2>Passing ({len(passed)})</h2><ul>")
-        parts += [
-            f"<li class='pass'>pass: {html.escape(r['name'])}: {_points(r['points'])} of "
-            f"{_points(r['points'])} points"
-            + (f" (<a href='{html.escape(r['picture'])}'>the picture</a>)" if r["picture"] else "")
-            + "</li>"
-            for r in passed
-        ]
-        parts.append("</ul>")
-    return "\n".join(parts) + "\n"
+    """The self-check page (:func:`feedback_page`, as a batch writes each student's)."""
+    return feedback_page(rows)
 
 
-def main() -> int:
+def _chosen(cases: list[Path], wanted: list[str], parser) -> list[Path]:
+    """The cases a student asked for: a test's number (``3.6``) or a stage's (``3``)."""
+    if not wanted:
+        return cases
+    numbers = {".".join(map(str, _number(case))): case for case in cases}
+    chosen = []
+    for text in wanted:
+        found = [c for n, c in numbers.items() if n == text or n.split(".")[0] == text]
+        if not found:
+            parser.error(f"no practice test {text}: they are {', '.join(numbers)}")
+        chosen += [c for c in found if c not in chosen]
+    return sorted(chosen, key=_number)
+
+
+def main(argv: list[str] | None = None) -> int:
+    import argparse
+
+    parser = argparse.ArgumentParser(
+        prog="python check.py",
+        description=__doc__.split("\n\n", 1)[0],
+        epilog="Examples: python check.py (every practice test); python check.py 3.6 (test "
+        "3.6 only); python check.py 1 2 (stages 1 and 2). The page is check/index.html.",
+    )
+    parser.add_argument(
+        "tests",
+        nargs="*",
+        metavar="TEST",
+        help="a test's number (3.6) or a stage's (3); default: every practice test",
+    )
+    args = parser.parse_args(argv)
+    cases = sorted((p for p in EXPECTED.iterdir() if p.is_dir()), key=_number)
+    cases = _chosen(cases, args.tests, parser)
     out = HERE / "check"
     out.mkdir(exist_ok=True)
     rows = []
-    for case in sorted((p for p in EXPECTED.iterdir() if p.is_dir()), key=_number):
+    for case in cases:
         row = run_case(case, out)
         rows.append(row)
         passed = row["share"] >= 1.0

@@ -51,6 +51,36 @@ def task_probe(spec, arrays):
     return {"ok": np.ones(1)}
 
 
+# the modules of raykit the tasks import: a submission none of whose tests can run without them
+IMPORTED = (
+    "raykit", "raykit.billboards", "raykit.camera", "raykit.io.linescan_json",
+    "raykit.io.scene_json", "raykit.lights", "raykit.linescan.camera", "raykit.linescan.objects",
+    "raykit.linescan.scan", "raykit.mirrors", "raykit.planes", "raykit.render",
+    "raykit.shading", "raykit.shadows", "raykit.spheres", "raykit.surfaces",
+)  # fmt: skip
+
+
+def task_imports(spec, arrays):
+    """Before any test: which of raykit's modules the tasks use import (1) or not (0). If the
+    package itself or every one of them fails, nothing can be tested: the first error is
+    raised, for the grader to say once."""
+    import importlib
+
+    import numpy as np
+
+    errors = {}
+    for name in IMPORTED:
+        try:
+            importlib.import_module(name)
+        except Exception as exc:  # noqa: BLE001 - the student's error, said by the grader
+            if name == "raykit":
+                raise
+            errors[name] = exc
+    if len(errors) == len(IMPORTED) - 1:
+        raise next(iter(errors.values()))
+    return {"imports": np.array([name not in errors for name in IMPORTED], dtype=float)}
+
+
 def task_pixel_x(spec, arrays):
     from raykit.linescan.camera import pixel_x
 
