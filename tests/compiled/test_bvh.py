@@ -8,7 +8,6 @@ import numpy as np
 import pytest
 
 from raykit.engine import bvh
-from raykit.engine.compiled import bvh as kernels
 from raykit.render import cast
 
 from .harness import (
@@ -23,6 +22,7 @@ from .harness import (
 
 numba = pytest.importorskip("numba")
 compiled = pytest.importorskip("raykit.engine.compiled")
+kernels = pytest.importorskip("raykit.engine.compiled.bvh")
 
 
 @pytest.mark.parametrize("objects", [3, 40, 300])

@@ -11,7 +11,6 @@ from libm_power import libm_power
 
 from conftest import shifted_scene
 from raykit import shading
-from raykit.engine.compiled import shading as kernels
 from raykit.lights import DirectionalLight, PointLight
 from raykit.rays import dot, normalize
 from raykit.render import cast, secondary_caster
@@ -28,6 +27,7 @@ from .harness import (
 
 numba = pytest.importorskip("numba")
 compiled = pytest.importorskip("raykit.engine.compiled")
+kernels = pytest.importorskip("raykit.engine.compiled.shading")
 
 
 @numba.njit
