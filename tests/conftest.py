@@ -179,6 +179,16 @@ def grader_python() -> str:
     return python
 
 
+@pytest.fixture(scope="session")
+def release(tmp_path_factory) -> Path:
+    """The student release, built once per session; a test that changes it changes a copy."""
+    from raykit_grading.release import build_release
+
+    out = tmp_path_factory.mktemp("release") / "student"
+    build_release(out)
+    return out
+
+
 def pytest_collection_modifyitems(config, items):
     """Grading runs submissions in bubblewrap sandboxes; where bwrap is not installed, say so
     and skip those tests (but never in CI, which installs it: there they must run)."""

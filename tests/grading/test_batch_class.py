@@ -21,17 +21,9 @@ from gradescope_export import make_export
 from conftest import REPO
 from mistaken_submissions import make_submission
 from raykit_grading.catalog import TESTS, VISIBLE
-from raykit_grading.release import build_release
 from raykit_grading.results import NOT_IMPORTED
 
 ONLY = ["2.3", "3.1", "3.6"]  # a ray-sphere array test, the camera frame, a render: 7 points
-
-
-@pytest.fixture(scope="module")
-def release(tmp_path_factory):
-    out = tmp_path_factory.mktemp("release") / "student"
-    build_release(out)
-    return out
 
 
 @pytest.fixture(scope="module")

@@ -17,7 +17,6 @@ from mistaken_submissions import make_submission
 from raykit_grading.catalog import VISIBLE, by_name
 from raykit_grading.grade import Options, grade
 from raykit_grading.mistakes import MISTAKES
-from raykit_grading.release import build_release
 
 pytestmark = pytest.mark.slow
 SEED = 3
@@ -34,13 +33,6 @@ def _where(key):
 
 def _text(output: str) -> str:
     return html.unescape(re.sub(r"<[^>]+>", "", output))
-
-
-@pytest.fixture(scope="module")
-def release(tmp_path_factory):
-    out = tmp_path_factory.mktemp("release") / "student"
-    build_release(out)
-    return out
 
 
 @pytest.mark.parametrize("key", sorted(NAMED_IN))

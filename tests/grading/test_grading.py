@@ -17,7 +17,6 @@ from raykit_grading.compare import check_arrays, compare_images, feedback_pictur
 from raykit_grading.grade import Options, grade, grade_to_file
 from raykit_grading.markers import MarkerError, strip_solutions
 from raykit_grading.mistakes import MISTAKES
-from raykit_grading.release import build_release
 
 # Gradescope's results.json, as its autograder specification documents it
 RESULTS_SCHEMA = {
@@ -57,13 +56,6 @@ TOTAL = sum(t.points for t in TESTS)
 @pytest.fixture(scope="session")
 def solution(tmp_path_factory):
     return make_submission(tmp_path_factory.mktemp("solution"))
-
-
-@pytest.fixture(scope="session")
-def release(tmp_path_factory):
-    out = tmp_path_factory.mktemp("release") / "student"
-    build_release(out)
-    return out
 
 
 def _student_pytest(folder):

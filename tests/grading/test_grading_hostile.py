@@ -59,7 +59,6 @@ from mistaken_submissions import make_submission
 from raykit_grading.autograder import build_zip
 from raykit_grading.catalog import TESTS
 from raykit_grading.confine import TREES
-from raykit_grading.release import build_release
 from raykit_grading.seeds import HEADER
 
 pytestmark = pytest.mark.slow
@@ -72,13 +71,6 @@ DEPLOYMENTS = ("root", "docker", "user", "container")
 POINTS = {t.key: t.points for t in TESTS}
 SEED = 20261123
 CONTAINERS: list[str] = []  # the container way's containers, each to be gone after its grading
-
-
-@pytest.fixture(scope="module")
-def release(tmp_path_factory):
-    out = tmp_path_factory.mktemp("hostile-release") / "student"
-    build_release(out)
-    return out
 
 
 @pytest.fixture(scope="module")
