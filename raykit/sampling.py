@@ -123,10 +123,27 @@ def point_on_disk(uniforms: np.ndarray) -> np.ndarray:
     b = 2.0 * uniforms[:, 1] - 1.0
     wide = np.abs(a) > np.abs(b)  # the left and right quarters of the square
     radius = np.where(wide, a, b)
+    # φ = (π/4)·(b/a) in the wide quarters, else φ = π/2 - θ with θ = (π/4)·(a/b), whose cosine
+    # and sine are θ's sine and cosine: both angles lie in [-π/4, π/4]
     with np.errstate(invalid="ignore", divide="ignore"):
-        phi = np.where(wide, (math.pi / 4) * (b / a), math.pi / 2 - (math.pi / 4) * (a / b))
-    phi = np.where(radius == 0, 0.0, phi)  # the centre (a = b = 0): any angle, radius 0
-    return np.column_stack([radius * np.cos(phi), radius * np.sin(phi)])
+        angle = (math.pi / 4) * np.where(wide, b / a, a / b)
+    angle = np.where(radius == 0, 0.0, angle)  # the centre (a = b = 0): any angle, radius 0
+    cos, sin = _cos_sin(angle)
+    return np.column_stack([radius * np.where(wide, cos, sin), radius * np.where(wide, sin, cos)])
+
+
+def _cos_sin(angle: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """cos and sin of angles ``(N,)`` in [-π/4, π/4] by their Taylor series (to within an ulp
+    or two there), in plain multiplications and additions: numpy's own np.cos and np.sin are
+    vectorised differently on different processors, and a render must be the same bytes on
+    every machine (and in a numba kernel)."""
+    x2 = angle * angle
+    cos = np.ones_like(angle)
+    sin = np.ones_like(angle)
+    for k in range(11, 0, -1):  # Horner: 1 - x²/(2k-1)(2k)·(1 - ...), to x^22 and x^23
+        cos = 1.0 - x2 / ((2 * k - 1) * (2 * k)) * cos
+        sin = 1.0 - x2 / ((2 * k) * (2 * k + 1)) * sin
+    return cos, angle * sin
 
 
 def point_on_lens(
