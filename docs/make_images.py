@@ -33,6 +33,8 @@ COMMANDS = [
     "render scenes/shadow_on_billboard.json -o {out}/shadow_on_billboard.png",
     "diagram scenes/shadow_on_billboard.json -o {out}/shadow_rays_side.png --view side --rays 40",
     "diagram scenes/mirror_balls.json -o {out}/mirror_rays_top.png --view top --rays 60",
+    "render scenes/soft_shadows.json -o {out}/soft_shadows.png",
+    "render scenes/depth_of_field.json -o {out}/depth_of_field.png",
 ]
 
 # figures that no command draws: (file name, function in raykit.diagrams.math_figures)

@@ -31,6 +31,15 @@ Conventions (owned here; every other 3D module refers to this page)
   the slide's s is P here; our s and t are P's coordinates along u and v.)
 * Orthographic: origin eye + s·u + t·v, direction -w: parallel rays that frame the plane
   through lookat exactly as the perspective camera does.
+* Thin lens (stage 5, FOCG 13.4.3): a perspective camera with an ``aperture`` > 0 has a lens,
+  the disk of radius aperture/2 around the eye in the u, v plane (the aperture is its
+  *diameter*), and sees sharp only the focal plane, at ``focus_distance`` f in front of the eye
+  (w = -f; by default f = d, the plane through lookat). A ray of image point P starts at its
+  own point r = e + (aperture/2)·(x·u + y·v) of the lens ((x, y) in the unit disk,
+  :func:`raykit.sampling.point_on_lens`) and aims at the point where the pinhole ray of P meets
+  the focal plane, s = e + (f/d)·(P - e): every ray of P meets there, so what lies on the focal
+  plane stays sharp, and the farther a point from it, the wider the disk it is spread over.
+  Aperture 0 is the pinhole, and renders with :func:`rays_through` itself.
 """
 
 from __future__ import annotations
@@ -42,6 +51,7 @@ from functools import cached_property
 import numpy as np
 
 from raykit.rays import length, normalize
+from raykit.sampling import point_on_lens
 
 PROJECTIONS = ("perspective", "orthographic")
 
@@ -65,6 +75,13 @@ class Camera:
     width: int
     height: int
     projection: str = "perspective"
+    aperture: float = 0.0  # the thin lens's diameter; 0: the pinhole
+    focus_distance: float | None = None  # to the focal plane; None: d, the plane through lookat
+
+    @property
+    def focus(self) -> float:
+        """f, the distance from the eye to the focal plane (``focus_distance``, or d)."""
+        return self.d if self.focus_distance is None else float(self.focus_distance)
 
     @cached_property
     def frame(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -163,6 +180,23 @@ def rays_through(camera: Camera, x: np.ndarray, y: np.ndarray) -> tuple[np.ndarr
         directions = normalize(in_plane - camera.d * w)
     return origins, directions
     # END SOLUTION
+
+
+def thin_lens_rays(
+    camera: Camera, x: np.ndarray, y: np.ndarray, uniforms: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Thin-lens rays (FOCG 13.4.3) through continuous image points (x, y) ``(N,)``, each from
+    its own point on the lens chosen by ``uniforms (N, 2)``: ``origins (N, 3)`` r on the lens,
+    unit ``directions (N, 3)`` toward s = e + (f/d)·(P - e) on the focal plane (module
+    conventions). Perspective cameras only. A stage-5 student function."""
+    u, v, w = camera.frame
+    eye = np.asarray(camera.eye, dtype=float)
+    pinhole = _in_plane(camera, x, y) - camera.d * w  # P - e, the pinhole ray's direction
+    on_lens = point_on_lens(np.zeros(3), u, v, camera.aperture, uniforms)  # r - e
+    # relative to the eye, as rays_through forms its directions: a camera far from the
+    # origin keeps its digits
+    directions = normalize((camera.focus / camera.d) * pinhole - on_lens)
+    return eye + on_lens, directions
 
 
 def _in_plane(camera: Camera, x: np.ndarray, y: np.ndarray) -> np.ndarray:

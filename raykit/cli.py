@@ -268,9 +268,15 @@ def _run_render(args: argparse.Namespace) -> None:
         )
     save_image(image.rgb, args.output)
     seconds = time.perf_counter() - start
+    sampling = scene.sampling
+    samples = (
+        f"{sampling.samples_per_pixel} {sampling.sampler} samples per pixel, seed {sampling.seed}"
+        if scene.distributed
+        else f"{args.samples}x{args.samples} samples per pixel"
+    )
     print(
-        f"wrote {args.output} ({camera.width}x{camera.height}, "
-        f"{args.samples}x{args.samples} samples per pixel, {engine} engine) in {seconds:.2f} s"
+        f"wrote {args.output} ({camera.width}x{camera.height}, {samples}, {engine} engine) "
+        f"in {seconds:.2f} s"
     )
 
 

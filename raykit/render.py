@@ -20,7 +20,14 @@ object's flat colour, and nothing else runs. Otherwise each sample's hit is shad
 
 With n x n samples per pixel (:func:`raykit.camera.sample_offsets`), the pixel's colour is the
 mean of its samples' colours, taken before quantising to 8 bits (:mod:`raykit.io.images`). The
-``object_index`` and ``t`` images always describe the ray through the pixel *centre*.
+``object_index`` and ``t`` images always describe the ray through the pixel *centre* (the
+pinhole's ray, with a lens).
+
+Distributed ray tracing (stage 5, FOCG 13.4). A scene with more than one sample per pixel, an
+area light or a lens is rendered the same way, a sample at a time: each sample of a pixel has
+its own point in the pixel, on the lens and on each area light, from the sampler the scene
+names (:mod:`raykit.sampling`), and the pixel is the mean of its samples. The same seed gives
+the same bytes (:mod:`raykit.engine.noise`).
 """
 
 from __future__ import annotations
@@ -98,7 +105,8 @@ def illumination(plan: Plan, rays: ViewingRays, hits: Hits) -> np.ndarray:
     else their shading (:func:`raykit.shading.shade`) with shadow and mirror rays."""
     if plan.secondary is None:
         return hits.color
-    return shade(plan.scene, plan.secondary, rays.origins, rays.directions, hits)
+    on_lights = plan.on_lights(rays)  # where on the area lights: a distributed render's
+    return shade(plan.scene, plan.secondary, rays.origins, rays.directions, hits, on_lights)
 
 
 def _adaptive(scene: Scene, plan: Plan) -> Render:

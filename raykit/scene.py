@@ -4,6 +4,11 @@ Stage 4 adds, all optional: ``lights`` (:mod:`raykit.lights`), ``ambient``, per-
 (:mod:`raykit.materials`), a ``shadows`` switch and ``max_depth`` for mirror bounces. A scene
 without them renders exactly as format v1 always did.
 
+Stage 5 (format v2) adds distributed ray tracing (FOCG 13.4): area lights
+(:class:`raykit.lights.AreaLight`), a thin-lens camera (:mod:`raykit.camera`), and how the
+render samples (:class:`raykit.sampling.Sampling`: samples per pixel, the sampler, the seed).
+A scene with any of them is :attr:`Scene.distributed`; one without renders as before.
+
 Scenes are read from files by :mod:`raykit.io.scene_json` (format v1, documented in
 ``docs/scene-format.md``) and :mod:`raykit.io.nff`. Geometry conventions live with the
 objects: :mod:`raykit.camera`, :mod:`raykit.spheres`, :mod:`raykit.billboards`. Nothing here
@@ -25,8 +30,9 @@ import numpy as np
 
 from raykit.billboards import Billboard
 from raykit.camera import Camera
-from raykit.lights import Light
+from raykit.lights import AreaLight, Light
 from raykit.materials import MaterialTable
+from raykit.sampling import Sampling
 from raykit.spheres import Sphere, SphereTable
 
 DEFAULT_MAX_DEPTH = 3
@@ -45,6 +51,7 @@ class Scene:
     ambient: np.ndarray | None = None
     shadows: bool = True
     max_depth: int = DEFAULT_MAX_DEPTH
+    sampling: Sampling = Sampling()
 
     @property
     def objects(self) -> tuple[Sphere | Billboard, ...]:
@@ -70,6 +77,19 @@ class Scene:
     def lit(self) -> bool:
         """Whether light is computed: the scene has lights or ambient light (else flat colours)."""
         return bool(self.lights) or self.ambient is not None
+
+    @property
+    def area_lights(self) -> int:
+        """How many of the lights are area lights (:class:`raykit.lights.AreaLight`)."""
+        return sum(isinstance(light, AreaLight) for light in self.lights)
+
+    @property
+    def distributed(self) -> bool:
+        """Whether the render is distributed (stage 5): more than one sample per pixel of the
+        scene's :class:`raykit.sampling.Sampling`, an area light, or a lens (aperture > 0)."""
+        return (
+            self.sampling.samples_per_pixel > 1 or self.area_lights > 0 or self.camera.aperture > 0
+        )
 
     @cached_property
     def materials(self) -> MaterialTable:

@@ -11,6 +11,10 @@ surface point (the conventions of :mod:`raykit.lights`):
   :func:`blinn_phong`; where l + v = 0 exactly, h is undefined and there is no highlight;
 * "visible": the light is not blocked (:mod:`raykit.shadows`). A light behind the surface
   (n·l <= 0) adds nothing, highlight included: it cannot light the side it does not reach;
+* an area light (stage 5, FOCG 13.4.2) is, for each ray, a point light at its own sampled
+  point of the light (:func:`raykit.lights.sampled`): one shadow ray per ray and light, the
+  penumbra the mean over a pixel's samples. The uniform numbers come with the rays
+  (``light_uniforms``); without them each area light is sampled at its centre;
 * km·L(r): what the mirror reflects (:mod:`raykit.mirrors`).
 
 A scene with no lights and no ambient (every format v1 scene) is unlit: L is the object's flat
@@ -27,10 +31,12 @@ computed only on objects with a specular colour; mirror rays start only on mirro
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from raykit.hits import Hits
-from raykit.lights import toward_light
+from raykit.lights import AreaLight, sampled, toward_light
 from raykit.mirrors import reflect
 from raykit.rays import dot, normalize
 from raykit.scene import Scene
@@ -83,10 +89,13 @@ def shade(
     origins: np.ndarray,
     directions: np.ndarray,
     hits: Hits,
+    light_uniforms: np.ndarray | None = None,
 ) -> np.ndarray:
     """Colours ``(N, 3)`` of rays ``(N, 3)`` (unit directions) with their nearest ``hits``
     (object indices of ``scene``). ``cast`` finds the nearest hits of secondary rays over the
-    whole scene (a diagram that wants to see those rays wraps it: :mod:`raykit.diagrams.rays`)."""
+    whole scene (a diagram that wants to see those rays wraps it: :mod:`raykit.diagrams.rays`).
+    ``light_uniforms (N, max_depth + 1, A, 2)``: each ray's uniform numbers for the A area
+    lights (in the order of ``scene.lights``) at each mirror depth."""
     count = len(origins)
     colors = np.zeros((count, 3))
     weight = np.ones((count, 3))  # what one unit of light along the ray adds to its pixel
@@ -100,7 +109,10 @@ def shade(
         if not len(index):
             break
         surface = surface_points(scene, origins, directions, hits.t[hit], index)
-        colors[ray] += weight * surface_color(scene, cast, surface, directions, index, color)
+        on_lights = None if light_uniforms is None else light_uniforms[ray, depth]
+        colors[ray] += weight * surface_color(
+            scene, cast, surface, directions, index, color, on_lights
+        )
         km = mirror[index]
         bounce = np.flatnonzero(km.any(axis=1))
         if depth == scene.max_depth or not len(bounce):
@@ -119,10 +131,12 @@ def surface_color(
     directions: np.ndarray,
     index: np.ndarray,
     color: np.ndarray,
+    light_uniforms: np.ndarray | None = None,
 ) -> np.ndarray:
     """A surface's own colour ``(N, 3)`` at hit points (all but the mirror term): the flat
     ``color (N, 3)`` in an unlit scene, else ambient + each visible light's Lambert and
-    Blinn-Phong terms. ``index (N,)``: the objects hit."""
+    Blinn-Phong terms. ``index (N,)``: the objects hit. ``light_uniforms (N, A, 2)``: where on
+    each of the A area lights each point's shadow ray aims (None: at the light's centre)."""
     if not scene.lit:
         return color
     table = scene.materials
@@ -132,12 +146,21 @@ def surface_color(
     v = -directions
     shiny = table.specular[index].any(axis=1)
     shadows = casts_shadows(scene)
+    areas = 0  # area lights so far
     for light in scene.lights:
+        area = isinstance(light, AreaLight)
+        if area:  # a point light per surface point, at its own point of the light
+            if light_uniforms is None:
+                on_light = np.full((len(surface.points), 2), 0.5)
+            else:
+                on_light = light_uniforms[:, areas]
+            light, areas = sampled(light, on_light), areas + 1
         l, _ = toward_light(light, surface.points)  # the shadow ray's reach: light_reach
         lit = np.flatnonzero(dot(surface.normals, l) > 0)
         if shadows and len(lit):
             facing = surface.take(lit)
-            reach = light_reach(facing, l[lit], light)  # from the offset start, less its margin
+            reaching = replace(light, position=light.position[lit]) if area else light
+            reach = light_reach(facing, l[lit], reaching)  # from the offset start, less its margin
             lit = lit[~in_shadow(cast, facing, l[lit], reach)]
         n = surface.normals
         total[lit] += lambert(kd[lit], light.color, n[lit], l[lit])

@@ -19,7 +19,7 @@ RAYKIT = Path(__file__).resolve().parent.parent / "raykit"
 # the lecture's math: what students read and write, and what everything else stands on
 MATH = {
     "rays", "planes", "spheres", "billboards", "camera", "hits", "scene", "lights", "materials",
-    "surfaces", "shading", "shadows", "mirrors",
+    "surfaces", "shading", "shadows", "mirrors", "sampling",
     "linescan.camera", "linescan.objects", "linescan.scene", "linescan.scan",
 }  # fmt: skip
 # the top: the lecture's loops (image order, object order, forward), their figures and the

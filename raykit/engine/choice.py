@@ -252,6 +252,16 @@ def numpy_seconds(scene: Scene, samples: int) -> float:
     return rays * NUMPY_SECONDS_PER_RAY["lit" if needs_shading(scene) else "flat"]
 
 
+def refuse_distributed(scene: Scene) -> None:
+    """A one-line ValueError for a distributed scene, which the compiled engine cannot render
+    yet (its kernels have no twins of stage 5's functions)."""
+    if scene.distributed:
+        raise ValueError(
+            f"{scene.source}: the compiled engine does not render distributed ray tracing "
+            "yet (area lights, a lens, render.samples_per_pixel > 1): use --engine numpy"
+        )
+
+
 def choose(engine: str, scene: Scene, samples: int = 1, dtype: type = np.float64) -> str:
     """``"numpy"`` or ``"compiled"``: the engine that renders, for ``engine`` in
     :data:`ENGINES` (see the module page). ValueError for an unknown name or a float32
@@ -265,7 +275,10 @@ def choose(engine: str, scene: Scene, samples: int = 1, dtype: type = np.float64
             raise EngineUnavailable(f"the compiled engine {compiled_missing()}")
         if dtype != np.float64:
             raise ValueError("the compiled engine renders in float64 only; use engine='numpy'")
+        refuse_distributed(scene)
         return "compiled"
+    if scene.distributed:
+        return "numpy"  # the compiled engine has no twins of stage 5's functions yet
     if numpy_seconds(scene, samples) < AUTO_FROM or dtype != np.float64:
         return "numpy"  # before the cache's key, whose hash of the sources costs a little
     fast = compiled_available() and compiled_once(entry_point(scene))

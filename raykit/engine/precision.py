@@ -14,7 +14,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from raykit.lights import PointLight
+from raykit.lights import AreaLight, PointLight
 from raykit.scene import Scene
 
 
@@ -42,7 +42,11 @@ def eye_relative(scene: Scene, dtype: type = np.float32) -> Scene:
         for b in scene.billboards
     )
     lights = tuple(
-        replace(light, position=moved(light.position)) if isinstance(light, PointLight) else light
+        replace(light, position=moved(light.position))
+        if isinstance(light, PointLight)
+        else replace(light, corner=moved(light.corner))
+        if isinstance(light, AreaLight)
+        else light
         for light in scene.lights
     )
     return replace(scene, camera=camera, spheres=spheres, billboards=billboards, lights=lights)

@@ -14,6 +14,13 @@ Shadow and mirror rays cannot use the screen tiles. :func:`secondary_caster` giv
 over only the objects whose boxes meet their segments (:mod:`raykit.engine.boxes`) in small
 scenes, or a bounding volume hierarchy (:mod:`raykit.engine.bvh`) from ``BVH_FROM`` objects on.
 
+A distributed render (stage 5, :attr:`raykit.scene.Scene.distributed`) takes the scene's
+samples per pixel instead of the n x n grid: sample k of every pixel of a region is one batch,
+its image points and its choices on the lens and the area lights made from the sample's uniform
+numbers (:mod:`raykit.engine.noise`), which depend on the seed, the pixel and k only, never on
+the region. With a lens, rays no longer start at the eye, so the screen rectangles bound
+nothing: such a render tests every object (as ``skip_hidden=False`` does).
+
 Conventions: pixels, samples and rays per :mod:`raykit.camera`; object indices per
 :mod:`raykit.scene`.
 """
@@ -26,14 +33,22 @@ from functools import partial
 
 import numpy as np
 
-from raykit.camera import centre_sample, rays_through, region_points, sample_offsets
+from raykit.camera import (
+    centre_sample,
+    rays_through,
+    region_points,
+    sample_offsets,
+    thin_lens_rays,
+)
 from raykit.engine.arrays import SceneArrays
 from raykit.engine.boxes import objects_near_segments
 from raykit.engine.bvh import BVH
+from raykit.engine.noise import Dimensions, PixelSamples
 from raykit.engine.pairs import nearest_of_pairs
 from raykit.engine.precision import eye_relative
 from raykit.engine.tiles import CROWDED, Region, regions
 from raykit.hits import Hits
+from raykit.sampling import point_in_pixel
 from raykit.scene import Scene
 from raykit.shading import needs_shading
 from raykit.shadows import Caster
@@ -90,6 +105,7 @@ class Batch:
     centre: bool = False
     colour: bool = True
     finishes: int = 0  # pixels of the region done once this batch is stored (its last batch)
+    uniforms: np.ndarray | None = None  # a distributed sample's numbers (N, dimensions)
 
 
 class Plan:
@@ -110,6 +126,18 @@ class Plan:
         self.cast = cast
         self.samples = samples
         self.offsets = sample_offsets(samples)  # (n*n, 2); refuses n < 1 before any work
+        self.sample_count = len(self.offsets)  # colours summed per pixel
+        self.pixel_samples = None  # a distributed render's uniform numbers
+        if scene.distributed:
+            if samples != 1:
+                raise ValueError(
+                    f"{scene.source}: a distributed scene takes its samples from "
+                    f"render.samples_per_pixel, not from the n x n grid (samples {samples})"
+                )
+            self.dimensions = Dimensions(scene.area_lights, scene.max_depth)
+            self.pixel_samples = PixelSamples(scene.sampling, self.dimensions.count)
+            self.sample_count = scene.sampling.samples_per_pixel
+            skip_hidden = skip_hidden and scene.camera.aperture == 0  # see the module page
         self.skip_hidden = skip_hidden
         self.dtype = dtype
         self.progress = progress  # told each finished tile's pixel count
@@ -122,6 +150,9 @@ class Plan:
 
     def batches(self) -> Iterator[Batch]:
         """Every region's pixels at every sample offset, in the order their colours are summed."""
+        if self.pixel_samples is not None:
+            yield from self._distributed_batches()
+            return
         offsets = self.offsets
         centre = centre_sample(self.samples)
         for region in self.regions():
@@ -134,18 +165,53 @@ class Plan:
                 x, y = region_points(region.rows, region.cols)
                 yield Batch(region, x, y, (0.5, 0.5), True, colour=False, finishes=pixels)
 
+    def _distributed_batches(self) -> Iterator[Batch]:
+        """A distributed render's batches: each region's pixels at sample k, for every k, each
+        point in its pixel (and on the lens and lights) by the sample's uniform numbers; then
+        the pixel centres, cast only for the hits the image keeps."""
+        width = self.scene.camera.width
+        for region in self.regions():
+            rows = np.repeat(np.asarray(region.rows), len(region.cols))
+            cols = np.tile(np.asarray(region.cols), len(region.rows))
+            pixels = rows * width + cols
+            for k in range(self.sample_count):
+                uniforms = self.pixel_samples.of(pixels, k)
+                x, y = point_in_pixel(rows, cols, uniforms[:, 0:2])
+                yield Batch(region, x, y, None, uniforms=uniforms)
+            x, y = region_points(region.rows, region.cols)
+            yield Batch(region, x, y, (0.5, 0.5), True, colour=False, finishes=len(pixels))
+
     def viewing_rays(self, batch: Batch) -> ViewingRays:
         """The rays through the batch's points that some object's screen rectangle holds; a
-        point no rectangle holds gets no ray (it sees the background)."""
+        point no rectangle holds gets no ray (it sees the background). A distributed sample's
+        rays with a lens start on it (:func:`raykit.camera.thin_lens_rays`)."""
         seen, pairs = _seen_and_pairs(batch.region, batch.x, batch.y, batch.grid)
         x, y = (batch.x, batch.y) if seen is None else (batch.x[seen], batch.y[seen])
-        origins, directions = rays_through(self.scene.camera, x, y)
+        uniforms = batch.uniforms
+        if uniforms is not None and seen is not None:
+            uniforms = uniforms[seen]
+        camera = self.scene.camera
+        if uniforms is not None and camera.aperture > 0:
+            lens = self.dimensions.lens
+            origins, directions = thin_lens_rays(camera, x, y, uniforms[:, lens : lens + 2])
+        else:
+            origins, directions = rays_through(camera, x, y)
         return ViewingRays(
             origins.astype(self.dtype, copy=False),
             directions.astype(self.dtype, copy=False),
             seen,
             pairs,
+            uniforms,
         )
+
+    def on_lights(self, rays: ViewingRays) -> np.ndarray | None:
+        """The rays' uniform numbers for the area lights ``(M, max_depth + 1, A, 2)``, as
+        :func:`raykit.shading.shade` takes them; None outside a distributed sample."""
+        if rays.uniforms is None or not self.scene.area_lights:
+            return None
+        first = self.dimensions.light(0, 0)
+        shape = (len(rays.uniforms), self.scene.max_depth + 1, self.scene.area_lights, 2)
+        return rays.uniforms[:, first:].reshape(shape)
 
     def nearest_hits(self, batch: Batch, rays: ViewingRays) -> Hits:
         """The nearest hits of the viewing rays, with the scene's object indices."""
@@ -169,12 +235,14 @@ class Plan:
 @dataclass(frozen=True)
 class ViewingRays:
     """Rays ``origins``, ``directions`` ``(M, 3)`` through the ``seen (N,)`` points of a batch
-    (None: all N), and in a crowded region the (object, ray) ``pairs`` to intersect."""
+    (None: all N), in a crowded region the (object, ray) ``pairs`` to intersect, and in a
+    distributed render the rays' uniform numbers."""
 
     origins: np.ndarray
     directions: np.ndarray
     seen: np.ndarray | None
     pairs: tuple[np.ndarray, np.ndarray] | None
+    uniforms: np.ndarray | None = None  # a distributed sample's numbers, (M, dimensions)
 
 
 def _scatter(scene: Scene, seen, count: int, hits: Hits, colors: np.ndarray):
@@ -214,7 +282,7 @@ class Image:
             self.plan.progress(batch.finishes)
 
     def mean(self) -> np.ndarray:
-        return self.rgb / len(self.plan.offsets)
+        return self.rgb / self.plan.sample_count
 
 
 def cast_region(

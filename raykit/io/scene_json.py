@@ -1,13 +1,19 @@
-"""Scene files, format v1 (JSON), read into :class:`raykit.scene.Scene`.
+"""Scene files, formats v1 and v2 (JSON), read into :class:`raykit.scene.Scene`.
 
-The format is documented in ``docs/scene-format.md`` and published as a JSON Schema in
-``raykit/io/schemas/scene-v1.schema.json``. Every field is checked as it is read
-(:mod:`raykit.io.fields`); a bad one is a :class:`raykit.io.errors.SceneError` naming the file
-and the field, before any rendering starts.
+The format is documented in ``docs/scene-format.md`` and published as JSON Schemas in
+``raykit/io/schemas/scene-v1.schema.json`` and ``scene-v2.schema.json``. Every field is checked
+as it is read (:mod:`raykit.io.fields`); a bad one is a :class:`raykit.io.errors.SceneError`
+naming the file and the field, before any rendering starts.
+
+Format v2 (stage 5, distributed ray tracing) is v1 with ``"version": 2`` at the top, and adds
+area lights, the camera's ``aperture`` and ``focus_distance``, and a ``render`` object
+(``samples_per_pixel``, ``sampler``, ``seed``). A file without ``version`` is v1, read as it
+always was; a v2 field in it is refused, naming the field and the fix.
 """
 
 from __future__ import annotations
 
+import math
 import operator
 from collections.abc import Sequence
 from itertools import chain, repeat
@@ -20,24 +26,29 @@ from raykit.billboards import Billboard, is_degenerate
 from raykit.camera import PROJECTIONS, Camera, DegenerateFrameError, camera_frame
 from raykit.io.fields import Field, read_json_file, refuse_other_format
 from raykit.io.textures import Texture
-from raykit.lights import LIGHT_TYPES, DirectionalLight, Light, PointLight
+from raykit.lights import LIGHT_TYPES, AreaLight, DirectionalLight, Light, PointLight
 from raykit.materials import DEFAULT_SHININESS, PLAIN, Material
+from raykit.sampling import SAMPLERS, Sampling
 from raykit.scene import DEFAULT_MAX_DEPTH, Scene
 from raykit.spheres import Sphere, SphereTable
 
 MAX_IMAGE_SIDE = 16384
 MAX_DEPTH_LIMIT = 16
 MATERIAL_FIELDS = ("diffuse", "specular", "shininess", "mirror")
+VERSION = 2  # the newest format; a file without "version" is v1
+MAX_SAMPLES_PER_PIXEL = 4096
+MAX_SEED = 2**32 - 1
 
 
 def load_scene(path: str | Path) -> Scene:
-    """Read and validate a v1 scene file; raises :class:`raykit.io.errors.SceneError`."""
+    """Read and validate a v1 or v2 scene file; raises :class:`raykit.io.errors.SceneError`."""
     data, source = read_json_file(path)
     return scene_from_dict(data, source=source, folder=Path(path).parent)
 
 
 def scene_from_dict(data: Any, source: str = "<scene>", folder: str | Path = ".") -> Scene:
-    """Validate parsed JSON ``data`` as a v1 scene; texture paths are relative to ``folder``."""
+    """Validate parsed JSON ``data`` as a v1 or v2 scene; texture paths are relative to
+    ``folder``."""
     refuse_other_format(data, source, "3d")
     top = Field(data, source).object(
         required=("camera",),
@@ -50,9 +61,12 @@ def scene_from_dict(data: Any, source: str = "<scene>", folder: str | Path = "."
             "ambient",
             "shadows",
             "max_depth",
+            "version",
+            "render",
         ),
     )
-    camera = _read_camera(top["camera"])
+    v2 = _read_version(top)
+    camera = _read_camera(top["camera"], v2)
     background = top["background"].color() if "background" in top else np.zeros(3)
     spheres = _read_spheres(top["spheres"]) if "spheres" in top else ()
     billboards = (
@@ -66,7 +80,7 @@ def scene_from_dict(data: Any, source: str = "<scene>", folder: str | Path = "."
         billboards,
         background,
         source,
-        lights=tuple(_read_light(f) for f in top["lights"].items()) if "lights" in top else (),
+        lights=tuple(_read_light(f, v2) for f in top["lights"].items()) if "lights" in top else (),
         ambient=top["ambient"].intensity() if "ambient" in top else None,
         shadows=top["shadows"].boolean() if "shadows" in top else True,
         max_depth=(
@@ -74,12 +88,65 @@ def scene_from_dict(data: Any, source: str = "<scene>", folder: str | Path = "."
             if "max_depth" in top
             else DEFAULT_MAX_DEPTH
         ),
+        sampling=_read_sampling(top["render"], v2) if "render" in top else Sampling(),
     )
 
 
-def _read_light(node: Field) -> Light:
-    kind = node.object(required=("type",), optional=("direction", "position", "color", "name"))
+def _read_version(top: dict[str, Field]) -> bool:
+    """Whether the scene is format v2 (``"version": 2``); without ``version`` it is v1."""
+    if "version" not in top:
+        return False
+    f = top["version"]
+    if f.integer() != VERSION:
+        raise f.error(f'must be {VERSION}; a scene without "version" is format v1')
+    return True
+
+
+def _needs_v2(f: Field, v2: bool, what: str) -> None:
+    """Refuse a v2 field (``what`` it is) in a v1 scene, saying how to make it v2."""
+    if not v2:
+        raise f.error(f'{what} scene format v2: add "version": {VERSION} at the top')
+
+
+def _read_sampling(node: Field, v2: bool) -> Sampling:
+    _needs_v2(node, v2, "render settings are")
+    f = node.object(required=(), optional=("samples_per_pixel", "sampler", "seed"))
+    count = (
+        f["samples_per_pixel"].integer(ge=1, le=MAX_SAMPLES_PER_PIXEL)
+        if "samples_per_pixel" in f
+        else 1
+    )
+    sampler = f["sampler"].string(SAMPLERS) if "sampler" in f else Sampling.sampler
+    seed = f["seed"].integer(ge=0, le=MAX_SEED) if "seed" in f else 0
+    where = f["samples_per_pixel"] if "samples_per_pixel" in f else node
+    if sampler == "jittered" and math.isqrt(count) ** 2 != count:
+        raise where.error(f'the "jittered" sampler takes n x n samples (a square), got {count}')
+    if sampler == "sobol" and count & (count - 1):
+        raise where.error(f'the "sobol" sampler takes a power of two samples, got {count}')
+    return Sampling(count, sampler, seed)
+
+
+def _read_area_light(node: Field) -> AreaLight:
+    f = node.object(required=("type", "corner", "edge1", "edge2"), optional=("color", "name"))
+    corner, edge1, edge2 = (f[key].vector(3) for key in ("corner", "edge1", "edge2"))
+    for key, edge in (("edge1", edge1), ("edge2", edge2)):
+        if not np.any(edge):
+            raise f[key].error("is the zero vector, so the light has no area")
+    if is_degenerate(edge1, edge2):
+        raise f["edge1"].error("must not be parallel to edge2, or the light has no area")
+    color = f["color"].intensity() if "color" in f else np.ones(3)
+    return AreaLight(corner, edge1, edge2, color)
+
+
+def _read_light(node: Field, v2: bool = False) -> Light:
+    kind = node.object(
+        required=("type",),
+        optional=("direction", "position", "color", "name", "corner", "edge1", "edge2"),
+    )
     light_type = kind["type"].string(LIGHT_TYPES)
+    if light_type == "area":
+        _needs_v2(kind["type"], v2, '"area" lights are')
+        return _read_area_light(node)
     place, other = ("direction", "position")
     if light_type == "point":
         place, other = other, place
@@ -106,21 +173,28 @@ def _read_material(f: dict[str, Field]) -> Material:
     )
 
 
-def _read_camera(node: Field) -> Camera:
+def _read_camera(node: Field, v2: bool = False) -> Camera:
     f = node.object(
         required=("eye", "lookat", "up", "fov_angle", "width", "height"),
-        optional=("projection",),
+        optional=("projection", "aperture", "focus_distance"),
     )
+    for key in ("aperture", "focus_distance"):
+        if key in f:
+            _needs_v2(f[key], v2, "the thin lens is")
+    aperture = f["aperture"].number(ge=0) if "aperture" in f else 0.0
+    focus_distance = f["focus_distance"].number(gt=0) if "focus_distance" in f else None
     eye, lookat, up = (f[key].vector(3) for key in ("eye", "lookat", "up"))
     fov_angle = f["fov_angle"].number(gt=0, lt=180)
     width = f["width"].integer(ge=1, le=MAX_IMAGE_SIDE)
     height = f["height"].integer(ge=1, le=MAX_IMAGE_SIDE)
     projection = f["projection"].string(PROJECTIONS) if "projection" in f else "perspective"
+    if aperture > 0 and projection == "orthographic":
+        raise f["aperture"].error("an orthographic camera has no lens: its rays are parallel")
     try:
         camera_frame(eye, lookat, up)
     except DegenerateFrameError as exc:
         raise f[exc.culprit].error(str(exc)) from None
-    return Camera(eye, lookat, up, fov_angle, width, height, projection)
+    return Camera(eye, lookat, up, fov_angle, width, height, projection, aperture, focus_distance)
 
 
 def _read_spheres(node: Field) -> Sequence[Sphere]:

@@ -20,7 +20,7 @@ from numba.extending import intrinsic
 
 from raykit.camera import centre_sample, sample_offsets
 from raykit.engine.adaptive import edge_pixels, refine
-from raykit.engine.choice import entry_point
+from raykit.engine.choice import entry_point, refuse_distributed
 from raykit.engine.compiled.bvh import nearest_hit, new_stack
 from raykit.engine.compiled.camera import camera_tuple
 from raykit.engine.compiled.compiling import (
@@ -449,7 +449,9 @@ class Prepared(NamedTuple):
 def prepare(scene: Scene) -> Prepared:
     """Everything the kernels need of ``scene`` that does not depend on the samples: made once,
     it can be rendered many times (:func:`render`). It is what Mitsuba's ``load_dict`` does when
-    it builds its BVH, and the camera's screen tiles besides (a raykit scene holds its camera)."""
+    it builds its BVH, and the camera's screen tiles besides (a raykit scene holds its camera).
+    Refuses a distributed scene (stage 5), which no kernel renders yet."""
+    refuse_distributed(scene)
     arrays = scene_arrays(scene)
     shading = scene_shading(scene)
     tree = scene_tree(scene) if shading.shaded else _NO_TREE

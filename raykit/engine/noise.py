@@ -1,0 +1,156 @@
+"""Reproducible noise: the uniform numbers of a distributed render, from a seed and a counter.
+
+A render's random choices (:mod:`raykit.sampling`) must give the same bytes on any machine, at
+any tile size, chunk order or thread count, and with either engine. So no number comes from a
+stream that is read in order: each is a hash of its *counter* (seed, pixel, sample, dimension),
+
+    ξ = (splitmix64-chain(seed, pixel, sample, dimension) >> 11) · 2^-53   in [0, 1),
+
+computed in uint64 arithmetic that wraps (numpy's, and numba's alike), with 53 bits, every
+double in [0, 1) a multiple of 2^-53 reachable. Whichever pixel is rendered first, and in
+whatever batch, it gets the same numbers. The chain is splitmix64's finaliser (Steele, Lea and
+Flood 2014) applied after each part of the counter is folded in: a bijection of 64 bits, so two
+counters that differ only in their last part never collide.
+
+Pixel p = r·width + c. The dimensions of one sample (:class:`Dimensions`): the point in the
+pixel, then the point on the lens, then one point per (mirror depth, area light), each a pair.
+
+The three samplers (:data:`raykit.sampling.SAMPLERS`) make sample k of a pixel from them:
+
+* ``random``: the numbers themselves;
+* ``jittered`` (n x n = samples_per_pixel): pair 0 (the pixel) puts sample k in cell k; every
+  other pair in cell π(k), a permutation of the n x n cells drawn per pixel and pair
+  (:func:`shuffle`), as FOCG 13.4.2 shuffles the light's samples against the pixel's: without
+  it the top left of the pixel would always see the light's top left corner, and the penumbra
+  would show the pattern;
+* ``sobol``: point k of one scrambled Sobol' set (:func:`raykit.sampling.sobol_set`) for the
+  whole image, each pixel's copy shifted modulo 1 by its own numbers (a Cranley-Patterson
+  rotation), so that neighbouring pixels' errors do not line up.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from raykit.sampling import Sampling, jittered_point, sobol_set
+
+GAMMA = np.uint64(0x9E3779B97F4A7C15)  # splitmix64's increment: 2^64 / the golden ratio
+MIX1 = np.uint64(0xBF58476D1CE4E5B9)
+MIX2 = np.uint64(0x94D049BB133111EB)
+UNIT = 2.0**-53
+# samples no pixel ever takes (counters of sample k are k < 2^32): the keys of a pixel's shuffles
+# and of its Sobol' shift
+SHUFFLE_SAMPLE = np.uint64(0xFFFFFFFFFFFFFFFF)
+SHIFT_SAMPLE = np.uint64(0xFFFFFFFFFFFFFFFE)
+
+
+def mix64(z: np.ndarray) -> np.ndarray:
+    """splitmix64's finaliser of ``z`` (uint64, any shape): a bijection of 64-bit integers."""
+    z = np.asarray(z, dtype=np.uint64)
+    with np.errstate(over="ignore"):
+        z = (z ^ (z >> np.uint64(30))) * MIX1
+        z = (z ^ (z >> np.uint64(27))) * MIX2
+    return z ^ (z >> np.uint64(31))
+
+
+def counter_hash(seed, pixel, sample, dimension) -> np.ndarray:
+    """The 64-bit hash (uint64, the parts' broadcast shape) of the counter (seed, pixel, sample,
+    dimension), each a non-negative integer or array of them."""
+    h = np.zeros((), dtype=np.uint64)
+    with np.errstate(over="ignore"):
+        for part in (seed, pixel, sample, dimension):
+            h = mix64((h ^ np.asarray(part).astype(np.uint64)) + GAMMA)
+    return h
+
+
+def uniforms(seed, pixel, sample, dimension) -> np.ndarray:
+    """Uniform numbers in [0, 1) (float64, the parts' broadcast shape): the top 53 bits of
+    :func:`counter_hash`, times 2^-53."""
+    return (counter_hash(seed, pixel, sample, dimension) >> np.uint64(11)).astype(np.float64) * UNIT
+
+
+def shuffle(index: np.ndarray, count: int, key: np.ndarray) -> np.ndarray:
+    """π(index) ``(N,)`` for ``index (N,)`` in [0, count): for each ``key (N,)`` (uint64), a
+    permutation of [0, count). Four rounds of bijections of the smallest power-of-two range
+    holding count (xor a key, multiply by an odd key, xor-shift right and left), repeated while
+    the result lies beyond count ("cycle walking"): each step maps the range onto itself, so the
+    whole is a permutation of it, and walking keeps those below count a permutation of them."""
+    bits = max(1, (count - 1).bit_length())
+    mask = np.uint64((1 << bits) - 1)
+    down = np.uint64(max(1, bits // 2))
+    key = np.asarray(key, dtype=np.uint64)
+    with np.errstate(over="ignore"):
+        keys = [mix64(key + np.uint64(r + 1) * GAMMA) for r in range(4)]
+    value = np.asarray(index).astype(np.uint64)
+    walking = np.ones(value.shape, dtype=bool)
+    with np.errstate(over="ignore"):
+        while walking.any():
+            v = value[walking]
+            for round_key in keys:
+                k = round_key[walking]
+                v = v ^ (k & mask)
+                v = (v * ((k >> np.uint64(32)) | np.uint64(1))) & mask  # odd: a bijection
+                v = v ^ (v >> down)
+                v = v ^ ((v << np.uint64(1)) & mask)  # bit i ^= bit i-1: a bijection
+            value[walking] = v
+            walking = value >= np.uint64(count)
+    return value.astype(np.int64)
+
+
+@dataclass(frozen=True)
+class Dimensions:
+    """Where each choice of one sample lies among its uniform numbers: ``pixel`` (0, 1),
+    ``lens`` (2, 3), then ``light(depth, a)`` for area light a at mirror depth d."""
+
+    area_lights: int
+    max_depth: int
+
+    pixel = 0
+    lens = 2
+
+    def light(self, depth: int, a: int) -> int:
+        return 4 + 2 * (depth * self.area_lights + a)
+
+    @property
+    def count(self) -> int:
+        return 4 + 2 * (self.max_depth + 1) * self.area_lights
+
+
+class PixelSamples:
+    """The uniform numbers of a render's samples: :meth:`of` gives sample k of many pixels."""
+
+    def __init__(self, sampling: Sampling, dimensions: int) -> None:
+        self.sampling = sampling
+        self.dimensions = dimensions
+        spp = sampling.samples_per_pixel
+        self.n = math.isqrt(spp)
+        if sampling.sampler == "jittered" and self.n * self.n != spp:
+            raise ValueError(f"the jittered sampler takes n x n samples per pixel, got {spp}")
+        self.table = (
+            sobol_set(spp, dimensions, sampling.seed) if sampling.sampler == "sobol" else None
+        )
+
+    def of(self, pixels: np.ndarray, k: int) -> np.ndarray:
+        """Sample k's uniform numbers ``(P, dimensions)`` in pixels ``(P,)`` (r·width + c)."""
+        seed, dims = self.sampling.seed, np.arange(self.dimensions)
+        pixels = np.asarray(pixels, dtype=np.int64)[:, None]
+        if self.sampling.sampler == "random":
+            return uniforms(seed, pixels, k, dims)
+        if self.sampling.sampler == "sobol":
+            shifted = self.table[k] + uniforms(seed, pixels, SHIFT_SAMPLE, dims)
+            return np.where(shifted >= 1.0, shifted - 1.0, shifted)
+        jitter = uniforms(seed, pixels, k, dims)
+        out = np.empty_like(jitter)
+        spp = self.sampling.samples_per_pixel
+        for pair in range(self.dimensions // 2):
+            cells = np.full(len(pixels), k, dtype=np.int64)
+            if pair:  # the pixel's own pair keeps cell k; the others are shuffled against it
+                key = counter_hash(seed, pixels[:, 0], SHUFFLE_SAMPLE, pair)
+                cells = shuffle(cells, spp, key)
+            out[:, 2 * pair : 2 * pair + 2] = jittered_point(
+                cells, self.n, jitter[:, 2 * pair : 2 * pair + 2]
+            )
+        return out

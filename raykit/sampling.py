@@ -1,0 +1,198 @@
+"""Sampling (FOCG 13.4): the sample patterns of distributed ray tracing, from uniform numbers.
+
+Distributed ray tracing (Cook et al. 1984) sends many rays per pixel, each with its own random
+choices: where in the pixel it passes, where on the lens it starts, which point of an area light
+its shadow ray aims at, how a glossy reflection is perturbed. Each choice is a point of a 2D
+pattern made from uniform numbers, and every function here is a pure function of those numbers.
+
+Conventions (owned here; the renderer's noise, :mod:`raykit.engine.noise`, refers to this page)
+-----------------------------------------------------------------------------------------------
+* A uniform number ξ lies in [0, 1). Patterns take them as ``uniforms (N, 2)`` (ξ1, ξ2) per
+  row, and give one sample per row, in the same order; no function draws a random number
+  itself, so that each is tested exactly on given numbers, and the renderer decides where the
+  numbers come from (a seed, the pixel, the sample and the dimension: reproducible noise).
+* A sample set of a pixel is ``(n, 2)`` points in the unit square [0, 1)²: ``random`` takes the
+  numbers as they are (:func:`random_set`); ``jittered`` (stratified, FOCG 13.4.1) puts sample
+  k = i + n·j of n x n into cell (i, j), column i, row j, at ((i + ξ1)/n, (j + ξ2)/n)
+  (:func:`jittered_set`, a sample at a time :func:`jittered_point`): exactly one sample in
+  each cell. The low-discrepancy set is
+  :func:`sobol_set` (below).
+* A point in a pixel: x = c + ξ1, y = r + ξ2, the continuous image coordinates of
+  :mod:`raykit.camera` (row r from the top, so ξ2 runs *down* the pixel).
+* An area light is a parallelogram, like a billboard: corner c, edges a and b, its points
+  c + ξ1·a + ξ2·b (FOCG 13.4.2), :func:`point_on_parallelogram`.
+* The thin lens (FOCG 13.4.3) is a disk of *radius* aperture/2 around the eye, in the camera's
+  u, v plane (the aperture is the lens's diameter: taking it for the radius doubles the blur,
+  the classic mistake). The unit square goes to the unit disk by Shirley and Chiu's concentric
+  map (:func:`point_on_disk`): it keeps area (uniform numbers give uniform points) *and* keeps
+  strata compact, each square cell going to a piece of the disk of about the same shape, so a
+  jittered set stays jittered on the lens. The polar map (r = √ξ1, θ = 2π·ξ2) keeps area too,
+  but stretches the cells into long thin wedges and sectors, and loses most of the gain.
+* A perturbed direction (glossy reflection, FOCG 13.4.4): the unit direction r, moved within the
+  square of side a perpendicular to r, in the orthonormal basis (u, v, w) with w = r
+  (:func:`basis_around`): r' = normalize(r + u'·u + v'·v), u' = -a/2 + ξ1·a, v' = -a/2 + ξ2·a.
+
+Which low-discrepancy sequence. :func:`sobol_set` takes scipy's scrambled Sobol' sequence
+(``scipy.stats.qmc.Sobol``): every power-of-two prefix of it is a (t, m, s)-net, so 2^m points
+are stratified in every elementary interval of every dimension pair at once (jittered in the
+pixel *and* on the lens and the light, with no shuffling between them), and its scrambling (a
+linear matrix scramble with a digital shift, seeded) breaks the correlation between dimensions
+that plain Sobol' shows and makes it an unbiased estimator. Halton's sequence would accept any
+count, but its higher dimensions (larger primes) are stratified only after many points, where a
+pixel has 16 to 256. The price: a Sobol' set is balanced only at a power of two, so the sampler
+takes ``samples_per_pixel`` = 2^m (the scene loader says so).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from raykit.rays import normalize
+
+SAMPLERS = ("random", "jittered", "sobol")
+
+
+@dataclass(frozen=True)
+class Sampling:
+    """How a render samples (format v2's ``render``): ``samples_per_pixel``, the ``sampler``
+    (one of :data:`SAMPLERS`) and the ``seed`` its uniform numbers come from."""
+
+    samples_per_pixel: int = 1
+    sampler: str = "jittered"
+    seed: int = 0
+
+
+def point_in_pixel(
+    rows: np.ndarray, cols: np.ndarray, uniforms: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """The image points (x, y) = (c + ξ1, r + ξ2), each ``(N,)``, in pixels (rows, cols)
+    ``(N,)`` from ``uniforms (N, 2)``. A stage-5 student function."""
+    uniforms = np.asarray(uniforms, dtype=float)
+    x = np.asarray(cols, dtype=float) + uniforms[:, 0]
+    y = np.asarray(rows, dtype=float) + uniforms[:, 1]
+    return x, y
+
+
+def random_set(uniforms: np.ndarray) -> np.ndarray:
+    """The random (uniform) sample set ``(n, 2)`` in the unit square: the numbers
+    ``uniforms (n, 2)`` themselves, each sample anywhere, independent of the others.
+    A stage-5 student function."""
+    return np.array(uniforms, dtype=float)
+
+
+def jittered_point(cells: np.ndarray, n: int, uniforms: np.ndarray) -> np.ndarray:
+    """Points ``(N, 2)`` jittered in cells ``(N,)`` of the n x n grid of the unit square (FOCG
+    13.4.1): cell k = i + n·j (column i, row j) gives ((i + ξ1)/n, (j + ξ2)/n), from
+    ``uniforms (N, 2)``. A stage-5 student function."""
+    cells = np.asarray(cells)
+    grid = np.column_stack([cells % n, cells // n]).astype(float)  # (N, 2): column i, row j
+    return (grid + np.asarray(uniforms, dtype=float)) / n
+
+
+def jittered_set(n: int, uniforms: np.ndarray) -> np.ndarray:
+    """The jittered (stratified) set of n x n samples ``(n*n, 2)`` in the unit square (FOCG
+    13.4.1): sample k in cell k (:func:`jittered_point`), so exactly one sample in each cell,
+    from ``uniforms (n*n, 2)``. A stage-5 student function."""
+    uniforms = np.asarray(uniforms, dtype=float)
+    if uniforms.shape != (n * n, 2):
+        raise ValueError(f"a jittered set of {n} x {n} takes ({n * n}, 2), got {uniforms.shape}")
+    return jittered_point(np.arange(n * n), n, uniforms)
+
+
+def point_on_parallelogram(
+    corner: np.ndarray, edge1: np.ndarray, edge2: np.ndarray, uniforms: np.ndarray
+) -> np.ndarray:
+    """Points c + ξ1·a + ξ2·b ``(N, 3)`` of the parallelogram with ``corner`` c and edges
+    ``edge1`` a and ``edge2`` b ``(3,)`` (FOCG 13.4.2's area light), from ``uniforms (N, 2)``.
+    A stage-5 student function."""
+    uniforms = np.asarray(uniforms, dtype=float)
+    c, a, b = (np.asarray(x, dtype=float) for x in (corner, edge1, edge2))
+    return c + uniforms[:, 0:1] * a + uniforms[:, 1:2] * b
+
+
+def point_on_disk(uniforms: np.ndarray) -> np.ndarray:
+    """Points ``(N, 2)`` of the unit disk from ``uniforms (N, 2)`` in the unit square, by
+    Shirley and Chiu's concentric map: (a, b) = 2ξ - 1 in [-1, 1)²; the square ring
+    max(|a|, |b|) = ρ goes to the circle of radius ρ, so area is kept and strata stay compact
+    (see the module page). A stage-5 student function."""
+    uniforms = np.asarray(uniforms, dtype=float)
+    a = 2.0 * uniforms[:, 0] - 1.0
+    b = 2.0 * uniforms[:, 1] - 1.0
+    wide = np.abs(a) > np.abs(b)  # the left and right quarters of the square
+    radius = np.where(wide, a, b)
+    # φ = (π/4)·(b/a) in the wide quarters, else φ = π/2 - θ with θ = (π/4)·(a/b), whose cosine
+    # and sine are θ's sine and cosine: both angles lie in [-π/4, π/4]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        angle = (math.pi / 4) * np.where(wide, b / a, a / b)
+    angle = np.where(radius == 0, 0.0, angle)  # the centre (a = b = 0): any angle, radius 0
+    cos, sin = _cos_sin(angle)
+    return np.column_stack([radius * np.where(wide, cos, sin), radius * np.where(wide, sin, cos)])
+
+
+def _cos_sin(angle: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """cos and sin of angles ``(N,)`` in [-π/4, π/4] by their Taylor series (to within an ulp
+    or two there), in plain multiplications and additions: numpy's own np.cos and np.sin are
+    vectorised differently on different processors, and a render must be the same bytes on
+    every machine (and in a numba kernel)."""
+    x2 = angle * angle
+    cos = np.ones_like(angle)
+    sin = np.ones_like(angle)
+    for k in range(11, 0, -1):  # Horner: 1 - x²/(2k-1)(2k)·(1 - ...), to x^22 and x^23
+        cos = 1.0 - x2 / ((2 * k - 1) * (2 * k)) * cos
+        sin = 1.0 - x2 / ((2 * k) * (2 * k + 1)) * sin
+    return cos, angle * sin
+
+
+def point_on_lens(
+    eye: np.ndarray, u: np.ndarray, v: np.ndarray, aperture: float, uniforms: np.ndarray
+) -> np.ndarray:
+    """Points ``(N, 3)`` on the thin lens: the disk of radius aperture/2 (the aperture is the
+    lens's diameter) around ``eye (3,)`` in the plane of the camera's ``u`` and ``v`` ``(3,)``,
+    e + (aperture/2)·(x·u + y·v) with (x, y) = :func:`point_on_disk` of ``uniforms (N, 2)``.
+    A stage-5 student function."""
+    disk = point_on_disk(uniforms)
+    radius = aperture / 2.0
+    return np.asarray(eye, dtype=float) + radius * (
+        disk[:, 0:1] * np.asarray(u, dtype=float) + disk[:, 1:2] * np.asarray(v, dtype=float)
+    )
+
+
+def basis_around(r: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """An orthonormal basis (u, v, w), each ``(N, 3)``, with w = r/|r| for ``r (N, 3)`` (FOCG
+    2.4.6): t is w with its smallest component (by magnitude; the first of equals) set to 1,
+    u = t × w / |t × w|, v = w × u; right-handed. A stage-5 student function."""
+    w = normalize(r)
+    t = w.copy()
+    smallest = np.argmin(np.abs(w), axis=1)
+    t[np.arange(len(w)), smallest] = 1.0
+    u = normalize(np.cross(t, w))
+    v = np.cross(w, u)
+    return u, v, w
+
+
+def perturbed_direction(r: np.ndarray, a: float, uniforms: np.ndarray) -> np.ndarray:
+    """Unit directions ``(N, 3)``: unit ``r (N, 3)`` moved within the square of side ``a``
+    perpendicular to it (FOCG 13.4.4, glossy reflection): r' = normalize(r + u'·u + v'·v) with
+    u' = -a/2 + ξ1·a, v' = -a/2 + ξ2·a in the basis of :func:`basis_around`, from
+    ``uniforms (N, 2)``. A stage-5 student function."""
+    uniforms = np.asarray(uniforms, dtype=float)
+    u, v, _ = basis_around(r)
+    along_u = -a / 2 + uniforms[:, 0:1] * a
+    along_v = -a / 2 + uniforms[:, 1:2] * a
+    return normalize(np.asarray(r, dtype=float) + along_u * u + along_v * v)
+
+
+def sobol_set(count: int, dimensions: int, seed: int) -> np.ndarray:
+    """The first ``count`` (a power of two) points ``(count, dimensions)`` in [0, 1) of the
+    Sobol' sequence scrambled with ``seed`` (``scipy.stats.qmc.Sobol``, see the module page for
+    why this sequence). Machinery, not a student function: the renderer gives every pixel the
+    same points, each pixel shifted by its own uniform numbers (:mod:`raykit.engine.noise`)."""
+    if count < 1 or count & (count - 1):
+        raise ValueError(f"a Sobol' set is balanced at a power of two points, got {count}")
+    from scipy.stats import qmc  # imported only by a render that asks for it
+
+    engine = qmc.Sobol(dimensions, scramble=True, rng=np.random.default_rng(seed))
+    return engine.random_base2(int(math.log2(count)))
