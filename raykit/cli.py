@@ -3,6 +3,7 @@
     raykit render SCENE.json -o OUT.png [--samples N] [--engine auto|numpy|compiled]
     raykit scan SCENE2D.json -o strip.png [--diagram rays.png]   one line-scan
     raykit sweep SCENE2D.json -o sweep.png [--scans M]           M line-scans stacked
+    raykit sweep SCENE.json -o sweep.png --scans M               the same, a 3D camera 1 pixel high
     raykit diagram SCENE.json -o rays.png [--view 3d|top|side|camera] [--rays K]
 
 Bad input (a :class:`raykit.io.errors.SceneError`, or an output file that cannot be written) is
@@ -106,9 +107,12 @@ def build_parser() -> argparse.ArgumentParser:
     sweep = _command(
         commands,
         "sweep",
-        summary="M scans of a moving line-scan scene, stacked into an image",
-        description="Take M scans while camera and objects move; scan m is image row m.",
-        scene="SCENE2D.json",
+        summary="M scans of a moving line-scan scene (2D, or 3D one pixel high), stacked",
+        description="Take M scans while camera and objects move. A 2D line-scan scene: scan m "
+        "is image row m. A 3D scene (format v1) whose camera is one pixel high, its objects "
+        'moving by their "velocity": scan m is image column m (a car driving through the '
+        "camera's plane of view comes out as a picture of the car).",
+        scene="SCENE.json",
         output="sweep.png",
         samples="N rays",
     )
@@ -116,13 +120,14 @@ def build_parser() -> argparse.ArgumentParser:
         "--scans",
         type=_positive,
         metavar="M",
-        help='how many scans (default: the scene\'s "scans")',
+        help='how many scans (default: a 2D scene\'s "scans"; a 3D scene needs it)',
     )
     sweep.add_argument(
         "--diagram",
         metavar="sweep_rays.png",
-        help="also draw the world at three scan times above the growing image",
+        help="also draw the world at three scan times above the growing image (2D scenes)",
     )
+    _engine_option(sweep, "which engine renders a 3D scene's scans")
     sweep.set_defaults(run=_run_sweep)
 
     diagram = commands.add_parser(
@@ -304,6 +309,7 @@ def _run_scan(args: argparse.Namespace) -> None:
 
 
 def _run_sweep(args: argparse.Namespace) -> None:
+    from raykit.io.fields import read_json_file, scene_kind
     from raykit.io.images import check_figure_path, check_image_path, save_image
     from raykit.io.linescan_json import load_line_scene
     from raykit.io.progress import progress_bar
@@ -312,6 +318,9 @@ def _run_sweep(args: argparse.Namespace) -> None:
     check_image_path(args.output)
     if args.diagram:
         check_figure_path(args.diagram)
+    if scene_kind(read_json_file(args.scene)[0]) == "3d":
+        _run_sweep_3d(args)
+        return
 
     start = time.perf_counter()
     scene = load_line_scene(args.scene)
@@ -324,6 +333,32 @@ def _run_sweep(args: argparse.Namespace) -> None:
         _save_figure("raykit.linescan.diagrams", "sweep_diagram", scene, args.diagram, scans=scans)
         wrote.append(args.diagram)
     print(f"wrote {' and '.join(wrote)} in {time.perf_counter() - start:.2f} s")
+
+
+def _run_sweep_3d(args: argparse.Namespace) -> None:
+    """``raykit sweep`` of a 3D scene: one render of its one-pixel-high camera a scan."""
+    from raykit.engine.choice import choose
+    from raykit.io.images import save_image
+    from raykit.io.progress import progress_bar
+    from raykit.io.scene_json import load_scene
+    from raykit.linescan.sweep3d import check_line_camera, sweep_3d
+
+    if args.diagram:
+        raise ValueError("--diagram: the sweep diagram is drawn for 2D line-scan scenes only")
+    _check_engine(args.engine)
+    start = time.perf_counter()
+    scene = load_scene(args.scene)
+    check_line_camera(scene)
+    if args.scans is None:
+        raise ValueError(f"{args.scene}: a 3D scene has no scans field: give --scans M")
+    engine = choose(args.engine, scene, args.samples)
+    with progress_bar(args.scans, "sweep", "scan") as advance:
+        taken = sweep_3d(scene, args.scans, args.samples, progress=advance, engine=engine)
+    save_image(taken.image, args.output)
+    print(
+        f"wrote {args.output} ({scene.camera.width} pixels x {args.scans} scans, "
+        f"{engine} engine) in {time.perf_counter() - start:.2f} s"
+    )
 
 
 def _run_diagram(args: argparse.Namespace) -> None:

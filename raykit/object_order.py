@@ -1,17 +1,17 @@
 """Object order: the lecture's other loop, over objects first.
 
-The slides contrast two ways to make an image:
+The slides contrast two ways to make an image. Object order ("Rasterization"), as the slide
+writes it:
 
-    image order (ray tracing)                 object order (rasterising)
-    for each pixel {                          for each object {
-        for each object {                         for each pixel it can affect {
-            if nearest so far: keep it                if nearer than the depth buffer: store
-        }                                         }
-    }                                         }
+    for each object { for each image pixel { if (object affects pixel) { do something } } }
 
-:func:`raykit.render.render` is the first (made fast by tiles, :mod:`raykit.engine.tiles`). This
-module is the second, :func:`render_object_order`, for the same 3D scenes: each object in index
-order, over the pixels its screen rectangle covers (:mod:`raykit.engine.screen_bounds`,
+and image order, ray tracing, the same two loops swapped (in the kit's words):
+
+    for each pixel { for each object { keep the nearest hit } }
+
+:func:`raykit.render.render` is image order (made fast by tiles, :mod:`raykit.engine.tiles`).
+This module is object order, :func:`render_object_order`, for the same 3D scenes: each object
+in index order, over the pixels its screen rectangle covers (:mod:`raykit.engine.screen_bounds`,
 conservative), where the ray through the pixel centre meets it (the renderer's own rays and
 intersection functions) and, if that is nearer than the depth buffer's t, stores its index, t and
 colour.
@@ -61,18 +61,19 @@ def render_object_order(scene: Scene) -> Render:
     object_index = np.full((height, width), -1, dtype=np.int64)
     rgb = np.broadcast_to(np.asarray(scene.background, float), (height, width, 3)).copy()
     all_bounds = object_bounds(camera, scene.objects)
-    for index, obj in enumerate(scene.objects):  # for each object
+    for index, obj in enumerate(scene.objects):  # the slide's "for each object {"
         if np.isnan(all_bounds[index]).any():
             continue  # no pixel can see it
         rows, cols = covered_pixels(tuple(all_bounds[index]), width, height)
         if len(rows) == 0:
             continue
-        # for each pixel it can affect (all of them at once): where its centre ray meets it
+        # "for each image pixel {": only those it can affect, all at once, each with its ray
         origins, directions = rays_through(camera, cols + 0.5, rows + 0.5)
         if isinstance(obj, Billboard):
             t, alpha, beta = hit_billboard(origins, directions, obj)
         else:
             t = hit_sphere(origins, directions, obj.center, obj.radius)
+        # "if (object affects pixel) {": its ray meets it nearer than what the pixel holds
         nearer = np.flatnonzero(t < depth[rows, cols])  # strictly: ties keep the lower index
         if len(nearer) == 0:
             continue
@@ -82,7 +83,7 @@ def render_object_order(scene: Scene) -> Render:
         else:
             colors = obj.color
         r, c = rows[nearer], cols[nearer]
-        depth[r, c] = t[nearer]  # store
+        depth[r, c] = t[nearer]  # "do something": store its t, index and colour
         object_index[r, c] = index
         rgb[r, c] = colors
     return Render(rgb, object_index, depth)

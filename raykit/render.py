@@ -95,15 +95,15 @@ def render(
     for batch in plan.batches():  # for each pixel (a tile of them, at one sample offset):
         rays = plan.viewing_rays(batch)  # compute the viewing ray
         hits = plan.nearest_hits(batch, rays)  # find the nearest object it hits
-        colors = illumination(plan, rays, hits)  # compute the illumination there
-        image.store(batch, rays, hits, colors)  # store the colour in the pixel
+        colors = illumination(plan, rays, hits)  # "compute illumination at intersection"
+        image.store(batch, rays, hits, colors)  # "store resulting color at pixel"
     return Render(image.mean(), image.object_index, image.t)
 
 
 def illumination(plan: Plan, rays: ViewingRays, hits: Hits) -> np.ndarray:
     """The colours ``(M, 3)`` the rays see: the objects' flat colours in a scene of format v1,
     else their shading (:func:`raykit.shading.shade`) with shadow and mirror rays."""
-    if plan.secondary is None:
+    if plan.secondary is None:  # no light: "copy the color of the object at this point"
         return hits.color
     on_lights = plan.on_lights(rays)  # where on the area lights: a distributed render's
     return shade(plan.scene, plan.secondary, rays.origins, rays.directions, hits, on_lights)

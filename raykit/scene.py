@@ -18,6 +18,11 @@ Object indices. Wherever raykit reports "which object a ray hit" (the renderer's
 ``object_index`` image, diagrams, grading), object i counts the spheres first, in file order,
 then the billboards: spheres are 0 .. S-1, billboards S .. S+B-1, and -1 is "nothing". The same
 order breaks ties: of two objects hit at exactly the same t, the lower index wins.
+
+Motion (for the 3D line-scan camera's sweep, :mod:`raykit.linescan.sweep3d`): an object may have
+a ``velocity``, in scene units per scan, kept in :attr:`Scene.velocities` in object index order.
+A render shows the scene as it stands (scan 0); scan m of a sweep sees every object moved by
+m·velocity (:meth:`Scene.at`), as in the 2D line-scan scene (:mod:`raykit.linescan.scene`).
 """
 
 from __future__ import annotations
@@ -52,6 +57,7 @@ class Scene:
     shadows: bool = True
     max_depth: int = DEFAULT_MAX_DEPTH
     sampling: Sampling = Sampling()
+    velocities: np.ndarray | None = None  # (K, 3) per scan, object index order; None: all still
 
     @property
     def objects(self) -> tuple[Sphere | Billboard, ...]:
@@ -71,6 +77,31 @@ class Scene:
             self,
             spheres=tuple(self.spheres[i] for i in ids if i < spheres),
             billboards=tuple(self.billboards[i - spheres] for i in ids if i >= spheres),
+            velocities=None if self.velocities is None else self.velocities[np.asarray(ids, int)],
+        )
+
+    def at(self, scan: float) -> Scene:
+        """The scene as scan number ``scan`` sees it: every object moved by scan·velocity
+        (the same scene when nothing moves)."""
+        if self.velocities is None:
+            return self
+        shifts = scan * self.velocities
+        spheres = len(self.spheres)
+        return replace(
+            self,
+            spheres=tuple(
+                replace(s, center=s.center + shift)
+                for s, shift in zip(self.spheres, shifts[:spheres], strict=True)
+            ),
+            billboards=tuple(
+                replace(
+                    b,
+                    upper_left=b.upper_left + shift,
+                    lower_left=b.lower_left + shift,
+                    upper_right=b.upper_right + shift,
+                )
+                for b, shift in zip(self.billboards, shifts[spheres:], strict=True)
+            ),
         )
 
     @property

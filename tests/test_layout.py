@@ -26,7 +26,7 @@ MATH = {
 # command line, which put the wings together
 TOP = {
     "render", "object_order", "forward", "pinhole", "cli", "__main__", "__init__",
-    "linescan.__init__", "linescan.diagrams",
+    "linescan.__init__", "linescan.diagrams", "linescan.sweep3d",
 }  # fmt: skip
 
 

@@ -56,6 +56,13 @@ CASES = [
         True,
     ),
     (
+        "velocity of the wrong length",
+        set_field("spheres.0.velocity", [0.1, 0]),
+        "spheres[0].velocity",
+        "must have 3 numbers, got 2",
+        True,
+    ),
+    (
         "NaN",
         set_field("spheres.0.center", [0, float("nan"), 0]),
         "spheres[0].center[1]",
@@ -336,7 +343,9 @@ def test_json_schema_rejects_exactly_the_structural_errors(mutate, schema_reject
 
 
 def test_schema_accepts_every_example_scene():
-    for path in sorted((REPO / "scenes").glob("*.json")):
+    for path in sorted((REPO / "scenes").glob("*.json")) + [
+        REPO / "scenes/linescan3d/passing_car.json"
+    ]:
         if json.loads(path.read_text()).get("$schema", "").endswith("scene-v1.schema.json"):
             jsonschema.validate(json.loads(path.read_text()), SCHEMA)
 

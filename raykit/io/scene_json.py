@@ -80,6 +80,7 @@ def scene_from_dict(data: Any, source: str = "<scene>", folder: str | Path = "."
         billboards,
         background,
         source,
+        velocities=_read_velocities(top),
         lights=tuple(_read_light(f, v2) for f in top["lights"].items()) if "lights" in top else (),
         ambient=top["ambient"].intensity() if "ambient" in top else None,
         shadows=top["shadows"].boolean() if "shadows" in top else True,
@@ -89,6 +90,23 @@ def scene_from_dict(data: Any, source: str = "<scene>", folder: str | Path = "."
             else DEFAULT_MAX_DEPTH
         ),
         sampling=_read_sampling(top["render"], v2) if "render" in top else Sampling(),
+    )
+
+
+def _read_velocities(top: dict[str, Field]) -> np.ndarray | None:
+    """Every object's ``velocity`` ``(K, 3)`` in object index order (zero where it has none), or
+    None when no object has one. The objects' other fields are read by their own readers."""
+    objects = [f for key in ("spheres", "billboards") if key in top for f in top[key].items()]
+    moving = [isinstance(f.value, dict) and "velocity" in f.value for f in objects]
+    if not any(moving):
+        return None
+    return np.array(
+        [
+            Field(f.value["velocity"], f.source, f"{f.path}.velocity").vector(3)
+            if move
+            else np.zeros(3)
+            for f, move in zip(objects, moving, strict=True)
+        ]
     )
 
 
@@ -239,7 +257,10 @@ def _plain_spheres(values) -> SphereTable | None:
 
 
 def _read_sphere(node: Field) -> Sphere:
-    f = node.object(required=("center", "radius", "color"), optional=("name", *MATERIAL_FIELDS))
+    f = node.object(
+        required=("center", "radius", "color"),
+        optional=("name", "velocity", *MATERIAL_FIELDS),
+    )
     return Sphere(
         center=f["center"].vector(3),
         radius=f["radius"].number(gt=0),
@@ -252,7 +273,7 @@ def _read_sphere(node: Field) -> Sphere:
 def _read_billboard(node: Field, folder: Path) -> Billboard:
     f = node.object(
         required=("upper_left", "lower_left", "upper_right"),
-        optional=("image", "color", "name", *MATERIAL_FIELDS),
+        optional=("image", "color", "name", "velocity", *MATERIAL_FIELDS),
     )
     upper_left, lower_left, upper_right = (
         f[key].vector(3) for key in ("upper_left", "lower_left", "upper_right")

@@ -4,7 +4,7 @@
   background where it hits nothing); with n samples per pixel, the mean of its n rays.
 * A **sweep** is M scans, scan m taken after everything has moved by m·velocity
   (:meth:`raykit.linescan.scene.LineScene.at`), stacked into an (M, N) image, scan 0 on top.
-  Something moving across the view at speed v is seen for about (its width) / v scans, so a
+  Something moving across the view is seen for about (its width) / (its speed) scans, so a
   slow car comes out stretched and a fast one squashed: the look of a photo-finish picture.
 
 Pixel order and the camera conventions: :mod:`raykit.linescan.camera`.
