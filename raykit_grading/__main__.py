@@ -104,8 +104,12 @@ def build_parser() -> argparse.ArgumentParser:
             type=Path,
             metavar="DIR",
             help="the assignment folder, which holds its secret seed grading-seed (default: the "
-            "current folder or the first of its parents that holds one; if none does, the "
-            "current folder)",
+            "current folder or the first of its parents that holds one; "
+            + (
+                "try-zip warns if the zip's seed is not its seed)"
+                if sub is try_zip
+                else "if none does, the seed is made in the current folder)"
+            ),
         )
     for sub in (grade, batch):
         sub.add_argument(
