@@ -62,7 +62,7 @@ def main() -> None:
                 [sys.executable, str(EMULATION), "--memory-mb", str(args.memory_mb),
                  "--cpus", str(args.cpus), "--report", "--",
                  sys.executable, "-m", "raykit_grading", "grade", str(submission), "-o", str(out)],
-                capture_output=True, text=True, cwd=REPO,
+                capture_output=True, text=True, cwd=folder,
             )  # fmt: skip
             report = re.search(r"wall ([\d.]+) s, peak memory (\d+) MB", run.stderr)
             if report is None or not out.is_file():

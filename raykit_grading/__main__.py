@@ -1,5 +1,10 @@
 """``python -m raykit_grading COMMAND``: release, grade, batch, gradescope, tests, try-zip.
 
+The commands share the assignment's secret seed, ``grading-seed`` in the assignment folder:
+the current folder or the first of its parents that holds one (or ``--assignment DIR``); where
+there is none, release, gradescope, grade and batch make it in the current folder. Each prints
+the seed's fingerprint and its file in one line on stderr.
+
 Exit status: 0 done (grade: graded, whatever the score); 1 batch: some student could not be
 graded; 2 bad arguments; 3 the grader could not grade (no sandbox here, or it
 failed on some tests): it says so, and never stands a made-up score in for a grade.
@@ -11,7 +16,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from raykit_grading.seeds import SeedFileError, seed_argument
+from raykit_grading.seeds import SeedFileError, assignment_seed, seed_argument
 
 
 def _seconds(text: str) -> float:
@@ -64,8 +69,7 @@ def build_parser() -> argparse.ArgumentParser:
     zip_.add_argument(
         "--seed-file",
         type=Path,
-        help="the assignment's secret seed, made (mode 600) if missing "
-        "(default: autograder.grading-seed beside the zip)",
+        help="the assignment's secret seed from this file instead, made (mode 600) if missing",
     )
 
     command("tests", help="list the grading tests by stage: points, visibility, totals")
@@ -94,12 +98,24 @@ def build_parser() -> argparse.ArgumentParser:
         help="folder for the results (try-zip/)",
     )
 
-    for sub, beside in ((grade, "beside results.json"), (batch, "in the output folder")):
+    for sub in (release, zip_, grade, batch, try_zip):
+        sub.add_argument(
+            "--assignment",
+            type=Path,
+            metavar="DIR",
+            help="the assignment folder, which holds its secret seed grading-seed (default: the "
+            "current folder or the first of its parents that holds one; "
+            + (
+                "try-zip warns if the zip's seed is not its seed)"
+                if sub is try_zip
+                else "if none does, the seed is made in the current folder)"
+            ),
+        )
+    for sub in (grade, batch):
         sub.add_argument(
             "--seed-file",
             type=Path,
-            help="the assignment's secret seed, from which the graded inputs are drawn; made "
-            f"(mode 600) if missing (default: grading-seed {beside})",
+            help="the assignment's secret seed from this file instead, made (mode 600) if missing",
         )
         sub.add_argument(
             "--seed",
@@ -159,25 +175,32 @@ def main(argv: list[str] | None = None) -> int:
             regrade=args.regrade,
             seed=args.seed,
             seed_file=args.seed_file,
+            assignment=args.assignment,
         )
     if args.command == "try-zip":
         from raykit_grading.containers import try_zip
 
-        return try_zip(args.zip, args.submissions, args.base_image, args.output)
+        return try_zip(
+            args.zip, args.submissions, args.base_image, args.output, assignment=args.assignment
+        )
     if args.command == "release":
         from raykit_grading.release import build_release
 
         if args.output.exists():
             parser.error(f"{args.output} exists; give a new folder")
+        found = _assignment_seed(args.assignment)
+        if found is None:
+            return 2
         build_release(args.output)
+        print(found.line(), file=sys.stderr)
     elif args.command == "gradescope":
         from raykit_grading.autograder import build_zip
 
-        try:
-            build_zip(args.output, seed_file=args.seed_file)
-        except SeedFileError as exc:
-            print(f"raykit_grading: error: {exc}", file=sys.stderr)
+        found = _assignment_seed(args.assignment, seed_file=args.seed_file)
+        if found is None:
             return 2
+        build_zip(args.output, found.seed)
+        print(found.line(), file=sys.stderr)
     elif args.command == "tests":
         from raykit_grading.catalog import listing
 
@@ -192,8 +215,8 @@ def _grade(args, options) -> int:
     if not args.submission.is_dir():
         print(f"raykit_grading: error: {args.submission}: no such folder", file=sys.stderr)
         return 2
-    seed, made = _seed(args)
-    if seed is None:
+    found = _assignment_seed(args.assignment, seed=args.seed, seed_file=args.seed_file)
+    if found is None:
         return 2
     tests = by_name(args.only)
     bar = _progress(len(tests), f"grading {args.submission.name}")
@@ -203,7 +226,7 @@ def _grade(args, options) -> int:
             args.output,
             names=args.only,
             feedback=args.feedback,
-            seed=seed,
+            seed=found.seed,
             options=options,
             progress=(lambda test: bar.update()) if bar else None,
         )
@@ -214,11 +237,10 @@ def _grade(args, options) -> int:
 
     results = json.loads(args.output.read_text())
     total = sum(t["max_score"] for t in results["tests"])
-    if made and status == 3:  # nothing was graded under it: leave no seed behind either
-        made.unlink(missing_ok=True)
-    elif made:
-        print(f"raykit_grading: made the grading seed {made} (mode 600): grading again with "
-              "it draws the same inputs", file=sys.stderr)  # fmt: skip
+    if found.made and status == 3:  # nothing was graded under it: leave no seed behind either
+        found.file.unlink(missing_ok=True)
+    elif status != 3:
+        print(found.line(), file=sys.stderr)
     if status == 3:
         print(f"wrote {args.output}: NOT GRADED (see above)")
     else:
@@ -233,22 +255,14 @@ def _grade(args, options) -> int:
     return status
 
 
-def _seed(args) -> tuple[int | None, Path | None]:
-    """``grade``'s seed: --seed, or the seed file (made if missing); and the file if it was
-    made now. None after saying why."""
-    from raykit_grading.seeds import FILE_NAME, seed_from_file
-
-    if args.seed is not None:
-        return args.seed, None
-    path = args.seed_file or args.output.parent / FILE_NAME
+def _assignment_seed(assignment: Path | None, **given):
+    """The command's :class:`~raykit_grading.seeds.AssignmentSeed` (found, or made), or None
+    after saying why in one line."""
     try:
-        if args.seed_file is None:
-            path.parent.mkdir(parents=True, exist_ok=True)
-        seed, made = seed_from_file(path)
-    except (SeedFileError, OSError) as exc:
+        return assignment_seed(assignment, make=True, **given)
+    except SeedFileError as exc:
         print(f"raykit_grading: error: {exc}", file=sys.stderr)
-        return None, None
-    return seed, path if made else None
+        return None
 
 
 def _progress(total: int, what: str):

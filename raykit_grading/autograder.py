@@ -5,11 +5,10 @@
 Gradescope extracts the zip into ``/autograder/source``, copies ``run_autograder`` from there to
 ``/autograder/run_autograder``, and runs ``setup.sh`` once, as root, when it builds the image.
 So the zip's top holds exactly what ``/autograder/source`` is to hold: ``setup.sh``,
-``run_autograder``, ``grader-requirements.txt``, ``grading-seed`` (the assignment's secret seed,
-:mod:`raykit_grading.seeds`: every submission and every regrade is graded on the inputs drawn
-from it), the grader, the reference raykit, the scenes and the hidden scenes. The builder keeps
-the seed beside the zip (``autograder.grading-seed``, mode 600; or ``--seed-file``), so a zip
-built again grades the same inputs.
+``run_autograder``, ``grader-requirements.txt``, ``grading-seed`` (a copy of the assignment's
+secret seed, :mod:`raykit_grading.seeds`: every submission and every regrade is graded on the
+inputs drawn from it, as ``grade`` and ``batch`` grade in the assignment folder), the grader,
+the reference raykit, the scenes and the hidden scenes.
 
 * ``setup.sh`` installs bubblewrap (the sandbox, :mod:`raykit_grading.isolation`), and a Python
   (``/opt/raykit-grader``) with what ``grader-requirements.txt`` pins and nothing else: the
@@ -38,7 +37,7 @@ import zipfile
 from pathlib import Path
 
 from raykit_grading.catalog import REPO
-from raykit_grading.seeds import HEADER, fingerprint, seed_from_file
+from raykit_grading.seeds import HEADER, new_seed
 
 SETUP = """#!/usr/bin/env bash
 # Gradescope runs this once, as root, in /autograder/source (this zip's contents), when it
@@ -86,12 +85,12 @@ exit "$status"
 REQUIREMENTS = Path(__file__).with_name("grader-requirements.txt")
 
 
-def build_zip(out: Path, seed_file: Path | None = None) -> Path:
-    """Write the autograder zip to ``out``, with the seed in ``seed_file`` (made if missing;
-    default ``autograder.grading-seed`` beside the zip)."""
+def build_zip(out: Path, seed: int | None = None) -> Path:
+    """Write the autograder zip to ``out``, grading under ``seed``: the assignment's (the
+    command passes :func:`raykit_grading.seeds.assignment_seed`'s); None draws one that only
+    this zip holds."""
     out = Path(out)
-    seed_file = Path(seed_file or out.with_suffix(".grading-seed"))
-    seed, made = seed_from_file(seed_file)
+    seed = new_seed() if seed is None else seed
     with zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as archive:
         scripts = (("setup.sh", SETUP.format(requirements=REQUIREMENTS.name)),
                    ("run_autograder", RUN.format()))  # fmt: skip
@@ -107,7 +106,5 @@ def build_zip(out: Path, seed_file: Path | None = None) -> Path:
             for path in sorted((REPO / folder).rglob("*")):
                 if path.is_file() and "__pycache__" not in path.parts:
                     archive.write(path, str(path.relative_to(REPO)))
-    kept = "made now" if made else "kept"
-    print(f"wrote {out}: grading seed {fingerprint(seed)} from {seed_file} ({kept}: build "
-          "the zip again with it for the same graded inputs)")  # fmt: skip
+    print(f"wrote {out}: upload it to Gradescope")
     return out

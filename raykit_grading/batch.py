@@ -13,8 +13,11 @@ grader has finished (and all its sandboxes are gone), so a batch that is stopped
 has graded, and running it again grades only the students not graded yet.
 
 Every student is graded on the same inputs, drawn from the assignment's secret seed
-(:mod:`raykit_grading.seeds`): ``OUT/grading-seed``, made (mode 600) when the batch is first
-run, or ``--seed-file``/``--seed``. A student graded earlier under another seed is graded again.
+(:mod:`raykit_grading.seeds`: ``grading-seed`` in the assignment folder, found from the current
+folder or ``--assignment``, made there if there is none; or ``--seed-file``/``--seed``), the
+seed ``gradescope`` puts in the zip. An OUT/ graded before under another seed (its students'
+results.json name the fingerprint) is refused, naming both, unless ``--regrade``: one
+scores.csv never mixes two seeds' grades.
 
 ``OUT/scores.csv``: student, status, score, max_score, then one column per test; the status is
 ``graded``, ``does not import`` (0 points: the submission's raykit does not import, so no test
@@ -41,7 +44,14 @@ from raykit_grading.catalog import by_name
 from raykit_grading.grade import GradingImpossible, Options, preflight
 from raykit_grading.intake import Entry, entries
 from raykit_grading.report import write_report
-from raykit_grading.seeds import FILE_NAME, SeedFileError, fingerprint, seed_from_file
+from raykit_grading.seeds import (
+    FILE_NAME,
+    AssignmentSeed,
+    SeedFileError,
+    assignment_seed,
+    fingerprint,
+    read_seed_file,
+)
 
 NAMES_AS_BYTES = {"encoding": "utf-8", "errors": "surrogateescape"}  # folder names as they are
 DOES_NOT_IMPORT = "does not import"  # scores.csv's status (results.json says the error)
@@ -65,9 +75,11 @@ def grade_folder(
     regrade: bool = False,
     seed: int | None = None,
     seed_file: Path | None = None,
+    assignment: Path | None = None,
 ) -> int:
     """Grade every submission in ``submissions`` (a folder or a zip); returns the exit
-    status."""
+    status. The seed: ``seed``, else ``seed_file``, else the assignment's
+    (:func:`raykit_grading.seeds.assignment_seed`)."""
     options = options or Options()
     submissions = Path(submissions)
     if not submissions.is_dir() and not (submissions.is_file() and is_zipfile(submissions)):
@@ -78,39 +90,41 @@ def grade_folder(
         if not students:
             print(f"raykit_grading: error: {submissions}: no submissions in it", file=sys.stderr)
             return 2
-        return _grade_all(students, Path(out), jobs, names, options, regrade, seed, seed_file)
+        given = {"seed": seed, "seed_file": seed_file}
+        return _grade_all(students, Path(out), jobs, names, options, regrade, assignment, given)
 
 
-def _grade_all(students: list[Entry], out, jobs, names, options, regrade, seed, seed_file) -> int:
+def _grade_all(students: list[Entry], out, jobs, names, options, regrade, assignment, given):
     try:
         preflight(options)
     except GradingImpossible as exc:
         print(f"raykit_grading: error: cannot grade: {exc}", file=sys.stderr)
         return 3
+    try:
+        found = assignment_seed(assignment, make=True, **given)
+    except SeedFileError as exc:
+        print(f"raykit_grading: error: {exc}", file=sys.stderr)
+        return 2
+    print(found.line(), file=sys.stderr)
     out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    if seed is None:
-        seed_file = Path(seed_file or out / FILE_NAME).absolute()
-        try:
-            seed, made = seed_from_file(seed_file)
-        except SeedFileError as exc:
-            print(f"raykit_grading: error: {exc}", file=sys.stderr)
-            return 2
-        if made:
-            print(f"made the grading seed {seed_file} (mode 600): every student, and every "
-                  "later run, is graded on the inputs drawn from it", file=sys.stderr)  # fmt: skip
-        draw = ["--seed-file", str(seed_file)]
-    else:
-        draw = ["--seed", str(seed)]
-    tests = by_name(names)
-    header = ["student", "status", "score", "max_score", *(t.key for t in tests)]
     path = out / "scores.csv"
     rows = {} if regrade else _read_scores(path)
+    other = _other_seed(out, rows, found)
+    if other:
+        print(f"raykit_grading: error: {other}", file=sys.stderr)
+        return 2
+    out.mkdir(parents=True, exist_ok=True)
+    if found.file is None:
+        draw = ["--seed", str(found.seed)]
+    else:
+        draw = ["--seed-file", str(found.file.absolute())]
+    tests = by_name(names)
+    header = ["student", "status", "score", "max_score", *(t.key for t in tests)]
     done = {
         name
         for name, row in rows.items()
         if row.get("status") in ("graded", DOES_NOT_IMPORT)
-        and _graded_under(out, name) == fingerprint(seed)
+        and _graded_under(out, name) == found.fingerprint
     }
     todo = [s for s in students if s.name not in done and s.folder is not None]
     if rows and list(next(iter(rows.values())).keys()) != header:
@@ -155,6 +169,28 @@ def _grade_all(students: list[Entry], out, jobs, names, options, regrade, seed, 
         print("could not grade:\n  " + "\n  ".join(failed), file=sys.stderr)
         return 1
     return 0
+
+
+def _other_seed(out: Path, rows: dict[str, dict], found: AssignmentSeed) -> str | None:
+    """Why ``out`` cannot be graded into under ``found`` (its students were graded under
+    another seed), in one line; or None."""
+    others = sorted(
+        {_graded_under(out, name) for name, row in rows.items() if row.get("status") in
+         ("graded", DOES_NOT_IMPORT)} - {found.fingerprint, None}
+    )  # fmt: skip
+    if not others:
+        return None
+    old = ""
+    try:  # a batch folder from before the assignment seed kept its seed in it
+        if fingerprint(read_seed_file(out / FILE_NAME)) in others:
+            old = f"; its old seed is {out / FILE_NAME}: --seed-file {out / FILE_NAME} keeps it"
+    except SeedFileError:
+        pass
+    return (
+        f"{out} was graded under the seed {', '.join(others)}, this run's is "
+        f"{found.fingerprint}: grade into another folder, or --regrade to grade everyone "
+        f"again under {found.fingerprint}{old}"
+    )
 
 
 def _graded_under(out: Path, student: str) -> str | None:

@@ -35,6 +35,15 @@ import zipfile
 from dataclasses import dataclass
 from pathlib import Path, PurePosixPath
 
+from raykit_grading.seeds import (
+    FILE_NAME,
+    SeedFileError,
+    assignment_seed,
+    fingerprint,
+    parse_seed,
+    shown,
+)
+
 GRADESCOPE_BASE = "gradescope/autograder-base:ubuntu-22.04"
 DEBIAN_BASE = "raykit/debian-bookworm-base:latest"
 DEBIAN_MIRROR = "http://deb.debian.org/debian"
@@ -348,9 +357,13 @@ def try_zip(
     base_image: str = GRADESCOPE_BASE,
     output: Path = Path("try-zip"),
     env: dict[str, str] | None = None,
+    assignment: Path | None = None,
 ) -> int:
     """``python -m raykit_grading try-zip``: build the image from ``archive`` and grade each
     submission in a fresh container, printing its score and where its results.json is.
+    It first prints the fingerprint of the seed in the zip, and warns if it is not the seed of
+    the assignment found here (``assignment``, or from the current folder): then ``grade`` and
+    ``batch`` here grade on other inputs than the zip does.
     0: every submission graded; 2: cannot try here (said in one line); 3: some submission
     not graded (no results.json, or run_autograder failed)."""
     problem = docker_problem()
@@ -364,6 +377,11 @@ def try_zip(
             return 2
     if not zipfile.is_zipfile(archive):
         print(f"raykit_grading: error: {archive}: not a zip", file=sys.stderr)
+        return 2
+    try:
+        say_seeds(archive, assignment)
+    except SeedFileError as exc:
+        print(f"raykit_grading: error: {exc}", file=sys.stderr)
         return 2
     print(f"building the image from {archive} on {base_image} (setup.sh runs now, as on "
           "Gradescope; minutes the first time) ...", flush=True)  # fmt: skip
@@ -411,6 +429,32 @@ def try_zip(
               f"{graded.seconds:.0f} s (sandbox: {sandbox}); results.json: "
               f"{graded.results_path}")  # fmt: skip
     return 3 if failed else 0
+
+
+def say_seeds(archive: Path, assignment: Path | None) -> None:
+    """Print the zip's seed's fingerprint, and a warning if the assignment found here has
+    another (one line each, on stderr). Raises SeedFileError for a zip with no seed in it,
+    or an ``assignment`` with none."""
+    with zipfile.ZipFile(archive) as opened:
+        try:
+            text = opened.read(FILE_NAME).decode("utf-8", "replace")
+        except KeyError:
+            raise SeedFileError(
+                f"{archive}: no {FILE_NAME} in it (build it with python -m raykit_grading "
+                "gradescope)"
+            ) from None
+    zipped = fingerprint(parse_seed(text, f"{archive}: {FILE_NAME}"))
+    print(f"raykit_grading: assignment seed {zipped} ({archive}: {FILE_NAME})", file=sys.stderr)
+    try:
+        here = assignment_seed(assignment, make=False)
+    except SeedFileError:
+        if assignment is not None:
+            raise
+        return  # no assignment folder here to compare with
+    if here.fingerprint != zipped:
+        print(f"raykit_grading: warning: the zip's seed {zipped} is not this assignment's "
+              f"{here.fingerprint} ({shown(here.file)}): grade and batch here grade on other "
+              "inputs than the zip", file=sys.stderr)  # fmt: skip
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -58,7 +58,7 @@ def graded_class(tmp_path_factory, release):
     run = subprocess.run(
         [sys.executable, "-m", "raykit_grading", "batch", str(students), "-o", str(out),
          "--only", *ONLY, "--jobs", "2"],
-        capture_output=True, text=True, cwd=REPO, timeout=900,
+        capture_output=True, text=True, cwd=root, timeout=900,
     )  # fmt: skip
     return out, run
 

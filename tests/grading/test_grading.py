@@ -266,7 +266,12 @@ def test_batch_grades_a_folder_into_a_csv_and_a_feedback_folder_each(
     make_submission(students / "bob", "u_v_swapped")
     shutil.copytree(release / "raykit", students / "cy" / "raykit")
     status = grade_folder(
-        students, tmp_path / "out", jobs=2, options=Options(child_python), names=["2.1", "3.6"]
+        students,
+        tmp_path / "out",
+        jobs=2,
+        options=Options(child_python),
+        names=["2.1", "3.6"],
+        assignment=tmp_path,
     )
     assert status == 0
     rows = {row["student"]: row for row in csv.DictReader((tmp_path / "out/scores.csv").open())}
@@ -297,7 +302,7 @@ def test_grading_command_line_writes_results(tmp_path, child_python, solution):
         ],
         capture_output=True,
         text=True,
-        cwd=REPO,
+        cwd=tmp_path,
     )
     assert run.returncode == 0, run.stderr
     assert run.stdout.strip() == f"wrote {tmp_path / 'r.json'}: 3 of 3 points"

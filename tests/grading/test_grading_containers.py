@@ -112,13 +112,13 @@ def test_try_zip_scores_what_the_local_grade_scores(tmp_path):
     seed_file = tmp_path / "grading-seed"
     seed_file.write_text(f"{HEADER}{SEED}\n")
     seed_file.chmod(0o600)
-    archive = build_zip(tmp_path / "autograder.zip", seed_file)
+    archive = build_zip(tmp_path / "autograder.zip", SEED)
     submissions = [make_submission(tmp_path / "solution"),
                    make_submission(tmp_path / "flipped", "rows_flipped")]  # fmt: skip
     run = subprocess.run(
         [sys.executable, "-m", "raykit_grading", "try-zip", str(archive),
          *map(str, submissions), "--base-image", base, "-o", str(tmp_path / "tried")],
-        capture_output=True, text=True, cwd=REPO, timeout=1800,
+        capture_output=True, text=True, cwd=tmp_path, timeout=1800,
     )  # fmt: skip
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
     for submission in submissions:
@@ -151,10 +151,7 @@ def test_a_zipped_submission_and_a_grading_past_the_timeout(tmp_path):
     and graded; a grading stopped at the timeout has no results, says so, and leaves no
     container behind."""
     base = _base_image()
-    seed_file = tmp_path / "grading-seed"
-    seed_file.write_text(f"{HEADER}{SEED}\n")
-    seed_file.chmod(0o600)
-    image = containers.build_image(build_zip(tmp_path / "autograder.zip", seed_file), base).image
+    image = containers.build_image(build_zip(tmp_path / "autograder.zip", SEED), base).image
     solution = make_submission(tmp_path / "solution")
     with zipfile.ZipFile(tmp_path / "work.zip", "w") as archive:
         for path in sorted((solution / "raykit").rglob("*.py")):

@@ -59,7 +59,6 @@ from mistaken_submissions import make_submission
 from raykit_grading.autograder import build_zip
 from raykit_grading.catalog import TESTS
 from raykit_grading.confine import TREES
-from raykit_grading.seeds import HEADER
 
 pytestmark = pytest.mark.slow
 
@@ -145,10 +144,7 @@ def autograder(request, tmp_path_factory, grader_python):
     shutil.rmtree(root, ignore_errors=True)
     (root / "source").mkdir(parents=True)
     if request.param == "container":  # a fixed seed: the same code makes the same image
-        seed_file = tmp_path_factory.mktemp("seed") / "grading-seed"
-        seed_file.write_text(f"{HEADER}{SEED}\n")
-        seed_file.chmod(0o600)
-        archive = build_zip(tmp_path_factory.mktemp("zip") / "autograder.zip", seed_file)
+        archive = build_zip(tmp_path_factory.mktemp("zip") / "autograder.zip", SEED)
         plugins = request.config.pluginmanager
         reporter, capture = (
             plugins.get_plugin("terminalreporter"),
@@ -886,7 +882,7 @@ def test_8_no_usable_child_python_is_one_line_and_a_non_zero_exit(tmp_path):
     run = subprocess.run(
         [sys.executable, "-m", "raykit_grading", "grade", str(submission), "-o", str(out),
          "--only", "2.1", "--child-python", "/nonexistent/python3"],
-        capture_output=True, text=True, cwd=REPO,
+        capture_output=True, text=True, cwd=tmp_path,
     )  # fmt: skip
     assert run.returncode == 3
     assert "Traceback" not in run.stderr
@@ -896,7 +892,7 @@ def test_8_no_usable_child_python_is_one_line_and_a_non_zero_exit(tmp_path):
     batch = subprocess.run(
         [sys.executable, "-m", "raykit_grading", "batch", str(tmp_path), "-o",
          str(tmp_path / "out"), "--child-python", "/nonexistent/python3"],
-        capture_output=True, text=True, cwd=REPO,
+        capture_output=True, text=True, cwd=tmp_path,
     )  # fmt: skip
     assert batch.returncode == 3 and "Traceback" not in batch.stderr
     assert not (tmp_path / "out/scores.csv").exists()
@@ -974,7 +970,7 @@ def test_9_classmates_network_and_daemons_in_a_batch(release, tmp_path):
         run = subprocess.run(
             [sys.executable, "-m", "raykit_grading", "batch", str(students), "-o", str(out),
              "--only", "2.1", "2.3", "--wall-seconds", str(WALL), "--jobs", "2"],
-            capture_output=True, text=True, cwd=REPO, timeout=300,
+            capture_output=True, text=True, cwd=tmp_path, timeout=300,
         )  # fmt: skip
     finally:
         listener.close()
@@ -1005,14 +1001,14 @@ def test_batch_goes_on_past_a_student_it_cannot_grade_and_resumes(release, tmp_p
     out = tmp_path / "out"
     command = [sys.executable, "-m", "raykit_grading", "batch", str(students), "-o", str(out),
                "--only", "2.1"]  # fmt: skip
-    first = subprocess.run(command, capture_output=True, text=True, cwd=REPO, timeout=300)
+    first = subprocess.run(command, capture_output=True, text=True, cwd=tmp_path, timeout=300)
     assert first.returncode == 1
     assert "empty: could not grade: no raykit package" in first.stderr
     rows = _rows(out / "scores.csv")
     assert rows["ada"]["status"] == "graded" and float(rows["ada"]["score"]) == 2
     assert rows[os.fsdecode(b"b\xf8rge")]["status"] == "graded"
     make_submission(students / "bob")
-    again = subprocess.run(command, capture_output=True, text=True, cwd=REPO, timeout=300)
+    again = subprocess.run(command, capture_output=True, text=True, cwd=tmp_path, timeout=300)
     assert "3 of 4 students" in again.stdout and again.returncode == 1
     rows = _rows(out / "scores.csv")
     assert rows["bob"]["status"] == "graded"

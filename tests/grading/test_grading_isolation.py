@@ -375,7 +375,7 @@ def test_a_normal_user_without_user_namespaces_is_refused_in_one_line(tmp_path, 
     run = subprocess.run(
         [python, "-m", "raykit_grading", "grade", str(folder / "submission"), "-o", str(out),
          "--only", "2.1"],
-        capture_output=True, text=True, cwd=REPO, timeout=300, preexec_fn=confine,
+        capture_output=True, text=True, cwd=folder, timeout=300, preexec_fn=confine,
         env={"PATH": "/usr/bin:/bin", "PYTHONPATH": str(REPO), "TMPDIR": str(folder)},
     )  # fmt: skip
     assert run.returncode == 3, run.stderr

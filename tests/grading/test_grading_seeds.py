@@ -1,8 +1,10 @@
-"""One secret seed per assignment: the same graded inputs on every grading, every machine.
+"""One secret seed per assignment: the same graded inputs on every grading, every command,
+every machine.
 
 A regrade must not change a grade: the graded inputs come from the assignment's seed file
-(raykit_grading/seeds.py), the draw is the same on any processor and thread count, and
-results.json names the seed by a fingerprint only."""
+(raykit_grading/seeds.py), which every command finds in the assignment folder, the draw is the
+same on any processor and thread count, and results.json names the seed by a fingerprint
+only."""
 
 import ast
 import hashlib
@@ -22,7 +24,10 @@ from mistaken_submissions import make_submission
 from raykit_grading.catalog import TESTS
 from raykit_grading.grade import Options, grade
 from raykit_grading.seeds import (
+    HEADER,
     SeedFileError,
+    assignment_seed,
+    find_assignment,
     fingerprint,
     read_seed_file,
     seed_from_file,
@@ -154,6 +159,104 @@ def test_a_seed_file_that_holds_no_seed_is_refused_naming_it(tmp_path, text):
         read_seed_file(path)
 
 
+# ---- the assignment folder -----------------------------------------------------------------
+
+
+def _seed_file(folder, seed: int):
+    """``folder/grading-seed`` holding ``seed``, as the commands make it."""
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / "grading-seed"
+    path.write_text(f"{HEADER}{seed}\n")
+    path.chmod(0o600)
+    return path
+
+
+def test_the_assignment_seed_is_found_from_a_subfolder_as_git_finds_its_folder(
+    tmp_path, monkeypatch
+):
+    monkeypatch.setenv("HOME", str(tmp_path / "home"))
+    seed_file = _seed_file(tmp_path / "course/ray-tracing", 11)
+    deep = tmp_path / "course/ray-tracing/graded/week-1"
+    deep.mkdir(parents=True)
+    monkeypatch.chdir(deep)
+    assert find_assignment() == tmp_path / "course/ray-tracing"
+    found = assignment_seed(make=True)
+    assert (found.seed, found.file, found.made) == (11, seed_file, False)
+    assert found.line() == f"raykit_grading: assignment seed {fingerprint(11)} ({seed_file})"
+    assert list(deep.iterdir()) == []  # found: nothing made here
+
+
+def test_the_search_stops_below_the_home_folder(tmp_path, monkeypatch):
+    home = tmp_path / "home"
+    _seed_file(home, 11)  # a seed lying in the home folder belongs to no assignment below it
+    (home / "course").mkdir()
+    monkeypatch.setenv("HOME", str(home))
+    monkeypatch.chdir(home / "course")
+    assert find_assignment() is None
+    with pytest.raises(SeedFileError, match=r"^no grading-seed in .*course or the folders above"):
+        assignment_seed(make=False)
+    monkeypatch.chdir(home)  # but the home folder itself is a folder to work in
+    assert find_assignment() == home
+
+
+def test_with_no_assignment_seed_one_is_made_in_the_current_folder_and_said_so(
+    tmp_path, monkeypatch
+):
+    monkeypatch.setenv("HOME", str(tmp_path))
+    (tmp_path / "a1").mkdir()
+    monkeypatch.chdir(tmp_path / "a1")
+    made = assignment_seed(make=True)
+    assert made.made and made.file == tmp_path / "a1/grading-seed"
+    assert stat.S_IMODE(made.file.stat().st_mode) == 0o600
+    assert made.line() == (
+        f"raykit_grading: assignment seed {made.fingerprint} (./grading-seed, made now, mode "
+        "600: the commands run in this folder or below use it)"
+    )
+    assert assignment_seed(make=True) == type(made)(made.seed, made.file, made=False)
+
+
+def test_assignment_seed_file_and_seed_override_the_search_in_that_order(tmp_path, monkeypatch):
+    monkeypatch.setenv("HOME", str(tmp_path))
+    _seed_file(tmp_path / "here", 1)
+    _seed_file(tmp_path / "other", 2)
+    monkeypatch.chdir(tmp_path / "here")
+    assert assignment_seed(make=False).seed == 1
+    assert assignment_seed(tmp_path / "other", make=False).seed == 2
+    given = _seed_file(tmp_path / "given", 3)
+    assert assignment_seed(tmp_path / "other", make=False, seed_file=given).seed == 3
+    by_hand = assignment_seed(tmp_path / "other", make=False, seed_file=given, seed=4)
+    assert (by_hand.seed, by_hand.file) == (4, None)
+    assert by_hand.line() == f"raykit_grading: assignment seed {fingerprint(4)} (--seed)"
+    with pytest.raises(SeedFileError, match="no/such: no such assignment folder"):
+        assignment_seed(tmp_path / "no/such", make=True)
+    with pytest.raises(SeedFileError, match="empty/grading-seed: no such seed file"):
+        (tmp_path / "empty").mkdir()
+        assignment_seed(tmp_path / "empty", make=False)
+
+
+def test_try_zip_names_the_zips_seed_and_warns_when_it_is_not_the_assignments(
+    tmp_path, monkeypatch, capsys
+):
+    from raykit_grading.autograder import build_zip
+    from raykit_grading.containers import say_seeds
+
+    monkeypatch.setenv("HOME", str(tmp_path))
+    archive = build_zip(tmp_path / "autograder.zip", 7)
+    _seed_file(tmp_path / "same", 7)
+    _seed_file(tmp_path / "other", 8)
+    monkeypatch.chdir(tmp_path / "same")
+    capsys.readouterr()
+    say_seeds(archive, None)
+    zipped = f"raykit_grading: assignment seed {fingerprint(7)} ({archive}: grading-seed)\n"
+    assert capsys.readouterr().err == zipped
+    say_seeds(archive, tmp_path / "other")
+    assert capsys.readouterr().err == zipped + (
+        f"raykit_grading: warning: the zip's seed {fingerprint(7)} is not this assignment's "
+        f"{fingerprint(8)} ({tmp_path / 'other/grading-seed'}): grade and batch here grade on "
+        "other inputs than the zip\n"
+    )
+
+
 def test_grade_refuses_a_bad_seed_file_in_one_line_before_grading(tmp_path, solution):
     (tmp_path / "seed").write_text("not a number\n")
     run = subprocess.run(
@@ -187,34 +290,45 @@ def borderline(tmp_path_factory):
     return folder
 
 
-def _grade_command(submission, results, *more):
+def _grade_command(submission, results, *more, cwd):
     run = subprocess.run(
         [sys.executable, "-m", "raykit_grading", "grade", str(submission), "-o", str(results),
          "--only", "1.5", "1.6", "1.7", *more],
-        capture_output=True, text=True, cwd=REPO,
+        capture_output=True, text=True, cwd=cwd, env={**os.environ, "HOME": str(cwd)},
     )  # fmt: skip
     assert run.returncode == 0, run.stderr
     return json.loads(results.read_text()), run
 
 
 def test_a_borderline_submission_scores_the_same_when_graded_again(borderline, tmp_path):
-    first, run = _grade_command(borderline, tmp_path / "graded/results.json")
-    seed_file = tmp_path / "graded/grading-seed"
-    assert f"made the grading seed {seed_file} (mode 600)" in run.stderr
+    first, run = _grade_command(borderline, tmp_path / "graded/results.json", cwd=tmp_path)
+    seed_file = tmp_path / "grading-seed"  # the assignment folder's: the current folder's
+    seed = read_seed_file(seed_file)
     assert stat.S_IMODE(seed_file.stat().st_mode) == 0o600
-    again, run = _grade_command(borderline, tmp_path / "graded/results.json")
-    assert "made the grading seed" not in run.stderr
+    assert f"assignment seed {fingerprint(seed)} (./grading-seed, made now, mode 600" in run.stderr
+    again, run = _grade_command(borderline, tmp_path / "graded/results.json", cwd=tmp_path)
+    assert f"assignment seed {fingerprint(seed)} (./grading-seed)\n" in run.stderr
     scores = [(t["number"], t["score"]) for t in first["tests"]]
     assert scores == [(t["number"], t["score"]) for t in again["tests"]]
     assert first["score"] == again["score"]
-    seed = read_seed_file(seed_file)
     assert first["extra_data"]["seed_fingerprint"] == fingerprint(seed)
     assert again["extra_data"]["seed_fingerprint"] == fingerprint(seed)
     assert str(seed) not in (tmp_path / "graded/results.json").read_text()
     # --seed overrides the file (and makes none), and repeats its own draw
-    by_hand, _ = _grade_command(borderline, tmp_path / "r.json", "--seed", str(seed))
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    by_hand, run = _grade_command(borderline, elsewhere / "r.json", "--seed", str(seed),
+                                  cwd=elsewhere)  # fmt: skip
     assert [(t["number"], t["score"]) for t in by_hand["tests"]] == scores
-    assert not (tmp_path / "grading-seed").exists()
+    assert f"assignment seed {fingerprint(seed)} (--seed)\n" in run.stderr
+    assert not (elsewhere / "grading-seed").exists()
+    # --seed-file overrides the assignment's
+    other = _seed_file(elsewhere / "other", seed + 1)
+    _, run = _grade_command(borderline, elsewhere / "r.json", "--seed-file", str(other),
+                            cwd=tmp_path)  # fmt: skip
+    assert f"assignment seed {fingerprint(seed + 1)} (./elsewhere/other/grading-seed)\n" in (
+        run.stderr
+    )
 
 
 def test_the_borderline_submission_is_borderline_its_score_depends_on_the_seed(
@@ -228,11 +342,9 @@ def test_the_borderline_submission_is_borderline_its_score_depends_on_the_seed(
     assert len(scores) > 1 and min(scores) < 2
 
 
-def test_batch_grades_every_student_under_one_seed_and_regrades_under_another(
-    tmp_path, child_python, borderline
+def test_batch_grades_every_student_under_one_seed_and_refuses_to_mix_in_another(
+    tmp_path, child_python, borderline, capsys
 ):
-    import shutil
-
     from raykit_grading.batch import grade_folder
 
     students = tmp_path / "submissions"
@@ -240,9 +352,11 @@ def test_batch_grades_every_student_under_one_seed_and_regrades_under_another(
         shutil.copytree(borderline, students / name)
     out = tmp_path / "out"
     options = Options(child_python)
-    assert grade_folder(students, out, names=["1.6"], options=options) == 0
-    seed = read_seed_file(out / "grading-seed")
-    assert stat.S_IMODE((out / "grading-seed").stat().st_mode) == 0o600
+    seed = read_seed_file(_seed_file(tmp_path, 20261127))
+    assert grade_folder(students, out, names=["1.6"], options=options, assignment=tmp_path) == 0
+    assert f"assignment seed {fingerprint(seed)} ({tmp_path / 'grading-seed'})" in (
+        capsys.readouterr().err
+    )
 
     def graded():
         return {
@@ -254,41 +368,99 @@ def test_batch_grades_every_student_under_one_seed_and_regrades_under_another(
     assert {r["extra_data"]["seed_fingerprint"] for r in first.values()} == {fingerprint(seed)}
     assert first["ada"]["score"] == first["bob"]["score"]  # the same code, the same tests
     before = {n: (out / "feedback" / n / "results.json").stat().st_mtime_ns for n in first}
-    assert grade_folder(students, out, names=["1.6"], options=options) == 0
+    assert grade_folder(students, out, names=["1.6"], options=options, assignment=tmp_path) == 0
     after = {n: (out / "feedback" / n / "results.json").stat().st_mtime_ns for n in first}
     assert after == before  # graded under this seed already: not graded again
-    assert grade_folder(students, out, names=["1.6"], options=options, seed=seed + 1) == 0
+    # under another seed, into the same folder: refused in one line, naming both
+    shutil.copy(tmp_path / "grading-seed", out / "grading-seed")  # as a batch kept it before
+    capsys.readouterr()
+    assert grade_folder(students, out, names=["1.6"], options=options, seed=seed + 1) == 2
+    refusal = capsys.readouterr().err.splitlines()[-1]
+    assert refusal == (
+        f"raykit_grading: error: {out} was graded under the seed {fingerprint(seed)}, this run's "
+        f"is {fingerprint(seed + 1)}: grade into another folder, or --regrade to grade everyone "
+        f"again under {fingerprint(seed + 1)}; its old seed is {out / 'grading-seed'}: "
+        f"--seed-file {out / 'grading-seed'} keeps it"
+    )
+    assert graded() == first
+    assert grade_folder(students, out, names=["1.6"], options=options, seed=seed + 1,
+                        regrade=True) == 0  # fmt: skip
     regraded = graded()
     assert {r["extra_data"]["seed_fingerprint"] for r in regraded.values()} == {
         fingerprint(seed + 1)
     }
 
 
-def test_the_zip_carries_the_seed_kept_beside_it_and_grades_under_it(tmp_path, grader_python):
-    from raykit_grading.autograder import build_zip
+# ---- one assignment, one seed: every command grades alike -----------------------------------
 
-    archive = build_zip(tmp_path / "autograder.zip")
-    kept = tmp_path / "autograder.grading-seed"
-    seed = read_seed_file(kept)
-    assert stat.S_IMODE(kept.stat().st_mode) == 0o600
-    rebuilt = build_zip(tmp_path / "again.zip", seed_file=kept)
-    for path in (archive, rebuilt):
-        with zipfile.ZipFile(path) as opened:
-            inside = opened.read("grading-seed").decode()
-            assert inside.split()[-1] == str(seed)
-            assert opened.getinfo("grading-seed").external_attr >> 16 == 0o600
+# the borderline line-scan tests (test 1.6's score depends on the seed) and a ray-plane test
+ONLY = ["1.5", "1.6", "1.7", "2.1"]
+
+
+def test_run_autograder_grade_and_batch_score_a_submission_alike_with_no_seed_option(
+    tmp_path, borderline, child_python, grader_python
+):
+    """The guide's commands as written, in the assignment folder: the release makes its seed,
+    the zip carries it, and the zip's run_autograder, ``grade`` (from a subfolder) and
+    ``batch`` (from elsewhere, with --assignment) grade a partly wrong submission test for
+    test alike, each under that seed's fingerprint."""
+    assignment = tmp_path / "ray-tracing"
+    assignment.mkdir()
+    home = {**os.environ, "HOME": str(tmp_path)}
+
+    def command(*arguments, cwd=assignment, env=home):
+        run = subprocess.run([sys.executable, "-m", "raykit_grading", *map(str, arguments)],
+                             capture_output=True, text=True, cwd=cwd, env=env)  # fmt: skip
+        assert run.returncode == 0, run.stderr[-3000:]
+        return run
+
+    released = command("release", "-o", "student-release/")
+    seed = read_seed_file(assignment / "grading-seed")
+    said = f"raykit_grading: assignment seed {fingerprint(seed)}"
+    assert f"{said} (./grading-seed, made now, mode 600" in released.stderr
+    kit = [p for p in (assignment / "student-release").rglob("*") if p.is_file()]
+    assert [p for p in kit if "seed" in p.name] == []
+    assert not any(str(seed).encode() in p.read_bytes() for p in kit)
+
+    zipped = command("gradescope", "-o", "autograder.zip")
+    assert f"{said} (./grading-seed)\n" in zipped.stderr
     root = tmp_path / "autograder"  # laid out as Gradescope lays it out
-    with zipfile.ZipFile(archive) as opened:
+    with zipfile.ZipFile(assignment / "autograder.zip") as opened:
+        assert opened.read("grading-seed").decode().split()[-1] == str(seed)
         opened.extractall(root / "source")
     shutil.copy(root / "source/run_autograder", root / "run_autograder")
-    make_submission(root / "submission")
-    run = subprocess.run(
+    shutil.copytree(borderline, root / "submission")
+    on_gradescope = subprocess.run(
         ["bash", str(root / "run_autograder")],
         env={"PATH": "/usr/bin:/bin", "AUTOGRADER_ROOT": str(root),
-             "RAYKIT_GRADER_PYTHON": grader_python, "RAYKIT_GRADE_OPTIONS": "--only 2.1"},
+             "RAYKIT_GRADER_PYTHON": grader_python,
+             "RAYKIT_GRADE_OPTIONS": f"--only {' '.join(ONLY)}"},
         capture_output=True, text=True,
     )  # fmt: skip
-    assert run.returncode == 0, run.stderr
-    results = json.loads((root / "results/results.json").read_text())
-    assert results["extra_data"]["seed_fingerprint"] == fingerprint(seed)
-    assert results["score"] == 2
+    assert on_gradescope.returncode == 0, on_gradescope.stderr
+    assert f"{said} (./grading-seed)\n" in on_gradescope.stderr  # run in source/
+
+    (assignment / "graded").mkdir()
+    graded = command("grade", borderline, "-o", "ada.json", "--only", *ONLY,
+                     cwd=assignment / "graded")  # fmt: skip
+    assert f"{said} ({assignment / 'grading-seed'})\n" in graded.stderr
+
+    shutil.copytree(borderline, tmp_path / "class/ada")
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    batch = command("batch", tmp_path / "class", "-o", assignment / "class",
+                    "--only", *ONLY, "--assignment", assignment, cwd=elsewhere)  # fmt: skip
+    assert f"{said} ({assignment / 'grading-seed'})\n" in batch.stderr
+    assert list(elsewhere.iterdir()) == []
+
+    ways = {
+        "run_autograder": root / "results/results.json",
+        "grade": assignment / "graded/ada.json",
+        "batch": assignment / "class/feedback/ada/results.json",
+    }
+    results = {way: json.loads(path.read_text()) for way, path in ways.items()}
+    scores = {way: {t["number"]: t["score"] for t in r["tests"]} for way, r in results.items()}
+    assert list(scores["grade"]) == ONLY
+    assert scores["run_autograder"] == scores["grade"] == scores["batch"], scores
+    assert {r["extra_data"]["seed_fingerprint"] for r in results.values()} == {fingerprint(seed)}
+    assert 0 < results["grade"]["score"] < sum(t.points for t in TESTS if t.key in ONLY)
