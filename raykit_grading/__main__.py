@@ -1,4 +1,5 @@
-"""``python -m raykit_grading COMMAND``: release, grade, batch, gradescope, tests, try-zip.
+"""``python -m raykit_grading COMMAND``: release, grade, batch, gradescope, prairielearn, tests,
+try-zip.
 
 Exit status: 0 done (grade: graded, whatever the score); 1 batch: some student could not be
 graded; 2 bad arguments; 3 the grader could not grade (no sandbox here, or it
@@ -66,6 +67,21 @@ def build_parser() -> argparse.ArgumentParser:
         type=Path,
         help="the assignment's secret seed, made (mode 600) if missing "
         "(default: autograder.grading-seed beside the zip)",
+    )
+
+    learn = command(
+        "prairielearn", help="write the PrairieLearn grader image's build folder and question"
+    )
+    learn.add_argument("-o", "--output", type=Path, required=True, help="folder to write")
+    learn.add_argument(
+        "--image",
+        help="the image's name on Docker Hub, for info.json (e.g. yourname/raykit-grader)",
+    )
+    learn.add_argument(
+        "--seed-file",
+        type=Path,
+        help="the assignment's secret seed, made (mode 600) if missing "
+        "(default: grading-seed in the output folder)",
     )
 
     command("tests", help="list the grading tests by stage: points, visibility, totals")
@@ -176,6 +192,14 @@ def main(argv: list[str] | None = None) -> int:
         try:
             build_zip(args.output, seed_file=args.seed_file)
         except SeedFileError as exc:
+            print(f"raykit_grading: error: {exc}", file=sys.stderr)
+            return 2
+    elif args.command == "prairielearn":
+        from raykit_grading.prairielearn import DEFAULT_IMAGE, write_course_files
+
+        try:
+            write_course_files(args.output, args.image or DEFAULT_IMAGE, args.seed_file)
+        except (SeedFileError, OSError) as exc:
             print(f"raykit_grading: error: {exc}", file=sys.stderr)
             return 2
     elif args.command == "tests":
