@@ -24,7 +24,8 @@ network, ``/grade`` laid out as its external-grading docs say. :func:`run_job` g
 ``/grade/results/results.json`` in PrairieLearn's format (:func:`to_prairielearn`):
 
 * a submission in the wrong shape (nothing or something else uploaded, no ``raykit/``
-  package in the zip, a zip too large or not a zip) is ``gradable: false`` with
+  package in the zip, a zip too large or not a zip; a ``raykit/`` folder, as a workspace
+  question's ``gradedFiles`` sends it, is taken as well) is ``gradable: false`` with
   ``format_errors``: PrairieLearn then counts no attempt;
 * a grader that cannot grade (no seed in ``tests/``, no sandbox, a test the grader failed on,
   past the time limit) is ``gradable: false`` with a message beginning ``NOT GRADED``, never a
@@ -56,6 +57,7 @@ from raykit_grading.results import split_html_output, write_results
 from raykit_grading.seeds import HEADER, SeedFileError, fingerprint, read_seed_file, seed_from_file
 
 SUBMITTED_FILE = "raykit.zip"
+TAKEN = {SUBMITTED_FILE, "raykit"}  # the upload, or the folder a workspace question grades
 DEFAULT_BASE = "ubuntu:22.04"  # what Gradescope's base image is built on
 DEFAULT_IMAGE = "your-docker-hub-name/raykit-grader:latest"  # a placeholder: --image NAME
 SOURCE = "/grader/source"  # in the image: the grader, root's alone
@@ -254,7 +256,7 @@ def to_prairielearn(graded: dict, status: int = 0) -> dict:
     entries = graded.get("tests", [])
     if graded.get("extra_data", {}).get("sandbox", "").startswith("none"):  # nothing ran
         why = entries[0]["output"].splitlines()[0] if entries else "no raykit package"
-        return not_gradable(graded.get("output", ""), [f"{SUBMITTED_FILE}: {why}"])
+        return not_gradable(graded.get("output", ""), [why])
     total = sum(e["max_score"] for e in entries)
     tests, hidden = [], []
     for entry in entries:
@@ -289,6 +291,12 @@ def to_prairielearn(graded: dict, status: int = 0) -> dict:
         "score": round(graded["score"] / total, 6) if total else 0.0,
         "message": graded.get("output", ""),
         "tests": tests,
+        # what Gradescope's results say too: no secret (the seed's fingerprint only)
+        "extra_data": {
+            k: v
+            for k, v in graded.get("extra_data", {}).items()
+            if k in ("sandbox", "seed_fingerprint")
+        },  # fmt: skip
     }
     return within_limit(results)
 
@@ -316,13 +324,15 @@ def within_limit(results: dict, budget: int = RESULTS_BUDGET) -> dict:
 
 
 def submission_problems(student: Path) -> list[str]:
-    """What is wrong with the upload's shape before it is opened (empty if nothing)."""
+    """What is wrong with the upload's shape before it is opened (empty if nothing): it is
+    :data:`SUBMITTED_FILE` (``pl-file-upload``), or a ``raykit/`` folder (a workspace's
+    ``gradedFiles``), and nothing else."""
     if not student.is_dir():
         return [f"nothing was submitted: upload {SUBMITTED_FILE}"]
     names = sorted(os.listdir(student))
     problems = [f"{name}: not a file this question takes (it takes {SUBMITTED_FILE} only)"
-                for name in names if name != SUBMITTED_FILE]  # fmt: skip
-    if SUBMITTED_FILE not in names:
+                for name in names if name not in TAKEN]  # fmt: skip
+    if not TAKEN.intersection(names):
         problems.append(f"no {SUBMITTED_FILE}: upload your raykit/ folder zipped")
     return problems
 
