@@ -429,17 +429,18 @@ def grade_in_prairielearn_container(
             "editable": False, "panel": "question", "extensions": {}, "num_valid_submissions": 0,
         }))  # fmt: skip
         command, *arguments = shlex.split(entrypoint)
-        run_command = ["docker", "run", "--rm", "--name", name, "--network", "none",
-                       "--memory", PL_MEMORY, "--memory-swap", PL_MEMORY, "--cpus", PL_CPUS,
-                       "--pids-limit", PL_PIDS, "--ulimit", "core=0", "--ipc", "private",
-                       "-v", f"{job}:/grade", "--entrypoint", command]  # fmt: skip
+        create = ["create", "--name", name, "--network", "none", "--memory", PL_MEMORY,
+                  "--memory-swap", PL_MEMORY, "--cpus", PL_CPUS, "--pids-limit", PL_PIDS,
+                  "--ulimit", "core=0", "--ipc", "private", "-v", f"{job}:/grade",
+                  "--entrypoint", command]  # fmt: skip
         for key, value in (env or {}).items():
-            run_command += ["-e", f"{key}={value}"]
+            create += ["-e", f"{key}={value}"]
+        created = _docker(*create, image, *arguments)  # made before the clock starts
+        if created.returncode != 0:
+            raise ContainerError(f"docker create failed: {_last_line(created.stderr)}")
         start = time.perf_counter()
         try:
-            run = subprocess.run(
-                [*run_command, image, *arguments], capture_output=True, text=True, timeout=timeout
-            )
+            run = _docker("start", "--attach", name, timeout=timeout)
             status, output = run.returncode, run.stdout + run.stderr
         except subprocess.TimeoutExpired as exc:
             _docker("kill", name)
