@@ -321,13 +321,7 @@ def grade_in_container(
             copied = _make_folder_and_copy(name, submission)
         if copied.returncode != 0:
             raise ContainerError(f"docker cp of the submission failed: {_last_line(copied.stderr)}")
-        try:
-            run = _docker("start", "--attach", name, timeout=timeout)
-            status, output = run.returncode, run.stdout + run.stderr
-        except subprocess.TimeoutExpired as exc:
-            _docker("kill", name)
-            status = None
-            output = _text(exc.stdout) + _text(exc.stderr) + f"\n(stopped after {timeout:g} s)"
+        status, output = _start_until(name, timeout)
         path = out_dir / "results.json"
         path.unlink(missing_ok=True)
         fetched = _docker("cp", f"{name}:/autograder/results/results.json", str(path))
@@ -342,6 +336,17 @@ def grade_in_container(
         return Graded(status, results, path, output, seconds, None, name)
     finally:
         _docker("rm", "--force", "--volumes", name)
+
+
+def _start_until(name: str, timeout: float) -> tuple[int | None, str]:
+    """Start the container ``name`` attached: (its exit status, or None if it was killed at
+    ``timeout``; what it printed)."""
+    try:
+        run = _docker("start", "--attach", name, timeout=timeout)
+        return run.returncode, run.stdout + run.stderr
+    except subprocess.TimeoutExpired as exc:
+        _docker("kill", name)
+        return None, _text(exc.stdout) + _text(exc.stderr) + f"\n(stopped after {timeout:g} s)"
 
 
 def _make_folder_and_copy(name: str, path: Path) -> subprocess.CompletedProcess:
@@ -439,13 +444,7 @@ def grade_in_prairielearn_container(
         if created.returncode != 0:
             raise ContainerError(f"docker create failed: {_last_line(created.stderr)}")
         start = time.perf_counter()
-        try:
-            run = _docker("start", "--attach", name, timeout=timeout)
-            status, output = run.returncode, run.stdout + run.stderr
-        except subprocess.TimeoutExpired as exc:
-            _docker("kill", name)
-            status = None
-            output = _text(exc.stdout) + _text(exc.stderr) + f"\n(stopped after {timeout:g} s)"
+        status, output = _start_until(name, timeout)
         seconds = time.perf_counter() - start
         written = job / "results" / "results.json"
         path = out_dir / "results.json"
