@@ -318,8 +318,13 @@ def _grade_as_prairielearn(
     """A fresh container of the grader image grades ``submission`` as PrairieLearn runs it;
     the options reach the entrypoint as ``RAYKIT_GRADE_OPTIONS`` (``docker run -e``)."""
     from raykit_grading.containers import grade_in_prairielearn_container
-    from raykit_grading.prairielearn import ENTRYPOINT
+    from raykit_grading.prairielearn import ENTRYPOINT, SUBMITTED_FILE
 
+    entries = list(submission.iterdir())
+    if len(entries) == 1 and entries[0].suffix == ".zip":  # uploaded as the question names it
+        (tmp_path / "upload").mkdir()
+        shutil.copy(entries[0], tmp_path / "upload" / SUBMITTED_FILE)
+        submission = tmp_path / "upload"
     graded = grade_in_prairielearn_container(
         (autograder / "image").read_text(), submission, autograder / "tests",
         tmp_path / "prairielearn-results", ENTRYPOINT, 300,
