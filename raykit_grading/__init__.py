@@ -35,7 +35,9 @@ Grading
     * :mod:`~raykit_grading.report`: the class report, and each student's feedback page.
     * :mod:`~raykit_grading.autograder`: the Gradescope autograder zip.
     * :mod:`~raykit_grading.containers`: the zip in a real Docker container, as Gradescope
-      builds and runs it (``try-zip``).
+      builds and runs it (``try-zip``); the PrairieLearn image, as its grader host runs it.
+    * :mod:`~raykit_grading.prairielearn`: the PrairieLearn grader image's build folder, the
+      question, and PrairieLearn's results.json.
 
 It needs a clone of the course repository: the example scenes (``scenes/``) and the hidden ones
 (``grading/hidden-scenes/``) are not in any wheel.

@@ -1,4 +1,5 @@
-"""``python -m raykit_grading COMMAND``: release, grade, batch, gradescope, tests, try-zip.
+"""``python -m raykit_grading COMMAND``: release, grade, batch, gradescope, prairielearn, tests,
+try-zip.
 
 The commands share the assignment's secret seed, ``grading-seed`` in the assignment folder:
 the current folder or the first of its parents that holds one (or ``--assignment DIR``); where
@@ -72,6 +73,20 @@ def build_parser() -> argparse.ArgumentParser:
         help="the assignment's secret seed from this file instead, made (mode 600) if missing",
     )
 
+    learn = command(
+        "prairielearn", help="write the PrairieLearn grader image's build folder and question"
+    )
+    learn.add_argument("-o", "--output", type=Path, required=True, help="folder to write")
+    learn.add_argument(
+        "--image",
+        help="the image's name on Docker Hub, for info.json (e.g. yourname/raykit-grader)",
+    )
+    learn.add_argument(
+        "--seed-file",
+        type=Path,
+        help="the assignment's secret seed from this file instead, made (mode 600) if missing",
+    )
+
     command("tests", help="list the grading tests by stage: points, visibility, totals")
 
     try_zip = command(
@@ -98,7 +113,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="folder for the results (try-zip/)",
     )
 
-    for sub in (release, zip_, grade, batch, try_zip):
+    for sub in (release, zip_, learn, grade, batch, try_zip):
         sub.add_argument(
             "--assignment",
             type=Path,
@@ -200,6 +215,18 @@ def main(argv: list[str] | None = None) -> int:
         if found is None:
             return 2
         build_zip(args.output, found.seed)
+        print(found.line(), file=sys.stderr)
+    elif args.command == "prairielearn":
+        from raykit_grading.prairielearn import DEFAULT_IMAGE, write_course_files
+
+        found = _assignment_seed(args.assignment, seed_file=args.seed_file)
+        if found is None:
+            return 2
+        try:
+            write_course_files(args.output, args.image or DEFAULT_IMAGE, found.seed)
+        except OSError as exc:
+            print(f"raykit_grading: error: {args.output}: {exc.strerror}", file=sys.stderr)
+            return 2
         print(found.line(), file=sys.stderr)
     elif args.command == "tests":
         from raykit_grading.catalog import listing

@@ -55,7 +55,9 @@ chmod -R a+rX /opt/raykit-grader
 PYTHONPATH="$source" /opt/raykit-grader/bin/python -m raykit_grading.confine
 # submissions run in a sandbox, as an unprivileged uid (50000-59999): none of this is in it
 chmod 700 "$source"
-chmod 600 "$source/grading-seed"  # the assignment's secret seed: root's alone
+# the assignment's secret seed, root's alone (PrairieLearn's image has none: the seed comes
+# with each grading job, from the question's tests/ folder)
+if [ -e "$source/grading-seed" ]; then chmod 600 "$source/grading-seed"; fi
 """
 
 RUN = """#!/usr/bin/env bash
@@ -83,6 +85,23 @@ exit "$status"
 
 
 REQUIREMENTS = Path(__file__).with_name("grader-requirements.txt")
+GRADER_FOLDERS = ("raykit", "raykit_grading", "scenes")  # what every grader image holds
+HIDDEN_FOLDER = "grading/hidden-scenes"  # secret: in Gradescope's zip, never in a public image
+
+
+def setup_script() -> str:
+    """setup.sh: what builds a grader image (Gradescope's and PrairieLearn's alike)."""
+    return SETUP.format(requirements=REQUIREMENTS.name)
+
+
+def grader_files(folders: tuple[str, ...] = GRADER_FOLDERS):
+    """(name in the grader's source folder, file in this repository) of the grader, the
+    reference raykit and the scenes, and the pinned requirements."""
+    yield REQUIREMENTS.name, REQUIREMENTS
+    for folder in folders:
+        for path in sorted((REPO / folder).rglob("*")):
+            if path.is_file() and "__pycache__" not in path.parts:
+                yield str(path.relative_to(REPO)), path
 
 
 def build_zip(out: Path, seed: int | None = None) -> Path:
@@ -92,8 +111,7 @@ def build_zip(out: Path, seed: int | None = None) -> Path:
     out = Path(out)
     seed = new_seed() if seed is None else seed
     with zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as archive:
-        scripts = (("setup.sh", SETUP.format(requirements=REQUIREMENTS.name)),
-                   ("run_autograder", RUN.format()))  # fmt: skip
+        scripts = (("setup.sh", setup_script()), ("run_autograder", RUN.format()))
         for name, text in scripts:
             info = zipfile.ZipInfo(name)
             info.external_attr = 0o755 << 16
@@ -101,10 +119,7 @@ def build_zip(out: Path, seed: int | None = None) -> Path:
         info = zipfile.ZipInfo("grading-seed")
         info.external_attr = 0o600 << 16  # and setup.sh closes source/ to root
         archive.writestr(info, f"{HEADER}{seed}\n")
-        archive.write(REQUIREMENTS, REQUIREMENTS.name)
-        for folder in ("raykit", "raykit_grading", "scenes", "grading/hidden-scenes"):
-            for path in sorted((REPO / folder).rglob("*")):
-                if path.is_file() and "__pycache__" not in path.parts:
-                    archive.write(path, str(path.relative_to(REPO)))
+        for name, path in grader_files((*GRADER_FOLDERS, HIDDEN_FOLDER)):
+            archive.write(path, name)
     print(f"wrote {out}: upload it to Gradescope")
     return out

@@ -24,6 +24,7 @@ import argparse
 import hashlib
 import json
 import os
+import shlex
 import shutil
 import stat
 import subprocess
@@ -239,19 +240,36 @@ def build_image(
     image = f"{IMAGE_REPOSITORY}:{zip_digest(archive, base_image)[:16]}"
     if image_exists(image):
         return Built(image, True, 0.0, None)
-    start = time.perf_counter()
     with tempfile.TemporaryDirectory(prefix="raykit-image-") as context:
         extract_as_gradescope(archive, Path(context) / "source")
         (Path(context) / "Dockerfile").write_text(DOCKERFILE.format(base=base_image))
-        command = ["docker", "build", "--force-rm", "-t", image, "--label",
-                   f"raykit.zip={archive.name}"]  # fmt: skip
-        if network:
-            command += ["--network", network]
-        log_dir = Path(log_dir or tempfile.gettempdir())
-        log_dir.mkdir(parents=True, exist_ok=True)
-        log = log_dir / f"raykit-image-build-{image.split(':')[1]}.log"
-        with open(log, "w") as out:
-            built = subprocess.run([*command, context], stdout=out, stderr=subprocess.STDOUT)
+        return docker_build(
+            Path(context), image, [], f"raykit.zip={archive.name}", str(archive), base_image,
+            network, log_dir,
+        )  # fmt: skip
+
+
+def docker_build(
+    context: Path,
+    image: str,
+    build_args: list[str],
+    label: str,
+    what: str,
+    base_image: str,
+    network: str | None = None,
+    log_dir: Path | None = None,
+) -> Built:
+    """``docker build`` of ``context`` into ``image``, its log kept in ``log_dir``; a build
+    that fails raises :class:`ContainerError` with the log's last lines."""
+    start = time.perf_counter()
+    command = ["docker", "build", "--force-rm", "-t", image, "--label", label, *build_args]
+    if network:
+        command += ["--network", network]
+    log_dir = Path(log_dir or tempfile.gettempdir())
+    log_dir.mkdir(parents=True, exist_ok=True)
+    log = log_dir / f"raykit-image-build-{image.split(':')[1]}.log"
+    with open(log, "w") as out:
+        built = subprocess.run([*command, str(context)], stdout=out, stderr=subprocess.STDOUT)
     if built.returncode != 0:
         legacy = (
             "DEPRECATED: The legacy builder",
@@ -261,7 +279,7 @@ def build_image(
         lines = log.read_text(errors="replace").splitlines()
         tail = [li for li in lines if li.strip() and not li.strip().startswith(legacy)][-15:]
         raise ContainerError(
-            f"building the image from {archive} on {base_image} failed (the whole log: {log}):\n"
+            f"building the image from {what} on {base_image} failed (the whole log: {log}):\n"
             + "\n".join(tail)
         )
     return Built(image, False, time.perf_counter() - start, log)
@@ -312,13 +330,7 @@ def grade_in_container(
             copied = _make_folder_and_copy(name, submission)
         if copied.returncode != 0:
             raise ContainerError(f"docker cp of the submission failed: {_last_line(copied.stderr)}")
-        try:
-            run = _docker("start", "--attach", name, timeout=timeout)
-            status, output = run.returncode, run.stdout + run.stderr
-        except subprocess.TimeoutExpired as exc:
-            _docker("kill", name)
-            status = None
-            output = _text(exc.stdout) + _text(exc.stderr) + f"\n(stopped after {timeout:g} s)"
+        status, output = _start_until(name, timeout)
         path = out_dir / "results.json"
         path.unlink(missing_ok=True)
         fetched = _docker("cp", f"{name}:/autograder/results/results.json", str(path))
@@ -335,6 +347,17 @@ def grade_in_container(
         _docker("rm", "--force", "--volumes", name)
 
 
+def _start_until(name: str, timeout: float) -> tuple[int | None, str]:
+    """Start the container ``name`` attached: (its exit status, or None if it was killed at
+    ``timeout``; what it printed)."""
+    try:
+        run = _docker("start", "--attach", name, timeout=timeout)
+        return run.returncode, run.stdout + run.stderr
+    except subprocess.TimeoutExpired as exc:
+        _docker("kill", name)
+        return None, _text(exc.stdout) + _text(exc.stderr) + f"\n(stopped after {timeout:g} s)"
+
+
 def _make_folder_and_copy(name: str, path: Path) -> subprocess.CompletedProcess:
     """A file (a zip) put into /autograder/submission/ (docker cp cannot make the folder)."""
     with tempfile.TemporaryDirectory() as folder:
@@ -346,6 +369,113 @@ def _text(data) -> str:
     if data is None:
         return ""
     return data.decode(errors="replace") if isinstance(data, bytes) else data
+
+
+# ---- PrairieLearn --------------------------------------------------------------------------
+# PrairieLearn's grader host (apps/grader-host/src/index.ts, lib/config.ts): 2 GiB of memory
+# and no swap, 90 % of a CPU, 1024 processes, no core dumps, a private IPC namespace, no
+# network unless the question enables it, the job's folder bound at /grade, and the results
+# kept only if the entrypoint exits 0 and results.json is at most 1 MiB
+PL_MEMORY = "2g"
+PL_CPUS = "0.9"
+PL_PIDS = "1024"
+PL_RESULTS_LIMIT = 1024 * 1024
+PL_IMAGE_REPOSITORY = "raykit/prairielearn-grader"
+
+
+def folder_digest(folder: Path, base_image: str) -> str:
+    """A hash of a build folder's files (names, modes, bytes) and the base image's name: the
+    same folder on the same base reuses its image."""
+    digest = hashlib.sha256(f"base {base_image}\n".encode())
+    for path in sorted(p for p in Path(folder).rglob("*") if p.is_file()):
+        mode = stat.S_IMODE(path.stat().st_mode)
+        digest.update(f"{path.relative_to(folder).as_posix()}\0{mode:o}\0".encode())
+        digest.update(hashlib.sha256(path.read_bytes()).digest())
+    return digest.hexdigest()
+
+
+def build_folder_image(
+    folder: Path, base_image: str, network: str | None = None, log_dir: Path | None = None
+) -> Built:
+    """The image of a build folder holding a Dockerfile whose base is the ``BASE_IMAGE`` build
+    argument (``prairielearn -o DIR`` writes ``DIR/grader-image/``), tagged by
+    :func:`folder_digest` (an image built before from the same folder is reused)."""
+    folder = Path(folder)
+    if not (folder / "Dockerfile").is_file():
+        raise ContainerError(f"{folder}: no Dockerfile")
+    image = f"{PL_IMAGE_REPOSITORY}:{folder_digest(folder, base_image)[:16]}"
+    if image_exists(image):
+        return Built(image, True, 0.0, None)
+    return docker_build(
+        folder, image, ["--build-arg", f"BASE_IMAGE={base_image}"],
+        f"raykit.grader-image={folder}", str(folder), base_image, network, log_dir,
+    )  # fmt: skip
+
+
+def grade_in_prairielearn_container(
+    image: str,
+    student: Path,
+    question_tests: Path,
+    out_dir: Path,
+    entrypoint: str,
+    timeout: float,
+    env: dict[str, str] | None = None,
+) -> Graded:
+    """Grade as PrairieLearn's grader host does: a job folder laid out as its docs say
+    (``student/`` the submitted files, ``tests/`` the question's ``tests/``, ``data/data.json``)
+    bound at ``/grade`` of a fresh container with its limits and no network, ``entrypoint``
+    run, killed at ``timeout``; its ``results/results.json`` is copied to ``out_dir`` and kept
+    only as PrairieLearn keeps it (exit status 0, at most 1 MiB). ``student``: a folder whose
+    files are the submitted files."""
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    name = f"raykit-pl-{uuid.uuid4().hex[:12]}"
+    job = Path(tempfile.mkdtemp(prefix="raykit-pl-job-"))
+    try:
+        subprocess.run(["cp", "-a", f"{student}/.", str(job / "student")], check=True)
+        shutil.copytree(question_tests, job / "tests", symlinks=True)
+        files = [{"name": p.name} for p in sorted((job / "student").iterdir())]
+        (job / "data").mkdir()
+        (job / "data/data.json").write_text(json.dumps({
+            "params": {}, "correct_answers": {}, "submitted_answers": {"_files": files},
+            "format_errors": {}, "partial_scores": {}, "score": 0, "feedback": {},
+            "variant_seed": 1, "options": {}, "raw_submitted_answers": {},
+            "editable": False, "panel": "question", "extensions": {}, "num_valid_submissions": 0,
+        }))  # fmt: skip
+        command, *arguments = shlex.split(entrypoint)
+        create = ["create", "--name", name, "--network", "none", "--memory", PL_MEMORY,
+                  "--memory-swap", PL_MEMORY, "--cpus", PL_CPUS, "--pids-limit", PL_PIDS,
+                  "--ulimit", "core=0", "--ipc", "private", "-v", f"{job}:/grade",
+                  "--entrypoint", command]  # fmt: skip
+        for key, value in (env or {}).items():
+            create += ["-e", f"{key}={value}"]
+        created = _docker(*create, image, *arguments)  # made before the clock starts
+        if created.returncode != 0:
+            raise ContainerError(f"docker create failed: {_last_line(created.stderr)}")
+        start = time.perf_counter()
+        status, output = _start_until(name, timeout)
+        seconds = time.perf_counter() - start
+        written = job / "results" / "results.json"
+        path = out_dir / "results.json"
+        path.unlink(missing_ok=True)
+        if status != 0:  # PrairieLearn keeps no results then
+            why = "timed out" if status is None else f"the entrypoint exited {status}"
+            return Graded(status, None, None, output, seconds, why, name)
+        if not written.is_file():
+            return Graded(status, None, None, output, seconds, "no results.json was written", name)
+        shutil.copy(written, path)
+        if path.stat().st_size > PL_RESULTS_LIMIT:
+            why = "results.json is larger than 1 MB (PrairieLearn refuses it)"
+            return Graded(status, None, path, output, seconds, why, name)
+        try:
+            results = json.loads(path.read_text())
+        except (OSError, ValueError) as exc:
+            why = f"results.json is not JSON: {exc}"
+            return Graded(status, None, path, output, seconds, why, name)
+        return Graded(status, results, path, output, seconds, None, name)
+    finally:
+        _docker("rm", "--force", "--volumes", name)
+        shutil.rmtree(job, ignore_errors=True)
 
 
 # ---- try-zip ------------------------------------------------------------------------------------

@@ -10,9 +10,11 @@ HTML with ``output_format: "html"`` when it carries a picture) and ``visibility`
 from __future__ import annotations
 
 import base64
+import html
 import io
 import json
 import os
+import re
 import tempfile
 from pathlib import Path
 
@@ -60,6 +62,19 @@ def html_output(text: str, picture: np.ndarray | None) -> str:
         Image.fromarray(picture).save(png, format="PNG", optimize=True)
         source = "data:image/png;base64," + base64.b64encode(png.getvalue()).decode()
     return feedback_html(text, source)
+
+
+def split_html_output(output: str) -> tuple[str, str | None]:
+    """A test's output again as (text, picture's data: URL or None): the inverse of
+    :func:`html_output`, for platforms that show pictures apart from the text."""
+    if not output.startswith("<pre"):
+        return output, None
+    text = re.search(r"<pre[^>]*>(.*?)</pre>", output, re.DOTALL)
+    picture = re.search(r'<img src="([^"]*)"', output)
+    return (
+        html.unescape(text.group(1)) if text else "",
+        html.unescape(picture.group(1)) if picture else None,
+    )
 
 
 def test_entry(test: GradingTest, score: float, message: str, output: str = "") -> dict:

@@ -21,6 +21,15 @@ fixture's parameter), each skipped with its reason where this machine cannot mak
   Docker's default seccomp profile and capabilities, 768 MB and half a CPU, the submission
   copied to ``/autograder/submission``, ``/autograder/run_autograder`` as the command: the
   chroot sandbox, for real. Skipped, saying why, where Docker cannot run containers.
+* ``prairielearn``: the grader image whose build folder ``prairielearn -o`` writes
+  (:mod:`raykit_grading.prairielearn`), built once per session on the same base, run as
+  PrairieLearn's grader host runs it (``containers.grade_in_prairielearn_container``):
+  ``/grade`` laid out as its docs say (the submission's files in ``/grade/student``, as a
+  workspace question's ``gradedFiles`` sends a ``raykit/`` folder; the question's ``tests/``
+  with the seed and hidden scenes), no network, its limits, the entrypoint info.json names.
+  Its results.json is read back into Gradescope's shape for the same assertions
+  (:func:`as_gradescope`): hidden tests are one line there (:func:`shown` says what a test's
+  expected scores look like that way), and a submission that is not gradable scores nothing.
 
 The batch tests run as the user running the suite. Every attack that needs something outside
 its sandbox has a way to profit if it got it (it then answers right and scores), so a defence
@@ -66,7 +75,7 @@ AS_ROOT = os.geteuid() == 0
 WALL = 4.0
 NOBODY = 65534
 EMULATION = REPO / "tests" / "support" / "docker_confinement.py"
-DEPLOYMENTS = ("root", "docker", "user", "container")
+DEPLOYMENTS = ("root", "docker", "user", "container", "prairielearn")
 POINTS = {t.key: t.points for t in TESTS}
 SEED = 20261123
 CONTAINERS: list[str] = []  # the container way's containers, each to be gone after its grading
@@ -98,20 +107,16 @@ def _deployment_skip(way: str) -> str | None:
             return f"cannot emulate Docker's confinement here: {probe.stderr.strip()}"
     if way == "user" and AS_ROOT and shutil.which("setpriv") is None:
         return "as root, the user way needs setpriv to become uid 65534"
-    if way == "container":
+    if way in ("container", "prairielearn"):
         from raykit_grading.containers import docker_problem
 
         problem = docker_problem()
         if problem:
-            return f"the container way needs Docker: {problem}"
+            return f"the {way} way needs Docker: {problem}"
     return None
 
 
-def container_image(folder: Path, archive: Path, say) -> str:
-    """The image Gradescope would build from ``archive`` (built once, then reused while the
-    zip's contents are the same), on ``RAYKIT_CONTAINER_BASE`` (default the Debian base image,
-    made with debootstrap if missing: skips saying why where it cannot be). A zip whose image
-    does not build fails, as it would on Gradescope."""
+def _base_image_or_skip(say) -> str:
     from raykit_grading import containers
 
     base = os.environ.get("RAYKIT_CONTAINER_BASE", containers.DEBIAN_BASE)
@@ -123,6 +128,32 @@ def container_image(folder: Path, archive: Path, say) -> str:
             containers.make_base_image(base, log=say)
         except containers.ContainerError as exc:
             pytest.skip(f"cannot make the base image {base}: {exc}")
+    return base
+
+
+def prairielearn_image(out: Path, say) -> str:
+    """The image of the build folder ``prairielearn -o`` wrote in ``out`` (built once, then
+    reused while the folder's contents are the same), on the container way's base."""
+    from raykit_grading import containers
+
+    base = _base_image_or_skip(say)
+    try:
+        built = containers.build_folder_image(out / "grader-image", base)
+    except containers.ContainerError as exc:
+        pytest.fail(f"the PrairieLearn grader image does not build: {exc}")
+    how = "reused (same folder)" if built.cached else f"built in {built.seconds:.0f} s"
+    say(f"prairielearn way: the grader image {built.image} on {base}: {how}")
+    return built.image
+
+
+def container_image(folder: Path, archive: Path, say) -> str:
+    """The image Gradescope would build from ``archive`` (built once, then reused while the
+    zip's contents are the same), on ``RAYKIT_CONTAINER_BASE`` (default the Debian base image,
+    made with debootstrap if missing: skips saying why where it cannot be). A zip whose image
+    does not build fails, as it would on Gradescope."""
+    from raykit_grading import containers
+
+    base = _base_image_or_skip(say)
     try:
         built = containers.build_image(archive, base, log_dir=Path(tempfile.gettempdir()))
     except containers.ContainerError as exc:
@@ -143,8 +174,7 @@ def autograder(request, tmp_path_factory, grader_python):
     root = Path("/tmp") / f"raykit-autograder-{os.getpid()}-{request.param}"
     shutil.rmtree(root, ignore_errors=True)
     (root / "source").mkdir(parents=True)
-    if request.param == "container":  # a fixed seed: the same code makes the same image
-        archive = build_zip(tmp_path_factory.mktemp("zip") / "autograder.zip", SEED)
+    if request.param in ("container", "prairielearn"):  # a fixed seed: the same image
         plugins = request.config.pluginmanager
         reporter, capture = (
             plugins.get_plugin("terminalreporter"),
@@ -157,7 +187,15 @@ def autograder(request, tmp_path_factory, grader_python):
             with capture.global_and_fixture_disabled():
                 reporter.write_line(line)
 
-        (root / "image").write_text(container_image(root, archive, say))
+        if request.param == "prairielearn":
+            from raykit_grading.prairielearn import write_course_files
+
+            out = write_course_files(root / "course", "course/raykit", SEED)
+            (root / "image").write_text(prairielearn_image(out, say))
+            shutil.copytree(out / "questions/raykit/tests", root / "tests")
+        else:
+            archive = build_zip(tmp_path_factory.mktemp("zip") / "autograder.zip", SEED)
+            (root / "image").write_text(container_image(root, archive, say))
         yield root
         shutil.rmtree(root, ignore_errors=True)
         return
@@ -185,6 +223,8 @@ def grade_as_deployed(
     options = f"--only {' '.join(only)} --wall-seconds {WALL} --seed {SEED} {extra}"
     if way(autograder) == "container":
         return _grade_in_a_container(autograder, submission, options, tmp_path)
+    if way(autograder) == "prairielearn":
+        return _grade_as_prairielearn(autograder, submission, options, only, tmp_path)
     if way(autograder) in ("root", "docker"):
         shutil.rmtree(autograder / "submission", ignore_errors=True)
         shutil.rmtree(autograder / "results", ignore_errors=True)
@@ -258,6 +298,66 @@ def _grade_in_a_container(
         ["docker", "start", "--attach"], graded.status, graded.output, graded.output
     )
     return graded.results, run
+
+
+def _grade_as_prairielearn(
+    autograder: Path, submission: Path, options: str, only: list[str], tmp_path: Path
+) -> tuple[dict, subprocess.CompletedProcess]:
+    """A fresh container of the grader image grades ``submission`` as PrairieLearn runs it;
+    the options reach the entrypoint as ``RAYKIT_GRADE_OPTIONS`` (``docker run -e``)."""
+    from raykit_grading.containers import grade_in_prairielearn_container
+    from raykit_grading.prairielearn import ENTRYPOINT, SUBMITTED_FILE
+
+    entries = list(submission.iterdir())
+    if len(entries) == 1 and entries[0].suffix == ".zip":  # uploaded as the question names it
+        (tmp_path / "upload").mkdir()
+        shutil.copy(entries[0], tmp_path / "upload" / SUBMITTED_FILE)
+        submission = tmp_path / "upload"
+    graded = grade_in_prairielearn_container(
+        (autograder / "image").read_text(), submission, autograder / "tests",
+        tmp_path / "prairielearn-results", ENTRYPOINT, 300,
+        env={"RAYKIT_GRADE_OPTIONS": options},
+    )  # fmt: skip
+    CONTAINERS.append(graded.container)
+    assert graded.results is not None, f"{graded.problem}:\n{graded.output[-3000:]}"
+    results = as_gradescope(graded.results, only)
+    sandbox = results["extra_data"].get("sandbox", "")
+    assert sandbox.startswith("chroot+uid+") or sandbox.startswith("none"), sandbox
+    output = graded.output
+    run = subprocess.CompletedProcess(["docker", "run"], graded.status, output, output)
+    return results, run
+
+
+def as_gradescope(learn: dict, only: list[str]) -> dict:
+    """PrairieLearn's results in the shape the assertions read (Gradescope's): each test by
+    number (the hidden tests' one line as ``hidden``); a submission PrairieLearn is not to
+    count scores nothing on every test, its format errors as each test's output. The
+    original is under ``prairielearn``."""
+    if learn.get("gradable") is False:
+        why = "\n".join(learn.get("format_errors", [])) or learn["message"]
+        tests = [{"number": t.key, "score": 0, "max_score": t.points, "output": why,
+                  "status": "failed"} for t in TESTS if t.key in only]  # fmt: skip
+        extra = {"sandbox": "none: not gradable"}
+    else:
+        tests = [{"number": "hidden" if t["name"] == "Hidden tests" else t["name"].split()[0],
+                  "score": t["points"], "max_score": t["max_points"],
+                  "output": t["output"] or t["message"],
+                  "status": "passed" if t["points"] >= t["max_points"] else "failed"}
+                 for t in learn["tests"]]  # fmt: skip
+        extra = learn.get("extra_data", {})
+    return {"score": sum(t["score"] for t in tests), "output": learn["message"], "tests": tests,
+            "extra_data": extra, "prairielearn": learn}  # fmt: skip
+
+
+HIDDEN_KEYS = {t.key for t in TESTS if t.visibility != "visible"}
+
+
+def shown(autograder: Path, expected: dict[str, float]) -> dict[str, float]:
+    """Expected scores as the way shows them: on PrairieLearn the hidden tests are one line."""
+    if way(autograder) != "prairielearn" or not HIDDEN_KEYS.intersection(expected):
+        return expected
+    hidden = sum(v for k, v in expected.items() if k in HIDDEN_KEYS)
+    return {**{k: v for k, v in expected.items() if k not in HIDDEN_KEYS}, "hidden": hidden}
 
 
 def submission_with(release: Path, tmp_path: Path, edits: dict[str, str], **fmt) -> Path:
@@ -402,6 +502,8 @@ def test_2_a_raykit_that_is_a_link_to_the_reference_scores_zero(autograder, tmp_
     assert scores(results) == {"2.1": 0, "3.6": 0}
     assert "raykit is a symbolic link: not followed" in results["output"]
     assert "no raykit package" in results["tests"][0]["output"]
+    if way(autograder) == "prairielearn":  # the wrong shape: not gradable, not a zero
+        assert results["prairielearn"]["gradable"] is False
     assert run.returncode == 0  # graded (a zero, with the reason): exit 0, whatever the score
 
 
@@ -544,8 +646,8 @@ def test_5_a_hidden_test_cannot_leave_its_inputs_for_a_visible_one(release, auto
         tmp_path, {"spheres.py": ("hit_sphere", code), "planes.py": ("plane_side", peek)}
     )
     results, run = grade_as_deployed(autograder, submission, ["2.4", "2.5", "2.6"], tmp_path)
-    assert [t["number"] for t in results["tests"]] == ["2.4", "2.5", "2.6"]  # as catalogued
-    assert scores(results) == {"2.4": 1, "2.5": 2, "2.6": 1}, results
+    assert list(scores(results)) == list(shown(autograder, {"2.4": 1, "2.5": 2, "2.6": 1}))
+    assert scores(results) == shown(autograder, {"2.4": 1, "2.5": 2, "2.6": 1}), results
     visible = next(t for t in results["tests"] if t["number"] == "2.6")["output"]
     assert "uid" in visible  # what it printed does show (a visible test)
     assert "HIDDEN-INPUTS" not in everything_visible(results)
@@ -579,7 +681,7 @@ def test_5_kernel_keyrings_carry_nothing_from_a_hidden_test(release, autograder,
         tmp_path, {"spheres.py": ("hit_sphere", keep), "planes.py": ("plane_side", fetch)}
     )
     results, run = grade_as_deployed(autograder, submission, ["2.4", "2.5", "2.6"], tmp_path)
-    assert scores(results) == {"2.4": 1, "2.5": 2, "2.6": 1}, results
+    assert scores(results) == shown(autograder, {"2.4": 1, "2.5": 2, "2.6": 1}), results
     visible = next(t for t in results["tests"] if t["number"] == "2.6")["output"]
     assert "keyring -4 -1 -1 1" in visible  # refused: EPERM
     assert "HIDDEN-INPUTS" not in everything_visible(results)
@@ -626,7 +728,7 @@ def test_5_system_v_ipc_carries_nothing_from_a_hidden_test(release, autograder, 
     finally:  # were the defence gone, what it made would outlive the test on this machine
         for kind in ("-M", "-Q"):
             subprocess.run(["ipcrm", kind, hex(key)], capture_output=True)
-    assert scores(results) == {"2.4": 1, "2.5": 2, "2.6": 1}, results
+    assert scores(results) == shown(autograder, {"2.4": 1, "2.5": 2, "2.6": 1}), results
     visible = next(t for t in results["tests"] if t["number"] == "2.6")["output"]
     assert "shm -1 1" in visible and "msg -1 1" in visible  # refused: EPERM
     assert "HIDDEN-INPUTS" not in everything_visible(results)
@@ -771,9 +873,12 @@ def test_5_a_hidden_tests_error_message_is_not_shown(release, autograder, tmp_pa
     )
     submission = submission_with(release, tmp_path, {"planes.py": code})
     results, run = grade_as_deployed(autograder, submission, ["2.2", "2.1"], tmp_path)
-    assert scores(results) == {"2.2": 0, "2.1": 0}
-    visible, hidden = results["tests"]  # in the catalogue's order
-    assert hidden["output"].startswith("your code stopped with an error (a hidden test")
+    assert scores(results) == shown(autograder, {"2.2": 0, "2.1": 0})
+    visible, hidden = results["tests"]  # in the catalogue's order (PrairieLearn: hidden last)
+    if way(autograder) == "prairielearn":  # one line, nothing of the hidden test's own
+        assert hidden["output"].startswith("hidden tests: 0 of 1 points")
+    else:
+        assert hidden["output"].startswith("your code stopped with an error (a hidden test")
     assert "INPUTS" not in hidden["output"] and "INPUTS" in visible["output"]
 
 
@@ -1308,8 +1413,8 @@ def test_nothing_is_left_behind(autograder):
     tests above, for each way)."""
     from raykit_grading.isolation import SANDBOX_UIDS, UID_LOCKS
 
-    if way(autograder) == "container":  # every grading's container removed (by its name:
-        for name in CONTAINERS:  # other suites may be grading on the same daemon)
+    if way(autograder) in ("container", "prairielearn"):  # every grading's container
+        for name in CONTAINERS:  # removed (by its name: others may grade on the same daemon)
             inspected = subprocess.run(
                 ["docker", "container", "inspect", name], capture_output=True
             )
