@@ -311,8 +311,8 @@ def test_a_borderline_submission_scores_the_same_when_graded_again(borderline, t
     scores = [(t["number"], t["score"]) for t in first["tests"]]
     assert scores == [(t["number"], t["score"]) for t in again["tests"]]
     assert first["score"] == again["score"]
-    assert first["extra_data"]["seed_fingerprint"] == fingerprint(seed)
-    assert again["extra_data"]["seed_fingerprint"] == fingerprint(seed)
+    assert first["extra_data"]["extra_data"]["seed_fingerprint"] == fingerprint(seed)
+    assert again["extra_data"]["extra_data"]["seed_fingerprint"] == fingerprint(seed)
     assert str(seed) not in (tmp_path / "graded/results.json").read_text()
     # --seed overrides the file (and makes none), and repeats its own draw
     elsewhere = tmp_path / "elsewhere"
@@ -397,19 +397,27 @@ def test_batch_grades_every_student_under_one_seed_and_refuses_to_mix_in_another
 ONLY = ["1.5", "1.6", "1.7", "2.1"]
 
 
-def test_run_autograder_grade_and_batch_score_a_submission_alike_with_no_seed_option(
+def test_run_autograder_grade_batch_and_prairielearn_score_a_submission_alike_with_no_seed_option(
     tmp_path, borderline, child_python, grader_python
 ):
     """The guide's commands as written, in the assignment folder: the release makes its seed,
-    the zip carries it, and the zip's run_autograder, ``grade`` (from a subfolder) and
-    ``batch`` (from elsewhere, with --assignment) grade a partly wrong submission test for
-    test alike, each under that seed's fingerprint."""
+    the zip and the PrairieLearn question carry it, and the zip's run_autograder, ``grade``
+    (from a subfolder), ``batch`` (from elsewhere, with --assignment) and the PrairieLearn
+    question's job grade a partly wrong submission test for test alike, each under that seed's
+    fingerprint."""
     assignment = tmp_path / "ray-tracing"
     assignment.mkdir()
     home = {**os.environ, "HOME": str(tmp_path)}
+    # and wrong whatever the seed: the orthographic line-scan's whole width for its half (1.7)
+    borderline = shutil.copytree(borderline, tmp_path / "submission")
+    camera = borderline / "raykit/linescan/camera.py"
+    right = "origins = e + (camera.width / 2.0) * x[:, None] * u"
+    assert camera.read_text().count(right) == 1
+    camera.write_text(camera.read_text().replace(right, right.replace(" / 2.0", "")))
 
-    def command(*arguments, cwd=assignment, env=home):
-        run = subprocess.run([sys.executable, "-m", "raykit_grading", *map(str, arguments)],
+    def command(*arguments, cwd=assignment, env=home, python_option=False):
+        start = [sys.executable] if python_option else [sys.executable, "-m", "raykit_grading"]
+        run = subprocess.run([*start, *map(str, arguments)],
                              capture_output=True, text=True, cwd=cwd, env=env)  # fmt: skip
         assert run.returncode == 0, run.stderr[-3000:]
         return run
@@ -463,4 +471,21 @@ def test_run_autograder_grade_and_batch_score_a_submission_alike_with_no_seed_op
     assert list(scores["grade"]) == ONLY
     assert scores["run_autograder"] == scores["grade"] == scores["batch"], scores
     assert {r["extra_data"]["seed_fingerprint"] for r in results.values()} == {fingerprint(seed)}
-    assert 0 < results["grade"]["score"] < sum(t.points for t in TESTS if t.key in ONLY)
+    assert scores["grade"]["1.5"] > 0 and scores["grade"]["1.7"] == 0
+
+    learn = command("prairielearn", "-o", "prairielearn/")
+    assert f"{said} (./grading-seed)\n" in learn.stderr
+    job = tmp_path / "grade"  # laid out as PrairieLearn lays out /grade
+    shutil.copytree(assignment / "prairielearn/questions/raykit/tests", job / "tests")
+    shutil.copytree(borderline / "raykit", job / "student/raykit")
+    command("-c", "import sys; from raykit_grading.prairielearn import main; sys.exit(main())",
+            "job", job, "--only", *ONLY, python_option=True)  # fmt: skip
+    on_prairielearn = json.loads((job / "results/results.json").read_text())
+    assert on_prairielearn["gradable"] and on_prairielearn["extra_data"][
+        "seed_fingerprint"
+    ] == fingerprint(seed)
+    visible = {t["name"].split()[0]: t["points"] for t in on_prairielearn["tests"]
+               if t["name"].split()[0] in ONLY}  # fmt: skip
+    assert visible == {n: s for n, s in scores["grade"].items() if n in visible}
+    total = sum(t["max_score"] for t in results["grade"]["tests"])
+    assert on_prairielearn["score"] == round(results["grade"]["score"] / total, 6)
