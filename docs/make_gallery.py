@@ -74,10 +74,10 @@ ENTRIES = [
     ),
     (
         "A passing car, swept",
-        "scenes/linescan/passing_car.json",
-        "sweep scenes/linescan/passing_car.json -o {out}/passing_car_sweep.png",
-        "A line-scan camera by the road: each row one scan; the slow car drawn long, the fast "
-        "one short.",
+        "scenes/linescan3d/passing_car.json",
+        "sweep scenes/linescan3d/passing_car.json -o {out}/passing_car_sweep.png --scans 480",
+        "A camera one pixel high by the road, looking across it: the car drives through its "
+        "plane of view, and the scans, stacked, are the car.",
     ),
     (
         "A conveyor, swept",
