@@ -257,7 +257,7 @@ def to_prairielearn(graded: dict, status: int = 0) -> dict:
             continue
         text, picture = split_html_output(entry["output"])
         test = {
-            "name": f"{entry['number']} {entry['name']}",
+            "name": entry["name"],  # the catalogue's, which begins with its number
             "points": entry["score"],
             "max_points": entry["max_score"],
             "message": text.splitlines()[0] if text else "",

@@ -203,3 +203,21 @@ def pytest_collection_modifyitems(config, items):
     for item in items:
         if "child_python" in getattr(item, "fixturenames", ()) or "hostile" in item.nodeid:
             item.add_marker(skip)
+
+
+def pytest_sessionstart(session):
+    session.config.stash[_SEED_IN_CLONE] = (REPO / "grading-seed").exists()
+
+
+def pytest_sessionfinish(session, exitstatus):
+    """A test that runs a grading command with no seed option in the clone makes the clone an
+    assignment folder (raykit_grading.seeds): every test runs its commands in folders of its
+    own, and the run fails if the clone gained a seed."""
+    seed = REPO / "grading-seed"
+    if seed.exists() and not session.config.stash.get(_SEED_IN_CLONE, True):
+        seed.unlink()
+        print(f"\nerror: a test made {seed} (ran a grading command in the clone): removed it")
+        session.exitstatus = pytest.ExitCode.TESTS_FAILED
+
+
+_SEED_IN_CLONE = pytest.StashKey[bool]()

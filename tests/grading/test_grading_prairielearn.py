@@ -23,7 +23,7 @@ from conftest import REPO
 from mistaken_submissions import make_submission
 from raykit_grading import containers, prairielearn
 from raykit_grading.catalog import TESTS, VISIBLE
-from raykit_grading.seeds import HEADER
+from raykit_grading.seeds import HEADER, fingerprint, read_seed_file
 
 SEED = 20261123
 
@@ -77,14 +77,14 @@ def test_the_image_holds_no_secret_and_the_question_holds_the_seed_and_hidden_sc
 def test_writing_again_keeps_the_question_uuid_and_the_seed(tmp_path):
     out = _written(tmp_path)
     first = json.loads((out / "questions/raykit/info.json").read_text())["uuid"]
-    again = subprocess.run(
+    again = subprocess.run(  # in the assignment folder, which holds the seed _written gave
         [sys.executable, "-m", "raykit_grading", "prairielearn", "-o", str(out)],
-        capture_output=True, text=True, cwd=REPO,
+        capture_output=True, text=True, cwd=tmp_path,
     )  # fmt: skip
     assert again.returncode == 0 and "your Docker Hub name" in again.stderr
+    assert f"assignment seed {fingerprint(SEED)} (./grading-seed)" in again.stderr
     assert json.loads((out / "questions/raykit/info.json").read_text())["uuid"] == first
-    seed = (out / "grading-seed").read_text()  # made now, in the folder: not the given one
-    assert (out / "questions/raykit/tests/grading-seed").read_text() == seed
+    assert read_seed_file(out / "questions/raykit/tests/grading-seed") == SEED
 
 
 def _graded(entries: list[tuple[str, float, str]]) -> dict:
@@ -107,7 +107,7 @@ def test_hidden_tests_count_in_the_score_as_one_line_with_nothing_of_theirs():
     most = sum(t.points for t in TESTS if t.key in ("2.1", *hidden))
     assert results["score"] == pytest.approx(3 / most)
     assert [t["name"] for t in results["tests"]] == [
-        next(f"2.1 {t.name}" for t in TESTS if t.key == "2.1"),
+        next(t.name for t in TESTS if t.key == "2.1"),  # "2.1 ray-plane hits", once
         "Hidden tests",
     ]
     line = results["tests"][1]
