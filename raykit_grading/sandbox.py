@@ -448,6 +448,9 @@ def _confine_or_say(plan) -> None:
         raise
 
 
+PIPE_MOST_BYTES = 1 << 20  # the most a pipe holds that an unprivileged process enlarged
+
+
 def _collect(child, returned_fd, printed_fd, wall_seconds, returned_limit, watch=None):
     """Read both pipes until the child is done, the wall time is up, it returns too much or
     ``watch()`` (called every :data:`WATCH_SECONDS`) says what it passed: (returned bytes,
@@ -456,50 +459,61 @@ def _collect(child, returned_fd, printed_fd, wall_seconds, returned_limit, watch
     next_watch = time.monotonic() + WATCH_SECONDS
     returned, printed = bytearray(), bytearray()
     open_fds = {returned_fd, printed_fd}
+    too_much = f"returned more than {returned_limit // 2**20} MB and was stopped"
+
+    def take(fd: int) -> int:
+        """Read a chunk of ``fd`` if one is there: its length (0 at the pipe's end, or when
+        nothing is there now)."""
+        try:
+            chunk = os.read(fd, 1 << 16)
+        except BlockingIOError:
+            return 0
+        if not chunk:
+            open_fds.discard(fd)
+        elif fd == returned_fd:
+            returned.extend(chunk)
+        elif len(printed) < OUTPUT_EXCERPT:
+            printed.extend(chunk[: OUTPUT_EXCERPT - len(printed)])
+        return len(chunk)
+
     with selectors.DefaultSelector() as selector:
         for fd in open_fds:
             os.set_blocking(fd, False)
             selector.register(fd, selectors.EVENT_READ)
-        while open_fds or child.poll() is None:
+        while child.poll() is None:
             now = time.monotonic()
             if watch is not None and now >= next_watch:
                 passed = watch()
                 if passed:
                     return bytes(returned), bytes(printed), None, passed
                 next_watch = time.monotonic() + WATCH_SECONDS
-            left = min(deadline - now, WATCH_SECONDS)
             if deadline - now <= 0:
-                return (
-                    bytes(returned),
-                    bytes(printed),
-                    None,
-                    (f"took longer than {wall_seconds:g} s and was stopped"),
-                )
+                return (bytes(returned), bytes(printed), None,
+                        f"took longer than {wall_seconds:g} s and was stopped")  # fmt: skip
+            wait = min(deadline - now, WATCH_SECONDS, 0.5)
             if not open_fds:
                 try:
-                    child.wait(timeout=min(left, 0.5))
+                    child.wait(timeout=wait)
                 except subprocess.TimeoutExpired:
                     pass
                 continue
-            for key, _ in selector.select(timeout=min(left, 0.5)):
-                try:
-                    chunk = os.read(key.fd, 1 << 16)
-                except BlockingIOError:
-                    continue
-                if not chunk:
+            for key, _ in selector.select(timeout=wait):
+                take(key.fd)
+                if key.fd not in open_fds:  # at its end
                     selector.unregister(key.fd)
-                    open_fds.discard(key.fd)
-                elif key.fd == returned_fd:
-                    returned += chunk
-                    if len(returned) > returned_limit:
-                        return (
-                            b"",
-                            bytes(printed),
-                            None,
-                            (f"returned more than {returned_limit // 2**20} MB and was stopped"),
-                        )
-                elif len(printed) < OUTPUT_EXCERPT:
-                    printed += chunk[: OUTPUT_EXCERPT - len(printed)]
+                if len(returned) > returned_limit:
+                    return b"", bytes(printed), None, too_much
+    # The child is done, and all it wrote is in the pipes: read what is there and stop, not
+    # waiting for the pipes' end: a process it left behind may hold them open until it dies
+    # with the test's uid, which must not cost the test its time. (A pipe holds at most
+    # PIPE_MOST_BYTES: more is that process still writing.)
+    for fd in list(open_fds):
+        drained, read = 0, 1
+        while drained < PIPE_MOST_BYTES and read:
+            read = take(fd)
+            drained += read
+            if len(returned) > returned_limit:
+                return b"", bytes(printed), None, too_much
     return bytes(returned), bytes(printed), child.returncode, ""
 
 

@@ -427,6 +427,33 @@ SABOTAGE = {
 }
 
 
+def test_a_process_left_holding_the_tests_output_costs_the_test_nothing(
+    release, autograder, tmp_path
+):
+    """Importing raykit starts a process that keeps the test's output pipes open and sleeps:
+    the test is graded when its own code is done, not when the pipes close (which, in the
+    chroot sandbox, is when the grader kills the test's uid), and the process is gone."""
+    marker = f"HOLDER-{os.getpid()}"
+    code = (
+        "import os as _os, sys as _sys\n"
+        "if _os.fork() == 0:\n"
+        f"    _os.execv(_sys.executable, [_sys.executable, '-c', 'import time; time.sleep(60)', "
+        f"'{marker}'])\n"
+    )
+    submission = submission_with(release, tmp_path, {"__init__.py": code})
+    results, run = grade_as_deployed(autograder, submission, ["2.1", "3.6"], tmp_path)
+    assert run.returncode == 0, run.stderr[-2000:]
+    assert scores(results) == {"2.1": 2, "3.6": 4}, results
+    left = []
+    for proc in Path("/proc").iterdir():
+        try:
+            if proc.name.isdigit() and marker in (proc / "cmdline").read_text():
+                left.append(proc.name)
+        except OSError:
+            pass
+    assert left == []
+
+
 @pytest.mark.parametrize("name", sorted(SABOTAGE))
 def test_sabotage_scores_zero_and_the_run_survives(name, release, autograder, tmp_path):
     file, code = SABOTAGE[name]
