@@ -380,6 +380,18 @@ def submission_wrapping(tmp_path: Path, wrappers: dict[str, tuple[str, str]]) ->
     return folder
 
 
+def processes_naming(marker: str) -> list[str]:
+    """The pids of this machine's processes whose command line holds ``marker``."""
+    found = []
+    for proc in Path("/proc").iterdir():
+        try:
+            if proc.name.isdigit() and marker in (proc / "cmdline").read_text():
+                found.append(proc.name)
+        except OSError:
+            pass
+    return found
+
+
 def scores(results: dict) -> dict[str, float]:
     return {t["number"]: t["score"] for t in results["tests"]}
 
@@ -444,14 +456,7 @@ def test_a_process_left_holding_the_tests_output_costs_the_test_nothing(
     results, run = grade_as_deployed(autograder, submission, ["2.1", "3.6"], tmp_path)
     assert run.returncode == 0, run.stderr[-2000:]
     assert scores(results) == {"2.1": 2, "3.6": 4}, results
-    left = []
-    for proc in Path("/proc").iterdir():
-        try:
-            if proc.name.isdigit() and marker in (proc / "cmdline").read_text():
-                left.append(proc.name)
-        except OSError:
-            pass
-    assert left == []
+    assert processes_naming(marker) == []
 
 
 @pytest.mark.parametrize("name", sorted(SABOTAGE))
@@ -1115,14 +1120,7 @@ def test_9_classmates_network_and_daemons_in_a_batch(release, tmp_path):
     feedback = (out / "feedback/mallory/results.json").read_text()
     assert "ADA-SECRET-WORK" not in feedback and "PROCS []" in feedback
     assert "NET" in feedback and listener.connections == 0
-    left = []
-    for proc in Path("/proc").iterdir():
-        try:
-            if proc.name.isdigit() and marker in (proc / "cmdline").read_text():
-                left.append(proc.name)
-        except OSError:
-            pass
-    assert left == []
+    assert processes_naming(marker) == []
 
 
 def test_batch_goes_on_past_a_student_it_cannot_grade_and_resumes(release, tmp_path):
