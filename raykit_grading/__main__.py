@@ -14,6 +14,7 @@ failed on some tests): it says so, and never stands a made-up score in for a gra
 from __future__ import annotations
 
 import argparse
+import shutil
 import sys
 from pathlib import Path
 
@@ -40,7 +41,9 @@ def build_parser() -> argparse.ArgumentParser:
         return commands.add_parser(name, allow_abbrev=False, **kw)
 
     grade = command("grade", help="grade one submission into results.json")
-    grade.add_argument("submission", type=Path, help="folder holding the student's raykit/")
+    grade.add_argument(
+        "submission", type=Path, help="the student's folder holding raykit/, or their zip"
+    )
     grade.add_argument("-o", "--output", type=Path, required=True, help="results.json to write")
     grade.add_argument("--feedback", type=Path, help="folder for feedback pictures")
 
@@ -239,9 +242,22 @@ def _grade(args, options) -> int:
     from raykit_grading.catalog import by_name
     from raykit_grading.grade import grade_to_file
 
-    if not args.submission.is_dir():
-        print(f"raykit_grading: error: {args.submission}: no such folder", file=sys.stderr)
+    if not (args.submission.is_dir() or args.submission.suffix.lower() == ".zip"):
+        what = "not a folder or a zip" if args.submission.exists() else "no such folder or zip"
+        print(f"raykit_grading: error: {args.submission}: {what}", file=sys.stderr)
         return 2
+    if not args.submission.is_dir():  # a zip: graded as a folder holding it, as batch does
+        if not args.submission.is_file():
+            print(f"raykit_grading: error: {args.submission}: no such zip", file=sys.stderr)
+            return 2
+        import tempfile
+
+        with tempfile.TemporaryDirectory(prefix="raykit-zip-") as folder:
+            holding = Path(folder) / args.submission.stem
+            holding.mkdir()
+            shutil.copyfile(args.submission, holding / args.submission.name)
+            args.submission = holding
+            return _grade(args, options)
     found = _assignment_seed(args.assignment, seed=args.seed, seed_file=args.seed_file)
     if found is None:
         return 2

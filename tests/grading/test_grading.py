@@ -5,6 +5,7 @@ import html
 import json
 import subprocess
 import sys
+import zipfile
 
 import jsonschema
 import numpy as np
@@ -284,26 +285,20 @@ def test_batch_grades_a_folder_into_a_csv_and_a_feedback_folder_each(
     assert (tmp_path / "out/feedback/bob/3.6.png").is_file()
 
 
-def test_grading_command_line_writes_results(tmp_path, child_python, solution):
+@pytest.mark.parametrize("as_zip", [False, True], ids=["folder", "zip"])
+def test_grading_command_line_writes_results(tmp_path, child_python, solution, as_zip):
+    """``grade`` takes the student's folder, or their zip as the student README makes it."""
+    submission = solution
+    if as_zip:
+        submission = tmp_path / "ada.zip"
+        with zipfile.ZipFile(submission, "w") as archive:
+            for path in sorted((solution / "raykit").rglob("*.py")):
+                archive.write(path, path.relative_to(solution).as_posix())
     run = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "raykit_grading",
-            "grade",
-            str(solution),
-            "-o",
-            str(tmp_path / "r.json"),
-            "--child-python",
-            child_python,
-            "--only",
-            "1.1",
-            "2.1",
-        ],
-        capture_output=True,
-        text=True,
-        cwd=tmp_path,
-    )
+        [sys.executable, "-m", "raykit_grading", "grade", str(submission),
+         "-o", str(tmp_path / "r.json"), "--child-python", child_python, "--only", "1.1", "2.1"],
+        capture_output=True, text=True, cwd=tmp_path,
+    )  # fmt: skip
     assert run.returncode == 0, run.stderr
     assert run.stdout.strip() == f"wrote {tmp_path / 'r.json'}: 3 of 3 points"
 
@@ -324,7 +319,8 @@ def test_release_readme_lists_the_functions_in_the_lectures_order(release):
     "arguments, status, says",
     [
         (["batch", "no/such/folder", "-o", "out"], 2, "no/such/folder: no such folder"),
-        (["grade", "no/such/folder", "-o", "r.json"], 2, "no/such/folder: no such folder"),
+        (["grade", "no/such/folder", "-o", "r.json"], 2, "no/such/folder: no such folder or zip"),
+        (["grade", "no/such.zip", "-o", "r.json"], 2, "no/such.zip: no such zip"),
         (["grade", ".", "-o", "r.json", "--only", "9.9"], 2, "--only 9.9: no test has that"),
         (["grade", ".", "-o", "r.json", "--wall", "3"], 2, "unrecognized arguments: --wall"),
     ],
