@@ -157,16 +157,17 @@ def _grade_all(students: list[Entry], out, jobs, names, options, regrade, assign
         for name, row in rows.items()
         if row["status"] not in ("graded", DOES_NOT_IMPORT)
     ]
-    graded = sum(r["status"] in ("graded", DOES_NOT_IMPORT) for r in rows.values())
+    graded = sum(r["status"] == "graded" for r in rows.values())
     broken = sum(r["status"] == DOES_NOT_IMPORT for r in rows.values())
-    print(
-        f"wrote {path}: {graded} of {len(students)} students graded"
-        + (f" ({broken} of them: raykit does not import, 0 points)" if broken else "")
+    print(  # in the class report's words
+        f"wrote {path}: {len(rows)} submissions: {graded} graded"
+        + (f", {broken} whose raykit does not import (0 points)" if broken else "")
+        + (f", {len(failed)} not graded (listed below)" if failed else "")
     )
     report = write_report(out, tests, rows)
     print(f"wrote {report}: the class report (and each student's feedback/<student>/index.html)")
     if failed:
-        print("could not grade:\n  " + "\n  ".join(failed), file=sys.stderr)
+        print("not graded:\n  " + "\n  ".join(failed), file=sys.stderr)
         return 1
     return 0
 

@@ -200,6 +200,13 @@ def _url(name: str) -> str:
     return quote(os.fsencode(name))
 
 
+def _where(error: str) -> str:
+    """`` in raykit/FILE, line N``: the last place in the student's files that a traceback
+    names, or ""."""
+    places = re.findall(r'File "[^"]*/submission/(raykit/[^"]+)", line (\d+)', error)
+    return f" in {places[-1][0]}, line {places[-1][1]}" if places else ""
+
+
 def _link(name: str) -> str:
     return f"feedback/{_url(name)}/index.html"
 
@@ -291,7 +298,7 @@ def _page(out, tests, rows, results, scores, rates, total) -> str:
             parts.append(
                 f"<li><a href='{_link(name)}'>{e(name)}</a>: raykit does not import, so no "
                 f"test ran (0 points): <code>{e(error.splitlines()[0] if error else '')}</code>"
-                "</li>"
+                f"{e(_where(error))}</li>"
             )
         parts += [f"<li>{e(name)}: {e(rows[name]['status'])}</li>" for name in others]
         parts.append("</ul>")
