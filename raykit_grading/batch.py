@@ -22,8 +22,10 @@ scores.csv never mixes two seeds' grades.
 ``OUT/scores.csv``: student, status, score, max_score, then one column per test; the status is
 ``graded``, ``does not import`` (0 points: the submission's raykit does not import, so no test
 ran), ``could not grade: why`` or ``not graded: why`` (an entry that is no submission). Every
-entry of the class is a row. ``OUT/feedback/<student>/``: results.json, feedback pictures and
-the student's page (``index.html``); ``OUT/report.html``: the class report
+entry of the class is a row. ``OUT/feedback/<student>/``: results.json, the visible tests'
+feedback pictures and the student's page (``index.html``), which may be handed to the student;
+``OUT/hidden/<student>/``: the hidden tests' pictures, for the instructor only;
+``OUT/report.html``: the class report
 (:mod:`raykit_grading.report`). The exit status is 1 (and the entries are listed) if any could
 not be graded.
 """
@@ -33,6 +35,7 @@ from __future__ import annotations
 import csv
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -40,7 +43,7 @@ from concurrent.futures import ThreadPoolExecutor, as_completed
 from pathlib import Path
 from zipfile import is_zipfile
 
-from raykit_grading.catalog import by_name
+from raykit_grading.catalog import VISIBLE, by_name
 from raykit_grading.grade import GradingImpossible, Options, preflight
 from raykit_grading.intake import Entry, entries
 from raykit_grading.report import write_report
@@ -55,6 +58,7 @@ from raykit_grading.seeds import (
 
 NAMES_AS_BYTES = {"encoding": "utf-8", "errors": "surrogateescape"}  # folder names as they are
 DOES_NOT_IMPORT = "does not import"  # scores.csv's status (results.json says the error)
+HIDDEN_PICTURES = "hidden"  # OUT/hidden/<student>/: the hidden tests' pictures
 MARGIN_SECONDS = 180.0  # a student's grader may take its tests' total time and this much more
 
 
@@ -238,6 +242,7 @@ def _grade_student(
         last = (run.stderr.strip().splitlines() or [f"exit status {run.returncode}"])[-1]
         return {**row, "status": f"could not grade: {last[:300]}"}
     results = json.loads(results_path.read_text())
+    _set_hidden_pictures_apart(results, feedback, out / HIDDEN_PICTURES / name)
     if results.get("extra_data", {}).get("sandbox", "").startswith("none"):  # none of it ran
         why = results["tests"][0]["output"].splitlines()[0] if results["tests"] else ""
         row["status"] = f"could not grade: {why or 'no raykit package in the folder'}"[:300]
@@ -249,6 +254,17 @@ def _grade_student(
     row["max_score"] = sum(t["max_score"] for t in results["tests"])
     row.update({t["number"]: t["score"] for t in results["tests"]})
     return row
+
+
+def _set_hidden_pictures_apart(results: dict, feedback: Path, hidden: Path) -> None:
+    """Move the hidden tests' pictures out of the student's feedback folder, which may then
+    be handed to the student as it is (as Gradescope shows them only what is visible)."""
+    shutil.rmtree(hidden, ignore_errors=True)
+    for test in results["tests"]:
+        picture = feedback / f"{test['number']}.png"
+        if test.get("visibility") != VISIBLE and picture.is_file():
+            hidden.mkdir(parents=True, exist_ok=True)
+            picture.replace(hidden / picture.name)
 
 
 def _write_all(path: Path, header: list[str], rows: dict[str, dict]) -> None:

@@ -130,8 +130,8 @@ def _mistakes(results: dict[str, dict], out: Path) -> list[dict]:
             )  # fmt: skip
             mistake["students"].add(name)
             mistake["tests"].add(test["number"])
-            picture = out / "feedback" / name / f"{test['number']}.png"
-            better = test.get("visibility") == VISIBLE
+            better = test.get("visibility") == VISIBLE  # in feedback/, else in hidden/
+            picture = out / ("feedback" if better else "hidden") / name / f"{test['number']}.png"
             if picture.is_file() and (mistake["example"] is None or better):
                 if mistake["example"] is None or not mistake["example"][2]:
                     mistake["example"] = (name, test["number"], better)
@@ -276,8 +276,8 @@ def _page(out, tests, rows, results, scores, rates, total) -> str:
         )  # fmt: skip
         example = "no picture (array tests only)"
         if mistake["example"]:
-            name, key, _ = mistake["example"]
-            source = f"feedback/{_url(name)}/{quote(key)}.png"
+            name, key, visible = mistake["example"]
+            source = f"{'feedback' if visible else 'hidden'}/{_url(name)}/{quote(key)}.png"
             example = (
                 f"<a href='{source}'><img class='example' src='{source}' "
                 f"alt='{e(name)}, test {e(key)}'></a><br>{e(name)}, test {e(key)}"

@@ -223,3 +223,25 @@ def test_the_kits_readme_lists_the_functions_under_each_stage(release):
     stage3 = readme.split("### Stage 3")[1].split("###")[0]
     assert "camera.py: camera_frame`" in stage3 and "hit_sphere" not in stage3
     assert "python check.py 3.6" in readme
+
+
+def test_a_students_feedback_folder_holds_nothing_of_the_hidden_tests(tmp_path):
+    """feedback/<student>/ may be handed to the student: the hidden tests' pictures are in
+    hidden/<student>/, and the class report takes its example from there if it must."""
+    make_submission(tmp_path / "class/mo", "u_v_swapped")
+    hidden = "3.8"  # render scenes/orthographic.json
+    assert next(t for t in TESTS if t.key == hidden).visibility != VISIBLE
+    out = tmp_path / "graded"
+    run = subprocess.run(
+        [sys.executable, "-m", "raykit_grading", "batch", str(tmp_path / "class"), "-o", str(out),
+         "--only", "3.6", hidden],
+        capture_output=True, text=True, cwd=tmp_path, timeout=900,
+    )  # fmt: skip
+    assert run.returncode == 0, run.stderr[-2000:]
+    assert sorted(p.name for p in (out / "feedback/mo").iterdir()) == [
+        "3.6.png", "index.html", "results.json"
+    ]  # fmt: skip
+    assert (out / f"hidden/mo/{hidden}.png").is_file()
+    page = html.unescape((out / "report.html").read_text())
+    examples = re.findall(r"<img class='example' src='([^']+)'", page)
+    assert examples and all((out / unquote(src)).is_file() for src in examples)
