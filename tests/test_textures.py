@@ -2,10 +2,12 @@ import subprocess
 import sys
 
 import numpy as np
+import pytest
 from PIL import Image
 
 from conftest import SCENES
-from raykit.io.textures import Texture, to_rgba8
+from raykit.io.errors import SceneError
+from raykit.io.textures import Texture, decode_all, to_rgba8
 
 
 def test_16_bit_grey_is_scaled_not_clipped():
@@ -65,6 +67,36 @@ def test_texture_reads_its_header_at_once_and_decodes_on_first_use(tmp_path):
     assert "rgba" not in vars(texture)  # nothing decoded yet
     assert texture.rgba.shape == (3, 5, 4)
     assert texture.rgba[0, 0].tolist() == [9, 8, 7, 6]
+
+
+def test_decoding_textures_side_by_side_gives_the_bytes_of_one_at_a_time_each_file_once(tmp_path):
+    rng = np.random.default_rng(41)
+    names = ["a.png", "b.png", "c.png"]
+    for name in names:
+        Image.fromarray(rng.integers(0, 256, (37, 29, 4), dtype=np.uint8), "RGBA").save(
+            tmp_path / name
+        )
+    textures = [
+        Texture(tmp_path / name, "scene.json", f"billboards[{k}].image")
+        for k, name in enumerate([*names, "a.png"])  # a.png named twice
+    ]
+    decode_all(textures)
+    assert all("rgba" in vars(texture) for texture in textures)
+    for texture in textures:
+        alone = Texture(texture.path, "scene.json", texture.field).rgba
+        assert texture.rgba.dtype == alone.dtype and np.array_equal(texture.rgba, alone)
+    assert textures[3].rgba is textures[0].rgba  # the file decoded once
+
+
+def test_a_texture_that_cannot_be_decoded_side_by_side_names_its_field(tmp_path):
+    Image.new("RGBA", (4, 4)).save(tmp_path / "good.png")
+    Image.new("RGBA", (64, 64)).save(tmp_path / "cut.png")
+    whole = (tmp_path / "cut.png").read_bytes()
+    textures = [Texture(tmp_path / "good.png", "scene.json", "billboards[0].image"),
+                Texture(tmp_path / "cut.png", "scene.json", "billboards[1].image")]  # fmt: skip
+    (tmp_path / "cut.png").write_bytes(whole[: len(whole) // 2])  # after its header was read
+    with pytest.raises(SceneError, match=r"billboards\[1\]\.image"):
+        decode_all(textures)
 
 
 def test_committed_textures_are_what_the_generator_makes(tmp_path):
