@@ -6,8 +6,10 @@ import pytest
 from PIL import Image
 
 from conftest import SCENES
+from raykit.engine.arrays import decode_textures
 from raykit.io.errors import SceneError
-from raykit.io.textures import Texture, decode_all, to_rgba8
+from raykit.io.scene_json import scene_from_dict
+from raykit.io.textures import Texture, to_rgba8
 
 
 def test_16_bit_grey_is_scaled_not_clipped():
@@ -69,34 +71,47 @@ def test_texture_reads_its_header_at_once_and_decodes_on_first_use(tmp_path):
     assert texture.rgba[0, 0].tolist() == [9, 8, 7, 6]
 
 
-def test_decoding_textures_side_by_side_gives_the_bytes_of_one_at_a_time_each_file_once(tmp_path):
+def test_decoding_textures_side_by_side_gives_the_bytes_of_one_at_a_time(tmp_path):
     rng = np.random.default_rng(41)
-    names = ["a.png", "b.png", "c.png"]
-    for name in names:
-        Image.fromarray(rng.integers(0, 256, (37, 29, 4), dtype=np.uint8), "RGBA").save(
-            tmp_path / name
-        )
-    textures = [
-        Texture(tmp_path / name, "scene.json", f"billboards[{k}].image")
-        for k, name in enumerate([*names, "a.png"])  # a.png named twice
-    ]
-    decode_all(textures)
-    assert all("rgba" in vars(texture) for texture in textures)
-    for texture in textures:
-        alone = Texture(texture.path, "scene.json", texture.field).rgba
-        assert texture.rgba.dtype == alone.dtype and np.array_equal(texture.rgba, alone)
-    assert textures[3].rgba is textures[0].rgba  # the file decoded once
+    for name in "abc":
+        texels = rng.integers(0, 256, (37, 29, 4), dtype=np.uint8)
+        Image.fromarray(texels, "RGBA").save(tmp_path / f"{name}.png")
+    scene = _scene_of_textures(tmp_path, ["a.png", "b.png", "c.png"])
+    decode_textures(scene)
+    for board in scene.billboards:
+        assert "rgba" in vars(board.texture)
+        alone = Texture(board.texture.path, "scene.json", board.texture.field).rgba
+        assert board.texture.rgba.dtype == alone.dtype
+        assert np.array_equal(board.texture.rgba, alone)
+
+
+def test_billboards_that_name_one_file_share_one_texture(tmp_path):
+    Image.new("RGBA", (4, 4)).save(tmp_path / "a.png")
+    Image.new("RGBA", (4, 4)).save(tmp_path / "b.png")
+    boards = _scene_of_textures(tmp_path, ["a.png", "b.png", "./a.png"]).billboards
+    assert boards[2].texture is boards[0].texture and boards[1].texture is not boards[0].texture
 
 
 def test_a_texture_that_cannot_be_decoded_side_by_side_names_its_field(tmp_path):
     Image.new("RGBA", (4, 4)).save(tmp_path / "good.png")
     Image.new("RGBA", (64, 64)).save(tmp_path / "cut.png")
     whole = (tmp_path / "cut.png").read_bytes()
-    textures = [Texture(tmp_path / "good.png", "scene.json", "billboards[0].image"),
-                Texture(tmp_path / "cut.png", "scene.json", "billboards[1].image")]  # fmt: skip
+    scene = _scene_of_textures(tmp_path, ["good.png", "cut.png"])
     (tmp_path / "cut.png").write_bytes(whole[: len(whole) // 2])  # after its header was read
     with pytest.raises(SceneError, match=r"billboards\[1\]\.image"):
-        decode_all(textures)
+        decode_textures(scene)
+
+
+def _scene_of_textures(folder, images: list[str]):
+    """A scene with a billboard for each of ``images`` (file names in ``folder``)."""
+    boards = [
+        {"upper_left": [k, 1, 0], "lower_left": [k, 0, 0], "upper_right": [k + 1, 1, 0],
+         "image": image}
+        for k, image in enumerate(images)
+    ]  # fmt: skip
+    camera = {"eye": [0, 0, 5], "lookat": [0, 0, 0], "up": [0, 1, 0], "fov_angle": 40,
+              "width": 8, "height": 8}  # fmt: skip
+    return scene_from_dict({"camera": camera, "billboards": boards}, folder=folder)
 
 
 def test_committed_textures_are_what_the_generator_makes(tmp_path):

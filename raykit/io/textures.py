@@ -12,11 +12,7 @@ no image, or an absurd size, at scene-load time. The pixels are decoded on first
 
 from __future__ import annotations
 
-import os
 import warnings
-from collections.abc import Iterable
-from concurrent.futures import ThreadPoolExecutor
-from functools import cached_property
 from pathlib import Path
 
 import numpy as np
@@ -72,9 +68,18 @@ class Texture:
             )
         return width, height
 
-    @cached_property
+    @property
     def rgba(self) -> np.ndarray:
-        """The texels, ``(H, W, 4)`` uint8, row 0 at the top; decoded on first use."""
+        """The texels, ``(H, W, 4)`` uint8, row 0 at the top; decoded on first use and kept.
+        Kept without a lock (``functools.cached_property`` holds one for every instance of
+        the class before Python 3.12), so that a scene's textures decode side by side in
+        threads (:func:`raykit.engine.arrays.decode_textures`)."""
+        decoded = self.__dict__.get("rgba")
+        if decoded is None:
+            decoded = self.__dict__["rgba"] = self._decode()
+        return decoded
+
+    def _decode(self) -> np.ndarray:
         try:
             with self._open() as image:
                 return to_rgba8(image)
@@ -82,25 +87,6 @@ class Texture:
             raise
         except (OSError, ValueError, SyntaxError) as exc:
             raise self._error(f"texture cannot be decoded: {self.path} ({exc})") from None
-
-
-def decode_all(textures: Iterable[Texture]) -> None:
-    """Decode every texture of ``textures`` not yet decoded (:attr:`Texture.rgba`), each file
-    once however many textures name it, the files side by side in threads: Pillow lets go of
-    the interpreter while it inflates a PNG, so a scene's textures take about as long as its
-    largest on as many cores. The texels are the same bytes as one at a time; a file that
-    cannot be decoded raises its texture's one-line error here, as on first use."""
-    by_file: dict[Path, list[Texture]] = {}
-    for texture in textures:
-        if "rgba" not in vars(texture):
-            by_file.setdefault(texture.path.resolve(), []).append(texture)
-    if len(by_file) > 1:
-        workers = min(len(by_file), os.cpu_count() or 1)
-        with ThreadPoolExecutor(max_workers=workers) as pool:
-            list(pool.map(lambda same: same[0].rgba, by_file.values()))
-    for first, *others in by_file.values():
-        for texture in others:
-            vars(texture)["rgba"] = first.rgba  # what cached_property would keep
 
 
 def to_rgba8(image: Image.Image) -> np.ndarray:

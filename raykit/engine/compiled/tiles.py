@@ -79,23 +79,14 @@ HOLDING_CHUNK = 8  # entries of a tile's list that primary_ray checks at a time
 
 
 class ViewingHit(NamedTuple):
-    """:func:`primary_ray`'s answer for one viewing ray: whether the ray was ``made``, the
-    nearest hit's object ``index`` (-1: none), ``t`` and colour (``r``, ``g``, ``b``), and the
-    ray, origin (``o0``, ``o1``, ``o2``) and direction (``d0``, ``d1``, ``d2``), all 0 if not
-    made."""
+    """:func:`primary_ray`'s answer for one viewing ray: whether the ray was ``made``, its
+    ``nearest`` hit (a :class:`~raykit.engine.compiled.hits.NearestHit`: no object, at inf,
+    the background's colour, if none) and the ``ray`` (a
+    :class:`~raykit.engine.compiled.rays.Ray`, all 0 if not made)."""
 
     made: bool
-    index: int
-    t: float
-    r: float
-    g: float
-    b: float
-    o0: float
-    o1: float
-    o2: float
-    d0: float
-    d1: float
-    d2: float
+    nearest: NearestHit
+    ray: Ray
 
 
 @njit(**INLINED)
@@ -148,10 +139,7 @@ def primary_ray(arrays, tiles, camera, x, y, tile, holding):
         if entries[stop - 1, 4] > hit.t:
             break
         first = stop
-    return ViewingHit(
-        made=made, index=hit.index, t=hit.t, r=hit.r, g=hit.g, b=hit.b,
-        o0=ray.o0, o1=ray.o1, o2=ray.o2, d0=ray.d0, d1=ray.d1, d2=ray.d2,
-    )  # fmt: skip
+    return ViewingHit(made=made, nearest=hit, ray=ray)
 
 
 @njit(**KERNEL)
