@@ -2,12 +2,9 @@ import subprocess
 import sys
 
 import numpy as np
-import pytest
 from PIL import Image
 
 from conftest import SCENES
-from raykit.engine.arrays import decode_textures
-from raykit.io.errors import SceneError
 from raykit.io.scene_json import scene_from_dict
 from raykit.io.textures import Texture, to_rgba8
 
@@ -71,35 +68,11 @@ def test_texture_reads_its_header_at_once_and_decodes_on_first_use(tmp_path):
     assert texture.rgba[0, 0].tolist() == [9, 8, 7, 6]
 
 
-def test_decoding_textures_side_by_side_gives_the_bytes_of_one_at_a_time(tmp_path):
-    rng = np.random.default_rng(41)
-    for name in "abc":
-        texels = rng.integers(0, 256, (37, 29, 4), dtype=np.uint8)
-        Image.fromarray(texels, "RGBA").save(tmp_path / f"{name}.png")
-    scene = _scene_of_textures(tmp_path, ["a.png", "b.png", "c.png"])
-    decode_textures(scene)
-    for board in scene.billboards:
-        assert "rgba" in vars(board.texture)
-        alone = Texture(board.texture.path, "scene.json", board.texture.field).rgba
-        assert board.texture.rgba.dtype == alone.dtype
-        assert np.array_equal(board.texture.rgba, alone)
-
-
 def test_billboards_that_name_one_file_share_one_texture(tmp_path):
     Image.new("RGBA", (4, 4)).save(tmp_path / "a.png")
     Image.new("RGBA", (4, 4)).save(tmp_path / "b.png")
     boards = _scene_of_textures(tmp_path, ["a.png", "b.png", "./a.png"]).billboards
     assert boards[2].texture is boards[0].texture and boards[1].texture is not boards[0].texture
-
-
-def test_a_texture_that_cannot_be_decoded_side_by_side_names_its_field(tmp_path):
-    Image.new("RGBA", (4, 4)).save(tmp_path / "good.png")
-    Image.new("RGBA", (64, 64)).save(tmp_path / "cut.png")
-    whole = (tmp_path / "cut.png").read_bytes()
-    scene = _scene_of_textures(tmp_path, ["good.png", "cut.png"])
-    (tmp_path / "cut.png").write_bytes(whole[: len(whole) // 2])  # after its header was read
-    with pytest.raises(SceneError, match=r"billboards\[1\]\.image"):
-        decode_textures(scene)
 
 
 def _scene_of_textures(folder, images: list[str]):

@@ -9,8 +9,6 @@ culling of shadow rays.
 
 from __future__ import annotations
 
-import os
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from functools import cached_property
 
@@ -48,16 +46,3 @@ class SceneArrays:
     @cached_property
     def boxes(self) -> tuple[np.ndarray, np.ndarray]:
         return object_boxes(self.centers, self.radii, self.scene.billboards)
-
-
-def decode_textures(scene: Scene) -> None:
-    """Decode the textures of ``scene``'s billboards (:attr:`raykit.billboards.Texels.rgba`)
-    side by side in threads, each texture once: Pillow lets go of the interpreter while it
-    inflates a PNG, so a scene's textures take about as long as its largest on as many cores.
-    The texels are the same bytes as one at a time; a file that cannot be decoded raises its
-    one-line error here, as on first use."""
-    textures = list({id(b.texture): b.texture for b in scene.billboards if b.texture}.values())
-    if len(textures) < 2:
-        return
-    with ThreadPoolExecutor(max_workers=min(len(textures), os.cpu_count() or 1)) as pool:
-        list(pool.map(lambda texture: texture.rgba, textures))

@@ -13,6 +13,7 @@ no image, or an absurd size, at scene-load time. The pixels are decoded on first
 from __future__ import annotations
 
 import warnings
+from functools import cached_property
 from pathlib import Path
 
 import numpy as np
@@ -68,18 +69,9 @@ class Texture:
             )
         return width, height
 
-    @property
+    @cached_property
     def rgba(self) -> np.ndarray:
-        """The texels, ``(H, W, 4)`` uint8, row 0 at the top; decoded on first use and kept.
-        Kept without a lock (``functools.cached_property`` holds one for every instance of
-        the class before Python 3.12), so that a scene's textures decode side by side in
-        threads (:func:`raykit.engine.arrays.decode_textures`)."""
-        decoded = self.__dict__.get("rgba")
-        if decoded is None:
-            decoded = self.__dict__["rgba"] = self._decode()
-        return decoded
-
-    def _decode(self) -> np.ndarray:
+        """The texels, ``(H, W, 4)`` uint8, row 0 at the top; decoded on first use."""
         try:
             with self._open() as image:
                 return to_rgba8(image)

@@ -11,7 +11,7 @@ from typing import NamedTuple
 import numpy as np
 
 from raykit.billboards import colors_and_opacity
-from raykit.engine.arrays import SceneArrays, decode_textures
+from raykit.engine.arrays import SceneArrays
 from raykit.engine.bvh import BVH
 from raykit.lights import PointLight, toward_light
 from raykit.rays import normalize
@@ -68,7 +68,6 @@ def scene_arrays(scene: Scene) -> Arrays:
     boards = scene.billboards
     f3 = lambda rows: np.array(rows, dtype=float).reshape(-1, 3)  # noqa: E731
     starts, widths, heights, texels, used = [], [], [], [], 0
-    decode_textures(scene)
     for board in boards:
         if board.texture is None:
             starts.append(-1), widths.append(0), heights.append(0)
