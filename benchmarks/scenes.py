@@ -134,6 +134,7 @@ def classic_with_large_textures(folder: Path, side: int = TEXTURE_SIDE, seed: in
     from raykit.io.textures import to_rgba8
 
     rng = np.random.default_rng(seed)
+    folder.mkdir(parents=True, exist_ok=True)
     data = json.loads(CLASSIC.read_text())
     for k, board in enumerate(data["billboards"]):
         with Image.open(CLASSIC.parent / board["image"]) as image:
