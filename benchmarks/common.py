@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import argparse
+import io
 import statistics
 import sys
 import textwrap
 import time
+from contextlib import contextmanager
 from pathlib import Path
 
 
@@ -55,8 +57,43 @@ def parse(parser: argparse.ArgumentParser) -> argparse.Namespace:
     """Parse the command line and print it first, as ``$ python benchmarks/NAME ARGS``, so a
     saved run says how to repeat it."""
     args = parser.parse_args()
-    print(" ".join(["$ python", f"benchmarks/{Path(sys.argv[0]).name}", *sys.argv[1:]]) + "\n")
+    print(command_line() + "\n")
     return args
+
+
+def command_line() -> str:
+    """This benchmark's command line as ``$ python benchmarks/NAME ARGS``."""
+    return " ".join(["$ python", f"benchmarks/{Path(sys.argv[0]).name}", *sys.argv[1:]])
+
+
+class _Tee(io.TextIOBase):
+    """A text stream that writes to ``stream`` and keeps a copy."""
+
+    def __init__(self, stream) -> None:
+        self.stream, self.copy = stream, io.StringIO()
+
+    def write(self, text: str) -> int:
+        self.copy.write(text)
+        return self.stream.write(text)
+
+    def flush(self) -> None:
+        self.stream.flush()
+
+
+@contextmanager
+def page_of_output(page: Path | None):
+    """Print as usual inside; if all went well and ``page`` is not None, write the command line
+    and everything printed to ``page`` (the benchmark's page under docs/benchmarks/)."""
+    tee = _Tee(sys.stdout)
+    sys.stdout = tee
+    try:
+        yield
+    finally:
+        sys.stdout = tee.stream
+    if page is not None:
+        page.parent.mkdir(parents=True, exist_ok=True)
+        page.write_text(command_line() + "\n\n" + tee.copy.getvalue().strip("\n") + "\n")
+        print(f"\nwrote {page}")
 
 
 def seconds(value: float | None, decimals: int = 0) -> str:

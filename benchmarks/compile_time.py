@@ -1,7 +1,10 @@
 """What the compiled engine's first use costs, and its renders against the engine it replaced.
 
     python benchmarks/compile_time.py [--quick] [--compiles N] [--repeats N] [--before REV]
-        [--before-compile] [--cpus NAME,NAME]
+        [--before-compile] [--cpus NAME,NAME] [--page docs/benchmarks/compile_time.md]
+
+What it prints is its page, docs/benchmarks/compile_time.md (--page; not with --quick or
+--cpus-only).
 
 1. The first use from an empty cache: whole processes of `raykit render SCENE -o OUT.png
    --engine compiled` on scenes/classic.json (flat), scenes/classic_lit.json (lit) and
@@ -13,21 +16,23 @@
    those runs (its callees' not counted; numba's compile events) go to
    raykit/engine/compiled/compile_seconds.json, which the progress line reads while it
    compiles (not with --quick).
-2. With --before REV: the compiled engine as it was at git revision REV (one module,
-   raykit/engine/compiled.py), loaded from its own cache folder (the first run compiles it),
-   and this one, each in a child process of its own, rendering every example scene and the
-   benchmark scenes prepared: medians of --repeats renders and their ratio, on every core,
-   then on one (which a neighbour's work on the other core slows less). Not in one process:
-   both engines pass NamedTuples of the same names and fields (Arrays, Tiles, Tree) to their
-   kernels, and numba's dispatcher, which finds the compiled code for a call's arguments by a
-   fingerprint of their types, gives two such classes one fingerprint, so the engine that
-   rendered second in the process took numba's slow path on every call (its arguments typed
-   in Python), whichever it was. Scene by scene, the two engines' renders in turns, each timed
-   render right after UNTIMED untimed ones: the next few renders after one of a large image
-   (1,000 spheres at 1080p) take longer, whichever engine made either, so in rounds of every
-   scene an engine whose small scene came right after the other engine's large one lost, by
-   the order alone. With --before-compile, also REV's first compile of classic.json from an
-   empty cache, as in 1.
+2. With --before REV: the compiled engine as it was at git revision REV, whatever its layout:
+   REV's whole tree (git archive) unpacked under ~/.cache/raykit and put first on the child's
+   sys.path, so that raykit, the engine and the reference it repeats all come from REV, with
+   its own cache folder beside it (the first run compiles it), and this one, each in a child
+   process of its own, rendering every example scene and the benchmark scenes prepared: medians
+   of --repeats renders and their ratio, on every core, then on one (which a neighbour's work
+   on the other core slows less). Not in one process: both engines pass NamedTuples of the same
+   names and fields (Arrays, Tiles, Tree) to their kernels, and numba's dispatcher, which finds
+   the compiled code for a call's arguments by a fingerprint of their types, gives two such
+   classes one fingerprint, so the engine that rendered second in the process took numba's slow
+   path on every call (its arguments typed in Python), whichever it was. Scene by scene, the
+   two engines' renders in turns, each timed render right after UNTIMED untimed ones: the next
+   few renders after one of a large image (1,000 spheres at 1080p) take longer, whichever
+   engine made either, so in rounds of every scene an engine whose small scene came right after
+   the other engine's large one lost, by the order alone. With --before-compile, part 1 times
+   REV's first uses too, in turns with this tree's, each from a new empty cache folder of its
+   own.
 3. With --cpus NAME,NAME (e.g. native,haswell): the compiled engine's prepared renders of the
    benchmark scenes (CPU_SCENES) compiled for each CPU, in one child process per CPU
    (NUMBA_CPU_NAME=NAME and NUMBA_CPU_FEATURES empty, so that the features are NAME's own and
@@ -44,14 +49,16 @@ Needs numba (`pip install -e ".[fast]"`).
 
 from __future__ import annotations
 
-import hashlib
-import importlib.util
+import importlib
+import io
 import json
 import os
 import re
+import shutil
 import statistics
 import subprocess
 import sys
+import tarfile
 import tempfile
 import time
 from pathlib import Path
@@ -63,6 +70,7 @@ from common import (  # noqa: E402
     arguments,
     medians_in_turns,
     numba_cpu,
+    page_of_output,
     parse,
     seconds,
 )
@@ -73,13 +81,14 @@ REPO = HERE.parent
 SCENES = REPO / "scenes"
 # part 1's scenes, one per entry point: flat, lit, lit with mirrors
 FIRST_USE = ["classic", "classic_lit", "mirror_balls"]
+PAGE = REPO / "docs/benchmarks/compile_time.md"
 
 # a child's render, with each kernel's own compile seconds and (if LOOK_FOR_CALLS: only from
 # an empty cache, since a kernel loaded from the cache shows no code) the calls of per-ray
 # kernels left in the code it compiled (calls_left) written to the file given
 _FIRST_USE_CHILD = """
-import json, sys
-sys.path.insert(0, {here!r})
+{imports}
+import json
 from raykit.cli import main
 from raykit.engine.compiled.compiling import compile_clock
 with compile_clock({entry!r}, show=False) as clock:
@@ -160,38 +169,50 @@ def run_child(code: str, **env) -> dict:
     }
 
 
-def first_use(repeats: int, folder: Path) -> tuple[dict, dict, list]:
-    """Part 1: per scene, the medians of its first use and of a run from the cache it left;
-    each entry point's kernels' own compile seconds (median per kernel); and the calls of
-    per-ray kernels left in the code compiled (:func:`calls_left`)."""
+def first_use(repeats: int, folder: Path, revision: str | None = None) -> tuple[dict, dict, list]:
+    """Part 1: per scene, the medians of its first use and of a run from the cache it left
+    (with ``revision``, also that revision's, :func:`revision_tree`, in turns with this tree's,
+    each with its own new cache folder); each entry point's kernels' own compile seconds
+    (median per kernel, this tree's); and the calls of per-ray kernels left in the code
+    compiled (:func:`calls_left`)."""
     from raykit.io.scene_json import load_scene
 
     entries = {name: choice.entry_point(load_scene(SCENES / f"{name}.json")) for name in FIRST_USE}
-    runs: dict = {(name, when): [] for name in FIRST_USE for when in ("empty", "cached")}
+    engines = ["now"] + ([revision] if revision else [])
+    label = {"now": "", revision: f", at {revision}"}
+    runs: dict = {
+        (name, when + label[engine]): []
+        for name in FIRST_USE
+        for engine in engines
+        for when in ("empty", "cached")
+    }
     left: set = set()
     own: dict = {entry: {} for entry in entries.values()}
     for round_ in range(repeats):
-        names = FIRST_USE if round_ % 2 == 0 else FIRST_USE[::-1]
-        for name in names:
-            cache = folder / f"cache-{name}-{round_}"
-            spent = folder / f"seconds-{name}-{round_}.json"
+        turns = [(name, engine) for name in FIRST_USE for engine in engines]
+        for name, engine in turns if round_ % 2 == 0 else turns[::-1]:
+            cache = folder / f"cache-{name}-{engine}-{round_}"
+            spent = folder / f"seconds-{name}-{engine}-{round_}.json"
+            imports, environment = engine_environment(engine, str(cache))
             code = {
                 when: _FIRST_USE_CHILD.format(
-                    here=str(HERE),
+                    imports=imports,
                     entry=entries[name],
                     scene=str(SCENES / f"{name}.json"),
                     out=str(folder / f"{name}.png"),
                     seconds=str(spent),
-                    look_for_calls=round_ == 0 and when == "empty",  # its work is timed too
+                    # its work is timed too; this tree's kernels only
+                    look_for_calls=round_ == 0 and when == "empty" and engine == "now",
                 )
                 for when in ("empty", "cached")
             }
-            runs[(name, "empty")].append(run_child(code["empty"], RAYKIT_CACHE_DIR=str(cache)))
-            seconds_of, calls = json.loads(spent.read_text())
-            for kernel, took in seconds_of.items():
-                own[entries[name]].setdefault(kernel, []).append(took)
-            left.update(calls)
-            runs[(name, "cached")].append(run_child(code["cached"], RAYKIT_CACHE_DIR=str(cache)))
+            for when in ("empty", "cached"):
+                runs[(name, when + label[engine])].append(run_child(code[when], **environment))
+                if when == "empty" and engine == "now":
+                    seconds_of, calls = json.loads(spent.read_text())
+                    for kernel, took in seconds_of.items():
+                        own[entries[name]].setdefault(kernel, []).append(took)
+                    left.update(calls)
     medians = {
         key: {figure: statistics.median(run[figure] for run in values) for figure in values[0]}
         for key, values in runs.items()
@@ -203,32 +224,43 @@ def first_use(repeats: int, folder: Path) -> tuple[dict, dict, list]:
     return medians, table, sorted(left)
 
 
-def before_engine(revision: str):
-    """The compiled engine as it was at git ``revision`` (one module), imported under the name
-    raykit_compiled_before, with its own cache folder under ~/.cache/raykit (keyed on its
-    source, so that it compiles once, then loads)."""
-    source = subprocess.run(
-        ["git", "show", f"{revision}:raykit/engine/compiled.py"],
+def revision_tree(revision: str) -> Path:
+    """The whole source tree of git ``revision`` (``git archive``), unpacked once under
+    ~/.cache/raykit/before-SHA/tree, whatever its engine's layout: a child process that puts it
+    first on sys.path imports raykit, and so its engine and the reference it repeats, from
+    there. git archive gives every file the commit's time, so numba's cache of it stays valid
+    from one run to the next."""
+    sha = subprocess.run(
+        ["git", "rev-parse", "--verify", f"{revision}^{{commit}}"],
         cwd=REPO,
         check=True,
         capture_output=True,
         text=True,
-    ).stdout
-    key = hashlib.sha256(source.encode()).hexdigest()[:12]
-    folder = Path(os.path.expanduser("~/.cache")) / "raykit" / f"before-{key}"
-    folder.mkdir(parents=True, exist_ok=True)
-    cache = os.environ.get("RAYKIT_BEFORE_CACHE", str(folder))  # --before-compile: a new one
-    source = source.replace(
-        "_CACHE = cache_folder()", f"_CACHE = __import__('pathlib').Path({cache!r})"
-    )
-    path = folder / "raykit_compiled_before.py"
-    if not path.exists() or path.read_text() != source:  # numba's cache keys on the file's time
-        path.write_text(source)
-    spec = importlib.util.spec_from_file_location("raykit_compiled_before", path)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module
-    spec.loader.exec_module(module)
-    return module
+    ).stdout.strip()
+    tree = Path(os.path.expanduser("~/.cache")) / "raykit" / f"before-{sha[:12]}" / "tree"
+    if not (tree / "raykit" / "__init__.py").exists():
+        unpacking = tree.with_name("unpacking")
+        shutil.rmtree(unpacking, ignore_errors=True)
+        unpacking.mkdir(parents=True)
+        archive = subprocess.run(
+            ["git", "archive", "--format=tar", sha], cwd=REPO, check=True, capture_output=True
+        ).stdout
+        with tarfile.open(fileobj=io.BytesIO(archive)) as tar:
+            tar.extractall(unpacking, filter="tar")
+        unpacking.rename(tree)
+    return tree
+
+
+def engine_environment(engine: str, cache: str | None = None) -> tuple[str, dict]:
+    """The lines a child process starts with to import raykit from ``engine`` ("now": this
+    tree; else a git revision, :func:`revision_tree`), and the environment it runs in: its
+    cache folder ``cache`` (None: this tree's default; a revision's own beside its tree)."""
+    lines = [f"import sys; sys.path.insert(0, {str(HERE)!r})"]
+    if engine != "now":
+        tree = revision_tree(engine)
+        lines.append(f"sys.path.insert(0, {str(tree)!r})")
+        cache = cache or str(tree.with_name("cache"))
+    return "\n".join(lines) + "\n", {"RAYKIT_CACHE_DIR": cache} if cache else {}
 
 
 def before_and_after(revision: str, repeats: int, quick: bool) -> None:
@@ -283,20 +315,16 @@ CPU_LAYOUTS = [(4, False), (8, True), (16, True)]  # (tile side, packets) beside
 # child's next two or three took longer (one untimed was not enough)
 UNTIMED = 3
 
-# a child of parts 2 and 3: one engine (ENGINE "now": raykit.engine.compiled; else the git
-# revision whose engine before_engine loads), the scenes prepared with each layout (None: the
+# a child of parts 2 and 3: one engine (its IMPORTS, engine_environment: this tree's or a git
+# revision's), the scenes prepared with each layout (None: the
 # engine's own choice), then a render (UNTIMED untimed ones and a timed one) per line of its
 # standard input, its seconds on its output
 _RENDER_CHILD = """
-import json, re, sys, time
-sys.path.insert(0, {here!r})
+{imports}
+import json, re, time
 import numba
 from engines import benchmark_scenes
-if {engine!r} == "now":
-    from raykit.engine import compiled as engine
-else:
-    from compile_time import before_engine
-    engine = before_engine({engine!r})
+from raykit.engine import compiled as engine
 scenes = benchmark_scenes({quick!r})
 prepared = {{}}
 for name in {names!r}:
@@ -331,12 +359,13 @@ def render_child(engine: str, names: list[str], layouts: list, cache: str | None
     in ``layouts``, ready (kernels loaded or compiled; ``cache``: the compiled engine's cache
     folder, None: its default), and what its first line told: the vector registers of its
     packet loop (empty unless compiled in the child) and the tiles chosen."""
-    code = _RENDER_CHILD.format(here=str(HERE), engine=engine, quick=quick, names=names,
-                         layouts=layouts, untimed=UNTIMED)  # fmt: skip
+    imports, environment = engine_environment(engine, cache)
+    code = _RENDER_CHILD.format(imports=imports, quick=quick, names=names, layouts=layouts,
+                                untimed=UNTIMED)  # fmt: skip
     child = subprocess.Popen(
         [sys.executable, "-c", code],
         cwd=REPO,
-        env={**os.environ, **env, **({"RAYKIT_CACHE_DIR": cache} if cache else {})},
+        env={**os.environ, **env, **environment},
         stdin=subprocess.PIPE,
         stdout=subprocess.PIPE,
         stderr=subprocess.DEVNULL,
@@ -428,36 +457,35 @@ def main() -> None:
     parser.add_argument("--compiles", type=int, default=3, help="first uses per scene (median)")
     parser.add_argument("--before", metavar="REV", help="time REV's compiled engine besides")
     parser.add_argument(
-        "--before-compile", action="store_true", help="and REV's first compile (minutes)"
+        "--before-compile", action="store_true", help="and REV's first uses (minutes)"
     )
     parser.add_argument(
         "--cpus", metavar="NAME,NAME", help="time renders compiled for these CPUs (3.)"
     )
     parser.add_argument("--cpus-only", action="store_true", help="only part 3")
+    parser.add_argument(
+        "--page", type=Path, help=f"default (not with --quick or --cpus-only): {PAGE}"
+    )
     args = parse(parser)
     if not choice.compiled_available():
         print('numba is not installed (pip install -e ".[fast]"): nothing to time.')
         return
-    import multiprocessing
-
-    print(f"on {multiprocessing.cpu_count()} cores\n")
     if args.cpus_only and args.cpus:
-        return cpus(args.cpus.split(","), args.repeats)
+        with page_of_output(args.page):
+            print(f"on {os.cpu_count()} cores\n")
+            cpus(args.cpus.split(","), args.repeats)
+        return
+    with page_of_output(args.page or (None if args.quick else PAGE)):
+        print(f"on {os.cpu_count()} cores\n")
+        all_parts(args)
+
+
+def all_parts(args) -> None:
+    """Part 1, then 2 and 3 as ``args`` ask."""
     with tempfile.TemporaryDirectory() as folder:
         rounds = 1 if args.quick else args.compiles
-        medians, table, left = first_use(rounds, Path(folder))
-        if args.before and args.before_compile:
-            code = (
-                f"import sys; sys.path.insert(0, {str(HERE)!r})\n"
-                "from compile_time import before_engine\n"
-                "from raykit.io.scene_json import load_scene\n"
-                f"scene = load_scene({str(SCENES / 'classic.json')!r})\n"
-                f"before_engine({args.before!r}).render(scene)\n"
-            )
-            cache = str(Path(folder) / "before-cache")
-            medians[("classic", f"empty, at {args.before}")] = run_child(
-                code, RAYKIT_BEFORE_CACHE=cache
-            )
+        revision = args.before if args.before_compile else None
+        medians, table, left = first_use(rounds, Path(folder), revision)
     print(f"1. raykit render SCENE --engine compiled, whole processes, median of {rounds}\n")
     print("| scene | cache | wall time | CPU time | peak memory |")
     print("|---|---|---|---|---|")
@@ -466,6 +494,14 @@ def main() -> None:
             f"| {name} | {when} | {figures['wall']:.1f} s | {figures['cpu']:.1f} s "
             f"| {figures['peak_mb']:.0f} MB |"
         )
+    if revision:
+        ratios = []
+        for name in FIRST_USE:
+            now, then = medians[(name, "empty")], medians[(name, f"empty, at {revision}")]
+            ratios.append(
+                f"{name} {now['wall'] / then['wall']:.2f} (CPU time {now['cpu'] / then['cpu']:.2f})"
+            )
+        print(f"\nFirst use from an empty cache, now / at {revision}: {', '.join(ratios)}.")
     for entry, kernels in table.items():
         slowest = sorted(kernels.items(), key=lambda item: -item[1])[:5]
         listed = ", ".join(f"{kernel} {took:.1f} s" for kernel, took in slowest)

@@ -55,9 +55,13 @@ run time, is told ``isa=avx2`` by a small library preloaded into Mitsuba's child
 the page says so). Mitsuba's other ahead-compiled code, all of ``scalar_rgb`` but Embree, is
 as shipped. Each run's page section names the processor and the instruction set.
 
-Load: raykit from its JSON data (validation included), Mitsuba ``load_dict`` (which builds
-its BVH). Prepare, raykit's compiled engine only: ``raykit.engine.compiled.prepare``, the
-scene's arrays, screen tiles and (lit scenes) BVH, made once per scene (a median of 3); its
+Load: raykit from the scene's file (:func:`set_up_raykit`: the JSON read and checked, each
+texture's header read; a median of 3), Mitsuba ``load_dict`` (which builds its BVH; it reads
+no texture, its depth integrator looks none up). Prepare, raykit's compiled engine only:
+``raykit.engine.compiled.prepare`` of a scene just loaded, the textures decoded, the scene's
+arrays, screen tiles and (lit scenes) BVH (a median of 3); so load + prepare is what raykit
+does from the file before its first ray, as load_dict is Mitsuba's. The flat scenes include
+classic with each texture 256 x 256 RGBA (:func:`scenes.classic_with_large_textures`). Its
 render renders the prepared scene, as Mitsuba's renders its loaded one
 (``raykit.render.render`` does both). Render: the median of ``--repeats`` renders after a
 first one (for ``llvm_ad_rgb`` the first compiles its kernels; it is shown too), every
@@ -80,6 +84,7 @@ import argparse
 import json
 import os
 import select
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -112,20 +117,32 @@ from raykit.lights import PointLight  # noqa: E402
 from raykit.rays import dot  # noqa: E402
 from raykit.render import render  # noqa: E402
 from raykit.scene import Scene  # noqa: E402
-from scenes import many_spheres, sphereflake  # noqa: E402
+from scenes import (  # noqa: E402
+    TEXTURE_SIDE,
+    classic_with_large_textures,
+    many_spheres,
+    sphereflake,
+)
 
 VARIANTS = ("scalar_rgb", "llvm_ad_rgb")
 LLVM_19 = "/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1"
 
 
-def benchmark_scenes(quick: bool) -> dict[str, Scene]:
+def benchmark_scenes(quick: bool, folder: Path | None = None) -> dict[str, Scene]:
+    """The flat scenes, by name; with ``folder``, classic with 256² textures too, its scene
+    file and textures written there (:func:`scenes.classic_with_large_textures`)."""
     if quick:
         return {
             "classic 160x120": sized(load_scene(HERE.parent / "scenes/classic.json"), 160, 120),
             "sphereflake 2 128x128": sphereflake(2, 128, 128),
         }
+    textured = {}
+    if folder is not None:
+        path = classic_with_large_textures(folder)
+        textured = {f"classic, {TEXTURE_SIDE}² textures, 640x480": load_scene(path)}
     return {
         "classic 640x480": load_scene(HERE.parent / "scenes/classic.json"),
+        **textured,
         "sphereflake 4 512x512": sphereflake(4),
         "1,000 spheres 1920x1080": many_spheres(1000),
         "sphereflake 6 512x512": sphereflake(6),
@@ -625,8 +642,8 @@ def run(args: argparse.Namespace, cpu: str) -> list[dict]:
         env = embree_avx2(Path(folder)) if cpu == "haswell" and version else None
         if cpu == "haswell" and version and env is None:
             print("No C compiler: Mitsuba's Embree takes the widest instruction set it finds.\n")
-        timing = Timing(args, version, engines, cpu, env)
-        flat = timing.table(benchmark_scenes(args.quick))
+        timing = Timing(args, version, engines, cpu, env, Path(folder))
+        flat = timing.table(benchmark_scenes(args.quick, Path(folder)))
         print(
             f"\nMedians of {args.repeats} renders after a warm-up, every renderer of a scene in"
             " turns (each timed render right after an untimed one of its own); Mitsuba's"
@@ -685,8 +702,10 @@ class Timing:
     """Times every renderer of each scene in turns and prints a table; keeps what the growth
     line and the plot need (``compiled_renders``, rows) and Dr.Jit's targets."""
 
-    def __init__(self, args, version: str | None, engines: list[str], cpu: str, env: dict | None):
+    def __init__(self, args, version: str | None, engines: list[str], cpu: str, env: dict | None,
+                 folder: Path):  # fmt: skip
         self.args, self.version, self.engines, self.cpu, self.env = args, version, engines, cpu, env
+        self.folder = folder  # where raykit's scene files are written (set_up_raykit)
         self.compiled_renders: dict = {}
         self.targets: set[str] = set()
 
@@ -710,7 +729,7 @@ class Timing:
         renderers, picture, children = {}, None, []
         blank = "-" + " | -" * lit
         for engine in self.engines:
-            load, prepare, first, render_once, picture = set_up_raykit(engine, data)
+            load, prepare, first, render_once, picture = set_up_raykit(engine, data, self.folder)
             renderers[f"raykit {engine}"] = (load, prepare, first, render_once, blank)
         if lit and self.args.pictures:
             save_image(picture[0], self.args.pictures / f"{_slug(name)}_raykit.png")
@@ -801,16 +820,20 @@ def _slug(name: str) -> str:
     return "_".join(name.replace(",", "").split())
 
 
-def set_up_raykit(engine: str, data: dict) -> tuple:
-    """raykit on one scene: ``(load, prepare, first render, render_once, picture)``, times in
-    seconds; ``render_once()`` renders once more and returns the seconds it took; ``picture``:
-    the first render's ``(rgb, object_index, t)``. The compiled engine's first render is a whole
-    ``render(scene)`` (it loads the cached kernels, as Mitsuba's first render compiles its
-    own); then it renders the prepared scene, whose ``prepare`` is a median of 3. The numpy
-    engine prepares inside its render (prepare 0)."""
-    start = time.perf_counter()
-    loaded = scene_from_dict(data)
-    load = time.perf_counter() - start
+def set_up_raykit(engine: str, data: dict, folder: Path) -> tuple:
+    """raykit on one scene from its file: ``(load, prepare, first render, render_once,
+    picture)``, times in seconds; ``render_once()`` renders once more and returns the seconds
+    it took; ``picture``: the first render's ``(rgb, object_index, t)``. ``data`` is written as
+    a scene file in ``folder`` (textures by their paths), and load is the median of 3
+    :func:`~raykit.io.scene_json.load_scene` of it: reading the JSON, checking it, reading
+    each texture's header. The compiled engine's first render is a whole ``render(scene)`` (it
+    loads the cached kernels, as Mitsuba's first render compiles its own); then it renders the
+    prepared scene, whose ``prepare`` is the median of 3, each of a scene just loaded, so that
+    it decodes the textures as a first use does. The numpy engine prepares inside its render
+    (prepare 0)."""
+    path = folder / "scene.json"
+    path.write_text(json.dumps(data))
+    loaded, load = median_time(lambda: load_scene(path), 3)
 
     if engine != "compiled":
         start = time.perf_counter()
@@ -823,7 +846,13 @@ def set_up_raykit(engine: str, data: dict) -> tuple:
     start = time.perf_counter()
     picture = compiled.render(loaded)
     first = time.perf_counter() - start
-    prepared, prepare = median_time(lambda: compiled.prepare(loaded), 3)
+    preparing = []
+    for _ in range(3):
+        fresh = load_scene(path)
+        start = time.perf_counter()
+        prepared = compiled.prepare(fresh)
+        preparing.append(time.perf_counter() - start)
+    prepare = statistics.median(preparing)
     return load, prepare, first, timer(lambda: compiled.render(prepared)), picture
 
 

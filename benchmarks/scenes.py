@@ -4,11 +4,16 @@ sphereflake(level)   Eric Haines' recursive flake: a sphere with 9 spheres a thi
                      around it, each with 9 around it, ... (level 4: 7,381 spheres), on a
                      ground billboard.
 many_spheres(n)      n small spheres scattered in front of the camera.
+classic_with_large_textures(folder)
+                     scenes/classic.json (10 spheres, 4 textured billboards) with each
+                     texture made 256 x 256 RGBA, written as a scene file and PNGs in folder.
 """
 
 from __future__ import annotations
 
+import json
 import math
+from pathlib import Path
 
 import numpy as np
 
@@ -112,3 +117,36 @@ def many_spheres(count: int, width: int = 1920, height: int = 1080, seed: int = 
         "height": height,
     }
     return scene_from_dict({"camera": camera, "background": [0.05, 0.05, 0.1], "spheres": spheres})
+
+
+TEXTURE_SIDE = 256
+CLASSIC = Path(__file__).resolve().parent.parent / "scenes" / "classic.json"
+
+
+def classic_with_large_textures(folder: Path, side: int = TEXTURE_SIDE, seed: int = 0) -> Path:
+    """scenes/classic.json with each billboard's texture made ``side`` x ``side`` RGBA: the
+    original scaled up (nearest texel, so the picture keeps its look) with a seeded grain of
+    up to ±8 in each colour channel, so that the PNG holds as much detail as a photograph's
+    and costs as much to decode; alpha as in the original. Writes the scene file and its
+    textures into ``folder`` and returns the scene file's path."""
+    from PIL import Image
+
+    from raykit.io.textures import to_rgba8
+
+    rng = np.random.default_rng(seed)
+    folder.mkdir(parents=True, exist_ok=True)
+    data = json.loads(CLASSIC.read_text())
+    for k, board in enumerate(data["billboards"]):
+        with Image.open(CLASSIC.parent / board["image"]) as image:
+            small = to_rgba8(image)
+        rows = np.arange(side) * small.shape[0] // side
+        cols = np.arange(side) * small.shape[1] // side
+        large = small[rows[:, None], cols[None, :]].astype(np.int16)
+        large[..., :3] += rng.integers(-8, 9, (side, side, 3), dtype=np.int16)
+        texture = folder / f"texture_{k}.png"
+        Image.fromarray(np.clip(large, 0, 255).astype(np.uint8), "RGBA").save(texture)
+        board["image"] = texture.name
+    data.pop("$schema", None)
+    path = folder / "classic_large_textures.json"
+    path.write_text(json.dumps(data, indent=1))
+    return path

@@ -408,3 +408,20 @@ def test_engine_agreement_prints_each_kind_of_scene_and_saves_a_scene_that_loads
     }]  # fmt: skip
     saved = save(data, tmp_path / "out", "a_scene", tmp_path / "work")
     assert load_scene(saved).billboards[-1].texture.rgba.shape[:2] == (1, 1)
+
+
+def test_the_large_textures_bench_scene_is_classic_with_each_texture_256_square_rgba(tmp_path):
+    from raykit.io.scene_json import load_scene
+
+    scenes = _benchmark_module("scenes")
+    scene = load_scene(scenes.classic_with_large_textures(tmp_path))
+    classic = load_scene(REPO / "scenes/classic.json")
+    assert len(scene.spheres) == len(classic.spheres) and len(scene.billboards) == 4
+    for board, original in zip(scene.billboards, classic.billboards, strict=True):
+        assert board.texture.rgba.shape == (256, 256, 4)
+        assert np.array_equal(board.upper_left, original.upper_left)
+    again = load_scene(scenes.classic_with_large_textures(tmp_path / "again"))  # seeded
+    assert all(
+        np.array_equal(a.texture.rgba, b.texture.rgba)
+        for a, b in zip(scene.billboards, again.billboards, strict=True)
+    )

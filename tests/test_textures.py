@@ -5,6 +5,7 @@ import numpy as np
 from PIL import Image
 
 from conftest import SCENES
+from raykit.io.scene_json import scene_from_dict
 from raykit.io.textures import Texture, to_rgba8
 
 
@@ -65,6 +66,25 @@ def test_texture_reads_its_header_at_once_and_decodes_on_first_use(tmp_path):
     assert "rgba" not in vars(texture)  # nothing decoded yet
     assert texture.rgba.shape == (3, 5, 4)
     assert texture.rgba[0, 0].tolist() == [9, 8, 7, 6]
+
+
+def test_billboards_that_name_one_file_share_one_texture(tmp_path):
+    Image.new("RGBA", (4, 4)).save(tmp_path / "a.png")
+    Image.new("RGBA", (4, 4)).save(tmp_path / "b.png")
+    boards = _scene_of_textures(tmp_path, ["a.png", "b.png", "./a.png"]).billboards
+    assert boards[2].texture is boards[0].texture and boards[1].texture is not boards[0].texture
+
+
+def _scene_of_textures(folder, images: list[str]):
+    """A scene with a billboard for each of ``images`` (file names in ``folder``)."""
+    boards = [
+        {"upper_left": [k, 1, 0], "lower_left": [k, 0, 0], "upper_right": [k + 1, 1, 0],
+         "image": image}
+        for k, image in enumerate(images)
+    ]  # fmt: skip
+    camera = {"eye": [0, 0, 5], "lookat": [0, 0, 0], "up": [0, 1, 0], "fov_angle": 40,
+              "width": 8, "height": 8}  # fmt: skip
+    return scene_from_dict({"camera": camera, "billboards": boards}, folder=folder)
 
 
 def test_committed_textures_are_what_the_generator_makes(tmp_path):

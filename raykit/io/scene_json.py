@@ -69,8 +69,9 @@ def scene_from_dict(data: Any, source: str = "<scene>", folder: str | Path = "."
     camera = _read_camera(top["camera"], v2)
     background = top["background"].color() if "background" in top else np.zeros(3)
     spheres = _read_spheres(top["spheres"]) if "spheres" in top else ()
+    textures: dict[Path, Texture] = {}  # one per file, however many billboards name it
     billboards = (
-        tuple(_read_billboard(f, Path(folder)) for f in top["billboards"].items())
+        tuple(_read_billboard(f, Path(folder), textures) for f in top["billboards"].items())
         if "billboards" in top
         else ()
     )
@@ -270,7 +271,7 @@ def _read_sphere(node: Field) -> Sphere:
     )
 
 
-def _read_billboard(node: Field, folder: Path) -> Billboard:
+def _read_billboard(node: Field, folder: Path, textures: dict[Path, Texture]) -> Billboard:
     f = node.object(
         required=("upper_left", "lower_left", "upper_right"),
         optional=("image", "color", "name", "velocity", *MATERIAL_FIELDS),
@@ -291,7 +292,10 @@ def _read_billboard(node: Field, folder: Path) -> Billboard:
             raise f["diffuse"].error(
                 'a billboard with an "image" takes its diffuse colour from the image'
             )
-        texture = Texture(folder / f["image"].string(), f["image"].source, f["image"].path)
+        path = folder / f["image"].string()
+        texture = textures.get(path.resolve())
+        if texture is None:
+            texture = textures[path.resolve()] = Texture(path, f["image"].source, f["image"].path)
     name = f["name"].string() if "name" in f else None
     return Billboard(
         upper_left, lower_left, upper_right, color, texture, name, material=_read_material(f)

@@ -93,4 +93,4 @@ def to_rgba8(image: Image.Image) -> np.ndarray:
     elif image.mode == "F":
         grey = np.asarray(image, dtype=np.float64)
         image = Image.fromarray(np.clip(grey, 0, 255).astype(np.uint8), "L")
-    return np.asarray(image.convert("RGBA"))
+    return np.asarray(image if image.mode == "RGBA" else image.convert("RGBA"))

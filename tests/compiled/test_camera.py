@@ -22,7 +22,8 @@ compiled = pytest.importorskip("raykit.engine.compiled")
 def _viewing_rays(camera, x, y):
     out = np.empty((len(x), 6))
     for i in range(len(x)):
-        out[i] = compiled.rays_through(camera, x[i], y[i])
+        ray = compiled.rays_through(camera, x[i], y[i])
+        out[i] = ray.o0, ray.o1, ray.o2, ray.d0, ray.d1, ray.d2
     return out
 
 

@@ -12,6 +12,7 @@ numba = pytest.importorskip("numba")
 compiled = pytest.importorskip("raykit.engine.compiled")
 
 from raykit.engine.compiled import hits as kernels  # noqa: E402
+from raykit.engine.compiled.rays import Ray  # noqa: E402
 from raykit.render import cast  # noqa: E402
 
 from .harness import crowd, rays_into_crowd  # noqa: E402
@@ -23,12 +24,12 @@ def _offer_all(arrays, objects, origins, directions):
     background = arrays.background
     for i in range(len(origins)):
         o, d = origins[i], directions[i]
-        best, best_t, r, g, b = -1, np.inf, background[0], background[1], background[2]
+        ray = Ray(o0=o[0], o1=o[1], o2=o[2], d0=d[0], d1=d[1], d2=d[2])
+        hit = kernels.NearestHit(index=np.int64(-1), t=np.inf, r=background[0],
+                                 g=background[1], b=background[2])  # fmt: skip
         for obj in range(objects):
-            best, best_t, r, g, b = kernels.keep_nearer(
-                arrays, obj, o[0], o[1], o[2], d[0], d[1], d[2], best, best_t, r, g, b
-            )
-        out[i, 0], out[i, 1], out[i, 2], out[i, 3], out[i, 4] = best, best_t, r, g, b
+            hit = kernels.keep_nearer(arrays, obj, ray, hit)
+        out[i, 0], out[i, 1], out[i, 2], out[i, 3], out[i, 4] = hit
     return out
 
 

@@ -74,14 +74,16 @@ def test_a_ray_reading_its_list_in_chunks_offers_what_a_scan_entry_by_entry_offe
     rng = np.random.default_rng(23)
     offered, t_of = [], {}
 
-    def recording_offer(arrays, obj, o0, o1, o2, d0, d1, d2, best, best_t, r, g, b):
+    def recording_offer(arrays, obj, ray, hit):
         offered.append(obj)
-        if t_of[obj] < best_t:
-            return obj, t_of[obj], r, g, b
-        return best, best_t, r, g, b
+        if t_of[obj] < hit.t:
+            return hit._replace(index=obj, t=t_of[obj])
+        return hit
 
     monkeypatch.setattr(compiled.tiles, "keep_nearer", recording_offer)  # primary_ray's own module
-    monkeypatch.setattr(compiled.tiles, "rays_through", lambda camera, x, y: (0.0,) * 6)
+    monkeypatch.setattr(
+        compiled.tiles, "rays_through", lambda camera, x, y: compiled.Ray(*(0.0,) * 6)
+    )
     arrays = compiled.Arrays._make([np.zeros(3)] * len(compiled.Arrays._fields))
     chunk = compiled.HOLDING_CHUNK
     for length in [0, 1, chunk - 1, chunk, chunk + 1, 2 * chunk, 2 * chunk + 1, 5 * chunk + 3]:

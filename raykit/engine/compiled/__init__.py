@@ -80,8 +80,9 @@ from raykit.engine.compiled.driver import (
     trace_flat,
     trace_lit,
 )
-from raykit.engine.compiled.hits import keep_nearer
+from raykit.engine.compiled.hits import NearestHit, keep_nearer
 from raykit.engine.compiled.mirrors import reflect
+from raykit.engine.compiled.rays import Ray
 from raykit.engine.compiled.scene import (
     Arrays,
     Shading,
@@ -121,11 +122,11 @@ from raykit.surfaces import OFFSET_FACTOR
 __all__ = [
     "CHUNK", "CROWDED_SIDE", "DIRECT_HITS", "DIRECT_LISTS", "HOLDING_CHUNK", "KERNEL",
     "OFFSET_FACTOR", "PACKET_SIDE", "SHADOW_CANDIDATES", "WIDE_SIDE", "Arrays", "Lanes",
-    "Prepared", "RayRoom", "Shading", "ShadingRoom", "Tiles", "Tree", "billboard_color_at",
-    "blinn_phong", "bounce_on", "camera_tuple", "cast_rays", "caster", "hit_billboard",
-    "hit_sphere", "keep_nearer", "lambert", "light_lanes", "mirror_rays", "nearest_hit",
-    "new_lanes", "new_stack", "prepare", "primary_ray", "primary_rays", "rays_through", "reflect",
-    "render", "scene_arrays", "scene_shading", "scene_tree", "screen_tiles", "shade",
-    "shadow_lists", "start", "surface_color", "surface_lanes", "surface_points", "take",
-    "tile_side", "trace_flat", "trace_lit",
+    "NearestHit", "Prepared", "Ray", "RayRoom", "Shading", "ShadingRoom", "Tiles", "Tree",
+    "billboard_color_at", "blinn_phong", "bounce_on", "camera_tuple", "cast_rays", "caster",
+    "hit_billboard", "hit_sphere", "keep_nearer", "lambert", "light_lanes", "mirror_rays",
+    "nearest_hit", "new_lanes", "new_stack", "prepare", "primary_ray", "primary_rays",
+    "rays_through", "reflect", "render", "scene_arrays", "scene_shading", "scene_tree",
+    "screen_tiles", "shade", "shadow_lists", "start", "surface_color", "surface_lanes",
+    "surface_points", "take", "tile_side", "trace_flat", "trace_lit",
 ]  # fmt: skip

@@ -4,13 +4,13 @@
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
 from raykit.engine.compiled.compiling import INLINED, MAKES_ARRAYS
-from raykit.engine.compiled.hits import keep_nearer
+from raykit.engine.compiled.hits import NearestHit, keep_nearer
+from raykit.engine.compiled.rays import Ray
 
 STACK = 128  # nodes a ray may have still to visit: a median-split tree of 2^63 objects is 63 deep
 
@@ -36,20 +36,10 @@ def enters(o0, o1, o2, i0, i1, i2, lower, upper, node, t_max):
     return far >= near and far >= 0 and near <= t_max, near
 
 
-class NearestHit(NamedTuple):
-    """:func:`nearest_hit`'s answer for one ray: the object ``index`` (-1: none), ``t`` (inf:
-    none) and colour (``r``, ``g``, ``b``: the background where nothing is hit)."""
-
-    index: int
-    t: float
-    r: float
-    g: float
-    b: float
-
-
 @njit(**INLINED)
 def nearest_hit(arrays, tree, stack, o0, o1, o2, d0, d1, d2, t_max, any_blocker=False):
-    """Repeats :func:`raykit.render.cast` for one ray, through the BVH: a :class:`NearestHit`,
+    """Repeats :func:`raykit.render.cast` for one ray, through the BVH: a
+    :class:`~raykit.engine.compiled.hits.NearestHit`,
     the nearest opaque hit with t > 0 (the lower index on a tie), or (-1, inf, background).
     Hits at t > t_max may be left out (shadow rays). In a scene of :data:`DIRECT_HITS` objects
     or fewer each object is tested, as if all were one leaf, and no box is. ``any_blocker``:
@@ -63,11 +53,12 @@ def nearest_hit(arrays, tree, stack, o0, o1, o2, d0, d1, d2, t_max, any_blocker=
     test fewer per node."""
     background = arrays.background
     # int64, not the literal -1: a kernel given the hit (surface_points) is typed for it once
-    best, best_t = np.int64(-1), np.inf
-    r, g, b = background[0], background[1], background[2]
+    hit = NearestHit(index=np.int64(-1), t=np.inf, r=background[0], g=background[1],
+                     b=background[2])  # fmt: skip
     objects = len(tree.order)  # the tree holds each of the scene's objects once
     if objects == 0:
-        return NearestHit(best, best_t, r, g, b)
+        return hit
+    ray = Ray(o0=o0, o1=o1, o2=o2, d0=d0, d1=d1, d2=d2)
     i0, i1, i2 = 1.0 / d0, 1.0 / d1, 1.0 / d2  # ±inf along an axis the ray does not move
     lower, upper = tree.lower, tree.upper
     nodes, nears = stack
@@ -76,13 +67,13 @@ def nearest_hit(arrays, tree, stack, o0, o1, o2, d0, d1, d2, t_max, any_blocker=
     else:
         entered, near = enters(o0, o1, o2, i0, i1, i2, lower, upper, 0, t_max)
         if not entered:
-            return NearestHit(best, best_t, r, g, b)
+            return hit
         nodes[0], nears[0] = 0, near
     top = 1
     while top > 0:  # each node on the stack was entered, at nears[top]
         top -= 1
         node = nodes[top]
-        reach = min(best_t, t_max)
+        reach = min(hit.t, t_max)
         if nears[top] > reach:
             continue  # a box that starts beyond the nearest hit holds no nearer one
         if node < 0:
@@ -112,12 +103,10 @@ def nearest_hit(arrays, tree, stack, o0, o1, o2, d0, d1, d2, t_max, any_blocker=
         # one call site for keep_nearer: a second loop for DIRECT_HITS rendered mirror_balls a
         # little faster, but cost more to compile than it saved
         for k in range(first, first + count):
-            best, best_t, r, g, b = keep_nearer(
-                arrays, tree.order[k], o0, o1, o2, d0, d1, d2, best, best_t, r, g, b
-            )
-            if any_blocker and best_t < t_max:
-                return NearestHit(best, best_t, r, g, b)
-    return NearestHit(best, best_t, r, g, b)
+            hit = keep_nearer(arrays, tree.order[k], ray, hit)
+            if any_blocker and hit.t < t_max:
+                return hit
+    return hit
 
 
 @njit(**MAKES_ARRAYS)

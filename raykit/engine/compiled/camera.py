@@ -8,14 +8,16 @@ import math
 from numba import njit
 
 from raykit.engine.compiled.compiling import ONE_RAY
+from raykit.engine.compiled.rays import Ray
 from raykit.scene import Scene
 
 
 @njit(**ONE_RAY)
 def rays_through(camera, x, y):
-    """Repeats :func:`raykit.camera.rays_through` for one image point (x, y): ``(o0, o1, o2,
-    d0, d1, d2)``. ``camera`` is the eye e, u, v, w, then -Wp/2, Wp/width, Hp/2, Hp/height, d
-    and whether it is orthographic (1.0) or not (0.0), as 18 numbers: :func:`camera_tuple`."""
+    """Repeats :func:`raykit.camera.rays_through` for one image point (x, y): its
+    :class:`~raykit.engine.compiled.rays.Ray`. ``camera`` is the eye e, u, v, w, then -Wp/2,
+    Wp/width, Hp/2, Hp/height, d and whether it is orthographic (1.0) or not (0.0), as 18
+    numbers: :func:`camera_tuple`."""
     e0, e1, e2, u0, u1, u2, v0, v1, v2, w0, w1, w2, left, across, top, down, d, ortho = camera
     s = left + x * across
     t = top - y * down
@@ -23,12 +25,12 @@ def rays_through(camera, x, y):
     p1 = s * u1 + t * v1
     p2 = s * u2 + t * v2
     if ortho != 0:  # orthographic: origin e + s·u + t·v, direction -w
-        return e0 + p0, e1 + p1, e2 + p2, -w0, -w1, -w2
+        return Ray(o0=e0 + p0, o1=e1 + p1, o2=e2 + p2, d0=-w0, d1=-w1, d2=-w2)
     x0 = p0 - d * w0
     x1 = p1 - d * w1
     x2 = p2 - d * w2
     length = math.sqrt(x0 * x0 + x1 * x1 + x2 * x2)
-    return e0, e1, e2, x0 / length, x1 / length, x2 / length
+    return Ray(o0=e0, o1=e1, o2=e2, d0=x0 / length, d1=x1 / length, d2=x2 / length)
 
 
 def camera_tuple(scene: Scene) -> tuple:

@@ -320,7 +320,7 @@ def flat_job(arrays, tiles, camera, film, job, room):
                 r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
                 for sample in range(samples):
                     x, y = px + offsets[sample, 0], py + offsets[sample, 1]
-                    hit = primary_ray(arrays, tiles, camera, x, y, tile, room.holding)
+                    hit = primary_ray(arrays, tiles, camera, x, y, tile, room.holding).nearest
                     if sample == centre:
                         index[p], t[p] = hit.index, hit.t
                     r_sum += hit.r
@@ -331,7 +331,7 @@ def flat_job(arrays, tiles, camera, film, job, room):
                 rgb[p, 2] = b_sum / samples
                 if centre < 0:
                     hit = primary_ray(arrays, tiles, camera, px + 0.5, py + 0.5, tile, room.holding)
-                    index[p], t[p] = hit.index, hit.t
+                    index[p], t[p] = hit.nearest.index, hit.nearest.t
         return
     n = job_points(film, job, room.xy)
     primary_rays(arrays, tiles, camera, tile, n, room.xy, room.rays, room.best, room.best_t,
@@ -388,11 +388,12 @@ def lit_job(arrays, tiles, tree, shading, camera, bounces, film, job, room, shad
                      room.alive, room.ts)  # fmt: skip
     else:
         for i in range(n):
-            hit = primary_ray(arrays, tiles, camera, xy[0, i], xy[1, i], tile, holding)
-            made[i], best[i], best_t[i] = hit.made, hit.index, hit.t
+            viewing = primary_ray(arrays, tiles, camera, xy[0, i], xy[1, i], tile, holding)
+            hit, ray = viewing.nearest, viewing.ray
+            made[i], best[i], best_t[i] = viewing.made, hit.index, hit.t
             colors[0, i], colors[1, i], colors[2, i] = hit.r, hit.g, hit.b
-            rays[0, i], rays[1, i], rays[2, i] = hit.o0, hit.o1, hit.o2
-            rays[3, i], rays[4, i], rays[5, i] = hit.d0, hit.d1, hit.d2
+            rays[0, i], rays[1, i], rays[2, i] = ray.o0, ray.o1, ray.o2
+            rays[3, i], rays[4, i], rays[5, i] = ray.d0, ray.d1, ray.d2
     shaded = job.rows * job.across * len(film.offsets)
     largest = surface_lanes(arrays, shading, rays, best, best_t, colors, shaded, lanes, box)
     if shading.shadows:

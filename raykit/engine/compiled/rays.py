@@ -1,13 +1,26 @@
-"""Repeats :mod:`raykit.rays` for one ray: the nearer positive root."""
+"""Repeats :mod:`raykit.rays` for one ray: the ray itself, and the nearer positive root."""
 
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
 from raykit.engine.compiled.compiling import ONE_RAY
+
+
+class Ray(NamedTuple):
+    """One ray p(t) = o + t·d (:mod:`raykit.rays`): its origin (``o0``, ``o1``, ``o2``) and
+    direction (``d0``, ``d1``, ``d2``), as plain floats that the kernels keep in registers."""
+
+    o0: float
+    o1: float
+    o2: float
+    d0: float
+    d1: float
+    d2: float
 
 
 @njit(**ONE_RAY)

@@ -11,7 +11,8 @@ from numba import njit
 
 from raykit.engine.compiled.camera import rays_through
 from raykit.engine.compiled.compiling import INLINED, KERNEL, MAKES_ARRAYS
-from raykit.engine.compiled.hits import keep_nearer
+from raykit.engine.compiled.hits import NearestHit, keep_nearer
+from raykit.engine.compiled.rays import Ray
 from raykit.engine.compiled.scene import Arrays
 from raykit.engine.compiled.spheres import hit_sphere
 from raykit.engine.screen_bounds import scene_bounds
@@ -78,23 +79,14 @@ HOLDING_CHUNK = 8  # entries of a tile's list that primary_ray checks at a time
 
 
 class ViewingHit(NamedTuple):
-    """:func:`primary_ray`'s answer for one viewing ray: whether the ray was ``made``, the
-    nearest hit's object ``index`` (-1: none), ``t`` and colour (``r``, ``g``, ``b``), and the
-    ray, origin (``o0``, ``o1``, ``o2``) and direction (``d0``, ``d1``, ``d2``), all 0 if not
-    made."""
+    """:func:`primary_ray`'s answer for one viewing ray: whether the ray was ``made``, its
+    ``nearest`` hit (a :class:`~raykit.engine.compiled.hits.NearestHit`: no object, at inf,
+    the background's colour, if none) and the ``ray`` (a
+    :class:`~raykit.engine.compiled.rays.Ray`, all 0 if not made)."""
 
     made: bool
-    index: int
-    t: float
-    r: float
-    g: float
-    b: float
-    o0: float
-    o1: float
-    o2: float
-    d0: float
-    d1: float
-    d2: float
+    nearest: NearestHit
+    ray: Ray
 
 
 @njit(**INLINED)
@@ -118,10 +110,10 @@ def primary_ray(arrays, tiles, camera, x, y, tile, holding):
     (tests/compiled/test_tiles.py compares the two scans)."""
     size, entries, objects = tiles.size, tiles.entries, tiles.objects
     background = arrays.background
-    best, best_t = -1, np.inf
-    r, g, b = background[0], background[1], background[2]
+    hit = NearestHit(index=np.int64(-1), t=np.inf, r=background[0], g=background[1],
+                     b=background[2])  # fmt: skip
     made = False
-    o0, o1, o2, d0, d1, d2 = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    ray = Ray(o0=0.0, o1=0.0, o2=0.0, d0=0.0, d1=0.0, d2=0.0)
     if tile < 0:
         tile = (int(y) // size) * tiles.tiles_x + int(x) // size
     first, end = tiles.start[tile], tiles.start[tile + 1]
@@ -138,18 +130,16 @@ def primary_ray(arrays, tiles, camera, x, y, tile, holding):
             )
         for i in range(held):
             k = holding[i]
-            if entries[k, 4] > best_t:
+            if entries[k, 4] > hit.t:
                 break  # every object from here on is farther than the hit
             if not made:
-                o0, o1, o2, d0, d1, d2 = rays_through(camera, x, y)
+                ray = rays_through(camera, x, y)
                 made = True
-            best, best_t, r, g, b = keep_nearer(
-                arrays, objects[k], o0, o1, o2, d0, d1, d2, best, best_t, r, g, b
-            )
-        if entries[stop - 1, 4] > best_t:
+            hit = keep_nearer(arrays, objects[k], ray, hit)
+        if entries[stop - 1, 4] > hit.t:
             break
         first = stop
-    return ViewingHit(made, best, best_t, r, g, b, o0, o1, o2, d0, d1, d2)
+    return ViewingHit(made=made, nearest=hit, ray=ray)
 
 
 @njit(**KERNEL)
@@ -169,9 +159,9 @@ def primary_rays(arrays, tiles, camera, tile, n, xy, rays, best, best_t, colors,
     ``made``, as in :func:`primary_ray`, and its ray is not used)."""
     background = arrays.background
     for i in range(n):
-        rays[0, i], rays[1, i], rays[2, i], rays[3, i], rays[4, i], rays[5, i] = rays_through(
-            camera, xy[0, i], xy[1, i]
-        )
+        ray = rays_through(camera, xy[0, i], xy[1, i])
+        rays[0, i], rays[1, i], rays[2, i] = ray.o0, ray.o1, ray.o2
+        rays[3, i], rays[4, i], rays[5, i] = ray.d0, ray.d1, ray.d2
     for i in range(n):
         best[i], best_t[i] = -1, np.inf
         colors[0, i], colors[1, i], colors[2, i] = background[0], background[1], background[2]
@@ -213,10 +203,13 @@ def primary_rays(arrays, tiles, camera, tile, n, xy, rays, best, best_t, colors,
                 x, y = xy[0, i], xy[1, i]
                 if still and x0 <= x and x <= x1 and y0 <= y and y <= y1:
                     made[i] = True
-                    best[i], best_t[i], colors[0, i], colors[1, i], colors[2, i] = keep_nearer(
-                        arrays, obj, rays[0, i], rays[1, i], rays[2, i], rays[3, i], rays[4, i],
-                        rays[5, i], best[i], best_t[i], colors[0, i], colors[1, i], colors[2, i],
-                    )  # fmt: skip
+                    ray = Ray(o0=rays[0, i], o1=rays[1, i], o2=rays[2, i], d0=rays[3, i],
+                              d1=rays[4, i], d2=rays[5, i])  # fmt: skip
+                    so_far = NearestHit(index=best[i], t=best_t[i], r=colors[0, i],
+                                        g=colors[1, i], b=colors[2, i])  # fmt: skip
+                    hit = keep_nearer(arrays, obj, ray, so_far)
+                    best[i], best_t[i] = hit.index, hit.t
+                    colors[0, i], colors[1, i], colors[2, i] = hit.r, hit.g, hit.b
         if alive_lanes == 0:
             break
 
