@@ -311,8 +311,8 @@ def test_a_borderline_submission_scores_the_same_when_graded_again(borderline, t
     scores = [(t["number"], t["score"]) for t in first["tests"]]
     assert scores == [(t["number"], t["score"]) for t in again["tests"]]
     assert first["score"] == again["score"]
-    assert first["extra_data"]["extra_data"]["seed_fingerprint"] == fingerprint(seed)
-    assert again["extra_data"]["extra_data"]["seed_fingerprint"] == fingerprint(seed)
+    assert first["extra_data"]["seed_fingerprint"] == fingerprint(seed)
+    assert again["extra_data"]["seed_fingerprint"] == fingerprint(seed)
     assert str(seed) not in (tmp_path / "graded/results.json").read_text()
     # --seed overrides the file (and makes none), and repeats its own draw
     elsewhere = tmp_path / "elsewhere"
