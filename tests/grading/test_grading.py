@@ -162,7 +162,7 @@ def test_grader_scores_the_bare_release_zero_and_says_what_to_write(release, chi
     assert results["score"] == 0
     assert all(t["output"].startswith("not written yet") for t in results["tests"])
     visible = [t["output"] for t in results["tests"] if t["visibility"] == "visible"]
-    assert any('/submission/raykit/' in output for output in visible)  # where it stopped
+    assert any("/submission/raykit/" in output for output in visible)  # where it stopped
     assert not any("child.py" in output or "tasks.py" in output for output in visible)
 
 
