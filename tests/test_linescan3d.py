@@ -11,6 +11,7 @@ from raykit.cli import main
 from raykit.io.scene_json import load_scene
 from raykit.linescan.camera import pixel_x
 from raykit.linescan.sweep3d import sweep_3d
+from raykit.rays import length as vector_length
 from raykit.rays import normalize
 
 CAR = SCENES / "linescan3d" / "passing_car.json"
@@ -32,8 +33,8 @@ def test_car_is_as_many_scans_long_as_its_length_over_its_speed(car_sweep):
     # the hand count: the body is 4.2 long and moves 0.01 a scan, so it is in the plane of view
     # for 4.2 / 0.01 = 420 scans (its ends cross the plane between scans, at 30.5 and 450.5)
     body = _names(scene).index("body")
-    length = np.linalg.norm(scene.objects[body].upper_right - scene.objects[body].upper_left)
-    speed = np.linalg.norm(scene.velocities[body])
+    length = float(vector_length(scene.objects[body].upper_right - scene.objects[body].upper_left))
+    speed = float(vector_length(scene.velocities[body]))
     assert round(length / speed) == 420
     moving = np.flatnonzero(np.any(scene.velocities != 0, axis=1))
     mid_body = 142  # the row that sees y = 0.675, halfway up the body: 2.1 - (i + 0.5)·0.01
