@@ -457,6 +457,9 @@ def test_a_process_left_holding_the_tests_output_costs_the_test_nothing(
     assert run.returncode == 0, run.stderr[-2000:]
     assert scores(results) == {"2.1": 2, "3.6": 4}, results
     assert processes_naming(marker) == []
+    honest = make_submission(tmp_path / "honest" / "submission")  # the next student
+    results, run = grade_as_deployed(autograder, honest, ["2.1", "3.6"], tmp_path / "honest")
+    assert run.returncode == 0 and scores(results) == {"2.1": 2, "3.6": 4}, results
 
 
 @pytest.mark.parametrize("name", sorted(SABOTAGE))
