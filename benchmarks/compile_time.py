@@ -269,7 +269,7 @@ def before_and_after(revision: str, repeats: int, quick: bool) -> None:
     import numba
     from engines import benchmark_scenes
 
-    names = list(benchmark_scenes(quick))
+    names = list(benchmark_scenes(quick, format_v1_only=True))  # what both revisions read
     children = {
         engine: render_child(engine, names, [None], None, quick) for engine in (revision, "now")
     }
@@ -325,7 +325,7 @@ import json, re, time
 import numba
 from engines import benchmark_scenes
 from raykit.engine import compiled as engine
-scenes = benchmark_scenes({quick!r})
+scenes = benchmark_scenes({quick!r}, format_v1_only=True)
 prepared = {{}}
 for name in {names!r}:
     base = engine.prepare(scenes[name])

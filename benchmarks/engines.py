@@ -51,8 +51,14 @@ from scenes import many_spheres, sphereflake  # noqa: E402
 SCENES = HERE.parent / "scenes"
 
 
-def benchmark_scenes(quick: bool) -> dict:
-    scenes = {p.stem: load_scene(p) for p in sorted(SCENES.glob("*.json"))}
+def benchmark_scenes(quick: bool, *, format_v1_only: bool = False) -> dict:
+    """The example scenes (with ``format_v1_only``, those of scene format v1, which every
+    revision of raykit reads: compile_time.py's ``--before`` renders them with an older one),
+    and, unless ``quick``, the generated benchmark scenes."""
+    files = sorted(SCENES.glob("*.json"))
+    if format_v1_only:
+        files = [p for p in files if json.loads(p.read_text()).get("version", 1) == 1]
+    scenes = {p.stem: load_scene(p) for p in files}
     # stage 5's distributed scenes: the compiled engine does not render them yet
     scenes = {name: scene for name, scene in scenes.items() if not scene.distributed}
     if not quick:
