@@ -362,18 +362,24 @@ def render_child(engine: str, names: list[str], layouts: list, cache: str | None
     imports, environment = engine_environment(engine, cache)
     code = _RENDER_CHILD.format(imports=imports, quick=quick, names=names, layouts=layouts,
                                 untimed=UNTIMED)  # fmt: skip
+    errors = tempfile.TemporaryFile()  # a file, not a pipe: nobody reads it while it renders
     child = subprocess.Popen(
         [sys.executable, "-c", code],
         cwd=REPO,
         env={**os.environ, **env, **environment},
         stdin=subprocess.PIPE,
         stdout=subprocess.PIPE,
-        stderr=subprocess.DEVNULL,
+        stderr=errors,
         text=True,
     )
     line = child.stdout.readline()
     if not line:
-        raise SystemExit(f"the child rendering with the engine {engine} failed")
+        child.wait()
+        errors.seek(0)
+        said = errors.read().decode(errors="replace").strip().splitlines()
+        raise SystemExit(
+            f"the child rendering with the engine {engine} failed: {said[-1] if said else ''}"
+        )
     return (child, *json.loads(line))
 
 
