@@ -44,6 +44,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from raykit.sampling import Sampling, jittered_point, sobol_set
+from raykit.scene import Scene
 
 GAMMA = np.uint64(0x9E3779B97F4A7C15)  # splitmix64's increment: 2^64 / the golden ratio
 MIX1 = np.uint64(0xBF58476D1CE4E5B9)
@@ -123,6 +124,12 @@ class Dimensions:
 
     pixel = 0
     lens = 2
+
+    @classmethod
+    def of(cls, scene: Scene) -> Dimensions:
+        """The dimensions a distributed render of ``scene`` takes for each sample."""
+        glossy = scene.materials.any_glossy and scene.max_depth > 0
+        return cls(scene.area_lights, scene.max_depth, glossy, scene.blurred)
 
     def light(self, depth: int, a: int) -> int:
         return 4 + 2 * (depth * self.area_lights + a)

@@ -157,8 +157,7 @@ class Plan:
                     f"{scene.source}: a distributed scene takes its samples from "
                     f"render.samples_per_pixel, not from the n x n grid (samples {samples})"
                 )
-            glossy = scene.materials.any_glossy and scene.max_depth > 0
-            self.dimensions = Dimensions(scene.area_lights, scene.max_depth, glossy, scene.blurred)
+            self.dimensions = Dimensions.of(scene)
             self.pixel_samples = PixelSamples(scene.sampling, self.dimensions.count)
             self.sample_count = scene.sampling.samples_per_pixel
             # see the module page
