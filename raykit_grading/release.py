@@ -24,7 +24,7 @@ import numpy as np
 from raykit.io.images import quantize, save_image
 from raykit_grading import tasks
 from raykit_grading.cases import located
-from raykit_grading.catalog import REPO, STAGE1, STAGE2, STAGE3, STAGE4, TESTS, VISIBLE
+from raykit_grading.catalog import REPO, STAGE1, STAGE2, STAGE3, STAGE4, STAGE5, TESTS, VISIBLE
 from raykit_grading.markers import strip_solutions
 
 VISIBLE_TESTS = '''"""The visible grading tests: your functions against the reference results.
@@ -133,7 +133,14 @@ LECTURE_STAGES = {
     STAGE1: ["linescan/camera.py", "linescan/objects.py"],
     STAGE2: ["planes.py", "spheres.py: sphere_roots", "spheres.py: hit_sphere", "hits.py"],
     STAGE3: ["camera.py", "billboards.py", "render.py"],
-    STAGE4: ["spheres.py: sphere_normals", "lights.py", "shading.py", "shadows.py", "mirrors.py"],
+    STAGE4: [
+        "spheres.py: sphere_normals",
+        "lights.py",
+        "shading.py",
+        "shadows.py",
+        "mirrors.py: reflect",
+    ],
+    STAGE5: ["sampling.py", "mirrors.py: glossy_reflect", "spheres.py: center_at"],
 }
 LECTURE_ORDER = [key for keys in LECTURE_STAGES.values() for key in keys]
 

@@ -1,3 +1,5 @@
+import json
+
 import matplotlib
 
 matplotlib.use("Agg")
@@ -5,17 +7,22 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
+from matplotlib.collections import PathCollection  # noqa: E402
 
 from conftest import SCENES  # noqa: E402
 from raykit.camera import image_plane_points, pixel_points, rays_through  # noqa: E402
 from raykit.cli import main  # noqa: E402
-from raykit.diagrams import math_figures  # noqa: E402
+from raykit.diagrams import distributed, math_figures  # noqa: E402
 from raykit.diagrams.camera import camera_diagram, camera_diagrams, coarse  # noqa: E402
 from raykit.diagrams.rays import chosen_pixels, ray_diagram  # noqa: E402
 from raykit.diagrams.views import view_for  # noqa: E402
-from raykit.io.scene_json import load_scene  # noqa: E402
+from raykit.engine.noise import Dimensions, PixelSamples  # noqa: E402
+from raykit.io.scene_json import (
+    load_scene,  # noqa: E402
+    scene_from_dict,  # noqa: E402
+)
 from raykit.rays import point_at  # noqa: E402
-from raykit.render import cast_pixels, render  # noqa: E402
+from raykit.render import cast, cast_pixels, render  # noqa: E402
 from raykit.spheres import sphere_roots  # noqa: E402
 
 
@@ -326,3 +333,47 @@ def test_math_figure_labels_touch_no_line_marker_circle_or_other_label(name):
                 assert _apart(box, other_box), (
                     f"{name}: {text.get_text()!r} overlaps {other.get_text()!r}"
                 )
+
+
+# stage 5: one pixel's sampled rays (raykit.diagrams.distributed)
+
+
+def _v2(name: str, **render_settings):
+    data = json.loads((SCENES / name).read_text())
+    data["camera"].update(width=40, height=30)
+    data["render"].update(render_settings)
+    return scene_from_dict(data, folder=SCENES)
+
+
+def test_a_pixels_sample_diagram_draws_the_renderers_own_numbers_for_that_pixel():
+    scene = _v2("soft_shadows.json", samples_per_pixel=9, seed=4)
+    figure = distributed.pixel_samples_diagram(scene, 12, 20)
+    numbers = PixelSamples(scene.sampling, Dimensions.of(scene).count)
+    expected = np.vstack([numbers.of(np.array([12 * 40 + 20]), k)[:, 0:2] for k in range(9)])
+    drawn = figure.axes[0].collections[0].get_offsets()
+    assert np.array_equal(np.asarray(drawn), expected)
+
+
+def test_the_shadow_ray_diagram_draws_one_shadow_ray_per_sample_to_the_light():
+    scene = _v2("soft_shadows.json", samples_per_pixel=16)
+    figure = distributed.shadow_rays_diagram(scene, 24, 12)
+    assert len(_segments(figure, "rays-centre")) == 1
+    reaching, blocked = (
+        _segments(figure, f"rays-shadow-{kind}") for kind in ("reaching", "blocked")
+    )
+    assert sum(0 if s is None else len(s) for s in (reaching, blocked)) == 16
+    light = scene.lights[0]  # the reaching rays end on the light's plane, y = 4.5
+    assert reaching is not None and np.allclose(reaching[:, 1, 1], light.corner[1])
+
+
+def test_the_moving_diagram_marks_each_hit_of_each_sample_at_its_time():
+    scene = _v2("motion_blur.json", samples_per_pixel=16)
+    figure = distributed.moving_rays_diagram(scene, [(17, 10), (17, 14)])
+    marks = [c for c in figure.axes[0].collections if isinstance(c, PathCollection)]
+    hits = sum(len(m.get_offsets()) for m in marks)
+    expected = 0
+    for row, col in [(17, 10), (17, 14)]:
+        origins, directions, _, times = distributed.sample_rays(scene, row, col)
+        assert len(np.unique(times)) == 16  # each ray its own time
+        expected += int(np.count_nonzero(cast(scene, origins, directions, times=times).index >= 0))
+    assert hits == expected > 0

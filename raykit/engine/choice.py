@@ -258,7 +258,8 @@ def refuse_distributed(scene: Scene) -> None:
     if scene.distributed:
         raise ValueError(
             f"{scene.source}: the compiled engine does not render distributed ray tracing "
-            "yet (area lights, a lens, render.samples_per_pixel > 1): use --engine numpy"
+            "yet (area lights, a lens, a glossy mirror, spheres moving in render.shutter, "
+            "render.samples_per_pixel > 1): use --engine numpy"
         )
 
 

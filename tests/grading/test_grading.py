@@ -313,9 +313,10 @@ def test_release_readme_lists_the_functions_in_the_lectures_order(release):
         if line.startswith("- `raykit/")
     ]
     names = [line.split(": ")[1].rstrip("`") for line in listed]
-    assert names[0] == "pixel_x" and names[-1] == "reflect"
+    assert names[0] == "pixel_x" and names[-1] == "center_at"
     assert names.index("hit_plane") < names.index("camera_frame") < names.index("cast")
-    assert names.index("cast") < names.index("lambert")
+    assert names.index("cast") < names.index("lambert") < names.index("reflect")
+    assert names.index("reflect") < names.index("shutter_times") < names.index("glossy_reflect")
 
 
 @pytest.mark.parametrize(
