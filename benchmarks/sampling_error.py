@@ -326,7 +326,7 @@ def levels(curves: list[Curve], count: int = 4) -> list[float]:
 
 def print_curves(effect: Effect, curves: list[Curve], engine: str, repeats: int) -> None:
     camera = effect.scene.camera
-    print(f"### {effect.name}\n")
+    print(f"## {effect.name}\n")
     print(
         f"{effect.source}, {camera.width}x{camera.height}; raykit's engine: {engine}; RMS "
         f"error over {repeats} seeds against each renderer's converged reference; render time "
@@ -344,12 +344,15 @@ def print_curves(effect: Effect, curves: list[Curve], engine: str, repeats: int)
 
 def print_slopes(slopes: list[tuple[str, Curve]]) -> None:
     print(
-        f"### Slopes\n\nThe slope of log RMS error against log samples per pixel, a least-squares"
+        f"## Slopes\n\nThe slope of log RMS error against log samples per pixel, a least-squares"
         f" line through the counts from {FIT_FROM} up, beside the theory's for a pixel's 2D"
         " integral (independent samples -1/2; a stratified set -3/4 where the integrand has an"
         " edge, -1 where it is smooth, Mitchell 1996; a scrambled Sobol' net -3/4 at edges,"
-        " Pilleboue et al. 2015, up to about -3/2 where smooth, Owen 1997). Mitsuba's"
-        " independent and stratified samplers are held to the random and jittered lines.\n"
+        " Pilleboue et al. 2015, up to about -3/2 where smooth, Owen 1997). Soft shadows and"
+        " depth of field integrate over four dimensions, the pixel and the light or the lens:"
+        " raykit's jittered sampler stratifies each pair on its own, its cells shuffled against"
+        " the pixel's (raykit.engine.noise). Mitsuba's independent and stratified samplers are"
+        " held to the random and jittered lines.\n"
     )
     theory = {**THEORY, "independent": THEORY["random"], "stratified": THEORY["jittered"]}
     print("| effect | renderer | sampler | measured slope | theory |")
@@ -366,7 +369,7 @@ def print_times_to_error(name: str, curves: list[Curve]) -> list[bool]:
     """The time each curve takes to each common error level, and whether raykit's fastest
     sampler takes no longer than Mitsuba's fastest there; those verdicts."""
     steps = levels(curves)
-    print(f"#### {name}: time to reach the same RMS error\n")
+    print(f"### {name}: time to reach the same RMS error\n")
     if not steps:
         print("The curves' errors do not overlap: no common level.\n")
         return []
@@ -423,7 +426,7 @@ def soft_shadow_agreement(effect: Effect, converged: np.ndarray, child, n: int, 
 
 def print_agreement(rows: list[tuple[str, str, tuple | None]]) -> None:
     print(
-        "### The converged pictures\n\nraykit's reference against Mitsuba's rendering of the"
+        "## The converged pictures\n\nraykit's reference against Mitsuba's rendering of the"
         " same model (see the script's docstring): the mean absolute difference of linear"
         f" colours over the pixels compared, which must be within {TOLERANCE}, and the share"
         " of those pixels whose every channel is within 0.01.\n"
@@ -472,7 +475,8 @@ def plot(path: Path, panels: list[tuple[str, list[Curve]]]) -> None:
         by_time.set_xlabel("render time (s)")
         by_spp.set_ylabel(f"{name}\nRMS error")
         by_spp.set_xticks(first.spp)
-        by_time.xaxis.set_major_locator(LogLocator(subs=(1, 3)))
+        low, high = by_time.get_xlim()  # 1 and 3 per decade, or 1 where that crowds them
+        by_time.xaxis.set_major_locator(LogLocator(subs=(1, 3) if high < 300 * low else (1,)))
         for ax in (by_spp, by_time):
             ax.yaxis.set_major_locator(LogLocator(subs=(1, 2, 5)))
             for axis in (ax.xaxis, ax.yaxis):

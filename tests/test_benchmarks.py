@@ -446,7 +446,7 @@ def test_sampling_error_quick_prints_each_effect_every_sampler_and_their_slopes(
     effects = {"antialiasing": [], "soft shadows": mitsuba_rows, "depth of field": mitsuba_rows}
     raykit_rows = [f"| raykit | {sampler}" for sampler in ("random", "jittered", "sobol")]
     for effect, others in effects.items():
-        table = run.stdout.split(f"### {effect}\n")[1].split("\n\n")[1].splitlines()
+        table = run.stdout.split(f"## {effect}\n")[1].split("\n\n")[1].splitlines()
         assert table[0] == "| renderer | sampler | 1 spp | 4 spp | 16 spp |"
         assert [" | ".join(row.split(" | ")[:2]) for row in table[2:]] == raykit_rows + others
         assert all(row.count(", ") == 3 for row in table[2:])  # an error and a time per count
@@ -455,7 +455,7 @@ def test_sampling_error_quick_prints_each_effect_every_sampler_and_their_slopes(
     assert len(rows) == 9 + 2 * len(mitsuba_rows)
     assert all(-2.0 < float(row[3]) < 0.0 for row in rows)  # error falls as samples grow
     for effect in ("glossy reflection", "motion blur"):  # measured, or said not to be
-        assert f"### {effect}\n" in run.stdout or f"{effect}: raykit has no" in run.stdout
+        assert f"## {effect}\n" in run.stdout or f"{effect}: raykit has no" in run.stdout
     if mitsuba_rows:
         assert run.stdout.count("time to reach the same RMS error") == 2
         agreement = run.stdout.split("| effect | Mitsuba renders |")[1].split("\n\n")[0]
