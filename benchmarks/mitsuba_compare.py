@@ -240,8 +240,10 @@ def mitsuba_dict(
     data: dict, mi, *, only_light: int | None = None, depth: bool = False, centres: bool = False
 ) -> dict:
     """Mitsuba's scene description of raykit scene data (see the module page): a flat scene for
-    the ``depth`` integrator, a lit one for ``direct`` with one shadow ray per light per hit.
-    For the pictures' check only: ``only_light`` keeps that light alone, ``depth`` renders
+    the ``depth`` integrator, a lit one for ``direct`` with one shadow ray per light per hit
+    (an area light a rectangle emitter, :func:`mitsuba_light`); a camera with an ``aperture``
+    is a ``thinlens`` sensor (``benchmarks/sampling_error.py``'s scenes). For the pictures'
+    check only: ``only_light`` keeps that light alone, ``depth`` renders
     distances whatever the scene, ``centres`` samples each pixel at its centre, as raykit does,
     instead of at a random point."""
     camera = data["camera"]
@@ -285,27 +287,72 @@ def mitsuba_dict(
             scene[f"sphere{i}"]["bsdf"] = diffuse(s["color"])
     for i, b in enumerate(data["billboards"]):
         ul, ll, ur = (np.array(b[k]) for k in ("upper_left", "lower_left", "upper_right"))
-        a, bb = ur - ul, ll - ul
-        n = np.cross(a, bb)
-        matrix = np.eye(4)
-        matrix[:3, 0], matrix[:3, 1] = a / 2, bb / 2
-        matrix[:3, 2] = n / np.linalg.norm(n)
-        matrix[:3, 3] = ul + (a + bb) / 2
-        scene[f"billboard{i}"] = {
-            "type": "rectangle",
-            "to_world": mi.ScalarTransform4f(matrix.tolist()),
-        }
+        scene[f"billboard{i}"] = rectangle(ul, ur - ul, ll - ul, mi)
         if lights:  # a billboard is lit on the side its ray comes from, as raykit's
             scene[f"billboard{i}"]["bsdf"] = {"type": "twosided", "bsdf": diffuse(b["color"])}
     for i, light in enumerate(lights):
         if only_light is None or i == only_light:
-            intensity = mitsuba_intensity(light, camera)
-            scene[f"light{i}"] = {
-                "type": "point",
-                "position": light["position"],
-                "intensity": {"type": "rgb", "value": intensity.tolist()},
-            }
+            scene[f"light{i}"] = mitsuba_light(light, camera, mi)
+    if camera.get("aperture"):  # raykit's thin lens: its aperture is the lens's diameter
+        scene["sensor"]["type"] = "thinlens"
+        scene["sensor"]["aperture_radius"] = camera["aperture"] / 2
+        scene["sensor"]["focus_distance"] = camera.get("focus_distance") or _distance(
+            camera["eye"], camera["lookat"]
+        )
     return scene
+
+
+def rectangle(corner: np.ndarray, a: np.ndarray, b: np.ndarray, mi, facing=None) -> dict:
+    """Mitsuba's ``rectangle`` whose ``to_world`` maps [-1, 1]² onto the parallelogram with
+    ``corner`` and edges ``a``, ``b`` ``(3,)`` (a billboard, an area light). Its front, the side
+    an area emitter lights, is a × b's; ``facing`` (a point ``(3,)``): the side that point is on."""
+    n = np.cross(a, b)
+    n = n / np.linalg.norm(n)
+    # Mitsuba's normal follows the third column (it maps normals by the inverse transpose)
+    if facing is not None and float(np.sum(n * (np.asarray(facing) - corner))) < 0:
+        n = -n
+    matrix = np.eye(4)
+    matrix[:3, 0], matrix[:3, 1], matrix[:3, 2] = a / 2, b / 2, n
+    matrix[:3, 3] = corner + (a + b) / 2
+    return {"type": "rectangle", "to_world": mi.ScalarTransform4f(matrix.tolist())}
+
+
+def mitsuba_light(light: dict, camera: dict, mi) -> dict:
+    """Mitsuba's light for raykit's ``light`` (data): a point light of intensity
+    :func:`mitsuba_intensity`, or for an area light a ``rectangle`` with an ``area`` emitter
+    lighting the side the camera's lookat point is on, of radiance
+    :func:`mitsuba_radiance`."""
+    if light["type"] == "point":
+        intensity = mitsuba_intensity(light, camera)
+        return {
+            "type": "point",
+            "position": light["position"],
+            "intensity": {"type": "rgb", "value": intensity.tolist()},
+        }
+    c, a, b = (np.asarray(light[k], float) for k in ("corner", "edge1", "edge2"))
+    radiance = mitsuba_radiance(light, camera)
+    return {
+        **rectangle(c, a, b, mi, facing=camera["lookat"]),
+        "emitter": {"type": "area", "radiance": {"type": "rgb", "value": radiance.tolist()}},
+    }
+
+
+def mitsuba_radiance(light: dict, camera: dict) -> np.ndarray:
+    """The radiance ``(3,)`` of Mitsuba's area emitter that matches raykit's area ``light`` at
+    the camera's lookat point. raykit's area light, sampled, is a point light at each of its
+    points, with no fall-off and no cosine at the light (:mod:`raykit.lights`): kd·I·cos at the
+    surface. Mitsuba's emitter of radiance L and area A gives about
+    (kd/π)·L·A·cos·cos_l/r² there, cos_l the cosine at the light, r the distance, both from
+    the light's centre to lookat; L = π·I·r²/(A·cos_l) makes them equal at lookat (elsewhere
+    they differ by the fall-off and the cosine at the light, so Mitsuba's picture is its own:
+    the benchmark compares each renderer's error against its own reference)."""
+    c, a, b = (np.asarray(light[k], float) for k in ("corner", "edge1", "edge2"))
+    normal = np.cross(a, b)
+    area = float(np.sqrt(np.sum(normal * normal)))
+    to_lookat = np.asarray(camera["lookat"], float) - (c + (a + b) / 2)
+    r2 = float(np.sum(to_lookat * to_lookat))
+    cos_l = abs(float(np.sum(normal * to_lookat))) / (area * np.sqrt(r2))
+    return np.pi * np.asarray(light["color"], float) * r2 / (area * cos_l)
 
 
 def mitsuba_intensity(light: dict, camera: dict) -> np.ndarray:
@@ -323,6 +370,10 @@ def _distance2(a, b) -> float:
     return sum((float(x) - float(y)) ** 2 for x, y in zip(a, b, strict=True))
 
 
+def _distance(a, b) -> float:
+    return _distance2(a, b) ** 0.5
+
+
 def mitsuba_child(variant: str, cpu: str) -> None:
     """In a child process: load the scene (JSON, the first line of standard input) with one
     Mitsuba variant and render it once; print ``{"load", "first", "hit", "target"}`` as a line
@@ -331,9 +382,7 @@ def mitsuba_child(variant: str, cpu: str) -> None:
     .npz file) and print 1. The lines go to what was standard output when the child started;
     anything a library prints there goes to standard error instead, so it cannot be read as
     an answer. ``cpu``: "haswell" restricts Dr.Jit's kernels to AVX2 (:func:`drjit_target`)."""
-    answers = os.fdopen(os.dup(sys.stdout.fileno()), "w")
-    sys.stdout.flush()
-    os.dup2(sys.stderr.fileno(), sys.stdout.fileno())
+    answers = answer_stream()
     import mitsuba as mi
 
     mi.set_variant(variant)
@@ -357,6 +406,16 @@ def mitsuba_child(variant: str, cpu: str) -> None:
         elif request[:1] == ["check"]:
             np.savez(request[1], image=image[..., :3], **check_pictures(data, mi))
             print(1, file=answers, flush=True)
+
+
+def answer_stream():
+    """In a Mitsuba child: the stream its answers go to, what was standard output when it
+    started; standard output goes to standard error from here on, so that anything a library
+    prints there cannot be read as an answer."""
+    answers = os.fdopen(os.dup(sys.stdout.fileno()), "w")
+    sys.stdout.flush()
+    os.dup2(sys.stderr.fileno(), sys.stdout.fileno())
+    return answers
 
 
 def check_pictures(data: dict, mi) -> dict:
@@ -449,15 +508,24 @@ class MitsubaChild:
     added to its environment: ``load``, ``first``, ``hit``, ``target`` (Dr.Jit's), and
     :meth:`render_once`. ``failure``: a one-line message, once the child has
     failed to start, died, answered nonsense or taken longer than CHILD_SECONDS for an
-    answer; it is then killed, and its row gives the message."""
+    answer; it is then killed, and its row gives the message. ``script``: the benchmark whose
+    ``--child VARIANT --cpu CPU`` runs the child (:func:`mitsuba_child`, this one's, by
+    default); its first answer is a JSON object, whose fields this one's reads when present."""
 
-    def __init__(self, variant: str, data: dict, cpu: str = "native", env: dict | None = None):
+    def __init__(
+        self,
+        variant: str,
+        data: dict,
+        cpu: str = "native",
+        env: dict | None = None,
+        script: str = __file__,
+    ):
         env = {**os.environ, **(env or {})}
         if variant.startswith("llvm") and Path(LLVM_19).exists():
             env.setdefault("DRJIT_LIBLLVM_PATH", LLVM_19)
         self.errors = tempfile.TemporaryFile(mode="w+")
         self.process = subprocess.Popen(
-            [sys.executable, __file__, "--child", variant, "--cpu", cpu],
+            [sys.executable, script, "--child", variant, "--cpu", cpu],
             stdin=subprocess.PIPE,
             stdout=subprocess.PIPE,
             stderr=self.errors,
@@ -465,17 +533,17 @@ class MitsubaChild:
             env=env,
         )
         self.failure = None
-        made = self._ask(json.dumps(data), json.loads)
-        if made is not None:
-            self.load, self.first, self.hit = made["load"], made["first"], made["hit"]
-            self.target = made["target"]
+        self.made = self.ask(json.dumps(data), json.loads)
+        if self.made is not None:
+            self.load, self.first = self.made.get("load"), self.made.get("first")
+            self.hit, self.target = self.made.get("hit"), self.made.get("target")
 
     def check(self) -> dict | None:
         """The child's pictures for :func:`agreement` (:func:`check_pictures`, and its first
         render as ``image``), or None once it has failed."""
         with tempfile.TemporaryDirectory() as folder:
             path = Path(folder) / "check.npz"
-            if self.failure is None and self._ask(f"check {path}", int) == 1:
+            if self.failure is None and self.ask(f"check {path}", int) == 1:
                 with np.load(path) as pictures:
                     return dict(pictures)
         return None
@@ -483,7 +551,7 @@ class MitsubaChild:
     def render_once(self) -> float:
         """Render once in the child: the seconds it took, by the child's clock (NaN once the
         child has failed)."""
-        took = self._ask("render", float) if self.failure is None else None
+        took = self.ask("render", float) if self.failure is None else None
         return float("nan") if took is None else took
 
     def close(self) -> None:
@@ -497,7 +565,7 @@ class MitsubaChild:
             self.process.stdout.close()
             self.errors.close()
 
-    def _ask(self, request: str, read):
+    def ask(self, request: str, read):
         """Send ``request`` as a line and read the answer's line with ``read``; None, with
         ``failure`` set and the child gone, if that fails."""
         try:

@@ -425,3 +425,83 @@ def test_the_large_textures_bench_scene_is_classic_with_each_texture_256_square_
         np.array_equal(a.texture.rgba, b.texture.rgba)
         for a, b in zip(scene.billboards, again.billboards, strict=True)
     )
+
+
+def test_sampling_error_quick_prints_each_effect_every_sampler_and_their_slopes(tmp_path):
+    run = subprocess.run(
+        [sys.executable, str(REPO / "benchmarks/sampling_error.py"), "--quick", "--repeats", "1"]
+        + ["--cache", str(tmp_path / "cache"), "--plot", str(tmp_path / "error.png")],
+        capture_output=True,
+        text=True,
+        timeout=TIMEOUT,
+    )
+    assert run.returncode == 0, run.stderr
+    try:
+        import mitsuba  # noqa: F401
+
+        mitsuba_rows = ["| Mitsuba | independent", "| Mitsuba | stratified"]
+    except ImportError:  # an optional benchmark dependency: raykit alone is measured, saying so
+        assert "Mitsuba 3 is not installed (pip install mitsuba)" in run.stdout
+        mitsuba_rows = []
+    effects = {"antialiasing": [], "soft shadows": mitsuba_rows, "depth of field": mitsuba_rows}
+    raykit_rows = [f"| raykit | {sampler}" for sampler in ("random", "jittered", "sobol")]
+    for effect, others in effects.items():
+        table = run.stdout.split(f"## {effect}\n")[1].split("\n\n")[1].splitlines()
+        assert table[0] == "| renderer | sampler | 1 spp | 4 spp | 16 spp |"
+        assert [" | ".join(row.split(" | ")[:2]) for row in table[2:]] == raykit_rows + others
+        assert all(row.count(", ") == 3 for row in table[2:])  # an error and a time per count
+    slopes = run.stdout.split("| effect | renderer | sampler | measured slope | theory |")[1]
+    rows = [row.split(" | ") for row in slopes.split("\n\n")[0].splitlines()[2:]]
+    assert len(rows) == 9 + 2 * len(mitsuba_rows)
+    assert all(-2.0 < float(row[3]) < 0.0 for row in rows)  # error falls as samples grow
+    for effect in ("glossy reflection", "motion blur"):  # measured, or said not to be
+        assert f"## {effect}\n" in run.stdout or f"{effect}: raykit has no" in run.stdout
+    if mitsuba_rows:
+        assert run.stdout.count("time to reach the same RMS error") == 2
+        agreement = run.stdout.split("| effect | Mitsuba renders |")[1].split("\n\n")[0]
+        focus = next(row for row in agreement.splitlines() if row.startswith("| depth of field"))
+        assert focus.endswith("| yes |")  # the same scene, converged, in both renderers
+    assert (tmp_path / "error.png").stat().st_size > 1000
+    assert len(list((tmp_path / "cache").glob("*.npy"))) == 3  # a reference per effect
+
+
+def test_sampling_error_reads_times_to_error_off_log_log_curves():
+    module = _benchmark_module("sampling_error")
+    spp = [1, 4, 16, 64]
+    steep = module.Curve("raykit", "jittered", spp, {n: [n**-1.5] for n in spp}, {})
+    steep.seconds = {n: 0.01 * n for n in spp}  # time proportional to the samples
+    assert module.slope(steep) == pytest.approx(-0.75)
+    # between 4 and 16 spp, error 4^-0.75 .. 16^-0.75: the level halfway in log is 8 spp's
+    assert module.time_to(steep, 8**-0.75) == pytest.approx(0.08)
+    assert module.time_to(steep, 2.0) is None  # above the first count's error
+    assert module.time_to(steep, 1e-6) is None  # below the last: never extrapolated
+    flat = module.Curve("Mitsuba", "independent", spp, {n: [1.0] for n in spp}, {})
+    flat.seconds = steep.seconds
+    assert module.levels([steep, flat]) == []  # ranges that do not overlap: no common level
+    levels = module.levels([steep, module.Curve("x", "random", spp, steep.squared, {})])
+    assert len(levels) == 4 and 64**-0.75 < min(levels) and max(levels) < 1.0
+
+
+def test_sampling_error_area_light_faces_the_scene_and_its_grid_keeps_its_intensity():
+    mi = pytest.importorskip("mitsuba")
+    module = _benchmark_module("sampling_error")
+    from mitsuba_compare import mitsuba_light
+
+    mi.set_variant("scalar_rgb")
+    # corner and edges whose cross product points up, away from the scene below it
+    light = {"type": "area", "corner": [-1.0, 4, 0.5], "edge1": [2.0, 0, 0],
+             "edge2": [0.0, 0, -1], "color": [0.8, 0.6, 0.4]}  # fmt: skip
+    camera = {"eye": [0, 2, 8], "lookat": [0, 0, 0], "up": [0, 1, 0], "fov_angle": 40}
+    made = mitsuba_light(light, camera, mi)
+    normal = np.array(made["to_world"] @ mi.ScalarNormal3f(0, 0, 1))
+    assert normal[1] < 0  # flipped to light the side the lookat point is on
+    # at lookat, 4.0 below the light's centre and straight under it, Mitsuba's (kd/π)·L·A/r²
+    # is raykit's kd·I: L = π·I·r²/A
+    radiance = np.array(made["emitter"]["radiance"]["value"])
+    np.testing.assert_allclose(radiance, np.pi * np.array(light["color"]) * 4.0**2 / 2.0)
+    grid = module.grid_of_points({"lights": [light]}, 3)["lights"]
+    assert len(grid) == 9
+    np.testing.assert_allclose(np.sum([p["color"] for p in grid], axis=0), light["color"])
+    np.testing.assert_allclose(
+        np.mean([p["position"] for p in grid], axis=0), [0, 4, 0], atol=1e-12
+    )
