@@ -13,7 +13,8 @@ import numpy as np
 from raykit.billboards import colors_and_opacity
 from raykit.engine.arrays import SceneArrays
 from raykit.engine.bvh import BVH
-from raykit.lights import PointLight, toward_light
+from raykit.engine.noise import Dimensions
+from raykit.lights import AreaLight, PointLight, toward_light
 from raykit.rays import normalize
 from raykit.scene import Scene
 from raykit.shading import casts_shadows, needs_shading
@@ -138,18 +139,35 @@ class Shading(NamedTuple):
     is_shiny: np.ndarray
     is_mirror: np.ndarray
     board_normals: np.ndarray
+    area: np.ndarray
+    light_edges: np.ndarray
+    light_dims: np.ndarray
 
 
 def scene_shading(scene: Scene) -> Shading:
     """The scene's :class:`Shading`, from the reference's own functions and tables."""
     table = scene.materials
-    point = np.array([isinstance(light, PointLight) for light in scene.lights], dtype=np.bool_)
+    lights = scene.lights
+    point = np.array([isinstance(light, PointLight | AreaLight) for light in lights], np.bool_)
     origin = np.zeros((1, 3))
     vectors = [
         np.asarray(light.position, float) if isinstance(light, PointLight)
+        else np.asarray(light.corner, float) if isinstance(light, AreaLight)
         else toward_light(light, origin)[0][0]
-        for light in scene.lights
+        for light in lights
     ]  # fmt: skip
+    area, areas = [], 0  # which area light each is, in the order of scene.lights (-1: none)
+    for light in lights:
+        area.append(areas if isinstance(light, AreaLight) else -1)
+        areas += isinstance(light, AreaLight)
+    edges = [
+        np.concatenate([light.edge1, light.edge2]).astype(float) if isinstance(light, AreaLight)
+        else np.zeros(6)
+        for light in lights
+    ]  # fmt: skip
+    dimensions = Dimensions(scene.area_lights, scene.max_depth)
+    dims = [[dimensions.light(depth, a) for a in range(scene.area_lights)]
+            for depth in range(scene.max_depth + 1)]  # fmt: skip
     return _one_kind(
         Shading(
             needs_shading(scene),
@@ -168,6 +186,9 @@ def scene_shading(scene: Scene) -> Shading:
             table.specular.reshape(-1, 3).any(axis=1),
             table.mirror.reshape(-1, 3).any(axis=1),
             np.array([normalize(b.n) for b in scene.billboards], dtype=float).reshape(-1, 3),
+            np.array(area, dtype=np.int64),
+            np.array(edges, dtype=float).reshape(-1, 6),
+            np.array(dims, dtype=np.int64).reshape(scene.max_depth + 1, scene.area_lights),
         )
     )
 
