@@ -267,10 +267,24 @@ def numpy_seconds(scene: Scene, samples: int) -> float:
     return rays * NUMPY_SECONDS_PER_RAY["lit" if needs_shading(scene) else "flat"]
 
 
+def compiled_refuses(scene: Scene) -> str | None:
+    """What of distributed ray tracing in ``scene`` the compiled engine cannot render yet (no
+    kernel repeats it), in words; None when it renders the whole scene. It renders area lights,
+    a lens, glossy mirrors and render.samples_per_pixel > 1 with every sampler; not motion
+    blur (spheres moving while the shutter is open: every ray at its own time)."""
+    if scene.moving:
+        return "motion blur (spheres moving while render.shutter is open)"
+    return None
+
+
 def refuse_distributed(scene: Scene) -> None:
-    """A one-line ValueError for what of distributed ray tracing the compiled engine cannot
-    render yet (no kernel repeats it); it renders area lights, a lens and
-    render.samples_per_pixel > 1 with every sampler."""
+    """A one-line ValueError naming what the compiled engine cannot render of ``scene``
+    (:func:`compiled_refuses`)."""
+    refused = compiled_refuses(scene)
+    if refused is not None:
+        raise ValueError(
+            f"{scene.source}: the compiled engine does not render {refused} yet: use --engine numpy"
+        )
 
 
 def choose(engine: str, scene: Scene, samples: int = 1, dtype: type = np.float64) -> str:
@@ -288,6 +302,8 @@ def choose(engine: str, scene: Scene, samples: int = 1, dtype: type = np.float64
             raise ValueError("the compiled engine renders in float64 only; use engine='numpy'")
         refuse_distributed(scene)
         return "compiled"
+    if compiled_refuses(scene) is not None:
+        return "numpy"
     if numpy_seconds(scene, samples) < AUTO_FROM or dtype != np.float64:
         return "numpy"  # before the cache's key, whose hash of the sources costs a little
     fast = compiled_available() and compiled_once(entry_point(scene))

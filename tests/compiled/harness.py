@@ -245,12 +245,14 @@ def caster_answers_what_cast_answers(rng):
     exactly(got.color, expected.color)
 
 
-def distributed_scene(rng, sampler, *, lens=False, mirrors=False, samples=4, lights=True):
+def distributed_scene(
+    rng, sampler, *, lens=False, mirrors=False, samples=4, lights=True, glossy=False
+):
     """A seeded random distributed scene (format v2, read as a file is) of 48 x 36 pixels:
     spheres on a floor, in front of a textured wall, ``samples`` per pixel by ``sampler`` with
     a random seed; with ``lights``, an area light, a point light and a directional light (and
     ambient light), else flat colours; a thin lens of random aperture and focus if ``lens``;
-    mirror spheres and max_depth 2 if ``mirrors``."""
+    mirror spheres and max_depth 2 if ``mirrors``, some of them glossy if ``glossy``."""
     spheres = []
     for k in range(6):
         center = rng.uniform([-3, 0.3, -3], [3, 1.5, 2]).tolist()
@@ -260,6 +262,8 @@ def distributed_scene(rng, sampler, *, lens=False, mirrors=False, samples=4, lig
             sphere |= {"specular": [0.5, 0.5, 0.5], "shininess": float(rng.choice([8, 40]))}
         if mirrors and k % 3 == 0:
             sphere |= {"mirror": rng.uniform(0.3, 0.9, size=3).tolist()}
+            if glossy and k == 0:  # one glossy, one ideal mirror
+                sphere |= {"glossiness": float(rng.uniform(0.1, 0.5))}
         spheres.append(sphere)
     data = {
         "version": 2,

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from conftest import SCENES, shifted_scene
+from raykit.engine.choice import choose, compiled_refuses
 from raykit.io.scene_json import load_scene, scene_from_dict
 from raykit.render import render
 from raykit.sampling import SAMPLERS
@@ -29,24 +30,34 @@ numba = pytest.importorskip("numba")
 compiled = pytest.importorskip("raykit.engine.compiled")
 
 
-EXAMPLES = sorted(SCENES.glob("*.json"))
+# every example scene but what the compiled engine refuses (motion blur, below)
+EXAMPLES = [p for p in sorted(SCENES.glob("*.json")) if not compiled_refuses(load_scene(p))]
 
 
 @pytest.mark.parametrize("path", EXAMPLES, ids=lambda p: p.stem)
 def test_every_example_scene_gives_the_same_png_bytes_with_both_engines(path):
-    same_render(load_scene(path))  # soft_shadows and depth_of_field: distributed, to the bit
+    same_render(load_scene(path))  # soft_shadows, depth_of_field, glossy: distributed, to the bit
+
+
+def test_the_compiled_engine_refuses_motion_blur_in_one_line_and_auto_takes_numpy():
+    scene = load_scene(SCENES / "motion_blur.json")
+    with pytest.raises(ValueError, match="does not render motion blur") as info:
+        compiled.render(scene)
+    assert "\n" not in str(info.value) and "motion_blur.json" in str(info.value)
+    assert choose("auto", scene) == "numpy"
 
 
 @pytest.mark.parametrize("sampler", SAMPLERS)
 @pytest.mark.parametrize(
-    "effect", ["area lights", "lens", "lens and mirrors", "area lights and mirrors", "flat lens"]
+    "effect",
+    ["area lights", "lens", "lens and mirrors", "area lights and mirrors", "flat lens", "glossy"],
 )
 def test_random_distributed_scenes_render_the_same_with_both_engines(effect, sampler):
     rng = np.random.default_rng(sum(map(ord, effect + sampler)))
     samples = {"random": 5, "jittered": 9, "sobol": 8}[sampler]
     scene = distributed_scene(
-        rng, sampler, lens="lens" in effect, mirrors="mirrors" in effect,
-        lights="flat" not in effect, samples=samples,
+        rng, sampler, lens="lens" in effect, mirrors="mirrors" in effect or effect == "glossy",
+        lights="flat" not in effect, samples=samples, glossy=effect == "glossy",
     )  # fmt: skip
     assert scene.distributed and (scene.area_lights > 0) == ("flat" not in effect)
     same_render(scene)
@@ -320,7 +331,7 @@ def _distributed(sampler, **effects):
 
 CHECKS = {
     "driver.trace_sampled": _distributed("jittered", lens=True, mirrors=True),
-    "driver.sampled_job": _distributed("sobol", mirrors=True),
+    "driver.sampled_job": _distributed("sobol", mirrors=True, glossy=True),
     "driver.cast_rays": caster_answers_what_cast_answers,
     "driver.trace_flat": _small("classic"),
     "driver.flat_job": _small("cutouts"),

@@ -92,7 +92,7 @@ def _samples(sampler, seed, pixels, k, n, table, dimensions):
 
 def _pixel_sample(rng):
     for name, count in (("random", 5), ("jittered", 16), ("jittered", 9), ("sobol", 8)):
-        for dimensions in (2, 4, 10):
+        for dimensions in (2, 4, 10, 11):  # 11: a last single number (a time), in strata
             seed = int(rng.integers(0, 2**32))
             samples = noise.PixelSamples(Sampling(count, name, seed), dimensions)
             table = samples.table if samples.table is not None else np.zeros((0, dimensions))

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from raykit import sampling
+from raykit.rays import normalize
 
 from .harness import exactly, twin_test
 
@@ -128,7 +129,49 @@ def _point_on_lens(rng):
         exactly(run(eye, u, v, aperture, xi), sampling.point_on_lens(eye, u, v, aperture, xi))
 
 
+@numba.njit
+def _bases(r):
+    out = np.empty((len(r), 9))
+    for i in range(len(r)):
+        basis = kernels.basis_around(r[i, 0], r[i, 1], r[i, 2])
+        for k in range(9):
+            out[i, k] = basis[k]
+    return out
+
+
+def _directions(rng):
+    """Random directions, some of them not unit, with ties between the magnitudes of their
+    components (where np.argmin takes the first) and zeros."""
+    r = rng.normal(size=(COUNT, 3)) * rng.choice([1.0, 3.0], size=(COUNT, 1))
+    r[:8] = [(1, 1, 1), (-1, 1, 1), (1, -1, 0.5), (0.5, 1, -0.5), (0, 0, 1), (0, 1, 0),
+             (1, 0, 0), (-2, 0, 0)]  # fmt: skip
+    return r
+
+
+def _basis_around(rng):
+    r = _directions(rng)
+    exactly(_bases(r), np.column_stack(sampling.basis_around(r)))
+
+
+def _perturbed_direction(rng):
+    r, xi = normalize(_directions(rng)), _uniforms(rng)
+    for a in (0.0, 0.05, 0.4, 2.0):
+
+        @numba.njit
+        def run(r, a, xi):
+            out = np.empty((len(r), 3))
+            for i in range(len(r)):
+                out[i, 0], out[i, 1], out[i, 2] = kernels.perturbed_direction(
+                    r[i, 0], r[i, 1], r[i, 2], a, xi[i, 0], xi[i, 1]
+                )
+            return out
+
+        exactly(run(r, a, xi), sampling.perturbed_direction(r, a, xi))
+
+
 CHECKS = {
+    "sampling.basis_around": _basis_around,
+    "sampling.perturbed_direction": _perturbed_direction,
     "sampling.point_in_pixel": _point_in_pixel,
     "sampling.jittered_point": _jittered_point,
     "sampling.point_on_parallelogram": _point_on_parallelogram,

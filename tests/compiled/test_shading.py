@@ -11,7 +11,7 @@ from libm_power import libm_power
 
 from conftest import shifted_scene
 from raykit import shading
-from raykit.engine.noise import Dimensions
+from raykit.engine.regions import dimensions_of
 from raykit.lights import AreaLight, DirectionalLight, PointLight
 from raykit.rays import dot, normalize
 from raykit.render import cast, secondary_caster
@@ -231,22 +231,38 @@ def _with_area_lights(rng, scene):
     return replace(scene, lights=lights)
 
 
+def _glossy(rng, scene):
+    """``scene`` with every other mirror glossy."""
+    mirrors = [k for k, s in enumerate(scene.spheres) if s.material.is_mirror][::2]
+    spheres = list(scene.spheres)
+    for k in mirrors:
+        material = replace(spheres[k].material, glossiness=float(rng.uniform(0.05, 0.6)))
+        spheres[k] = replace(spheres[k], material=material)
+    return replace(scene, spheres=tuple(spheres))
+
+
 def _shade_sampled(rng, max_depth, uniforms=True):
-    """shade with area lights, each ray's points on them from its row of uniform numbers (or,
-    ``uniforms`` False, at their centres), at every mirror depth."""
-    scene = replace(_with_area_lights(rng, lit_crowd(rng, 30)), max_depth=max_depth)
+    """shade with area lights and glossy mirrors, each ray's points on the lights and its
+    perturbations from its row of uniform numbers (or, ``uniforms`` False, the lights' centres
+    and ideal reflections), at every mirror depth."""
+    scene = _glossy(rng, _with_area_lights(rng, lit_crowd(rng, 30)))
+    scene = replace(scene, max_depth=max_depth)
     origins, directions = rays_into_crowd(rng, 5000)
     hits = cast(scene, origins, directions)
-    dimensions = Dimensions(scene.area_lights, scene.max_depth)
+    dimensions = dimensions_of(scene)
+    assert dimensions.glossy == (max_depth > 0)
     numbers = rng.uniform(size=(len(origins), dimensions.count)) if uniforms else None
-    on_lights = None
+    on_lights = gloss = None
     if uniforms:
         shape = (len(origins), max_depth + 1, scene.area_lights, 2)
-        on_lights = numbers[:, dimensions.light(0, 0) :].reshape(shape)
+        lights = slice(dimensions.light(0, 0), dimensions.light(max_depth + 1, 0))
+        on_lights = numbers[:, lights].reshape(shape)
+        if dimensions.glossy:
+            glossy = slice(dimensions.gloss(0), dimensions.gloss(max_depth))
+            gloss = numbers[:, glossy].reshape(len(origins), max_depth, 2)
     with libm_power():
-        expected = shading.shade(
-            scene, secondary_caster(scene), origins, directions, hits, on_lights
-        )
+        expected = shading.shade(scene, secondary_caster(scene), origins, directions, hits,
+                                 on_lights, gloss_uniforms=gloss)  # fmt: skip
     got = _shade(compiled.scene_arrays(scene), compiled.scene_tree(scene),
                  compiled.scene_shading(scene), origins, directions, hits.index, hits.t,
                  hits.color, numbers)  # fmt: skip
@@ -254,7 +270,7 @@ def _shade_sampled(rng, max_depth, uniforms=True):
 
 
 @pytest.mark.parametrize("uniforms", [True, False])
-def test_area_lights_shade_the_same_with_both_engines_at_every_mirror_depth(uniforms):
+def test_area_lights_and_glossy_mirrors_shade_the_same_with_both_engines_at_every_depth(uniforms):
     _shade_sampled(np.random.default_rng(46), 3, uniforms)
 
 

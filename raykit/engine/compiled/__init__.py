@@ -3,7 +3,8 @@
 One module per job, each named for the reference module it repeats: :mod:`.scene` (the scene as
 arrays), :mod:`.rays`, :mod:`.spheres`, :mod:`.billboards`, :mod:`.camera`, :mod:`.hits`,
 :mod:`.bvh` (the tree walk), :mod:`.surfaces`, :mod:`.lights`, :mod:`.shadows` (and the shadow
-lists), :mod:`.shading` (per ray and in lanes), :mod:`.mirrors`, :mod:`.tiles` (screen tiles and
+lists), :mod:`.shading` (per ray and in lanes), :mod:`.mirrors`, :mod:`.sampling` and
+:mod:`.noise` (stage 5's sample patterns and uniform numbers), :mod:`.tiles` (screen tiles and
 packets) and :mod:`.driver` (the parallel loop, :mod:`raykit.render` repeated); :mod:`.compiling`
 is the machinery.
 
@@ -52,6 +53,17 @@ mirrors. One operation differs: the highlight's power is the C library's pow her
 vectorised power in the reference, which disagree by one unit in the last place on a few per
 cent of points; with the reference given the same pow, the two engines agree
 bit for bit, and as they stand, within 4 units in the last place and to the PNG byte (tests).
+
+Distributed scenes (stage 5). A scene with area lights, a thin lens, glossy mirrors or many
+samples per pixel renders in a loop of its own (:func:`.driver.trace_sampled`): each job a few
+pixels, each pixel all its samples in order, every ray (viewing, shadow, mirror) through the
+tree. A sample's uniform numbers are :mod:`raykit.engine.noise`'s, hashed from (seed, pixel,
+sample, dimension) in wrapping uint64 arithmetic (:mod:`.noise`; the Sobol' points come from
+scipy, made in Python), so no number depends on which worker takes which pixel; the sample
+patterns (:mod:`.sampling`), an area light's point (:func:`.lights.sampled`), the thin lens's
+rays (:func:`.camera.thin_lens_rays`) and a glossy mirror's ray
+(:func:`.mirrors.glossy_reflect`) repeat the reference's operations in its order. Motion blur
+is refused in one line (:func:`raykit.engine.choice.refuse_distributed`).
 
 Compiling. Each kernel is compiled on first use, with the kernels it calls, and cached on disk,
 kernel by kernel, in a folder keyed on the sources they are made from (the reference modules

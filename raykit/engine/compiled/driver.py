@@ -59,7 +59,7 @@ from raykit.engine.compiled.tiles import (
     screen_tiles,
 )
 from raykit.engine.noise import Dimensions, PixelSamples
-from raykit.engine.regions import refuse_grid
+from raykit.engine.regions import dimensions_of, refuse_grid
 from raykit.engine.tiles import regions
 from raykit.hits import Hits
 from raykit.scene import Scene
@@ -448,7 +448,7 @@ def scene_noise(scene: Scene) -> Noise:
     :class:`raykit.engine.noise.PixelSamples` (which refuses a jittered count that is not n x n,
     and a Sobol' count that is not a power of two, before any work)."""
     sampling = scene.sampling
-    dimensions = Dimensions(scene.area_lights, scene.max_depth)
+    dimensions = dimensions_of(scene)
     samples = PixelSamples(sampling, dimensions.count)
     table = samples.table if samples.table is not None else np.zeros((0, dimensions.count))
     sampler = {"random": RANDOM, "jittered": JITTERED, "sobol": SOBOL}[sampling.sampler]

@@ -13,7 +13,15 @@ from numba import njit
 
 from raykit.engine.compiled.compiling import ONE_RAY
 from raykit.engine.compiled.sampling import jittered_point
-from raykit.engine.noise import GAMMA, MIX1, MIX2, SHIFT_SAMPLE, SHUFFLE_SAMPLE, UNIT
+from raykit.engine.noise import (
+    GAMMA,
+    MIX1,
+    MIX2,
+    SHIFT_SAMPLE,
+    SHUFFLE_SAMPLE,
+    STRATUM_SAMPLE,
+    UNIT,
+)
 
 # the samplers' numbers, as the kernels take them (raykit.sampling.SAMPLERS' order)
 RANDOM, JITTERED, SOBOL = 0, 1, 2
@@ -94,3 +102,7 @@ def pixel_sample(sampler, seed, pixel, k, n, table, out):
         if pair:
             cell = shuffle(k, n * n, counter_hash(seed, pixel, SHUFFLE_SAMPLE, pair))
         out[2 * pair], out[2 * pair + 1] = jittered_point(cell, n, out[2 * pair], out[2 * pair + 1])
+    if dimensions % 2:  # a last single number (a time): sample k in stratum π(k) of the n·n
+        last = dimensions - 1
+        stratum = shuffle(k, n * n, counter_hash(seed, pixel, STRATUM_SAMPLE, last))
+        out[last] = (stratum + out[last]) / (n * n)

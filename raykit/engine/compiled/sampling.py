@@ -74,3 +74,39 @@ def point_on_lens(e0, e1, e2, u0, u1, u2, v0, v1, v2, aperture, x1, x2):
         e1 + radius * (x * u1 + y * v1),
         e2 + radius * (x * u2 + y * v2),
     )
+
+
+@njit(**ONE_RAY)
+def basis_around(r0, r1, r2):
+    """Repeats :func:`raykit.sampling.basis_around` for one direction r: (u, v, w) as nine
+    numbers, w = r/|r|, t = w with its smallest component by magnitude (the first of equals) set
+    to 1, u = t × w / |t × w|, v = w × u, each cross product as numpy's (a1·b2 - a2·b1, ...)."""
+    length = math.sqrt(r0 * r0 + r1 * r1 + r2 * r2)
+    w0, w1, w2 = r0 / length, r1 / length, r2 / length
+    t0, t1, t2 = w0, w1, w2
+    if abs(w0) <= abs(w1) and abs(w0) <= abs(w2):  # np.argmin: the first of equals
+        t0 = 1.0
+    elif abs(w1) <= abs(w2):
+        t1 = 1.0
+    else:
+        t2 = 1.0
+    c0, c1, c2 = t1 * w2 - t2 * w1, t2 * w0 - t0 * w2, t0 * w1 - t1 * w0
+    length = math.sqrt(c0 * c0 + c1 * c1 + c2 * c2)
+    u0, u1, u2 = c0 / length, c1 / length, c2 / length
+    v0, v1, v2 = w1 * u2 - w2 * u1, w2 * u0 - w0 * u2, w0 * u1 - w1 * u0
+    return u0, u1, u2, v0, v1, v2, w0, w1, w2
+
+
+@njit(**ONE_RAY)
+def perturbed_direction(r0, r1, r2, a, x1, x2):
+    """Repeats :func:`raykit.sampling.perturbed_direction` for one unit direction r and the
+    uniform numbers (ξ1, ξ2) = (``x1``, ``x2``): normalize(r + u'·u + v'·v), u' = -a/2 + ξ1·a,
+    v' = -a/2 + ξ2·a, in the basis of :func:`basis_around`."""
+    u0, u1, u2, v0, v1, v2, _, _, _ = basis_around(r0, r1, r2)
+    along_u = -a / 2 + x1 * a
+    along_v = -a / 2 + x2 * a
+    p0 = r0 + along_u * u0 + along_v * v0
+    p1 = r1 + along_u * u1 + along_v * v1
+    p2 = r2 + along_u * u2 + along_v * v2
+    length = math.sqrt(p0 * p0 + p1 * p1 + p2 * p2)
+    return p0 / length, p1 / length, p2 / length

@@ -13,7 +13,7 @@ import numpy as np
 from raykit.billboards import colors_and_opacity
 from raykit.engine.arrays import SceneArrays
 from raykit.engine.bvh import BVH
-from raykit.engine.noise import Dimensions
+from raykit.engine.regions import dimensions_of
 from raykit.lights import AreaLight, PointLight, toward_light
 from raykit.rays import normalize
 from raykit.scene import Scene
@@ -121,7 +121,14 @@ class Shading(NamedTuple):
     (:class:`raykit.materials.MaterialTable`: ``diffuse``, ``has_diffuse``, ``specular``,
     ``shininess``, ``mirror``) and whether each ``is_shiny`` or ``is_mirror (K,)``. And the
     billboards' unit normals ``board_normals (B, 3)``, which shading uses and hitting does
-    not."""
+    not. Stage 5: an area light is a point light whose position each ray samples
+    (:func:`raykit.engine.compiled.lights.sampled`): its ``light_vectors`` row is its corner,
+    ``light_edges (L, 6)`` its edges a and b, ``area (L,)`` which area light it is (-1: none),
+    and ``light_dims (max_depth + 1, A)`` where each area light's uniform numbers lie at each
+    mirror depth (:meth:`raykit.engine.noise.Dimensions.light`); each object's ``glossiness
+    (K,)``, and where the glossy perturbation of the mirror bounce at each depth lies,
+    ``gloss_dims (max_depth,)`` (:meth:`raykit.engine.noise.Dimensions.gloss`; empty in a scene
+    whose samples take none: its mirrors reflect as ideal ones)."""
 
     shaded: bool
     lit: bool
@@ -142,6 +149,8 @@ class Shading(NamedTuple):
     area: np.ndarray
     light_edges: np.ndarray
     light_dims: np.ndarray
+    glossiness: np.ndarray
+    gloss_dims: np.ndarray
 
 
 def scene_shading(scene: Scene) -> Shading:
@@ -165,9 +174,10 @@ def scene_shading(scene: Scene) -> Shading:
         else np.zeros(6)
         for light in lights
     ]  # fmt: skip
-    dimensions = Dimensions(scene.area_lights, scene.max_depth)
+    dimensions = dimensions_of(scene)
     dims = [[dimensions.light(depth, a) for a in range(scene.area_lights)]
             for depth in range(scene.max_depth + 1)]  # fmt: skip
+    gloss = [dimensions.gloss(depth) for depth in range(scene.max_depth)]
     return _one_kind(
         Shading(
             needs_shading(scene),
@@ -189,6 +199,8 @@ def scene_shading(scene: Scene) -> Shading:
             np.array(area, dtype=np.int64),
             np.array(edges, dtype=float).reshape(-1, 6),
             np.array(dims, dtype=np.int64).reshape(scene.max_depth + 1, scene.area_lights),
+            table.glossiness.astype(float),
+            np.array(gloss if dimensions.glossy else [], dtype=np.int64),
         )
     )
 

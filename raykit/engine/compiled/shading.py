@@ -16,7 +16,7 @@ from raykit.engine.compiled.billboards import billboard_color_at, hit_billboard
 from raykit.engine.compiled.bvh import nearest_hit
 from raykit.engine.compiled.compiling import INLINED, KERNEL, MAKES_ARRAYS, ONE_RAY
 from raykit.engine.compiled.lights import sampled, toward_point_light
-from raykit.engine.compiled.mirrors import reflect
+from raykit.engine.compiled.mirrors import glossy_reflect, reflect
 from raykit.engine.compiled.shadows import point_light_reach
 from raykit.engine.compiled.spheres import hit_sphere
 from raykit.engine.compiled.surfaces import start, surface_points
@@ -281,9 +281,18 @@ def bounce_on(arrays, tree, shading, stack, depth, hit, p0, p1, p2, n0, n1, n2, 
     mirror rays (:func:`raykit.engine.compiled.mirrors.reflect`, started off the surface,
     :func:`raykit.engine.compiled.surfaces.start`) up to max_depth, each
     surface's colour weighted by the mirrors' km on the way (w), with the ray's ``uniforms``
-    (:func:`surface_color`)."""
+    (:func:`surface_color`), which also perturb a glossy mirror's ray
+    (:func:`raykit.engine.compiled.mirrors.glossy_reflect`) in a scene whose samples take them
+    (``shading.gloss_dims``)."""
     while depth < shading.max_depth and shading.is_mirror[hit]:
-        d0, d1, d2 = reflect(d0, d1, d2, n0, n1, n2)
+        if len(shading.gloss_dims) and len(uniforms):  # raykit.mirrors.glossy_reflect
+            first = shading.gloss_dims[depth]
+            d0, d1, d2, above = glossy_reflect(d0, d1, d2, n0, n1, n2, shading.glossiness[hit],
+                                               uniforms[first], uniforms[first + 1])  # fmt: skip
+            if not above:  # below the surface: absorbed, it reflects nothing
+                return c0, c1, c2
+        else:
+            d0, d1, d2 = reflect(d0, d1, d2, n0, n1, n2)
         o0, o1, o2 = start(p0, p1, p2, n0, n1, n2, error, d0, d1, d2)
         km = shading.mirror
         w0, w1, w2 = w0 * km[hit, 0], w1 * km[hit, 1], w2 * km[hit, 2]

@@ -70,6 +70,8 @@ TWINS = (
         "the reference's name is private to its module",
     ),
     Twin("sampling.point_on_lens", "raykit.sampling.point_on_lens"),
+    Twin("sampling.basis_around", "raykit.sampling.basis_around"),
+    Twin("sampling.perturbed_direction", "raykit.sampling.perturbed_direction"),
     Twin("surfaces.surface_points", "raykit.surfaces.surface_points"),
     Twin("surfaces.start", "raykit.surfaces.SurfacePoints.start"),
     Twin(
@@ -91,6 +93,7 @@ TWINS = (
         "its lights' part (Lambert, shadow, highlight) for a job's rays side by side, in lanes",
     ),
     Twin("mirrors.reflect", "raykit.mirrors.reflect"),
+    Twin("mirrors.glossy_reflect", "raykit.mirrors.glossy_reflect"),
     Twin("shading.shade", "raykit.shading.shade"),
     Twin(
         "shading.bounce_on",
@@ -160,6 +163,7 @@ OWN = {
     "driver.job_pixel": "a pixel of a job",
     "driver.job_points": "a job's image points",
     "driver.background_job": "a tile no object is seen in: the background, with no ray",
+    "mirrors.sign": "np.sign of one number, which glossy_reflect's reference compares",
     "shadows.extent": "the shadow lists' cull (the reference tests every object)",
     "shadows.box_extent": "the shadow lists' cull",
     "shadows.box_apart": "the shadow lists' cull",
