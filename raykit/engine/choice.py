@@ -12,8 +12,11 @@ nothing here imports it.
 A distributed scene (stage 5) is judged by the same rule, with its own estimate of the numpy
 engine's time: its sample rays (width x height x ``render.samples_per_pixel``) at the numpy
 engine's time per sample ray of a distributed render (``NUMPY_SECONDS_PER_RAY["distributed"]``,
-many times a pinhole ray's: each sample draws its uniform numbers, and its batches are a
+more than a lit pinhole ray's: each sample draws its uniform numbers, and its batches are a
 tile's pixels at one sample), and its own kernels (``trace_sampled``) compiled and cached.
+Loading those costs a process about what a lit scene's kernels cost, and the compiled engine
+saves about the same share of the numpy engine's time (``python benchmarks/engines.py``
+prints both), so the one threshold ``AUTO_FROM`` serves.
 The compiled engine renders such a scene from the same numbers (:mod:`raykit.engine.noise`),
 so the choice never changes a byte, only the time.
 """
@@ -46,7 +49,7 @@ COMPILED_SOURCE = Path(__file__).with_name("compiled")  # the package of kernels
 # The numpy engine's time per ray, flat and shaded, and per sample ray of a distributed render,
 # and what loading numba and the cached kernels costs a process: measured by
 # benchmarks/engines.py (`raykit bench` prints them again on yours)
-NUMPY_SECONDS_PER_RAY = {"flat": 2.0e-7, "lit": 8.0e-7, "distributed": 4.0e-6}
+NUMPY_SECONDS_PER_RAY = {"flat": 2.0e-7, "lit": 8.0e-7, "distributed": 1.1e-6}
 AUTO_FROM = 0.5  # seconds of numpy rendering from which the compiled engine wins, load included
 
 
