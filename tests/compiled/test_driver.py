@@ -13,8 +13,9 @@ import pytest
 from conftest import SCENES, shifted_scene
 from raykit.engine.choice import choose, compiled_refuses
 from raykit.io.scene_json import load_scene, scene_from_dict
+from raykit.lights import AreaLight
 from raykit.render import render
-from raykit.sampling import SAMPLERS
+from raykit.sampling import SAMPLERS, Sampling
 
 from .harness import (
     caster_answers_what_cast_answers,
@@ -60,6 +61,19 @@ def test_random_distributed_scenes_render_the_same_with_both_engines(effect, sam
         lights="flat" not in effect, samples=samples, glossy=effect == "glossy",
     )  # fmt: skip
     assert scene.distributed and (scene.area_lights > 0) == ("flat" not in effect)
+    same_render(scene)
+
+
+@pytest.mark.parametrize("sampler", SAMPLERS)
+def test_an_orthographic_camera_with_an_area_light_renders_the_same_with_both_engines(sampler):
+    scene = load_scene(SCENES / "orthographic.json")
+    light = AreaLight(np.array([-1.0, 6.0, 2.0]), np.array([2.0, 0, 0]), np.array([0, 0, 1.5]),
+                      np.array([0.8, 0.8, 0.7]))  # fmt: skip
+    scene = replace(
+        scene, camera=replace(scene.camera, width=48, height=36), lights=(light,),
+        ambient=np.array([0.2, 0.2, 0.2]), sampling=Sampling(4, sampler, 7),
+    )  # fmt: skip
+    assert scene.distributed and scene.camera.projection == "orthographic"
     same_render(scene)
 
 

@@ -460,12 +460,13 @@ def scene_noise(scene: Scene) -> Noise:
 @njit(parallel=True, **MAKES_ARRAYS)
 def trace_sampled(arrays, tree, shading, camera, lens, noise, width, jobs, workers, rgb, index,
                   t):  # fmt: skip
-    """The lecture's loop for a distributed scene (stage 5, :meth:`raykit.engine.regions.Plan.
-    _distributed_batches`): for each pixel, each of its ``noise.count`` samples in order, from
-    the sample's uniform numbers (:func:`~raykit.engine.compiled.noise.pixel_sample`), a point
-    in the pixel, a ray through the pinhole or from the lens (``lens``: :func:`lens_tuple`), its
-    nearest hit through the tree, and its colour, flat or shaded (:func:`shade`, its points on
-    the area lights from the same numbers), summed and divided by the count as
+    """The lecture's loop for a distributed scene (stage 5, as
+    :class:`raykit.engine.regions.Plan` batches it): for each pixel, each of its
+    ``noise.count`` samples in order, from the sample's uniform numbers
+    (:func:`~raykit.engine.compiled.noise.pixel_sample`), a point in the pixel, a ray through
+    the pinhole or from the lens (``lens``: :func:`lens_tuple`), its nearest hit through the
+    tree, and its colour, flat or shaded (:func:`shade`, its points on the area lights and its
+    glossy perturbations from the same numbers), summed and divided by the count as
     :class:`raykit.engine.regions.Image` takes the mean; and the object index and t of the
     pinhole ray through the pixel centre. ``jobs (J,)``: the first pixel of each job of
     SAMPLED_PIXELS (row-major, P = ``len(t)``); results into ``rgb (P, 3)``, ``index``, ``t
@@ -564,8 +565,8 @@ def prepare(scene: Scene) -> Prepared:
     """Everything the kernels need of ``scene`` that does not depend on the samples: made once,
     it can be rendered many times (:func:`render`). It is what Mitsuba's ``load_dict`` does when
     it builds its BVH, and the camera's screen tiles besides (a raykit scene holds its camera).
-    Refuses, in one line, what no kernel renders yet (:func:`raykit.engine.choice.
-    refuse_distributed`)."""
+    Refuses, in one line, what no kernel renders yet
+    (:func:`raykit.engine.choice.refuse_distributed`)."""
     refuse_distributed(scene)
     arrays = scene_arrays(scene)
     shading = scene_shading(scene)
