@@ -1,18 +1,18 @@
 """Materials: how a surface answers light (FOCG 4.5–4.9), one per sphere or billboard.
 
-=========  =======  ===========================================================================
-field      letter   meaning
-=========  =======  ===========================================================================
-diffuse    kd       Lambert reflectance, a colour. Default: the object's ``color``; for a
-                    billboard with an ``image``, the texel's colour (an image *is* its diffuse
-                    colour, so a textured billboard takes no ``diffuse``).
-                    The ambient reflectance ka is kd too, as the book suggests.
-specular   ks       Blinn-Phong highlight colour; default black (no highlight).
-shininess  p        Blinn-Phong exponent: higher is a smaller, sharper highlight; default 32.
-mirror     km       Ideal mirror reflectance, a colour; default black (no mirror rays).
-glossiness a        Stage 5 (FOCG 13.4.4): the side of the square a mirror's reflected ray is
-                    perturbed within (:mod:`raykit.mirrors`), >= 0; default 0, the ideal mirror.
-=========  =======  ===========================================================================
+==========  =======  ===========================================================================
+field       letter   meaning
+==========  =======  ===========================================================================
+diffuse     kd       Lambert reflectance, a colour. Default: the object's ``color``; for a
+                     billboard with an ``image``, the texel's colour (an image *is* its diffuse
+                     colour, so a textured billboard takes no ``diffuse``).
+                     The ambient reflectance ka is kd too, as the book suggests.
+specular    ks       Blinn-Phong highlight colour; default black (no highlight).
+shininess   p        Blinn-Phong exponent: higher is a smaller, sharper highlight; default 32.
+mirror      km       Ideal mirror reflectance, a colour; default black (no mirror rays).
+glossiness  a        Stage 5 (FOCG 13.4.4): the side of the square a mirror's reflected ray is
+                     perturbed within (:mod:`raykit.mirrors`), >= 0; default 0, the ideal mirror.
+==========  =======  ===========================================================================
 
 A scene with no ``lights`` and no ``ambient`` is unlit: an object shows its flat ``color``
 (scene format v1), plus km times what its mirror reflects, if it is a mirror.
