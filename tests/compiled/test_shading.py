@@ -97,6 +97,7 @@ def _in_lanes_and_one_by_one(arrays, tree, shading, p, n, d, error, lists):
     lane_k, lane_total = lanes.k, lanes.total
     rays, best = np.zeros((6, count)), np.zeros(count, dtype=np.int64)
     k = shading.diffuse[0] if shading.has_diffuse[0] else np.full(3, 0.5)
+    none = np.empty(0)  # no sample's uniform numbers: no area light to sample
     for tile in range(tiles):
         for axis in range(3):
             box[0, axis], box[1, axis] = p[tile, :, axis].min(), p[tile, :, axis].max()
@@ -117,7 +118,7 @@ def _in_lanes_and_one_by_one(arrays, tree, shading, p, n, d, error, lists):
                 compiled.surface_color(
                     arrays, tree, shading, stack, 0, p[tile, i, 0], p[tile, i, 1], p[tile, i, 2],
                     n[tile, i, 0], n[tile, i, 1], n[tile, i, 2], d[tile, i, 0], d[tile, i, 1],
-                    d[tile, i, 2], error[tile, i], 0.5, 0.5, 0.5,
+                    d[tile, i, 2], error[tile, i], 0.5, 0.5, 0.5, none, 0,
                 )  # fmt: skip
     return in_lanes, one_by_one, counts
 
