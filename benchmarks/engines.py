@@ -8,7 +8,8 @@
    raykit.engine.choice.NUMPY_SECONDS_PER_RAY estimates.
 2. What the compiled engine costs a process before it renders: importing numba and loading
    the cached kernels (whole processes rendering a tiny lit scene with 3 x 3 adaptive samples,
-   median, compiled and numpy in turns), and one first compile into an empty cache.
+   and a tiny distributed one, median, compiled and numpy in turns), and one first compile into
+   an empty cache.
    With 1., that gives the numpy render time from which the compiled engine wins, the
    threshold raykit.engine.choice.AUTO_FROM holds.
 3. Whole processes, `raykit render SCENE -o OUT.png --engine E` for numpy, compiled and auto,
@@ -59,9 +60,10 @@ def benchmark_scenes(quick: bool, *, format_v1_only: bool = False) -> dict:
     if format_v1_only:
         files = [p for p in files if json.loads(p.read_text()).get("version", 1) == 1]
     scenes = {p.stem: load_scene(p) for p in files}
-    if not format_v1_only:  # a v1 scene is never distributed (an older Scene cannot say so)
-        # stage 5's distributed scenes: the compiled engine does not render them yet
-        scenes = {name: scene for name, scene in scenes.items() if not scene.distributed}
+    if not format_v1_only:  # (a v1 scene renders in every engine; an older raykit has no
+        # choice.compiled_refuses)
+        # what the compiled engine does not render yet (motion blur): nothing to compare
+        scenes = {name: s for name, s in scenes.items() if choice.compiled_refuses(s) is None}
     if not quick:
         scenes["sphereflake 4"] = sphereflake(4)
         scenes["1,000 spheres 1080p"] = many_spheres(1000)
@@ -114,11 +116,14 @@ def main() -> None:
             call()  # warm-up: loads (or compiles) the kernels
         for name, took in interleaved_medians(calls, args.repeats).items():
             times[name][engine] = took
-    per_ray = {"flat": [], "lit": []}
+    per_ray = {"flat": [], "lit": [], "distributed": []}
     for name, scene in scenes.items():
         pixels = scene.camera.width * scene.camera.height
         lit = needs_shading(scene)
-        per_ray["lit" if lit else "flat"].append(times[name]["numpy"] / pixels)
+        kind, rays = "lit" if lit else "flat", pixels
+        if scene.distributed:  # per sample ray (choice.numpy_seconds counts them so)
+            kind, rays = "distributed", pixels * scene.sampling.samples_per_pixel
+        per_ray[kind].append(times[name]["numpy"] / rays)
         fast = times[name].get("compiled")
         classic = times.get("classic", {}).get("compiled")
         ratio = f"{times[name]['numpy'] / fast:.1f}x" if fast else "-"
@@ -127,27 +132,29 @@ def main() -> None:
             f"| {name} | {pixels:,} | {'yes' if lit else 'no'} "
             f"| {seconds(times[name]['numpy'], 1)} | {seconds(fast, 1)} | {ratio} | {to_classic} |"
         )
-    flat, lit = (statistics.median(per_ray[k]) for k in ("flat", "lit"))
+    flat, lit, distributed = (statistics.median(per_ray[k]) for k in ("flat", "lit", "distributed"))
     print(
         f"\nThe numpy engine per pixel, median over the scenes: {flat * 1e9:.0f} ns flat, "
-        f"{lit * 1e9:.0f} ns lit (raykit.engine.choice.NUMPY_SECONDS_PER_RAY: "
-        f"{choice.NUMPY_SECONDS_PER_RAY['flat'] * 1e9:.0f} and "
-        f"{choice.NUMPY_SECONDS_PER_RAY['lit'] * 1e9:.0f} ns)."
+        f"{lit * 1e9:.0f} ns lit, and per sample ray of a distributed scene "
+        f"{distributed * 1e9:.0f} ns (raykit.engine.choice.NUMPY_SECONDS_PER_RAY: "
+        f"{choice.NUMPY_SECONDS_PER_RAY['flat'] * 1e9:.0f}, "
+        f"{choice.NUMPY_SECONDS_PER_RAY['lit'] * 1e9:.0f} and "
+        f"{choice.NUMPY_SECONDS_PER_RAY['distributed'] * 1e9:.0f} ns)."
     )
     if len(engines) == 1:
         return _plot(args.plot, times, engines)
 
     print("\n2. what the compiled engine costs a process before it renders (whole processes)\n")
-    tiny = (
-        "import dataclasses, raykit.io.scene_json as j, raykit.render as r\n"
-        f"s = j.load_scene({str(SCENES / 'classic_lit.json')!r})\n"
-        "s = dataclasses.replace(s, camera=dataclasses.replace(s.camera, width=8, height=6))\n"
-        "r.render(s, 3, adaptive=True, engine={!r})\n"
-    )  # a render too small to time: what is left is the process and the engine's loading
+    tiny, tiny_distributed = _tiny("classic_lit", "3, adaptive=True, "), _tiny("soft_shadows", "")
     tiny_processes = _processes(
-        {engine: ["-c", tiny.format(engine)] for engine in ("numpy", "compiled")}, args.repeats
+        {
+            (code, engine): ["-c", code.format(engine)]
+            for code in (tiny, tiny_distributed)
+            for engine in ("numpy", "compiled")
+        },
+        args.repeats,
     )
-    base, load = tiny_processes["numpy"], tiny_processes["compiled"]
+    base, load = tiny_processes[tiny, "numpy"], tiny_processes[tiny, "compiled"]
     compile_time = "not run (--quick)"
     if not args.quick:
         with tempfile.TemporaryDirectory() as empty:
@@ -166,6 +173,20 @@ def main() -> None:
         f"\nThe compiled engine saves a median {saved:.0%} of the numpy render time, so it wins "
         f"from numpy renders of about {overhead:.2f} / {saved:.2f} = {threshold:.2f} s "
         f"(raykit.engine.choice.AUTO_FROM: {choice.AUTO_FROM} s)."
+    )
+    distributed = [name for name, scene in scenes.items() if scene.distributed]
+    overhead = (
+        tiny_processes[tiny_distributed, "compiled"] - tiny_processes[tiny_distributed, "numpy"]
+    )
+    saved = statistics.median(
+        (times[name]["numpy"] - times[name]["compiled"]) / times[name]["numpy"]
+        for name in distributed
+    )
+    print(
+        f"For a distributed scene ({', '.join(distributed)}; the tiny render soft_shadows at "
+        f"8x6, whose kernels, trace_sampled's, load +{seconds(overhead, 0)}), it saves a median "
+        f"{saved:.0%}, and wins from numpy renders of about {overhead:.2f} / {saved:.2f} = "
+        f"{overhead / saved:.2f} s."
     )
 
     print(
@@ -194,6 +215,18 @@ def main() -> None:
     _plot(args.plot, times, engines)
 
 
+def _tiny(name: str, options: str) -> str:
+    """A process's code that renders the example scene ``name`` at 8x6 pixels with ``options``
+    and the engine formatted in: a render too small to time, so that what is left is the
+    process and the engine's loading."""
+    return (
+        "import dataclasses, raykit.io.scene_json as j, raykit.render as r\n"
+        f"s = j.load_scene({str(SCENES / f'{name}.json')!r})\n"
+        "s = dataclasses.replace(s, camera=dataclasses.replace(s.camera, width=8, height=6))\n"
+        f"r.render(s, {options}engine={{!r}})\n"
+    )
+
+
 def tile_sides(args) -> None:
     """The compiled render of each prepared scene per tile side (see the module page)."""
     if not choice.compiled_available():
@@ -201,7 +234,8 @@ def tile_sides(args) -> None:
         return
     from raykit.engine import compiled
 
-    scenes = benchmark_scenes(args.quick)
+    # a distributed render's rays walk the tree, never the screen tiles
+    scenes = {name: s for name, s in benchmark_scenes(args.quick).items() if not s.distributed}
     if not args.quick:
         scenes |= {"sphereflake 5": sphereflake(5), "sphereflake 6": sphereflake(6)}
     choices = [(side, False) for side in (2, 4, 8, 16)] + [(side, True) for side in (4, 8, 16, 32)]

@@ -9,6 +9,8 @@ import numpy as np
 import pytest
 
 from conftest import REPO
+from raykit.engine.choice import compiled_refuses
+from raykit.io.scene_json import load_scene
 
 # a benchmark's process may first compile the compiled engine's kernels (raykit[fast] installed,
 # nothing of this source cached; how long: docs/benchmarks/compile_time.md), then load them
@@ -333,15 +335,16 @@ def test_shading_cost_plot_draws_flat_shaded_and_unculled_per_scene(tmp_path, mo
     plt.close("all")
 
 
-# the example scenes the compiled engine renders (stage 5's distributed ones it does not yet)
-PINHOLE_EXAMPLES = sorted(
-    p.stem for p in (REPO / "scenes").glob("*.json") if '"version": 2' not in p.read_text()
-)
+_SCENES = {p.stem: load_scene(p) for p in sorted((REPO / "scenes").glob("*.json"))}
+# the example scenes the compiled engine renders (not motion blur, yet)
+EXAMPLES = [name for name, scene in _SCENES.items() if compiled_refuses(scene) is None]
+# those whose rays the screen tiles serve (stage 5's distributed ones walk the tree)
+PINHOLE_EXAMPLES = [name for name in EXAMPLES if not _SCENES[name].distributed]
 
 
 def test_engines_benchmark_times_both_engines_on_every_example_scene():
     rows = _table_rows("engines.py")
-    assert [row.split(" | ")[0][2:] for row in rows] == PINHOLE_EXAMPLES
+    assert [row.split(" | ")[0][2:] for row in rows] == EXAMPLES
     try:
         import numba  # noqa: F401
     except ImportError:  # the numpy engine alone: no compiled column filled

@@ -124,5 +124,5 @@ def test_the_compiled_engine_refuses_a_moving_scene_and_auto_takes_numpy():
     assert scene.distributed and choose("auto", scene) == "numpy"
     if not compiled_available():
         pytest.skip("numba is not installed")
-    with pytest.raises(ValueError, match="does not render distributed"):
+    with pytest.raises(ValueError, match="does not render motion blur"):
         choose("compiled", scene)

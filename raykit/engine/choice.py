@@ -8,6 +8,17 @@ already compiled and cached (a first compile takes longer than most renders), th
 float64, and the numpy engine would take longer than loading numba and the kernels costs
 (``AUTO_FROM``, measured by ``raykit bench``). So a small render never pays for numba, and
 nothing here imports it.
+
+A distributed scene (stage 5) is judged by the same rule, with its own estimate of the numpy
+engine's time: its sample rays (width x height x ``render.samples_per_pixel``) at the numpy
+engine's time per sample ray of a distributed render (``NUMPY_SECONDS_PER_RAY["distributed"]``,
+more than a lit pinhole ray's: each sample draws its uniform numbers, and its batches are a
+tile's pixels at one sample), and its own kernels (``trace_sampled``) compiled and cached.
+Loading those costs a process about what a lit scene's kernels cost, and the compiled engine
+saves about the same share of the numpy engine's time (``python benchmarks/engines.py``
+prints both), so the one threshold ``AUTO_FROM`` serves.
+The compiled engine renders such a scene from the same numbers (:mod:`raykit.engine.noise`),
+so the choice never changes a byte, only the time.
 """
 
 from __future__ import annotations
@@ -35,10 +46,10 @@ STARTER_KIT = (
     "smaller (the camera's width and height in the scene file)"
 )
 COMPILED_SOURCE = Path(__file__).with_name("compiled")  # the package of kernels
-# The numpy engine's time per ray, flat and shaded, and what loading numba and the cached
-# kernels costs a process: measured by benchmarks/engines.py
-# (`raykit bench` prints them again on yours)
-NUMPY_SECONDS_PER_RAY = {"flat": 2.0e-7, "lit": 8.0e-7}
+# The numpy engine's time per ray, flat and shaded, and per sample ray of a distributed render,
+# and what loading numba and the cached kernels costs a process: measured by
+# benchmarks/engines.py (`raykit bench` prints them again on yours)
+NUMPY_SECONDS_PER_RAY = {"flat": 2.0e-7, "lit": 8.0e-7, "distributed": 1.1e-6}
 AUTO_FROM = 0.5  # seconds of numpy rendering from which the compiled engine wins, load included
 
 
@@ -233,7 +244,10 @@ def marker(entry: str, folder: Path | None = None) -> Path | None:
 
 def entry_point(scene: Scene) -> str:
     """The compiled engine's entry point that renders ``scene``: a scene with mirror rays'
-    kernels, a lit scene's, or a flat one's only."""
+    kernels, a lit scene's, or a flat one's only; a distributed scene's (stage 5) are its own,
+    flat or lit, with mirrors or not."""
+    if scene.distributed:
+        return "trace_sampled"
     if not needs_shading(scene):
         return "trace_flat"
     return "trace_mirrors" if scene.max_depth > 0 and scene.materials.any_mirror else "trace_lit"
@@ -246,20 +260,33 @@ def compiled_once(entry: str) -> bool:
 
 
 def numpy_seconds(scene: Scene, samples: int) -> float:
-    """About how long the numpy engine takes to render ``scene`` with n x n samples."""
+    """About how long the numpy engine takes to render ``scene`` with n x n samples (a
+    distributed scene: with its own samples per pixel)."""
     camera = scene.camera
+    if scene.distributed:
+        rays = camera.width * camera.height * scene.sampling.samples_per_pixel
+        return rays * NUMPY_SECONDS_PER_RAY["distributed"]
     rays = camera.width * camera.height * samples * samples
     return rays * NUMPY_SECONDS_PER_RAY["lit" if needs_shading(scene) else "flat"]
 
 
+def compiled_refuses(scene: Scene) -> str | None:
+    """What of distributed ray tracing in ``scene`` the compiled engine cannot render yet (no
+    kernel repeats it), in words; None when it renders the whole scene. It renders area lights,
+    a lens, glossy mirrors and render.samples_per_pixel > 1 with every sampler; not motion
+    blur (spheres moving while the shutter is open: every ray at its own time)."""
+    if scene.moving:
+        return "motion blur (spheres moving while render.shutter is open)"
+    return None
+
+
 def refuse_distributed(scene: Scene) -> None:
-    """A one-line ValueError for a distributed scene, which the compiled engine cannot render
-    yet (its kernels have no twins of stage 5's functions)."""
-    if scene.distributed:
+    """A one-line ValueError naming what the compiled engine cannot render of ``scene``
+    (:func:`compiled_refuses`)."""
+    refused = compiled_refuses(scene)
+    if refused is not None:
         raise ValueError(
-            f"{scene.source}: the compiled engine does not render distributed ray tracing "
-            "yet (area lights, a lens, a glossy mirror, spheres moving in render.shutter, "
-            "render.samples_per_pixel > 1): use --engine numpy"
+            f"{scene.source}: the compiled engine does not render {refused} yet: use --engine numpy"
         )
 
 
@@ -278,8 +305,8 @@ def choose(engine: str, scene: Scene, samples: int = 1, dtype: type = np.float64
             raise ValueError("the compiled engine renders in float64 only; use engine='numpy'")
         refuse_distributed(scene)
         return "compiled"
-    if scene.distributed:
-        return "numpy"  # the compiled engine has no twins of stage 5's functions yet
+    if compiled_refuses(scene) is not None:
+        return "numpy"
     if numpy_seconds(scene, samples) < AUTO_FROM or dtype != np.float64:
         return "numpy"  # before the cache's key, whose hash of the sources costs a little
     fast = compiled_available() and compiled_once(entry_point(scene))

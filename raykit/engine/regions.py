@@ -113,6 +113,16 @@ def cast_nearby(
     return hits
 
 
+def refuse_grid(scene: Scene, samples: int) -> None:
+    """A one-line ValueError for n x n ``samples`` other than 1 of a distributed scene, which
+    takes its samples from its own ``render.samples_per_pixel``."""
+    if scene.distributed and samples != 1:
+        raise ValueError(
+            f"{scene.source}: a distributed scene takes its samples from "
+            f"render.samples_per_pixel, not from the n x n grid (samples {samples})"
+        )
+
+
 @dataclass(frozen=True)
 class Batch:
     """Image points (x, y) ``(N,)`` of one region: its pixels at one sample offset ``grid``
@@ -152,11 +162,7 @@ class Plan:
         self.sample_count = len(self.offsets)  # colours summed per pixel
         self.pixel_samples = None  # a distributed render's uniform numbers
         if scene.distributed:
-            if samples != 1:
-                raise ValueError(
-                    f"{scene.source}: a distributed scene takes its samples from "
-                    f"render.samples_per_pixel, not from the n x n grid (samples {samples})"
-                )
+            refuse_grid(scene, samples)
             self.dimensions = Dimensions.of(scene)
             self.pixel_samples = PixelSamples(scene.sampling, self.dimensions.count)
             self.sample_count = scene.sampling.samples_per_pixel

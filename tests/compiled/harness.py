@@ -243,3 +243,55 @@ def caster_answers_what_cast_answers(rng):
     assert np.array_equal(got.index, expected.index)
     exactly(got.t, expected.t)
     exactly(got.color, expected.color)
+
+
+def distributed_scene(
+    rng, sampler, *, lens=False, mirrors=False, samples=4, lights=True, glossy=False
+):
+    """A seeded random distributed scene (format v2, read as a file is) of 48 x 36 pixels:
+    spheres on a floor, in front of a textured wall, ``samples`` per pixel by ``sampler`` with
+    a random seed; with ``lights``, an area light, a point light and a directional light (and
+    ambient light), else flat colours; a thin lens of random aperture and focus if ``lens``;
+    mirror spheres and max_depth 2 if ``mirrors``, some of them glossy if ``glossy``."""
+    spheres = []
+    for k in range(6):
+        center = rng.uniform([-3, 0.3, -3], [3, 1.5, 2]).tolist()
+        radius, color = float(rng.uniform(0.3, 0.9)), rng.uniform(size=3).tolist()
+        sphere = {"center": center, "radius": radius, "color": color}
+        if lights and k % 2:
+            sphere |= {"specular": [0.5, 0.5, 0.5], "shininess": float(rng.choice([8, 40]))}
+        if mirrors and k % 3 == 0:
+            sphere |= {"mirror": rng.uniform(0.3, 0.9, size=3).tolist()}
+            if glossy and k == 0:  # one glossy, one ideal mirror
+                sphere |= {"glossiness": float(rng.uniform(0.1, 0.5))}
+        spheres.append(sphere)
+    data = {
+        "version": 2,
+        "camera": {"eye": [float(rng.uniform(-1, 1)), 2.5, 8], "lookat": [0, 0.8, 0],
+                   "up": [0, 1, 0], "fov_angle": 45, "width": 48, "height": 36},
+        "background": rng.uniform(size=3).tolist(),
+        "spheres": spheres,
+        "billboards": [
+            {"upper_left": [-6, 0, -6], "upper_right": [6, 0, -6], "lower_left": [-6, 0, 6],
+             "color": [0.8, 0.8, 0.78]},
+            {"upper_left": [-6, 5, -4], "upper_right": [6, 5, -4], "lower_left": [-6, 0, -4],
+             "image": "textures/checker.png"},
+        ],
+        "render": {"samples_per_pixel": samples, "sampler": sampler,
+                   "seed": int(rng.integers(0, 2**32))},
+    }  # fmt: skip
+    if lights:
+        corner = rng.uniform([-2, 4, -1], [0, 5, 1])
+        data["lights"] = [
+            {"type": "area", "corner": corner.tolist(), "edge1": [float(rng.uniform(1, 3)), 0, 0],
+             "edge2": [0, 0, float(rng.uniform(1, 2))], "color": [0.7, 0.7, 0.65]},
+            {"type": "point", "position": [3.0, 4.0, 4.0], "color": [0.3, 0.3, 0.35]},
+            {"type": "directional", "direction": [-0.3, -1.0, -0.4], "color": [0.2, 0.2, 0.2]},
+        ]  # fmt: skip
+        data["ambient"] = [0.1, 0.1, 0.1]
+    if lens:
+        data["camera"] |= {"aperture": float(rng.uniform(0.1, 0.6)),
+                           "focus_distance": float(rng.uniform(5, 10))}  # fmt: skip
+    if mirrors:
+        data["max_depth"] = 2
+    return scene_from_dict(data, folder=SCENES)

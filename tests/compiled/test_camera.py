@@ -1,11 +1,12 @@
-"""The viewing-ray kernel (raykit.engine.compiled.camera) against raykit.camera.rays_through."""
+"""The viewing-ray kernels (raykit.engine.compiled.camera) against raykit.camera.rays_through
+and thin_lens_rays."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from raykit.camera import Camera, rays_through
+from raykit.camera import Camera, rays_through, thin_lens_rays
 from raykit.scene import Scene
 
 from .harness import (
@@ -57,5 +58,32 @@ def _rays_through(rng):
         exactly(got, np.concatenate([origins, directions], axis=1))
 
 
-CHECKS = {"camera.rays_through": _rays_through}
+def _pinhole(eye=(0.0, 0.0, 0.0), **lens):
+    eye = np.asarray(eye, float)
+    return Camera(eye, eye + np.array([0.3, -0.2, -1.0]), np.array([0.0, 1.0, 0.0]), 50, 64, 48,
+                  **lens)  # fmt: skip
+
+
+@numba.njit
+def _lens_rays(camera, lens, x, y, xi):
+    out = np.empty((len(x), 6))
+    for i in range(len(x)):
+        ray = compiled.thin_lens_rays(camera, lens, x[i], y[i], xi[i, 0], xi[i, 1])
+        out[i] = ray.o0, ray.o1, ray.o2, ray.d0, ray.d1, ray.d2
+    return out
+
+
+def _thin_lens_rays(rng):
+    for eye, aperture, focus in ((0.0, 0.5, None), (5.0, 0.05, 3.7), (1e6, 2.0, 40.0)):
+        camera = _pinhole(rng.normal(size=3) * eye, aperture=aperture, focus_distance=focus)
+        scene = Scene(camera)
+        x, y = rng.uniform(0, 64, size=4000), rng.uniform(0, 48, size=4000)
+        xi = rng.uniform(size=(4000, 2))
+        xi[:3] = (0.5, 0.5), (0.0, 0.0), (0.5, 0.0)  # the lens's centre and edges
+        origins, directions = thin_lens_rays(camera, x, y, xi)
+        got = _lens_rays(compiled.camera_tuple(scene), compiled.lens_tuple(scene), x, y, xi)
+        exactly(got, np.concatenate([origins, directions], axis=1))
+
+
+CHECKS = {"camera.rays_through": _rays_through, "camera.thin_lens_rays": _thin_lens_rays}
 test_the_twin_repeats_its_reference = twin_test("camera", CHECKS)

@@ -77,3 +77,19 @@ def test_small_renders_never_import_numba():
         "assert 'numba' not in sys.modules, 'numba was imported'\n"
     )
     assert run.returncode == 0, run.stderr
+
+
+def test_auto_judges_a_distributed_scene_by_its_sample_rays_and_its_own_kernels(monkeypatch):
+    scene = load_scene(SCENES / "soft_shadows.json")  # 320 x 240, 16 samples per pixel
+    small = replace(scene, camera=replace(scene.camera, width=32, height=24))
+    monkeypatch.setattr(choice, "compiled_once", lambda entry: entry == "trace_sampled")
+    assert choice.entry_point(scene) == "trace_sampled"
+    rays = 320 * 240 * 16
+    assert choice.numpy_seconds(scene, 1) == rays * choice.NUMPY_SECONDS_PER_RAY["distributed"]
+    assert choice.choose("auto", scene) == "compiled"
+    assert choice.choose("auto", small) == "numpy"  # numba's load would cost more than it saves
+    moving = load_scene(SCENES / "motion_blur.json")
+    assert choice.numpy_seconds(moving, 1) >= choice.AUTO_FROM
+    assert choice.choose("auto", moving) == "numpy"  # refused by the compiled engine
+    monkeypatch.setattr(choice, "compiled_once", lambda entry: entry != "trace_sampled")
+    assert choice.choose("auto", scene) == "numpy"  # its kernels are not compiled yet

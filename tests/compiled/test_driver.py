@@ -11,11 +11,16 @@ import numpy as np
 import pytest
 
 from conftest import SCENES, shifted_scene
+from raykit.engine.choice import choose, compiled_refuses
 from raykit.io.scene_json import load_scene, scene_from_dict
+from raykit.lights import AreaLight
+from raykit.render import render
+from raykit.sampling import SAMPLERS, Sampling
 
 from .harness import (
     caster_answers_what_cast_answers,
     crowd,
+    distributed_scene,
     exactly,
     packet_scenes,
     same_render,
@@ -26,20 +31,68 @@ numba = pytest.importorskip("numba")
 compiled = pytest.importorskip("raykit.engine.compiled")
 
 
-# stage 5's distributed scenes have no compiled twins yet: the engine refuses them (below)
-PINHOLE_EXAMPLES = [p for p in sorted(SCENES.glob("*.json")) if not load_scene(p).distributed]
+# every example scene but what the compiled engine refuses (motion blur, below)
+EXAMPLES = [p for p in sorted(SCENES.glob("*.json")) if not compiled_refuses(load_scene(p))]
 
 
-@pytest.mark.parametrize("path", PINHOLE_EXAMPLES, ids=lambda p: p.stem)
+@pytest.mark.parametrize("path", EXAMPLES, ids=lambda p: p.stem)
 def test_every_example_scene_gives_the_same_png_bytes_with_both_engines(path):
-    same_render(load_scene(path))
+    same_render(load_scene(path))  # soft_shadows, depth_of_field, glossy: distributed, to the bit
 
 
-def test_the_compiled_engine_refuses_a_distributed_scene_in_one_line():
-    scene = load_scene(SCENES / "soft_shadows.json")
-    with pytest.raises(ValueError, match="does not render distributed") as info:
+def test_the_compiled_engine_refuses_motion_blur_in_one_line_and_auto_takes_numpy():
+    scene = load_scene(SCENES / "motion_blur.json")
+    with pytest.raises(ValueError, match="does not render motion blur") as info:
         compiled.render(scene)
-    assert "\n" not in str(info.value)
+    assert "\n" not in str(info.value) and "motion_blur.json" in str(info.value)
+    assert choose("auto", scene) == "numpy"
+
+
+@pytest.mark.parametrize("sampler", SAMPLERS)
+@pytest.mark.parametrize(
+    "effect",
+    ["area lights", "lens", "lens and mirrors", "area lights and mirrors", "flat lens", "glossy"],
+)
+def test_random_distributed_scenes_render_the_same_with_both_engines(effect, sampler):
+    rng = np.random.default_rng(sum(map(ord, effect + sampler)))
+    samples = {"random": 5, "jittered": 9, "sobol": 8}[sampler]
+    scene = distributed_scene(
+        rng, sampler, lens="lens" in effect, mirrors="mirrors" in effect or effect == "glossy",
+        lights="flat" not in effect, samples=samples, glossy=effect == "glossy",
+    )  # fmt: skip
+    assert scene.distributed and (scene.area_lights > 0) == ("flat" not in effect)
+    same_render(scene)
+
+
+@pytest.mark.parametrize("sampler", SAMPLERS)
+def test_an_orthographic_camera_with_an_area_light_renders_the_same_with_both_engines(sampler):
+    scene = load_scene(SCENES / "orthographic.json")
+    light = AreaLight(np.array([-1.0, 6.0, 2.0]), np.array([2.0, 0, 0]), np.array([0, 0, 1.5]),
+                      np.array([0.8, 0.8, 0.7]))  # fmt: skip
+    scene = replace(
+        scene, camera=replace(scene.camera, width=48, height=36), lights=(light,),
+        ambient=np.array([0.2, 0.2, 0.2]), sampling=Sampling(4, sampler, 7),
+    )  # fmt: skip
+    assert scene.distributed and scene.camera.projection == "orthographic"
+    same_render(scene)
+
+
+def test_a_distributed_scene_refuses_the_n_by_n_grid_in_one_line_with_either_engine():
+    scene = load_scene(SCENES / "soft_shadows.json")
+    messages = []
+    for engine in ("numpy", "compiled"):
+        with pytest.raises(ValueError, match="takes its samples from render.samples_per") as info:
+            render(scene, samples=2, engine=engine)
+        messages.append(str(info.value))
+    assert messages[0] == messages[1] and "\n" not in messages[0]
+
+
+def test_a_distributed_render_tells_progress_of_every_pixel_once():
+    scene = distributed_scene(np.random.default_rng(3), "random", lens=True)
+    told = []
+    rgb, _, _ = compiled.render(scene, progress=told.append)
+    assert sum(told) == 48 * 36 and len(told) > 1
+    exactly(rgb, compiled.render(scene)[0])
 
 
 @pytest.mark.parametrize("samples,adaptive", [(2, False), (3, False), (3, True)])
@@ -110,15 +163,18 @@ def test_the_image_does_not_depend_on_which_core_takes_which_tile():
     scenes = [packet_scenes()["classic_lit_at_1e6"], crowd(np.random.default_rng(11), 200)]
     mirrors = load_scene(SCENES / "mirror_balls.json")
     scenes.append(replace(mirrors, camera=replace(mirrors.camera, width=80, height=60)))
+    rng = np.random.default_rng(12)  # distributed: a pixel's numbers are its own, whoever takes it
+    scenes += [distributed_scene(rng, sampler, lens=True, mirrors=True) for sampler in SAMPLERS]
     threads = numba.get_num_threads()
     try:
         for scene in scenes:
             prepared = compiled.prepare(scene)
             numba.set_num_threads(1)
-            rgb, index, t = compiled.render(prepared, 2)
+            samples = 1 if scene.distributed else 2
+            rgb, index, t = compiled.render(prepared, samples)
             numba.set_num_threads(threads)
             for progress in (None, lambda rows: None) * 3:  # one call, or one per band of rows
-                again = compiled.render(prepared, 2, progress=progress)
+                again = compiled.render(prepared, samples, progress=progress)
                 assert np.array_equal(again[1], index)
                 exactly(again[2], t)
                 exactly(again[0], rgb)
@@ -283,7 +339,13 @@ def _small(name, **options):
     )
 
 
+def _distributed(sampler, **effects):
+    return lambda rng: same_render(distributed_scene(rng, sampler, **effects))
+
+
 CHECKS = {
+    "driver.trace_sampled": _distributed("jittered", lens=True, mirrors=True),
+    "driver.sampled_job": _distributed("sobol", mirrors=True, glossy=True),
     "driver.cast_rays": caster_answers_what_cast_answers,
     "driver.trace_flat": _small("classic"),
     "driver.flat_job": _small("cutouts"),

@@ -1,5 +1,5 @@
-"""The unit vector toward a point light (raykit.engine.compiled.lights) against
-raykit.lights.toward_light."""
+"""The unit vector toward a point light, and an area light's sampled points
+(raykit.engine.compiled.lights), against raykit.lights.toward_light and sampled."""
 
 from __future__ import annotations
 
@@ -12,7 +12,10 @@ numba = pytest.importorskip("numba")
 compiled = pytest.importorskip("raykit.engine.compiled")
 
 from raykit.engine.compiled import lights as kernels  # noqa: E402
-from raykit.lights import PointLight, toward_light  # noqa: E402
+from raykit.lights import AreaLight, PointLight, sampled, toward_light  # noqa: E402
+from raykit.scene import Scene  # noqa: E402
+
+from .test_camera import _pinhole  # noqa: E402
 
 
 def _toward_point_light(rng):
@@ -23,5 +26,24 @@ def _toward_point_light(rng):
     exactly(got, expected)
 
 
-CHECKS = {"lights.toward_point_light": _toward_point_light}
+@numba.njit
+def _sampled_points(shading, j, xi):
+    out = np.empty((len(xi), 3))
+    for i in range(len(xi)):
+        out[i, 0], out[i, 1], out[i, 2] = kernels.sampled(shading, j, xi[i, 0], xi[i, 1])
+    return out
+
+
+def _sampled(rng):
+    lights = [
+        AreaLight(*(rng.normal(size=(3, 3)) * scale), np.ones(3)) for scale in (1.0, 5.0, 1e6)
+    ]
+    point = PointLight(rng.normal(size=3), np.ones(3))
+    shading = compiled.scene_shading(Scene(_pinhole(), lights=(lights[0], point, *lights[1:])))
+    xi = rng.uniform(size=(4000, 2))
+    for j, light in zip((0, 2, 3), lights, strict=True):
+        exactly(_sampled_points(shading, j, xi), sampled(light, xi).position)
+
+
+CHECKS = {"lights.toward_point_light": _toward_point_light, "lights.sampled": _sampled}
 test_the_twin_repeats_its_reference = twin_test("lights", CHECKS)

@@ -11,7 +11,8 @@ from libm_power import libm_power
 
 from conftest import shifted_scene
 from raykit import shading
-from raykit.lights import DirectionalLight, PointLight
+from raykit.engine.noise import Dimensions
+from raykit.lights import AreaLight, DirectionalLight, PointLight
 from raykit.rays import dot, normalize
 from raykit.render import cast, secondary_caster
 
@@ -31,14 +32,18 @@ kernels = pytest.importorskip("raykit.engine.compiled.shading")
 
 
 @numba.njit
-def _shade(arrays, tree, shading, origins, directions, index, t, color):
+def _shade(arrays, tree, shading, origins, directions, index, t, color, uniforms=None):
+    """compiled.shade of each ray, with its row of a distributed sample's ``uniforms (N, D)``
+    (None: no row, the area lights' centres)."""
     out = np.empty((len(origins), 3))
     stack = compiled.new_stack()
+    none = np.empty(0)
     for i in range(len(origins)):
         o, d, c = origins[i], directions[i], color[i]
+        numbers = none if uniforms is None else np.ascontiguousarray(uniforms[i])
         out[i, 0], out[i, 1], out[i, 2] = compiled.shade(
             arrays, tree, shading, stack, o[0], o[1], o[2], d[0], d[1], d[2],
-            index[i], t[i], c[0], c[1], c[2],
+            index[i], t[i], c[0], c[1], c[2], numbers,
         )  # fmt: skip
     return out
 
@@ -92,6 +97,7 @@ def _in_lanes_and_one_by_one(arrays, tree, shading, p, n, d, error, lists):
     lane_k, lane_total = lanes.k, lanes.total
     rays, best = np.zeros((6, count)), np.zeros(count, dtype=np.int64)
     k = shading.diffuse[0] if shading.has_diffuse[0] else np.full(3, 0.5)
+    none = np.empty(0)  # no sample's uniform numbers: no area light to sample
     for tile in range(tiles):
         for axis in range(3):
             box[0, axis], box[1, axis] = p[tile, :, axis].min(), p[tile, :, axis].max()
@@ -112,7 +118,7 @@ def _in_lanes_and_one_by_one(arrays, tree, shading, p, n, d, error, lists):
                 compiled.surface_color(
                     arrays, tree, shading, stack, 0, p[tile, i, 0], p[tile, i, 1], p[tile, i, 2],
                     n[tile, i, 0], n[tile, i, 1], n[tile, i, 2], d[tile, i, 0], d[tile, i, 1],
-                    d[tile, i, 2], error[tile, i], 0.5, 0.5, 0.5,
+                    d[tile, i, 2], error[tile, i], 0.5, 0.5, 0.5, none, 0,
                 )  # fmt: skip
     return in_lanes, one_by_one, counts
 
@@ -214,6 +220,61 @@ def _shade_checked(rng, max_depth):
     exactly(got, expected)
 
 
+def _with_area_lights(rng, scene):
+    """``scene`` with two area lights among its lights (one large, one small and far)."""
+    lights = (
+        AreaLight(np.array([-2.0, 7.0, 6.0]), np.array([4.0, 0, 0]), np.array([0, 0.5, 3.0]),
+                  np.array([0.6, 0.6, 0.5])),
+        *scene.lights,
+        AreaLight(rng.normal(size=3) * 3 + [0, 0, 12], rng.normal(size=3) * 0.1,
+                  rng.normal(size=3) * 0.1, np.array([0.3, 0.2, 0.4])),
+    )  # fmt: skip
+    return replace(scene, lights=lights)
+
+
+def _glossy(rng, scene):
+    """``scene`` with every other mirror glossy."""
+    mirrors = [k for k, s in enumerate(scene.spheres) if s.material.is_mirror][::2]
+    spheres = list(scene.spheres)
+    for k in mirrors:
+        material = replace(spheres[k].material, glossiness=float(rng.uniform(0.05, 0.6)))
+        spheres[k] = replace(spheres[k], material=material)
+    return replace(scene, spheres=tuple(spheres))
+
+
+def _shade_sampled(rng, max_depth, uniforms=True):
+    """shade with area lights and glossy mirrors, each ray's points on the lights and its
+    perturbations from its row of uniform numbers (or, ``uniforms`` False, the lights' centres
+    and ideal reflections), at every mirror depth."""
+    scene = _glossy(rng, _with_area_lights(rng, lit_crowd(rng, 30)))
+    scene = replace(scene, max_depth=max_depth)
+    origins, directions = rays_into_crowd(rng, 5000)
+    hits = cast(scene, origins, directions)
+    dimensions = Dimensions.of(scene)
+    assert dimensions.glossy == (max_depth > 0)
+    numbers = rng.uniform(size=(len(origins), dimensions.count)) if uniforms else None
+    on_lights = gloss = None
+    if uniforms:
+        shape = (len(origins), max_depth + 1, scene.area_lights, 2)
+        lights = slice(dimensions.light(0, 0), dimensions.light(max_depth + 1, 0))
+        on_lights = numbers[:, lights].reshape(shape)
+        if dimensions.glossy:
+            glossy = slice(dimensions.gloss(0), dimensions.gloss(max_depth))
+            gloss = numbers[:, glossy].reshape(len(origins), max_depth, 2)
+    with libm_power():
+        expected = shading.shade(scene, secondary_caster(scene), origins, directions, hits,
+                                 on_lights, gloss_uniforms=gloss)  # fmt: skip
+    got = _shade(compiled.scene_arrays(scene), compiled.scene_tree(scene),
+                 compiled.scene_shading(scene), origins, directions, hits.index, hits.t,
+                 hits.color, numbers)  # fmt: skip
+    exactly(got, expected)
+
+
+@pytest.mark.parametrize("uniforms", [True, False])
+def test_area_lights_and_glossy_mirrors_shade_the_same_with_both_engines_at_every_depth(uniforms):
+    _shade_sampled(np.random.default_rng(46), 3, uniforms)
+
+
 def _in_lanes(rng):  # a job's rays in lanes, mirrors after: a render, to the bit
     scene = lit_crowd(rng, 30)
     same_render(replace(scene, camera=replace(scene.camera, width=40, height=30)))
@@ -222,9 +283,9 @@ def _in_lanes(rng):  # a job's rays in lanes, mirrors after: a render, to the bi
 CHECKS = {
     "shading.lambert": _lambert,
     "shading.blinn_phong": _blinn_phong,
-    "shading.surface_color": lambda rng: _shade_checked(rng, 0),  # no bounce: surface_color
+    "shading.surface_color": lambda rng: (_shade_checked(rng, 0), _shade_sampled(rng, 0)),
     "shading.shade": lambda rng: _shade_checked(rng, 3),
-    "shading.bounce_on": lambda rng: _shade_checked(rng, 3),
+    "shading.bounce_on": lambda rng: (_shade_checked(rng, 3), _shade_sampled(rng, 2)),
     "shading.surface_lanes": _in_lanes,
     "shading.light_lanes": _in_lanes,
     "shading.mirror_rays": _in_lanes,

@@ -27,6 +27,7 @@ LECTURE = {
     f"raykit.{name}"
     for name in (
         "rays planes spheres billboards camera hits lights surfaces shading shadows mirrors render"
+        " sampling"
     ).split()
 }
 
@@ -85,19 +86,25 @@ def _calls(run) -> set[str]:
 
 def test_every_lecture_function_the_numpy_engine_runs_has_a_twin_or_is_shared():
     def scenes():  # each run its own: a scene caches what it computes once (its camera frame)
-        for name in ("classic", "classic_lit", "mirror_balls", "cutouts", "shadow_on_billboard"):
+        for name in ("classic", "classic_lit", "mirror_balls", "cutouts", "shadow_on_billboard",
+                     "soft_shadows", "depth_of_field", "glossy"):  # fmt: skip
             scene = load_scene(SCENES / f"{name}.json")
             yield replace(scene, camera=replace(scene.camera, width=24, height=16))
 
-    numpy_calls = _calls(lambda: [render(s, samples=2, engine="numpy") for s in scenes()])
+    def samples(scene):  # a distributed scene takes its own
+        return 1 if scene.distributed else 2
+
+    numpy_calls = _calls(lambda: [render(s, samples(s), engine="numpy") for s in scenes()])
     # what the compiled engine runs itself, in Python, as it prepares a scene: shared, not copied
-    shared = _calls(lambda: [compiled.render(s, samples=2) for s in scenes()])
+    shared = _calls(lambda: [compiled.render(s, samples(s)) for s in scenes()])
     # properties and methods of the scene's classes are its data, read by both engines
     shared |= {name for name in numpy_calls if resolve(name) is None}
     twinned = {twin.reference for twin in twins.TWINS} | set(twins.WITHIN) | set(twins.EVERYWHERE)
     alone = numpy_calls - shared - twinned
     assert not alone, f"run by the numpy engine, with no compiled twin in the table: {alone}"
     assert {"raykit.shading.blinn_phong", "raykit.render.cast"} <= numpy_calls
+    stage_5 = {"raykit.lights.sampled", "raykit.sampling._cos_sin", "raykit.mirrors.glossy_reflect"}
+    assert stage_5 <= numpy_calls
 
 
 @pytest.mark.parametrize("twin", twins.TWINS, ids=lambda twin: twin.kernel)

@@ -3,7 +3,8 @@
 One module per job, each named for the reference module it repeats: :mod:`.scene` (the scene as
 arrays), :mod:`.rays`, :mod:`.spheres`, :mod:`.billboards`, :mod:`.camera`, :mod:`.hits`,
 :mod:`.bvh` (the tree walk), :mod:`.surfaces`, :mod:`.lights`, :mod:`.shadows` (and the shadow
-lists), :mod:`.shading` (per ray and in lanes), :mod:`.mirrors`, :mod:`.tiles` (screen tiles and
+lists), :mod:`.shading` (per ray and in lanes), :mod:`.mirrors`, :mod:`.sampling` and
+:mod:`.noise` (stage 5's sample patterns and uniform numbers), :mod:`.tiles` (screen tiles and
 packets) and :mod:`.driver` (the parallel loop, :mod:`raykit.render` repeated); :mod:`.compiling`
 is the machinery.
 
@@ -53,6 +54,17 @@ vectorised power in the reference, which disagree by one unit in the last place 
 cent of points; with the reference given the same pow, the two engines agree
 bit for bit, and as they stand, within 4 units in the last place and to the PNG byte (tests).
 
+Distributed scenes (stage 5). A scene with area lights, a thin lens, glossy mirrors or many
+samples per pixel renders in a loop of its own (:func:`.driver.trace_sampled`): each job a few
+pixels, each pixel all its samples in order, every ray (viewing, shadow, mirror) through the
+tree. A sample's uniform numbers are :mod:`raykit.engine.noise`'s, hashed from (seed, pixel,
+sample, dimension) in wrapping uint64 arithmetic (:mod:`.noise`; the Sobol' points come from
+scipy, made in Python), so no number depends on which worker takes which pixel; the sample
+patterns (:mod:`.sampling`), an area light's point (:func:`.lights.sampled`), the thin lens's
+rays (:func:`.camera.thin_lens_rays`) and a glossy mirror's ray
+(:func:`.mirrors.glossy_reflect`) repeat the reference's operations in its order. Motion blur
+is refused in one line (:func:`raykit.engine.choice.refuse_distributed`).
+
 Compiling. Each kernel is compiled on first use, with the kernels it calls, and cached on disk,
 kernel by kernel, in a folder keyed on the sources they are made from (the reference modules
 of :mod:`.twins` included): a flat scene compiles only what
@@ -65,10 +77,11 @@ from __future__ import annotations
 
 from raykit.engine.compiled.billboards import billboard_color_at, hit_billboard
 from raykit.engine.compiled.bvh import DIRECT_HITS, nearest_hit, new_stack
-from raykit.engine.compiled.camera import camera_tuple, rays_through
+from raykit.engine.compiled.camera import camera_tuple, lens_tuple, rays_through, thin_lens_rays
 from raykit.engine.compiled.compiling import KERNEL
 from raykit.engine.compiled.driver import (
     CHUNK,
+    Noise,
     Prepared,
     RayRoom,
     ShadingRoom,
@@ -76,9 +89,11 @@ from raykit.engine.compiled.driver import (
     caster,
     prepare,
     render,
+    scene_noise,
     take,
     trace_flat,
     trace_lit,
+    trace_sampled,
 )
 from raykit.engine.compiled.hits import NearestHit, keep_nearer
 from raykit.engine.compiled.mirrors import reflect
@@ -122,11 +137,12 @@ from raykit.surfaces import OFFSET_FACTOR
 __all__ = [
     "CHUNK", "CROWDED_SIDE", "DIRECT_HITS", "DIRECT_LISTS", "HOLDING_CHUNK", "KERNEL",
     "OFFSET_FACTOR", "PACKET_SIDE", "SHADOW_CANDIDATES", "WIDE_SIDE", "Arrays", "Lanes",
-    "NearestHit", "Prepared", "Ray", "RayRoom", "Shading", "ShadingRoom", "Tiles", "Tree",
-    "billboard_color_at", "blinn_phong", "bounce_on", "camera_tuple", "cast_rays", "caster",
-    "hit_billboard", "hit_sphere", "keep_nearer", "lambert", "light_lanes", "mirror_rays",
-    "nearest_hit", "new_lanes", "new_stack", "prepare", "primary_ray", "primary_rays",
-    "rays_through", "reflect", "render", "scene_arrays", "scene_shading", "scene_tree",
-    "screen_tiles", "shade", "shadow_lists", "start", "surface_color", "surface_lanes",
-    "surface_points", "take", "tile_side", "trace_flat", "trace_lit",
+    "NearestHit", "Noise", "Prepared", "Ray", "RayRoom", "Shading", "ShadingRoom", "Tiles",
+    "Tree", "billboard_color_at", "blinn_phong", "bounce_on", "camera_tuple", "cast_rays",
+    "caster", "hit_billboard", "hit_sphere", "keep_nearer", "lambert", "lens_tuple",
+    "light_lanes", "mirror_rays", "nearest_hit", "new_lanes", "new_stack", "prepare",
+    "primary_ray", "primary_rays", "rays_through", "reflect", "render", "scene_arrays",
+    "scene_noise", "scene_shading", "scene_tree", "screen_tiles", "shade", "shadow_lists",
+    "start", "surface_color", "surface_lanes", "surface_points", "take", "thin_lens_rays",
+    "tile_side", "trace_flat", "trace_lit", "trace_sampled",
 ]  # fmt: skip

@@ -22,7 +22,7 @@ from raykit.camera import centre_sample, sample_offsets
 from raykit.engine.adaptive import edge_pixels, refine
 from raykit.engine.choice import entry_point, refuse_distributed
 from raykit.engine.compiled.bvh import nearest_hit, new_stack
-from raykit.engine.compiled.camera import camera_tuple
+from raykit.engine.compiled.camera import camera_tuple, lens_tuple, rays_through, thin_lens_rays
 from raykit.engine.compiled.compiling import (
     KERNEL,
     MAKES_ARRAYS,
@@ -31,6 +31,8 @@ from raykit.engine.compiled.compiling import (
     finished,
     marked,
 )
+from raykit.engine.compiled.noise import JITTERED, RANDOM, SOBOL, pixel_sample
+from raykit.engine.compiled.sampling import point_in_pixel
 from raykit.engine.compiled.scene import (
     _NO_TREE,
     Arrays,
@@ -45,6 +47,7 @@ from raykit.engine.compiled.shading import (
     light_lanes,
     mirror_rays,
     new_lanes,
+    shade,
     surface_lanes,
 )
 from raykit.engine.compiled.shadows import SHADOW_CANDIDATES, shadow_lists
@@ -55,6 +58,8 @@ from raykit.engine.compiled.tiles import (
     primary_rays,
     screen_tiles,
 )
+from raykit.engine.noise import Dimensions, PixelSamples
+from raykit.engine.regions import refuse_grid
 from raykit.engine.tiles import regions
 from raykit.hits import Hits
 from raykit.scene import Scene
@@ -417,6 +422,111 @@ def lit_job(arrays, tiles, tree, shading, camera, bounces, film, job, room, shad
     pixel_means(film, job, colors, best, best_t)
 
 
+SAMPLED_PIXELS = 16  # pixels per job of a distributed render, each with all its samples
+
+
+class Noise(NamedTuple):
+    """A distributed render's sampling (:mod:`raykit.engine.noise`) as :func:`trace_sampled`
+    takes it: the ``sampler`` (:data:`~raykit.engine.compiled.noise.RANDOM`, ``JITTERED`` or
+    ``SOBOL``), the ``seed``, the samples per pixel ``count`` (``n`` x ``n`` for the jittered
+    sampler), the Sobol' points ``table (count, D)`` (no rows for the others), the ``dimensions``
+    D of a sample, and where in them the point in the pixel and on the lens lie (``pixel``,
+    ``lens``: :class:`raykit.engine.noise.Dimensions`)."""
+
+    sampler: int
+    seed: int
+    count: int
+    n: int
+    table: np.ndarray
+    dimensions: int
+    pixel: int
+    lens: int
+
+
+def scene_noise(scene: Scene) -> Noise:
+    """The scene's :class:`Noise`, the Sobol' points made by the reference's own
+    :class:`raykit.engine.noise.PixelSamples` (which refuses a jittered count that is not n x n,
+    and a Sobol' count that is not a power of two, before any work)."""
+    sampling = scene.sampling
+    dimensions = Dimensions.of(scene)
+    samples = PixelSamples(sampling, dimensions.count)
+    table = samples.table if samples.table is not None else np.zeros((0, dimensions.count))
+    sampler = {"random": RANDOM, "jittered": JITTERED, "sobol": SOBOL}[sampling.sampler]
+    return Noise(sampler, sampling.seed, sampling.samples_per_pixel, samples.n,
+                 np.require(table, float, "CAW"), dimensions.count, Dimensions.pixel,
+                 Dimensions.lens)  # fmt: skip
+
+
+@njit(parallel=True, **MAKES_ARRAYS)
+def trace_sampled(arrays, tree, shading, camera, lens, noise, width, jobs, workers, rgb, index,
+                  t):  # fmt: skip
+    """The lecture's loop for a distributed scene (stage 5, as
+    :class:`raykit.engine.regions.Plan` batches it): for each pixel, each of its
+    ``noise.count`` samples in order, from the sample's uniform numbers
+    (:func:`~raykit.engine.compiled.noise.pixel_sample`), a point in the pixel, a ray through
+    the pinhole or from the lens (``lens``: :func:`lens_tuple`), its nearest hit through the
+    tree, and its colour, flat or shaded (:func:`shade`, its points on the area lights and its
+    glossy perturbations from the same numbers), summed and divided by the count as
+    :class:`raykit.engine.regions.Image` takes the mean; and the object index and t of the
+    pinhole ray through the pixel centre. ``jobs (J,)``: the first pixel of each job of
+    SAMPLED_PIXELS (row-major, P = ``len(t)``); results into ``rgb (P, 3)``, ``index``, ``t
+    (P,)``. Every ray walks the tree: a lens's rays do not start at the eye, so the screen
+    tiles bound nothing (as the reference tests every object then), and the answer is
+    :func:`raykit.render.cast`'s either way. Workers take grains of jobs as
+    :func:`trace_flat`'s do; a pixel's numbers depend on it alone, so the image does not depend
+    on which takes which."""
+    grain = max(1, len(jobs) // (workers * GRAINS_PER_WORKER))
+    taken = np.zeros(1, dtype=np.int64)
+    for _ in prange(workers):
+        stack = new_stack()
+        numbers = np.empty(noise.dimensions)
+        while True:
+            first_job = take(taken, grain)
+            if first_job >= len(jobs):
+                break
+            for j in range(first_job, min(len(jobs), first_job + grain)):
+                sampled_job(arrays, tree, shading, camera, lens, noise, width, jobs[j], stack,
+                            numbers, rgb, index, t)  # fmt: skip
+
+
+@njit(**KERNEL)
+def sampled_job(arrays, tree, shading, camera, lens, noise, width, first, stack, numbers, rgb,
+                index, t):  # fmt: skip
+    """One job of :func:`trace_sampled`: the SAMPLED_PIXELS pixels from pixel ``first``, with
+    the worker's ``stack`` (:func:`new_stack`) and room for a sample's uniform numbers,
+    ``numbers (D,)``."""
+    count = noise.count
+    for p in range(first, min(first + SAMPLED_PIXELS, len(t))):
+        row, col = p // width, p % width
+        r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
+        for k in range(count):
+            pixel_sample(noise.sampler, noise.seed, p, k, noise.n, noise.table, numbers)
+            x, y = point_in_pixel(row, col, numbers[noise.pixel], numbers[noise.pixel + 1])
+            if lens[0] > 0:
+                ray = thin_lens_rays(camera, lens, x, y, numbers[noise.lens],
+                                     numbers[noise.lens + 1])  # fmt: skip
+            else:
+                ray = rays_through(camera, x, y)
+            hit = nearest_hit(arrays, tree, stack, ray.o0, ray.o1, ray.o2, ray.d0, ray.d1,
+                              ray.d2, np.inf)  # fmt: skip
+            if shading.shaded:
+                c0, c1, c2 = shade(arrays, tree, shading, stack, ray.o0, ray.o1, ray.o2, ray.d0,
+                                   ray.d1, ray.d2, hit.index, hit.t, hit.r, hit.g, hit.b,
+                                   numbers)  # fmt: skip
+            else:  # no light: the object's flat colour
+                c0, c1, c2 = hit.r, hit.g, hit.b
+            r_sum += c0
+            g_sum += c1
+            b_sum += c2
+        rgb[p, 0] = r_sum / count
+        rgb[p, 1] = g_sum / count
+        rgb[p, 2] = b_sum / count
+        ray = rays_through(camera, col + 0.5, row + 0.5)  # the pinhole's, with a lens
+        hit = nearest_hit(arrays, tree, stack, ray.o0, ray.o1, ray.o2, ray.d0, ray.d1, ray.d2,
+                          np.inf)  # fmt: skip
+        index[p], t[p] = hit.index, hit.t
+
+
 def caster(scene: Scene, arrays: Arrays | None = None) -> Callable[..., Hits]:
     """A :data:`raykit.shadows.Caster` over the whole scene: the nearest hits of any rays, as
     :func:`raykit.render.secondary_caster` gives them, found by :func:`cast_rays`."""
@@ -436,8 +546,10 @@ def caster(scene: Scene, arrays: Arrays | None = None) -> Callable[..., Hits]:
 
 class Prepared(NamedTuple):
     """A scene made ready for the kernels (:func:`prepare`): its :class:`Arrays`, screen tiles
-    (:func:`screen_tiles`), BVH (:class:`Tree`, for shadow and mirror rays; empty when the
-    scene has none), :class:`Shading` (lights and materials) and camera (:func:`camera_tuple`)."""
+    (:func:`screen_tiles`), BVH (:class:`Tree`, for shadow and mirror rays, and a distributed
+    render's every ray; empty when the scene has none), :class:`Shading` (lights and materials)
+    and camera (:func:`camera_tuple`); and a distributed scene's thin lens (:func:`lens_tuple`)
+    and :class:`Noise` (None for another scene)."""
 
     scene: Scene
     arrays: Arrays
@@ -445,30 +557,38 @@ class Prepared(NamedTuple):
     tree: Tree
     shading: Shading
     camera: tuple
+    lens: tuple
+    noise: Noise | None
 
 
 def prepare(scene: Scene) -> Prepared:
     """Everything the kernels need of ``scene`` that does not depend on the samples: made once,
     it can be rendered many times (:func:`render`). It is what Mitsuba's ``load_dict`` does when
     it builds its BVH, and the camera's screen tiles besides (a raykit scene holds its camera).
-    Refuses a distributed scene (stage 5), which no kernel renders yet."""
+    Refuses, in one line, what no kernel renders yet
+    (:func:`raykit.engine.choice.refuse_distributed`)."""
     refuse_distributed(scene)
     arrays = scene_arrays(scene)
     shading = scene_shading(scene)
-    tree = scene_tree(scene) if shading.shaded else _NO_TREE
-    return Prepared(scene, arrays, screen_tiles(scene, arrays), tree, shading, camera_tuple(scene))
+    tree = scene_tree(scene) if shading.shaded or scene.distributed else _NO_TREE
+    noise = scene_noise(scene) if scene.distributed else None
+    return Prepared(scene, arrays, screen_tiles(scene, arrays), tree, shading, camera_tuple(scene),
+                    lens_tuple(scene), noise)  # fmt: skip
 
 
 def render(scene: Scene | Prepared, samples: int = 1, *, adaptive: bool = False, progress=None):
     """What :func:`raykit.render.render` renders, with the kernels above:
     ``(rgb (H, W, 3), object_index (H, W), t (H, W))``, of a scene or of a :class:`Prepared`
     one. ``progress`` is told each band of finished pixels, as the numpy engine tells it each
-    tile."""
+    tile. A distributed scene takes its own samples (:func:`trace_sampled`)."""
     offsets = sample_offsets(samples)  # refuses n < 1 before any work
     n = 1 if adaptive else samples  # adaptive: one ray per pixel first, as the numpy engine
     if n != samples:
         offsets = sample_offsets(n)
+    refuse_grid(scene.scene if isinstance(scene, Prepared) else scene, samples)
     prepared = scene if isinstance(scene, Prepared) else prepare(scene)
+    if prepared.noise is not None:
+        return _render_sampled(prepared, progress)
     scene, arrays, tiles = prepared.scene, prepared.arrays, prepared.tiles
     name, trace, kernels = _entry(prepared)
     width, height = scene.camera.width, scene.camera.height
@@ -511,6 +631,25 @@ def render(scene: Scene | Prepared, samples: int = 1, *, adaptive: bool = False,
     return rgb, index, t
 
 
+def _render_sampled(prepared: Prepared, progress=None):
+    """:func:`render` of a distributed scene, prepared (:func:`trace_sampled`): in one call,
+    or in bands of ROWS_PER_CALL rows for a progress bar."""
+    name, trace, kernels = _entry(prepared)
+    width, height = prepared.scene.camera.width, prepared.scene.camera.height
+    pixels = width * height
+    rgb = np.empty((pixels, 3))
+    index = np.empty(pixels, dtype=np.int64)
+    t = np.empty(pixels)
+    starts = np.arange(0, pixels, SAMPLED_PIXELS)
+    band = -(-ROWS_PER_CALL * width // SAMPLED_PIXELS) if progress is not None else len(starts)
+    for first in range(0, len(starts), band):
+        jobs = starts[first : first + band]
+        _call(name, trace, *kernels, width, jobs, _workers(jobs), rgb, index, t)
+        if progress is not None:
+            progress(min(pixels, jobs[-1] + SAMPLED_PIXELS) - jobs[0])
+    return rgb.reshape(height, width, 3), index.reshape(height, width), t.reshape(height, width)
+
+
 def _mean_of_samples(color: np.ndarray, count: int) -> np.ndarray:
     """``color (3,)`` summed ``count`` times and divided by it, as :func:`pixel_means` takes the
     mean of a pixel's samples (the result may differ from ``color`` in its last bit)."""
@@ -534,6 +673,9 @@ def _entry(prepared: Prepared) -> tuple:
     of its own to numba, for which :func:`lit_job` compiles no mirror code. The two are
     compiled apart, and named apart for the cache's markers and the progress line."""
     name = entry_point(prepared.scene)
+    if name == "trace_sampled":
+        return name, trace_sampled, (prepared.arrays, prepared.tree, prepared.shading,
+                                     prepared.camera, prepared.lens, prepared.noise)  # fmt: skip
     if name == "trace_flat":
         return name, trace_flat, (prepared.arrays, prepared.tiles, prepared.camera)
     bounces = True if name == "trace_mirrors" else None

@@ -1,4 +1,5 @@
-"""Repeats :mod:`raykit.lights` for one point: the unit vector l toward a point light."""
+"""Repeats :mod:`raykit.lights` for one point: the unit vector l toward a point light, and
+where on an area light a shadow ray aims."""
 
 from __future__ import annotations
 
@@ -7,6 +8,7 @@ import math
 from numba import njit
 
 from raykit.engine.compiled.compiling import ONE_RAY
+from raykit.engine.compiled.sampling import point_on_parallelogram
 
 
 @njit(**ONE_RAY)
@@ -15,3 +17,14 @@ def toward_point_light(v0, v1, v2, p0, p1, p2):
     to0, to1, to2 = v0 - p0, v1 - p1, v2 - p2
     distance = math.sqrt(to0 * to0 + to1 * to1 + to2 * to2)
     return to0 / distance, to1 / distance, to2 / distance
+
+
+@njit(**ONE_RAY)
+def sampled(shading, j, u1, u2):
+    """Repeats :func:`raykit.lights.sampled` for one point: area light j (of ``shading``,
+    :class:`~raykit.engine.compiled.scene.Shading`) as a point light at c + ξ1·a + ξ2·b, its
+    position (its colour is the light's)."""
+    corner, edges = shading.light_vectors, shading.light_edges
+    return point_on_parallelogram(corner[j, 0], corner[j, 1], corner[j, 2], edges[j, 0],
+                                  edges[j, 1], edges[j, 2], edges[j, 3], edges[j, 4], edges[j, 5],
+                                  u1, u2)  # fmt: skip

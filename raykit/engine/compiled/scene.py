@@ -13,7 +13,8 @@ import numpy as np
 from raykit.billboards import colors_and_opacity
 from raykit.engine.arrays import SceneArrays
 from raykit.engine.bvh import BVH
-from raykit.lights import PointLight, toward_light
+from raykit.engine.noise import Dimensions
+from raykit.lights import AreaLight, PointLight, toward_light
 from raykit.rays import normalize
 from raykit.scene import Scene
 from raykit.shading import casts_shadows, needs_shading
@@ -120,7 +121,14 @@ class Shading(NamedTuple):
     (:class:`raykit.materials.MaterialTable`: ``diffuse``, ``has_diffuse``, ``specular``,
     ``shininess``, ``mirror``) and whether each ``is_shiny`` or ``is_mirror (K,)``. And the
     billboards' unit normals ``board_normals (B, 3)``, which shading uses and hitting does
-    not."""
+    not. Stage 5: an area light is a point light whose position each ray samples
+    (:func:`raykit.engine.compiled.lights.sampled`): its ``light_vectors`` row is its corner,
+    ``light_edges (L, 6)`` its edges a and b, ``area (L,)`` which area light it is (-1: none),
+    and ``light_dims (max_depth + 1, A)`` where each area light's uniform numbers lie at each
+    mirror depth (:meth:`raykit.engine.noise.Dimensions.light`); each object's ``glossiness
+    (K,)``, and where the glossy perturbation of the mirror bounce at each depth lies,
+    ``gloss_dims (max_depth,)`` (:meth:`raykit.engine.noise.Dimensions.gloss`; empty in a scene
+    whose samples take none: its mirrors reflect as ideal ones)."""
 
     shaded: bool
     lit: bool
@@ -138,18 +146,38 @@ class Shading(NamedTuple):
     is_shiny: np.ndarray
     is_mirror: np.ndarray
     board_normals: np.ndarray
+    area: np.ndarray
+    light_edges: np.ndarray
+    light_dims: np.ndarray
+    glossiness: np.ndarray
+    gloss_dims: np.ndarray
 
 
 def scene_shading(scene: Scene) -> Shading:
     """The scene's :class:`Shading`, from the reference's own functions and tables."""
     table = scene.materials
-    point = np.array([isinstance(light, PointLight) for light in scene.lights], dtype=np.bool_)
+    lights = scene.lights
+    point = np.array([isinstance(light, PointLight | AreaLight) for light in lights], np.bool_)
     origin = np.zeros((1, 3))
     vectors = [
         np.asarray(light.position, float) if isinstance(light, PointLight)
+        else np.asarray(light.corner, float) if isinstance(light, AreaLight)
         else toward_light(light, origin)[0][0]
-        for light in scene.lights
+        for light in lights
     ]  # fmt: skip
+    area, areas = [], 0  # which area light each is, in the order of scene.lights (-1: none)
+    for light in lights:
+        area.append(areas if isinstance(light, AreaLight) else -1)
+        areas += isinstance(light, AreaLight)
+    edges = [
+        np.concatenate([light.edge1, light.edge2]).astype(float) if isinstance(light, AreaLight)
+        else np.zeros(6)
+        for light in lights
+    ]  # fmt: skip
+    dimensions = Dimensions.of(scene)
+    dims = [[dimensions.light(depth, a) for a in range(scene.area_lights)]
+            for depth in range(scene.max_depth + 1)]  # fmt: skip
+    gloss = [dimensions.gloss(depth) for depth in range(scene.max_depth)]
     return _one_kind(
         Shading(
             needs_shading(scene),
@@ -168,6 +196,11 @@ def scene_shading(scene: Scene) -> Shading:
             table.specular.reshape(-1, 3).any(axis=1),
             table.mirror.reshape(-1, 3).any(axis=1),
             np.array([normalize(b.n) for b in scene.billboards], dtype=float).reshape(-1, 3),
+            np.array(area, dtype=np.int64),
+            np.array(edges, dtype=float).reshape(-1, 6),
+            np.array(dims, dtype=np.int64).reshape(scene.max_depth + 1, scene.area_lights),
+            table.glossiness.astype(float),
+            np.array(gloss if dimensions.glossy else [], dtype=np.int64),
         )
     )
 

@@ -15,8 +15,8 @@ from numba import njit
 from raykit.engine.compiled.billboards import billboard_color_at, hit_billboard
 from raykit.engine.compiled.bvh import nearest_hit
 from raykit.engine.compiled.compiling import INLINED, KERNEL, MAKES_ARRAYS, ONE_RAY
-from raykit.engine.compiled.lights import toward_point_light
-from raykit.engine.compiled.mirrors import reflect
+from raykit.engine.compiled.lights import sampled, toward_point_light
+from raykit.engine.compiled.mirrors import glossy_reflect, reflect
 from raykit.engine.compiled.shadows import point_light_reach
 from raykit.engine.compiled.spheres import hit_sphere
 from raykit.engine.compiled.surfaces import start, surface_points
@@ -46,14 +46,15 @@ def blinn_phong(ks0, ks1, ks2, I0, I1, I2, n0, n1, n2, l0, l1, l2, v0, v1, v2, p
 
 
 @njit(**INLINED)
-def surface_color(
-    arrays, tree, shading, stack, hit, p0, p1, p2, n0, n1, n2, d0, d1, d2, error, r, g, b
-):
+def surface_color(arrays, tree, shading, stack, hit, p0, p1, p2, n0, n1, n2, d0, d1, d2, error,
+                  r, g, b, uniforms, depth):  # fmt: skip
     """Repeats :func:`raykit.shading.surface_color` for one hit: object ``hit`` at point p
     with unit normal n, seen along d, its flat colour (r, g, b); ``error`` is the point's
     rounding bound (:func:`surface_points`). Shadow rays (:mod:`raykit.shadows`) walk the tree.
-    A tile's viewing rays are shaded in lanes instead (:func:`light_lanes`), the same
-    operations in the same order for each."""
+    An area light is a point light at this point's own point of it (:func:`sampled`), by the
+    ray's sample's uniform numbers ``uniforms (D,)`` for mirror depth ``depth``
+    (``shading.light_dims``; empty: at the light's centre). A tile's viewing rays are shaded in
+    lanes instead (:func:`light_lanes`), the same operations in the same order for each."""
     if not shading.lit:
         return r, g, b
     if shading.has_diffuse[hit]:
@@ -65,6 +66,13 @@ def surface_color(
     vectors, intensity = shading.light_vectors, shading.light_colors
     for j in range(len(shading.point_light)):
         v0, v1, v2 = vectors[j, 0], vectors[j, 1], vectors[j, 2]
+        area = shading.area[j]
+        if area >= 0:  # raykit.lights.sampled: a point light, where this point's ray aims
+            u1, u2 = 0.5, 0.5
+            if len(uniforms):
+                first = shading.light_dims[depth, area]
+                u1, u2 = uniforms[first], uniforms[first + 1]
+            v0, v1, v2 = sampled(shading, j, u1, u2)
         if shading.point_light[j]:  # raykit.lights.toward_light
             l0, l1, l2 = toward_point_light(v0, v1, v2, p0, p1, p2)
         else:
@@ -267,14 +275,24 @@ def light_lanes(arrays, tree, shading, stack, rays, best, count, lanes, candidat
 
 @njit(**INLINED)
 def bounce_on(arrays, tree, shading, stack, depth, hit, p0, p1, p2, n0, n1, n2, d0, d1, d2, error,
-              c0, c1, c2, w0, w1, w2):  # fmt: skip
+              c0, c1, c2, w0, w1, w2, uniforms):  # fmt: skip
     """The rest of :func:`shade` after the surface at ``depth`` (object ``hit`` at p, normal
     n, seen along d, rounding bound ``error``) has added its colour to the pixel's (c0, c1, c2):
     mirror rays (:func:`raykit.engine.compiled.mirrors.reflect`, started off the surface,
     :func:`raykit.engine.compiled.surfaces.start`) up to max_depth, each
-    surface's colour weighted by the mirrors' km on the way (w)."""
+    surface's colour weighted by the mirrors' km on the way (w), with the ray's ``uniforms``
+    (:func:`surface_color`), which also perturb a glossy mirror's ray
+    (:func:`raykit.engine.compiled.mirrors.glossy_reflect`) in a scene whose samples take them
+    (``shading.gloss_dims``)."""
     while depth < shading.max_depth and shading.is_mirror[hit]:
-        d0, d1, d2 = reflect(d0, d1, d2, n0, n1, n2)
+        if len(shading.gloss_dims) and len(uniforms):  # raykit.mirrors.glossy_reflect
+            first = shading.gloss_dims[depth]
+            d0, d1, d2, above = glossy_reflect(d0, d1, d2, n0, n1, n2, shading.glossiness[hit],
+                                               uniforms[first], uniforms[first + 1])  # fmt: skip
+            if not above:  # below the surface: absorbed, it reflects nothing
+                return c0, c1, c2
+        else:
+            d0, d1, d2 = reflect(d0, d1, d2, n0, n1, n2)
         o0, o1, o2 = start(p0, p1, p2, n0, n1, n2, error, d0, d1, d2)
         km = shading.mirror
         w0, w1, w2 = w0 * km[hit, 0], w1 * km[hit, 1], w2 * km[hit, 2]
@@ -285,9 +303,8 @@ def bounce_on(arrays, tree, shading, stack, depth, hit, p0, p1, p2, n0, n1, n2, 
             return c0 + w0 * r, c1 + w1 * g, c2 + w2 * b  # the background
         p0, p1, p2, n0, n1, n2, error = surface_points(arrays, shading, o0, o1, o2, d0, d1, d2,
                                                       hit, t)  # fmt: skip
-        s0, s1, s2 = surface_color(
-            arrays, tree, shading, stack, hit, p0, p1, p2, n0, n1, n2, d0, d1, d2, error, r, g, b
-        )
+        s0, s1, s2 = surface_color(arrays, tree, shading, stack, hit, p0, p1, p2, n0, n1, n2,
+                                   d0, d1, d2, error, r, g, b, uniforms, depth)  # fmt: skip
         c0, c1, c2 = c0 + w0 * s0, c1 + w1 * s1, c2 + w2 * s2
     return c0, c1, c2
 
@@ -307,21 +324,21 @@ def mirror_rays(arrays, tree, shading, stack, lanes, rays, best, made, count, co
         colors[0, i], colors[1, i], colors[2, i] = bounce_on(
             arrays, tree, shading, stack, 0, hit, point[0, i], point[1, i], point[2, i],
             normal[0, i], normal[1, i], normal[2, i], rays[3, i], rays[4, i], rays[5, i],
-            error[i], colors[0, i], colors[1, i], colors[2, i], 1.0, 1.0, 1.0,
+            error[i], colors[0, i], colors[1, i], colors[2, i], 1.0, 1.0, 1.0, lanes.t[:0],
         )  # fmt: skip
 
 
 @njit(**KERNEL)
-def shade(arrays, tree, shading, stack, o0, o1, o2, d0, d1, d2, hit, t, r, g, b):
+def shade(arrays, tree, shading, stack, o0, o1, o2, d0, d1, d2, hit, t, r, g, b, uniforms):
     """Repeats :func:`raykit.shading.shade` for one viewing ray and its nearest hit: the surface
     point (:func:`surface_points`), its colour (:func:`surface_color`), and mirror rays up to
-    max_depth (:func:`bounce_on`)."""
+    max_depth (:func:`bounce_on`); a distributed sample's ``uniforms (D,)`` choose its points
+    on the area lights (empty: their centres)."""
     if hit < 0:
         return 0.0 + 1.0 * r, 0.0 + 1.0 * g, 0.0 + 1.0 * b  # the background, weighted 1
     p0, p1, p2, n0, n1, n2, error = surface_points(arrays, shading, o0, o1, o2, d0, d1, d2, hit, t)
-    s0, s1, s2 = surface_color(
-        arrays, tree, shading, stack, hit, p0, p1, p2, n0, n1, n2, d0, d1, d2, error, r, g, b
-    )
+    s0, s1, s2 = surface_color(arrays, tree, shading, stack, hit, p0, p1, p2, n0, n1, n2, d0, d1,
+                               d2, error, r, g, b, uniforms, 0)  # fmt: skip
     c0, c1, c2 = 0.0 + 1.0 * s0, 0.0 + 1.0 * s1, 0.0 + 1.0 * s2  # weighted 1, added to nothing
     return bounce_on(arrays, tree, shading, stack, 0, hit, p0, p1, p2, n0, n1, n2, d0, d1, d2,
-                     error, c0, c1, c2, 1.0, 1.0, 1.0)  # fmt: skip
+                     error, c0, c1, c2, 1.0, 1.0, 1.0, uniforms)  # fmt: skip

@@ -1,0 +1,112 @@
+"""Repeats :mod:`raykit.sampling` for one sample: the patterns of distributed ray tracing from
+its uniform numbers (ξ1, ξ2), the same float64 operations in the same order, so the same bits.
+The cosine and sine of the lens's concentric map are :func:`raykit.sampling._cos_sin`'s series,
+never the C library's, which differs from numpy's from one processor to the next."""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from raykit.engine.compiled.compiling import ONE_RAY
+
+
+@njit(**ONE_RAY)
+def point_in_pixel(row, col, u1, u2):
+    """Repeats :func:`raykit.sampling.point_in_pixel` for one sample: (x, y) = (c + ξ1, r + ξ2)
+    in pixel (row, col)."""
+    return float(col) + u1, float(row) + u2
+
+
+@njit(**ONE_RAY)
+def jittered_point(cell, n, u1, u2):
+    """Repeats :func:`raykit.sampling.jittered_point` for one cell of the n x n grid: ((i +
+    ξ1)/n, (j + ξ2)/n) for cell = i + n·j."""
+    return (float(cell % n) + u1) / n, (float(cell // n) + u2) / n
+
+
+@njit(**ONE_RAY)
+def point_on_parallelogram(c0, c1, c2, a0, a1, a2, b0, b1, b2, u1, u2):
+    """Repeats :func:`raykit.sampling.point_on_parallelogram` for one sample: c + ξ1·a + ξ2·b."""
+    return c0 + u1 * a0 + u2 * b0, c1 + u1 * a1 + u2 * b1, c2 + u1 * a2 + u2 * b2
+
+
+@njit(**ONE_RAY)
+def cos_sin(angle):
+    """Repeats :func:`raykit.sampling._cos_sin` for one angle in [-π/4, π/4]: its Taylor
+    series, Horner's way, in the reference's order."""
+    x2 = angle * angle
+    cos = 1.0
+    sin = 1.0
+    for k in range(11, 0, -1):
+        cos = 1.0 - x2 / ((2 * k - 1) * (2 * k)) * cos
+        sin = 1.0 - x2 / ((2 * k) * (2 * k + 1)) * sin
+    return cos, angle * sin
+
+
+@njit(**ONE_RAY)
+def point_on_disk(u1, u2):
+    """Repeats :func:`raykit.sampling.point_on_disk` for one sample: Shirley and Chiu's
+    concentric map of (ξ1, ξ2) to the unit disk."""
+    a = 2.0 * u1 - 1.0
+    b = 2.0 * u2 - 1.0
+    wide = abs(a) > abs(b)
+    radius = a if wide else b
+    if radius == 0:  # the centre: any angle (the reference's 0/0 is replaced so)
+        angle = 0.0
+    else:
+        angle = (math.pi / 4) * (b / a if wide else a / b)
+    cos, sin = cos_sin(angle)
+    if wide:
+        return radius * cos, radius * sin
+    return radius * sin, radius * cos
+
+
+@njit(**ONE_RAY)
+def point_on_lens(e0, e1, e2, u0, u1, u2, v0, v1, v2, aperture, x1, x2):
+    """Repeats :func:`raykit.sampling.point_on_lens` for one sample (ξ1, ξ2) = (``x1``, ``x2``):
+    e + (aperture/2)·(x·u + y·v), (x, y) the point on the unit disk."""
+    x, y = point_on_disk(x1, x2)
+    radius = aperture / 2.0
+    return (
+        e0 + radius * (x * u0 + y * v0),
+        e1 + radius * (x * u1 + y * v1),
+        e2 + radius * (x * u2 + y * v2),
+    )
+
+
+@njit(**ONE_RAY)
+def basis_around(r0, r1, r2):
+    """Repeats :func:`raykit.sampling.basis_around` for one direction r: (u, v, w) as nine
+    numbers, w = r/|r|, t = w with its smallest component by magnitude (the first of equals) set
+    to 1, u = t × w / |t × w|, v = w × u, each cross product as numpy's (a1·b2 - a2·b1, ...)."""
+    length = math.sqrt(r0 * r0 + r1 * r1 + r2 * r2)
+    w0, w1, w2 = r0 / length, r1 / length, r2 / length
+    t0, t1, t2 = w0, w1, w2
+    if abs(w0) <= abs(w1) and abs(w0) <= abs(w2):  # np.argmin: the first of equals
+        t0 = 1.0
+    elif abs(w1) <= abs(w2):
+        t1 = 1.0
+    else:
+        t2 = 1.0
+    c0, c1, c2 = t1 * w2 - t2 * w1, t2 * w0 - t0 * w2, t0 * w1 - t1 * w0
+    length = math.sqrt(c0 * c0 + c1 * c1 + c2 * c2)
+    u0, u1, u2 = c0 / length, c1 / length, c2 / length
+    v0, v1, v2 = w1 * u2 - w2 * u1, w2 * u0 - w0 * u2, w0 * u1 - w1 * u0
+    return u0, u1, u2, v0, v1, v2, w0, w1, w2
+
+
+@njit(**ONE_RAY)
+def perturbed_direction(r0, r1, r2, a, x1, x2):
+    """Repeats :func:`raykit.sampling.perturbed_direction` for one unit direction r and the
+    uniform numbers (ξ1, ξ2) = (``x1``, ``x2``): normalize(r + u'·u + v'·v), u' = -a/2 + ξ1·a,
+    v' = -a/2 + ξ2·a, in the basis of :func:`basis_around`."""
+    u0, u1, u2, v0, v1, v2, _, _, _ = basis_around(r0, r1, r2)
+    along_u = -a / 2 + x1 * a
+    along_v = -a / 2 + x2 * a
+    p0 = r0 + along_u * u0 + along_v * v0
+    p1 = r1 + along_u * u1 + along_v * v1
+    p2 = r2 + along_u * u2 + along_v * v2
+    length = math.sqrt(p0 * p0 + p1 * p1 + p2 * p2)
+    return p0 / length, p1 / length, p2 / length

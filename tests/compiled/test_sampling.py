@@ -1,0 +1,182 @@
+"""The sample-pattern kernels (raykit.engine.compiled.sampling) against raykit.sampling, on
+random uniform numbers and the corners of the square (0 and the largest double below 1)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from raykit import sampling
+from raykit.rays import normalize
+
+from .harness import exactly, twin_test
+
+numba = pytest.importorskip("numba")
+compiled = pytest.importorskip("raykit.engine.compiled")
+
+from raykit.engine.compiled import sampling as kernels  # noqa: E402
+
+COUNT = 20_000
+BELOW_ONE = np.nextafter(1.0, 0.0)
+
+
+def _uniforms(rng):
+    """``(COUNT, 2)`` uniform numbers: random, the square's corners and centre, its diagonals
+    (where the concentric map changes quarter) and its middle lines (ξ = 1/2: a or b is 0)."""
+    xi = rng.uniform(size=(COUNT, 2))
+    edges = np.array([0.0, 0.5, BELOW_ONE, 0.25, 0.75])
+    xi[: len(edges) ** 2] = np.stack(np.meshgrid(edges, edges), axis=-1).reshape(-1, 2)
+    diagonal = rng.uniform(size=500)
+    xi[100:600] = np.column_stack([diagonal, diagonal])
+    xi[600:1100] = np.column_stack([diagonal, 1.0 - diagonal])
+    xi[1100:1600, 0] = 0.5
+    return xi
+
+
+@numba.njit
+def _pairs(kernel, a, b):
+    out = np.empty((len(a), 2))
+    for i in range(len(a)):
+        out[i, 0], out[i, 1] = kernel(a[i], b[i])
+    return out
+
+
+def _point_in_pixel(rng):
+    rows, cols = rng.integers(0, 4000, COUNT), rng.integers(0, 4000, COUNT)
+    xi = _uniforms(rng)
+
+    @numba.njit
+    def run(rows, cols, xi):
+        out = np.empty((len(rows), 2))
+        for i in range(len(rows)):
+            out[i, 0], out[i, 1] = kernels.point_in_pixel(rows[i], cols[i], xi[i, 0], xi[i, 1])
+        return out
+
+    x, y = sampling.point_in_pixel(rows, cols, xi)
+    exactly(run(rows, cols, xi), np.column_stack([x, y]))
+
+
+def _jittered_point(rng):
+    xi = _uniforms(rng)
+    for n in (1, 2, 3, 4, 16):
+        cells = rng.integers(0, n * n, COUNT)
+
+        @numba.njit
+        def run(cells, n, xi):
+            out = np.empty((len(cells), 2))
+            for i in range(len(cells)):
+                out[i, 0], out[i, 1] = kernels.jittered_point(cells[i], n, xi[i, 0], xi[i, 1])
+            return out
+
+        exactly(run(cells, n, xi), sampling.jittered_point(cells, n, xi))
+
+
+def _point_on_parallelogram(rng):
+    xi = _uniforms(rng)
+    for scale in (1.0, 1e6):
+        c, a, b = rng.normal(size=(3, 3)) * scale
+
+        @numba.njit
+        def run(c, a, b, xi):
+            out = np.empty((len(xi), 3))
+            for i in range(len(xi)):
+                out[i, 0], out[i, 1], out[i, 2] = kernels.point_on_parallelogram(
+                    c[0], c[1], c[2], a[0], a[1], a[2], b[0], b[1], b[2], xi[i, 0], xi[i, 1]
+                )
+            return out
+
+        exactly(run(c, a, b, xi), sampling.point_on_parallelogram(c, a, b, xi))
+
+
+def _point_on_disk(rng):
+    xi = _uniforms(rng)
+    got = _pairs(kernels.point_on_disk, xi[:, 0], xi[:, 1])
+    exactly(got, sampling.point_on_disk(xi))
+    assert (np.hypot(got[:, 0], got[:, 1]) <= 1.0).all()
+
+
+def _cos_sin(rng):
+    angle = rng.uniform(-np.pi / 4, np.pi / 4, COUNT)
+    angle[:4] = 0.0, -0.0, np.pi / 4, -np.pi / 4
+    cos, sin = sampling._cos_sin(angle)
+
+    @numba.njit
+    def run(angle):
+        out = np.empty((len(angle), 2))
+        for i in range(len(angle)):
+            out[i, 0], out[i, 1] = kernels.cos_sin(angle[i])
+        return out
+
+    exactly(run(angle), np.column_stack([cos, sin]))
+
+
+def _point_on_lens(rng):
+    xi = _uniforms(rng)
+    for scale in (1.0, 1e6):
+        eye, u, v = rng.normal(size=3) * scale, *rng.normal(size=(2, 3))
+        aperture = float(rng.uniform(0.01, 2))
+
+        @numba.njit
+        def run(e, u, v, aperture, xi):
+            out = np.empty((len(xi), 3))
+            for i in range(len(xi)):
+                out[i, 0], out[i, 1], out[i, 2] = kernels.point_on_lens(
+                    e[0], e[1], e[2], u[0], u[1], u[2], v[0], v[1], v[2], aperture, xi[i, 0],
+                    xi[i, 1],
+                )  # fmt: skip
+            return out
+
+        exactly(run(eye, u, v, aperture, xi), sampling.point_on_lens(eye, u, v, aperture, xi))
+
+
+@numba.njit
+def _bases(r):
+    out = np.empty((len(r), 9))
+    for i in range(len(r)):
+        basis = kernels.basis_around(r[i, 0], r[i, 1], r[i, 2])
+        for k in range(9):
+            out[i, k] = basis[k]
+    return out
+
+
+def _directions(rng):
+    """Random directions, some of them not unit, with ties between the magnitudes of their
+    components (where np.argmin takes the first) and zeros."""
+    r = rng.normal(size=(COUNT, 3)) * rng.choice([1.0, 3.0], size=(COUNT, 1))
+    r[:8] = [(1, 1, 1), (-1, 1, 1), (1, -1, 0.5), (0.5, 1, -0.5), (0, 0, 1), (0, 1, 0),
+             (1, 0, 0), (-2, 0, 0)]  # fmt: skip
+    return r
+
+
+def _basis_around(rng):
+    r = _directions(rng)
+    exactly(_bases(r), np.column_stack(sampling.basis_around(r)))
+
+
+def _perturbed_direction(rng):
+    r, xi = normalize(_directions(rng)), _uniforms(rng)
+    for a in (0.0, 0.05, 0.4, 2.0):
+
+        @numba.njit
+        def run(r, a, xi):
+            out = np.empty((len(r), 3))
+            for i in range(len(r)):
+                out[i, 0], out[i, 1], out[i, 2] = kernels.perturbed_direction(
+                    r[i, 0], r[i, 1], r[i, 2], a, xi[i, 0], xi[i, 1]
+                )
+            return out
+
+        exactly(run(r, a, xi), sampling.perturbed_direction(r, a, xi))
+
+
+CHECKS = {
+    "sampling.basis_around": _basis_around,
+    "sampling.perturbed_direction": _perturbed_direction,
+    "sampling.point_in_pixel": _point_in_pixel,
+    "sampling.jittered_point": _jittered_point,
+    "sampling.point_on_parallelogram": _point_on_parallelogram,
+    "sampling.point_on_disk": _point_on_disk,
+    "sampling.cos_sin": _cos_sin,
+    "sampling.point_on_lens": _point_on_lens,
+}
+test_the_twin_repeats_its_reference = twin_test("sampling", CHECKS)
