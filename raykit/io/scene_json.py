@@ -81,7 +81,7 @@ def scene_from_dict(data: Any, source: str = "<scene>", folder: str | Path = "."
         billboards,
         background,
         source,
-        velocities=_read_velocities(top),
+        velocities=_read_velocities(top, spheres),
         lights=tuple(_read_light(f, v2) for f in top["lights"].items()) if "lights" in top else (),
         ambient=top["ambient"].intensity() if "ambient" in top else None,
         shadows=top["shadows"].boolean() if "shadows" in top else True,
@@ -94,13 +94,19 @@ def scene_from_dict(data: Any, source: str = "<scene>", folder: str | Path = "."
     )
 
 
-def _read_velocities(top: dict[str, Field]) -> np.ndarray | None:
+def _read_velocities(top: dict[str, Field], spheres: Sequence[Sphere]) -> np.ndarray | None:
     """Every object's ``velocity`` ``(K, 3)`` in object index order (zero where it has none), or
-    None when no object has one. The objects' other fields are read by their own readers."""
+    None when no object has one. The objects' other fields are read by their own readers;
+    ``spheres`` as :func:`_read_spheres` read them (plain spheres, a
+    :class:`~raykit.spheres.SphereTable`, have no velocity)."""
+    # the plain values first, and only where a velocity may be: a Field for each of 600,000
+    # still spheres took seconds
+    kinds = ("billboards",) if isinstance(spheres, SphereTable) else ("spheres", "billboards")
+    values = (v for key in kinds if key in top for v in top[key].value)
+    if not any(isinstance(v, dict) and "velocity" in v for v in values):
+        return None
     objects = [f for key in ("spheres", "billboards") if key in top for f in top[key].items()]
     moving = [isinstance(f.value, dict) and "velocity" in f.value for f in objects]
-    if not any(moving):
-        return None
     return np.array(
         [
             Field(f.value["velocity"], f.source, f"{f.path}.velocity").vector(3)
