@@ -22,7 +22,7 @@ from raykit.camera import centre_sample, sample_offsets
 from raykit.engine.adaptive import edge_pixels, refine
 from raykit.engine.choice import entry_point, refuse_distributed
 from raykit.engine.compiled.bvh import nearest_hit, new_stack
-from raykit.engine.compiled.camera import camera_tuple
+from raykit.engine.compiled.camera import CameraNumbers, camera_tuple
 from raykit.engine.compiled.compiling import (
     KERNEL,
     MAKES_ARRAYS,
@@ -444,7 +444,7 @@ class Prepared(NamedTuple):
     tiles: Tiles
     tree: Tree
     shading: Shading
-    camera: tuple
+    camera: CameraNumbers
 
 
 def prepare(scene: Scene) -> Prepared:
