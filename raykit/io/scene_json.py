@@ -246,15 +246,16 @@ def _plain_spheres(values) -> SphereTable | None:
         centers = [v["center"] for v in values]
         radii = [v["radius"] for v in values]
         colors = [v["color"] for v in values]
-        numbers = chain(chain.from_iterable(centers), radii, chain.from_iterable(colors))
-        if not set(map(type, numbers)) <= {int, float}:  # no bool, string, list or None
+        if set(map(len, centers)) != {3} or set(map(len, colors)) != {3}:
             return None
+        # flat lists: numpy makes an array of one far faster than of a list of lists
+        centers, colors = list(chain.from_iterable(centers)), list(chain.from_iterable(colors))
+        if not set(map(type, chain(centers, radii, colors))) <= {int, float}:
+            return None  # a bool, string, list, object or None, even where a list's length is 3
         columns = [np.array(x, dtype=float) for x in (centers, radii, colors)]
-    except (TypeError, ValueError, OverflowError):  # a non-dict, non-list, or ragged rows
+    except (TypeError, ValueError, OverflowError):  # a non-dict, a number for a list, 10**400
         return None
-    center, radius, color = columns
-    if center.shape != (len(values), 3) or color.shape != (len(values), 3):
-        return None
+    center, radius, color = columns[0].reshape(-1, 3), columns[1], columns[2].reshape(-1, 3)
     valid = (
         all(np.isfinite(c).all() for c in columns)
         and (radius > 0).all()
