@@ -703,8 +703,12 @@ def machine_line(cpu: str) -> str:
             " Embree restricted to isa=avx2 (embree_avx2); numpy, and Mitsuba's other"
             " ahead-compiled code, are as shipped"
         )
+    # the machine's other work as the run starts: every renderer is timed in turns with the
+    # others, but a loaded machine slows the many-threaded ones most
+    load = os.getloadavg()[0]
     return (
-        f"Machine: {model}, {os.cpu_count()} cores, {widest}. Instruction set of this run: {how}."
+        f"Machine: {model}, {os.cpu_count()} cores, {widest}; load average {load:.1f} as this"
+        f" run started (1 minute). Instruction set of this run: {how}."
     )
 
 
