@@ -58,9 +58,13 @@ as shipped. Each run's page section names the processor and the instruction set.
 Load: raykit from the scene's file (:func:`set_up_raykit`: the JSON read and checked, each
 texture's header read; a median of 3), Mitsuba ``load_dict`` (which builds its BVH; it reads
 no texture, its depth integrator looks none up). Prepare, raykit's compiled engine only:
-``raykit.engine.compiled.prepare`` of a scene just loaded, the textures decoded, the scene's
+``raykit.engine.compiled.prepare`` of a scene just loaded, its textures' texels got, the scene's
 arrays, screen tiles and (lit scenes) BVH (a median of 3); so load + prepare is what raykit
-does from the file before its first ray, as load_dict is Mitsuba's. The flat scenes include
+does from the file before its first ray, as load_dict is Mitsuba's. A texture of 256² texels or
+more comes from raykit's cache of decoded textures once any render has decoded it
+(:mod:`raykit.io.textures`), as it does for a second render of the same file: the table's
+prepare is that one, and a line below the flat table gives the textured scene's prepare with
+the cache empty, every texture decoded (:func:`cold_prepare`). The flat scenes include
 classic with each texture 256 x 256 RGBA (:func:`scenes.classic_with_large_textures`). Its
 render renders the prepared scene, as Mitsuba's renders its loaded one
 (``raykit.render.render`` does both). Render: the median of ``--repeats`` renders after a
@@ -721,6 +725,12 @@ def run(args: argparse.Namespace, cpu: str) -> list[dict]:
             " renders the prepared scene. raykit.render.render(scene) does both; the numpy"
             " engine prepares inside its render.\n"
         )
+        for name, (cold, ratio) in timing.cold.items():
+            print(
+                f"{name}, raykit compiled with its cache of decoded textures empty: prepare"
+                f" {seconds(cold, 1)}, load + prepare + render / Mitsuba llvm"
+                f" {f'{ratio:.2f}' if ratio else '-'} (median of 3 prepares).\n"
+            )
         lit_rows = timing.table(lit_scenes(args.quick), lit=True)
     print(
         "\nLit scenes: two point lights, shadows, diffuse only, no ambient light; Mitsuba's"
@@ -761,8 +771,12 @@ def machine_line(cpu: str) -> str:
             " Embree restricted to isa=avx2 (embree_avx2); numpy, and Mitsuba's other"
             " ahead-compiled code, are as shipped"
         )
+    # the machine's other work as the run starts: every renderer is timed in turns with the
+    # others, but a loaded machine slows the many-threaded ones most
+    load = os.getloadavg()[0]
     return (
-        f"Machine: {model}, {os.cpu_count()} cores, {widest}. Instruction set of this run: {how}."
+        f"Machine: {model}, {os.cpu_count()} cores, {widest}; load average {load:.1f} as this"
+        f" run started (1 minute). Instruction set of this run: {how}."
     )
 
 
@@ -775,6 +789,7 @@ class Timing:
         self.args, self.version, self.engines, self.cpu, self.env = args, version, engines, cpu, env
         self.folder = folder  # where raykit's scene files are written (set_up_raykit)
         self.compiled_renders: dict = {}
+        self.cold: dict = {}  # per textured scene: (prepare with no decoded textures, ratio)
         self.targets: set[str] = set()
 
     def table(self, scenes: dict[str, Scene], lit: bool = False) -> list[dict]:
@@ -849,6 +864,10 @@ class Timing:
                 continue
             if renderer == "raykit compiled":
                 self.compiled_renders[name] = (load + prepare, took, render_once)
+                if any(board.texture for board in scene.billboards):
+                    cold = cold_prepare(self.folder / "scene.json")  # this scene's file
+                    whole_cold = (load + cold + took) / llvm_whole if llvm_whole else None
+                    self.cold[name] = (cold, whole_cold)
             whole = load + prepare + took
             ratio = f"{took / llvm:.2f}" if llvm else "-"
             whole_ratio = f"{whole / llvm_whole:.2f}" if llvm_whole else "-"
@@ -922,6 +941,29 @@ def set_up_raykit(engine: str, data: dict, folder: Path) -> tuple:
         preparing.append(time.perf_counter() - start)
     prepare = statistics.median(preparing)
     return load, prepare, first, timer(lambda: compiled.render(prepared)), picture
+
+
+def cold_prepare(path: Path) -> float:
+    """The median of 3 ``raykit.engine.compiled.prepare`` of the scene file at ``path``, each
+    just loaded with raykit's cache of decoded textures empty (a new folder each time), so each
+    of its textures is decoded."""
+    from raykit.engine import compiled
+
+    took = []
+    cache = os.environ.get("RAYKIT_CACHE_DIR")
+    try:
+        for _ in range(3):
+            with tempfile.TemporaryDirectory() as empty:
+                os.environ["RAYKIT_CACHE_DIR"] = empty  # read by each decode
+                fresh = load_scene(path)
+                start = time.perf_counter()
+                compiled.prepare(fresh)
+                took.append(time.perf_counter() - start)
+    finally:
+        os.environ.pop("RAYKIT_CACHE_DIR", None)
+        if cache is not None:
+            os.environ["RAYKIT_CACHE_DIR"] = cache
+    return statistics.median(took)
 
 
 def growth(compiled_renders: dict, repeats: int) -> None:

@@ -450,3 +450,34 @@ def test_plain_spheres_load_in_bulk_exactly_as_field_by_field():
     named[0]["name"] = "first"
     assert _plain_spheres(named) is None
     assert scene_from_dict(scene_dict(spheres=named)).spheres[0].name == "first"
+
+
+def test_velocities_beside_spheres_read_in_bulk_keep_their_object_index_and_their_errors():
+    import numpy as np
+
+    from raykit.io.scene_json import scene_from_dict
+    from raykit.spheres import SphereTable
+
+    rng = np.random.default_rng(13)
+    spheres = [
+        {"center": rng.uniform(-5, 5, 3).tolist(), "radius": 0.5, "color": [1, 1, 1]}
+        for _ in range(300)
+    ]
+    board = {"upper_left": [0, 1, 0], "lower_left": [0, 0, 0], "upper_right": [1, 1, 0],
+             "color": [0, 1, 0], "velocity": [0.25, 0, 0]}  # fmt: skip
+    scene = scene_from_dict(scene_dict(spheres=spheres, billboards=[board]))
+    assert isinstance(scene.spheres, SphereTable)  # read in bulk, with no velocity of its own
+    assert scene.velocities.shape == (301, 3)
+    assert not scene.velocities[:300].any() and scene.velocities[300].tolist() == [0.25, 0, 0]
+    # a moving sphere among plain ones: field by field, its velocity at its own index
+    moving = [dict(s) for s in spheres]
+    moving[123]["velocity"] = [0, 0.5, 0]
+    velocities = scene_from_dict(scene_dict(spheres=moving)).velocities
+    assert velocities.shape == (300, 3) and np.flatnonzero(velocities.any(axis=1)).tolist() == [123]
+    for objects, field in (
+        ({"billboards": [dict(board, velocity=[0, "1", 0])]}, "billboards[0].velocity[1]"),
+        ({"spheres": moving[:200] + [dict(moving[200], velocity=[0, 0])]}, "spheres[200].velocity"),
+    ):
+        with pytest.raises(SceneError) as info:
+            scene_from_dict(scene_dict(**{"spheres": spheres, **objects}))
+        assert info.value.field == field

@@ -1,3 +1,4 @@
+import os
 import subprocess
 import sys
 
@@ -5,8 +6,9 @@ import numpy as np
 from PIL import Image
 
 from conftest import SCENES
+from raykit.io import textures
 from raykit.io.scene_json import scene_from_dict
-from raykit.io.textures import Texture, to_rgba8
+from raykit.io.textures import CACHED_FROM, Texture, to_rgba8
 
 
 def test_16_bit_grey_is_scaled_not_clipped():
@@ -63,7 +65,7 @@ def test_texture_reads_its_header_at_once_and_decodes_on_first_use(tmp_path):
     Image.new("RGBA", (5, 3), (9, 8, 7, 6)).save(tmp_path / "t.png")
     texture = Texture(tmp_path / "t.png", "scene.json", "billboards[0].image")
     assert (texture.width, texture.height) == (5, 3)
-    assert "rgba" not in vars(texture)  # nothing decoded yet
+    assert vars(texture)["_rgba"] is None  # nothing decoded yet
     assert texture.rgba.shape == (3, 5, 4)
     assert texture.rgba[0, 0].tolist() == [9, 8, 7, 6]
 
@@ -96,3 +98,87 @@ def test_committed_textures_are_what_the_generator_makes(tmp_path):
         fresh, committed = Image.open(tmp_path / name), Image.open(SCENES / "textures" / name)
         assert fresh.mode == committed.mode, name
         assert np.array_equal(to_rgba8(fresh), to_rgba8(committed)), name
+
+
+def _large_texture(path, seed: int) -> np.ndarray:
+    """A seeded RGBA texture of CACHED_FROM texels (large enough to be cached), written to
+    ``path``; its texels ``(H, W, 4)``."""
+    side = int(CACHED_FROM**0.5)
+    rgba = np.random.default_rng(seed).integers(0, 256, (side, side, 4), dtype=np.uint8)
+    Image.fromarray(rgba, "RGBA").save(path)
+    return rgba
+
+
+def _texels(path) -> np.ndarray:
+    """The texels of a texture file, read as a scene's billboard reads them."""
+    return Texture(path, "scene.json", "billboards[0].image").rgba
+
+
+def _cached_files(cache) -> list:
+    return sorted((cache / "raykit" / "textures").glob("*.npy"))
+
+
+def _decodes(monkeypatch) -> list:
+    """A list that grows by one at each texture decode, from now on."""
+    calls = []
+    decode = Texture._decode
+    monkeypatch.setattr(Texture, "_decode", lambda self, *a: calls.append(1) or decode(self, *a))
+    return calls
+
+
+def test_a_large_texture_is_decoded_once_and_then_read_from_the_cache(tmp_path, monkeypatch):
+    monkeypatch.setenv("RAYKIT_CACHE_DIR", str(tmp_path / "cache"))
+    made = _large_texture(tmp_path / "t.png", seed=1)
+    decodes = _decodes(monkeypatch)
+    first = _texels(tmp_path / "t.png")
+    again = _texels(tmp_path / "t.png")
+    assert len(decodes) == 1 and len(_cached_files(tmp_path / "cache")) == 1
+    assert type(again) is np.ndarray and again.dtype == np.uint8
+    assert np.array_equal(first, made) and np.array_equal(again, made)
+
+
+def test_an_edited_texture_file_is_decoded_anew(tmp_path, monkeypatch):
+    monkeypatch.setenv("RAYKIT_CACHE_DIR", str(tmp_path / "cache"))
+    _large_texture(tmp_path / "t.png", seed=1)
+    _texels(tmp_path / "t.png")  # cached
+    edited = _large_texture(tmp_path / "t.png", seed=2)  # same name, size and header
+    decodes = _decodes(monkeypatch)
+    rgba = _texels(tmp_path / "t.png")
+    assert len(decodes) == 1 and np.array_equal(rgba, edited)
+    assert len(_cached_files(tmp_path / "cache")) == 2
+
+
+def test_a_small_texture_is_decoded_each_time_and_never_cached(tmp_path, monkeypatch):
+    monkeypatch.setenv("RAYKIT_CACHE_DIR", str(tmp_path / "cache"))
+    Image.new("RGBA", (16, 16), (1, 2, 3, 4)).save(tmp_path / "t.png")
+    for _ in range(2):
+        assert _texels(tmp_path / "t.png")[0, 0].tolist() == [1, 2, 3, 4]
+    assert _cached_files(tmp_path / "cache") == []
+
+
+def test_the_cache_drops_the_least_recently_used_decodes_beyond_its_size(tmp_path, monkeypatch):
+    monkeypatch.setenv("RAYKIT_CACHE_DIR", str(tmp_path / "cache"))
+    one_decode = CACHED_FROM * 4 + 128  # a .npy file: the texels and its header
+    monkeypatch.setattr(textures, "CACHE_BYTES", 2 * one_decode)
+    paths = [tmp_path / f"t{k}.png" for k in range(3)]
+    made = [_large_texture(path, seed=k) for k, path in enumerate(paths)]
+    for path in paths[:2]:
+        _texels(path)
+    for kept in _cached_files(tmp_path / "cache"):
+        os.utime(kept, (1, 1))  # both long unused
+    _texels(paths[0])  # t0 read from the cache: used now
+    _texels(paths[2])  # a third decode: t1, least recently used, goes
+    assert len(_cached_files(tmp_path / "cache")) == 2
+    decodes = _decodes(monkeypatch)
+    for k in (0, 2, 1):
+        assert np.array_equal(_texels(paths[k]), made[k])
+    assert decodes == [1]  # t1's alone
+
+
+def test_a_cache_that_cannot_be_written_only_decodes(tmp_path, monkeypatch):
+    (tmp_path / "file").write_text("not a folder")
+    for variable in ("RAYKIT_CACHE_DIR", "XDG_CACHE_HOME", "HOME"):
+        monkeypatch.setenv(variable, str(tmp_path / "file"))
+    made = _large_texture(tmp_path / "t.png", seed=3)
+    assert textures.cache_folder() is None
+    assert np.array_equal(_texels(tmp_path / "t.png"), made)

@@ -86,7 +86,7 @@ def scene_from_dict(data: Any, source: str = "<scene>", folder: str | Path = "."
         billboards,
         background,
         source,
-        velocities=_read_velocities(top),
+        velocities=_read_velocities(top, spheres),
         lights=tuple(_read_light(f, v2) for f in top["lights"].items()) if "lights" in top else (),
         ambient=top["ambient"].intensity() if "ambient" in top else None,
         shadows=top["shadows"].boolean() if "shadows" in top else True,
@@ -99,13 +99,19 @@ def scene_from_dict(data: Any, source: str = "<scene>", folder: str | Path = "."
     )
 
 
-def _read_velocities(top: dict[str, Field]) -> np.ndarray | None:
+def _read_velocities(top: dict[str, Field], spheres: Sequence[Sphere]) -> np.ndarray | None:
     """Every object's ``velocity`` ``(K, 3)`` in object index order (zero where it has none), or
-    None when no object has one. The objects' other fields are read by their own readers."""
+    None when no object has one. The objects' other fields are read by their own readers;
+    ``spheres`` as :func:`_read_spheres` read them (plain spheres, a
+    :class:`~raykit.spheres.SphereTable`, have no velocity)."""
+    # the plain values first, and only where a velocity may be: a Field for each of 600,000
+    # still spheres took seconds
+    kinds = ("billboards",) if isinstance(spheres, SphereTable) else ("spheres", "billboards")
+    values = (v for key in kinds if key in top for v in top[key].value)
+    if not any(isinstance(v, dict) and "velocity" in v for v in values):
+        return None
     objects = [f for key in ("spheres", "billboards") if key in top for f in top[key].items()]
     moving = [isinstance(f.value, dict) and "velocity" in f.value for f in objects]
-    if not any(moving):
-        return None
     return np.array(
         [
             Field(f.value["velocity"], f.source, f"{f.path}.velocity").vector(3)
@@ -278,15 +284,16 @@ def _plain_spheres(values) -> SphereTable | None:
         centers = [v["center"] for v in values]
         radii = [v["radius"] for v in values]
         colors = [v["color"] for v in values]
-        numbers = chain(chain.from_iterable(centers), radii, chain.from_iterable(colors))
-        if not set(map(type, numbers)) <= {int, float}:  # no bool, string, list or None
+        if set(map(len, centers)) != {3} or set(map(len, colors)) != {3}:
             return None
+        # flat lists: numpy makes an array of one far faster than of a list of lists
+        centers, colors = list(chain.from_iterable(centers)), list(chain.from_iterable(colors))
+        if not set(map(type, chain(centers, radii, colors))) <= {int, float}:
+            return None  # a bool, string, list, object or None, even where a list's length is 3
         columns = [np.array(x, dtype=float) for x in (centers, radii, colors)]
-    except (TypeError, ValueError, OverflowError):  # a non-dict, non-list, or ragged rows
+    except (TypeError, ValueError, OverflowError):  # a non-dict, a number for a list, 10**400
         return None
-    center, radius, color = columns
-    if center.shape != (len(values), 3) or color.shape != (len(values), 3):
-        return None
+    center, radius, color = columns[0].reshape(-1, 3), columns[1], columns[2].reshape(-1, 3)
     valid = (
         all(np.isfinite(c).all() for c in columns)
         and (radius > 0).all()

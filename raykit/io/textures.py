@@ -8,21 +8,36 @@ billboard's rule (:data:`raykit.billboards.OPAQUE_FROM`).
 Opening a file reads only its header, which is enough to reject a missing file, a file that is
 no image, or an absurd size, at scene-load time. The pixels are decoded on first access of
 :attr:`Texture.rgba`, so a texture no ray reaches costs nothing.
+
+Decoded once. A texture of :data:`CACHED_FROM` texels or more is kept, decoded, in a cache on
+disk (:func:`cache_folder`), under a hash of the file's bytes, of Pillow's version and of
+:data:`CACHE_FORMAT`, so an edited file, another Pillow or another conversion is decoded anew,
+never served from an older one; read back memory-mapped, it is the same bytes the decode made.
+The cache keeps at most :data:`CACHE_BYTES`, the least recently used going first; a cache that
+cannot be written or read is no cache (the texture is decoded, as without one). Smaller
+textures decode faster than a file is written, and are decoded each time.
 """
 
 from __future__ import annotations
 
+import hashlib
+import io
+import os
+import tempfile
 import warnings
-from functools import cached_property
 from pathlib import Path
 
 import numpy as np
+import PIL
 from PIL import Image, UnidentifiedImageError
 
 from raykit.io.errors import SceneError
 
 MAX_TEXTURE_SIDE = 16384
 MAX_TEXTURE_PIXELS = 64 * 1024 * 1024
+CACHED_FROM = 256 * 256  # texels: a texture this large or larger is cached once decoded
+CACHE_BYTES = 512 * 1024 * 1024  # at most this many bytes of decoded textures on disk
+CACHE_FORMAT = 1  # raise it when to_rgba8 changes what it makes, so no older decode is read
 
 
 class Texture:
@@ -33,15 +48,17 @@ class Texture:
         self.source = source
         self.field = field
         self.width, self.height = self._read_header()
+        self._rgba: np.ndarray | None = None
 
     def _error(self, problem: str) -> SceneError:
         return SceneError(self.source, self.field, problem)
 
-    def _open(self) -> Image.Image:
+    def _open(self, content: bytes | None = None) -> Image.Image:
+        """The file opened by Pillow; ``content``: its bytes, already read."""
         with warnings.catch_warnings():
             warnings.simplefilter("error", Image.DecompressionBombWarning)
             try:
-                return Image.open(self.path)
+                return Image.open(self.path if content is None else io.BytesIO(content))
             except FileNotFoundError:
                 raise self._error(f"texture file not found: {self.path}") from None
             except IsADirectoryError:
@@ -69,16 +86,121 @@ class Texture:
             )
         return width, height
 
-    @cached_property
+    @property
     def rgba(self) -> np.ndarray:
-        """The texels, ``(H, W, 4)`` uint8, row 0 at the top; decoded on first use."""
+        """The texels, ``(H, W, 4)`` uint8, row 0 at the top; decoded on first use, or read
+        from the cache of decoded textures (a large one, see the module's page). Kept by
+        hand, not by ``functools.cached_property``, whose lock (before Python 3.12) is one for
+        all textures, so two could not be decoded at once in two threads."""
+        if self._rgba is None:
+            self._rgba = self._texels()
+        return self._rgba
+
+    def _texels(self) -> np.ndarray:
+        if self.width * self.height < CACHED_FROM:
+            return self._decode()
         try:
-            with self._open() as image:
+            content = self.path.read_bytes()
+        except OSError:
+            return self._decode()  # which words the error
+        shape = (self.height, self.width, 4)
+        key = _cache_key(content)
+        cached = _cached(key, shape)
+        if cached is not None:
+            return cached
+        rgba = self._decode(content)
+        if rgba.shape == shape:
+            _keep(key, rgba)
+        return rgba
+
+    def _decode(self, content: bytes | None = None) -> np.ndarray:
+        try:
+            with self._open(content) as image:
                 return to_rgba8(image)
         except SceneError:
             raise
         except (OSError, ValueError, SyntaxError) as exc:
             raise self._error(f"texture cannot be decoded: {self.path} ({exc})") from None
+
+
+def cache_folder() -> Path | None:
+    """The decoded textures' folder, ``raykit/textures`` under ``$RAYKIT_CACHE_DIR``, else
+    ``$XDG_CACHE_HOME`` or ``~/.cache``, as the compiled kernels' cache
+    (:func:`raykit.engine.choice.cache_folder`): the first that can be made; None if none
+    can."""
+    bases = (
+        os.environ.get("RAYKIT_CACHE_DIR"),
+        os.environ.get("XDG_CACHE_HOME"),
+        os.path.join(os.path.expanduser("~"), ".cache"),
+    )
+    for base in filter(None, bases):
+        folder = Path(base) / "raykit" / "textures"
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+        except OSError:
+            continue
+        return folder
+    return None
+
+
+def _cache_key(content: bytes) -> str:
+    """The cache's name for a file's decode: its bytes, Pillow's version, the cache's format."""
+    digest = hashlib.blake2b(content, digest_size=20)
+    digest.update(f"\0{PIL.__version__}\0{CACHE_FORMAT}".encode())
+    return digest.hexdigest()
+
+
+def _cached(key: str, shape: tuple[int, int, int]) -> np.ndarray | None:
+    """The decode kept under ``key``, memory-mapped read-only, if it is there and of
+    ``shape`` (uint8); it is marked as used now, for :func:`_keep`'s eviction."""
+    folder = cache_folder()
+    if folder is None:
+        return None
+    path = folder / f"{key}.npy"
+    try:
+        rgba = np.load(path, mmap_mode="r", allow_pickle=False)
+        os.utime(path)
+    except (OSError, ValueError):
+        return None
+    if rgba.shape != shape or rgba.dtype != np.uint8:
+        return None
+    return rgba.view(np.ndarray)  # the same bytes, without np.memmap's own type
+
+
+def _keep(key: str, rgba: np.ndarray) -> None:
+    """Write ``rgba`` into the cache under ``key`` (whole: a temporary file, then a rename),
+    then remove the least recently used decodes while the cache holds more than
+    :data:`CACHE_BYTES`. A cache that cannot be written is left as it is."""
+    folder = cache_folder()
+    if folder is None:
+        return
+    part = None
+    try:
+        with tempfile.NamedTemporaryFile(dir=folder, suffix=".part", delete=False) as part:
+            np.save(part, rgba, allow_pickle=False)
+        os.replace(part.name, folder / f"{key}.npy")
+        _evict(folder)
+    except OSError:
+        if part is not None:
+            Path(part.name).unlink(missing_ok=True)
+
+
+def _evict(folder: Path) -> None:
+    """Remove the least recently used decodes from ``folder`` until it holds at most
+    :data:`CACHE_BYTES` (another process may be removing them too)."""
+    kept = []
+    for entry in folder.glob("*.npy"):
+        try:
+            status = entry.stat()
+        except FileNotFoundError:
+            continue
+        kept.append((status.st_mtime, status.st_size, entry))
+    total = sum(size for _, size, _ in kept)
+    for _, size, entry in sorted(kept, key=lambda kept: kept[0]):
+        if total <= CACHE_BYTES:
+            break
+        entry.unlink(missing_ok=True)
+        total -= size
 
 
 def to_rgba8(image: Image.Image) -> np.ndarray:

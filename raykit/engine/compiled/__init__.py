@@ -77,7 +77,13 @@ from __future__ import annotations
 
 from raykit.engine.compiled.billboards import billboard_color_at, hit_billboard
 from raykit.engine.compiled.bvh import DIRECT_HITS, nearest_hit, new_stack
-from raykit.engine.compiled.camera import camera_tuple, lens_tuple, rays_through, thin_lens_rays
+from raykit.engine.compiled.camera import (
+    CameraNumbers,
+    camera_tuple,
+    lens_tuple,
+    rays_through,
+    thin_lens_rays,
+)
 from raykit.engine.compiled.compiling import KERNEL
 from raykit.engine.compiled.driver import (
     CHUNK,
@@ -135,14 +141,14 @@ from raykit.engine.compiled.tiles import (
 from raykit.surfaces import OFFSET_FACTOR
 
 __all__ = [
-    "CHUNK", "CROWDED_SIDE", "DIRECT_HITS", "DIRECT_LISTS", "HOLDING_CHUNK", "KERNEL",
-    "OFFSET_FACTOR", "PACKET_SIDE", "SHADOW_CANDIDATES", "WIDE_SIDE", "Arrays", "Lanes",
-    "NearestHit", "Noise", "Prepared", "Ray", "RayRoom", "Shading", "ShadingRoom", "Tiles",
-    "Tree", "billboard_color_at", "blinn_phong", "bounce_on", "camera_tuple", "cast_rays",
-    "caster", "hit_billboard", "hit_sphere", "keep_nearer", "lambert", "lens_tuple",
-    "light_lanes", "mirror_rays", "nearest_hit", "new_lanes", "new_stack", "prepare",
-    "primary_ray", "primary_rays", "rays_through", "reflect", "render", "scene_arrays",
-    "scene_noise", "scene_shading", "scene_tree", "screen_tiles", "shade", "shadow_lists",
-    "start", "surface_color", "surface_lanes", "surface_points", "take", "thin_lens_rays",
-    "tile_side", "trace_flat", "trace_lit", "trace_sampled",
+    "CHUNK", "CROWDED_SIDE", "CameraNumbers", "DIRECT_HITS", "DIRECT_LISTS", "HOLDING_CHUNK",
+    "KERNEL", "OFFSET_FACTOR", "PACKET_SIDE", "SHADOW_CANDIDATES", "WIDE_SIDE", "Arrays",
+    "Lanes", "NearestHit", "Noise", "Prepared", "Ray", "RayRoom", "Shading", "ShadingRoom",
+    "Tiles", "Tree", "billboard_color_at", "blinn_phong", "bounce_on", "camera_tuple",
+    "cast_rays", "caster", "hit_billboard", "hit_sphere", "keep_nearer", "lambert",
+    "lens_tuple", "light_lanes", "mirror_rays", "nearest_hit", "new_lanes", "new_stack",
+    "prepare", "primary_ray", "primary_rays", "rays_through", "reflect", "render",
+    "scene_arrays", "scene_noise", "scene_shading", "scene_tree", "screen_tiles", "shade",
+    "shadow_lists", "start", "surface_color", "surface_lanes", "surface_points", "take",
+    "thin_lens_rays", "tile_side", "trace_flat", "trace_lit", "trace_sampled",
 ]  # fmt: skip

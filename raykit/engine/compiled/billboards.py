@@ -8,6 +8,7 @@ import math
 import numpy as np
 from numba import njit
 
+from raykit.billboards import OPAQUE_FROM
 from raykit.engine.compiled.compiling import ONE_RAY
 
 
@@ -46,9 +47,8 @@ def hit_billboard(o0, o1, o2, d0, d1, d2, arrays, board):
 @njit(**ONE_RAY)
 def billboard_color_at(arrays, board, alpha, beta):
     """Repeats :func:`raykit.billboards.billboard_color_at` (with
-    :func:`~raykit.billboards.texel_indices`) for one hit: ``(r, g, b, opaque)``, the texel's
-    colour and opacity as :func:`~raykit.billboards.colors_and_opacity` gave them
-    (:func:`scene_arrays`)."""
+    :func:`~raykit.billboards.texel_indices` and :func:`~raykit.billboards.colors_and_opacity`)
+    for one hit: ``(r, g, b, opaque)``, the texel's colour and opacity."""
     start = arrays.texture_start[board]
     if start < 0:
         colors = arrays.board_colors
@@ -58,5 +58,8 @@ def billboard_color_at(arrays, board, alpha, beta):
     column = min(math.floor(alpha * width), width - 1)
     row = min(math.floor(beta * height), height - 1)
     texel = start + int(row) * width + int(column)
-    colors = arrays.texel_colors
-    return colors[texel, 0], colors[texel, 1], colors[texel, 2], arrays.texel_opaque[texel]
+    # each channel over 255.0 in float64 as colors_and_opacity divides it, at the lookup: the
+    # texels stay bytes, so a texture is never converted whole
+    texels = arrays.texels
+    return (texels[texel, 0] / 255.0, texels[texel, 1] / 255.0, texels[texel, 2] / 255.0,
+            texels[texel, 3] >= OPAQUE_FROM)  # fmt: skip

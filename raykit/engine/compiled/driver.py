@@ -22,7 +22,13 @@ from raykit.camera import centre_sample, sample_offsets
 from raykit.engine.adaptive import edge_pixels, refine
 from raykit.engine.choice import entry_point, refuse_distributed
 from raykit.engine.compiled.bvh import nearest_hit, new_stack
-from raykit.engine.compiled.camera import camera_tuple, lens_tuple, rays_through, thin_lens_rays
+from raykit.engine.compiled.camera import (
+    CameraNumbers,
+    camera_tuple,
+    lens_tuple,
+    rays_through,
+    thin_lens_rays,
+)
 from raykit.engine.compiled.compiling import (
     KERNEL,
     MAKES_ARRAYS,
@@ -556,7 +562,7 @@ class Prepared(NamedTuple):
     tiles: Tiles
     tree: Tree
     shading: Shading
-    camera: tuple
+    camera: CameraNumbers
     lens: tuple
     noise: Noise | None
 

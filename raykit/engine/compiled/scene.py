@@ -6,11 +6,12 @@ from the same bits. Plain numpy: nothing here is compiled."""
 
 from __future__ import annotations
 
+import os
+from concurrent.futures import ThreadPoolExecutor
 from typing import NamedTuple
 
 import numpy as np
 
-from raykit.billboards import colors_and_opacity
 from raykit.engine.arrays import SceneArrays
 from raykit.engine.bvh import BVH
 from raykit.engine.noise import Dimensions
@@ -41,8 +42,9 @@ class Arrays(NamedTuple):
     normals ``n (B, 3)`` (a × b), ``alpha_axes``, ``beta_axes (B, 3)``
     (:attr:`raykit.billboards.Billboard.dual_axes`), flat ``board_colors (B, 3)``, and textures:
     ``texture_start (B,)`` (-1: none) into the texels of all textures, row by row, as
-    :func:`raykit.billboards.colors_and_opacity` reads them: ``texel_colors (T, 3)``,
-    ``texel_opaque (T,)``; ``texture_width``, ``texture_height (B,)``; the ``background (3,)``."""
+    decoded: ``texels (T, 4)`` uint8 RGBA, turned into colour and opacity at each lookup as
+    :func:`raykit.billboards.colors_and_opacity` turns them; ``texture_width``,
+    ``texture_height (B,)``; the ``background (3,)``."""
 
     centers: np.ndarray
     radii: np.ndarray
@@ -55,8 +57,7 @@ class Arrays(NamedTuple):
     texture_start: np.ndarray
     texture_width: np.ndarray
     texture_height: np.ndarray
-    texel_colors: np.ndarray
-    texel_opaque: np.ndarray
+    texels: np.ndarray
     background: np.ndarray
 
 
@@ -68,12 +69,13 @@ def scene_arrays(scene: Scene) -> Arrays:
     spheres = SceneArrays.of(scene)
     boards = scene.billboards
     f3 = lambda rows: np.array(rows, dtype=float).reshape(-1, 3)  # noqa: E731
+    decoded = _decoded(boards)
     starts, widths, heights, texels, used = [], [], [], [], 0
     for board in boards:
         if board.texture is None:
             starts.append(-1), widths.append(0), heights.append(0)
             continue
-        rgba = board.texture.rgba
+        rgba = decoded[id(board.texture)]
         starts.append(used), widths.append(rgba.shape[1]), heights.append(rgba.shape[0])
         texels.append(rgba.reshape(-1, 4))
         used += rgba.shape[0] * rgba.shape[1]
@@ -90,10 +92,22 @@ def scene_arrays(scene: Scene) -> Arrays:
             np.array(starts, dtype=np.int64),
             np.array(widths, dtype=np.int64),
             np.array(heights, dtype=np.int64),
-            *colors_and_opacity(np.concatenate(texels) if texels else np.zeros((0, 4), np.uint8)),
+            np.concatenate(texels) if texels else np.zeros((0, 4), np.uint8),
             np.asarray(scene.background, dtype=float),
         )
     )
+
+
+def _decoded(boards) -> dict[int, np.ndarray]:
+    """The billboards' textures' texels, by ``id`` of each texture, each asked for once: two or
+    more side by side in threads, as Pillow lets go of the GIL while it decodes."""
+    textures = {id(b.texture): b.texture for b in boards if b.texture is not None}
+    if len(textures) < 2:
+        return {key: texture.rgba for key, texture in textures.items()}
+    with ThreadPoolExecutor(min(len(textures), os.cpu_count() or 1)) as pool:
+        return dict(
+            zip(textures, pool.map(lambda texture: texture.rgba, textures.values()), strict=True)
+        )
 
 
 def _one_kind(parts):

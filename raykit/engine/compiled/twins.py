@@ -183,6 +183,7 @@ WITHIN = {
     "raykit.planes.hit_plane": "billboards.hit_billboard",
     "raykit.planes.hit_points_on_plane": "billboards.hit_billboard",
     "raykit.billboards.texel_indices": "billboards.billboard_color_at",
+    "raykit.billboards.colors_and_opacity": "billboards.billboard_color_at",
     "raykit.billboards.billboard_normals": "surfaces.surface_points",
     "raykit.camera._in_plane": "camera.rays_through",
     "raykit.camera.region_points": "driver.job_points",
