@@ -392,7 +392,7 @@ def _image_result(
         (
             (m.says, quantize(expected(test.name, seed, m.key)["rgb"]), m.where)
             for m in MISTAKES
-            if m.in_renders
+            if m.in_renders and m.tried_on(test.stage)
         )
         if test.mistakes
         else ()
