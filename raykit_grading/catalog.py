@@ -21,6 +21,19 @@ draw uses numpy's generator, elementwise arithmetic, ``np.sqrt`` (correctly roun
 ``np.dot``, ``np.linalg.norm`` or numpy's vectorised sin/cos, whose last bits depend on BLAS
 and the processor's vector width (tests/grading/test_grading_seeds.py checks both).
 
+Stage 5 (distributed ray tracing) is graded with a fixed seed, not statistically. Its student
+functions are pure functions of given uniform numbers (:mod:`raykit.sampling`), so each is
+tested exactly on drawn numbers, within the same tolerance as every array test. A render's
+numbers come from the renderer's noise (:mod:`raykit.engine.noise`: a hash of the seed, the
+pixel, the sample and the dimension), which is given code, not the student's: a correct
+submission gets the same numbers, makes the same choices in each pixel, on the lens and on
+the lights, and so renders the same picture, noise and all, to within rounding; the image
+comparison's tolerance (2 levels, or a neighbour) absorbs what another order of the same
+operations changes. A statistical test (mean and variance of the noise) would pass mistakes
+that keep the mean, such as samples that are not jittered, and would need many samples: a
+fixed seed needs few and names the mistake. Graded draws of a distributed scene take a new
+render seed besides the moved camera, so no shipped picture is a graded one.
+
 ``visible`` tests show their result at once; ``after_due_date`` tests are hidden until then.
 """
 
