@@ -304,7 +304,12 @@ def _visible_first(tests: list[GradingTest]) -> list[GradingTest]:
 
 
 # the student function each array task calls first, as the callee lines name it
-CALLERS = {"line_rays": "line_rays", "rays_through": "rays_through"}
+CALLERS = {
+    "line_rays": "line_rays",
+    "rays_through": "rays_through",
+    "thin_lens_rays": "thin_lens_rays",
+    "perturbed_direction": "perturbed_direction",
+}
 
 
 def array_mistakes(test: GradingTest, seed: int | None):
