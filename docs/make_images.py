@@ -36,6 +36,8 @@ COMMANDS = [
     "diagram scenes/mirror_balls.json -o {out}/mirror_rays_top.png --view top --rays 60",
     "render scenes/soft_shadows.json -o {out}/soft_shadows.png",
     "render scenes/depth_of_field.json -o {out}/depth_of_field.png",
+    "render scenes/glossy.json -o {out}/glossy.png",
+    "render scenes/motion_blur.json -o {out}/motion_blur.png",
 ]
 
 # figures that no command draws: (file name, function in raykit.diagrams.math_figures)

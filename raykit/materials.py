@@ -10,6 +10,8 @@ diffuse    kd       Lambert reflectance, a colour. Default: the object's ``color
 specular   ks       Blinn-Phong highlight colour; default black (no highlight).
 shininess  p        Blinn-Phong exponent: higher is a smaller, sharper highlight; default 32.
 mirror     km       Ideal mirror reflectance, a colour; default black (no mirror rays).
+glossiness a        Stage 5 (FOCG 13.4.4): the side of the square a mirror's reflected ray is
+                    perturbed within (:mod:`raykit.mirrors`), >= 0; default 0, the ideal mirror.
 =========  =======  ===========================================================================
 
 A scene with no ``lights`` and no ``ambient`` is unlit: an object shows its flat ``color``
@@ -23,6 +25,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 DEFAULT_SHININESS = 32.0
+FIELDS = ("diffuse", "has_diffuse", "specular", "shininess", "mirror", "glossiness")
 
 
 def _black() -> np.ndarray:
@@ -31,13 +34,14 @@ def _black() -> np.ndarray:
 
 @dataclass(frozen=True)
 class Material:
-    """``diffuse`` (kd, None: the object's colour), ``specular`` (ks), ``shininess`` (p) and
-    ``mirror`` (km); colours ``(3,)`` in [0, 1]."""
+    """``diffuse`` (kd, None: the object's colour), ``specular`` (ks), ``shininess`` (p),
+    ``mirror`` (km) and ``glossiness`` (a); colours ``(3,)`` in [0, 1]."""
 
     diffuse: np.ndarray | None = None
     specular: np.ndarray = field(default_factory=_black)
     shininess: float = DEFAULT_SHININESS
     mirror: np.ndarray = field(default_factory=_black)
+    glossiness: float = 0.0
 
     @property
     def is_mirror(self) -> bool:
@@ -55,13 +59,14 @@ PLAIN = Material()
 class MaterialTable:
     """The materials of K objects as arrays, for looking up many hits at once: ``diffuse (K, 3)``
     with ``has_diffuse (K,)`` (False: use the object's colour), ``specular (K, 3)``,
-    ``shininess (K,)``, ``mirror (K, 3)``."""
+    ``shininess (K,)``, ``mirror (K, 3)``, ``glossiness (K,)``."""
 
     diffuse: np.ndarray
     has_diffuse: np.ndarray
     specular: np.ndarray
     shininess: np.ndarray
     mirror: np.ndarray
+    glossiness: np.ndarray
 
     @classmethod
     def of(cls, objects) -> MaterialTable:
@@ -74,6 +79,7 @@ class MaterialTable:
             specular=np.array([m.specular for m in materials], dtype=float).reshape(-1, 3),
             shininess=np.array([m.shininess for m in materials], dtype=float),
             mirror=np.array([m.mirror for m in materials], dtype=float).reshape(-1, 3),
+            glossiness=np.array([m.glossiness for m in materials], dtype=float),
         )
 
     @classmethod
@@ -85,21 +91,22 @@ class MaterialTable:
             specular=np.zeros((count, 3)),
             shininess=np.full(count, PLAIN.shininess),
             mirror=np.zeros((count, 3)),
+            glossiness=np.zeros(count),
         )
 
     @classmethod
     def stack(cls, *tables: MaterialTable) -> MaterialTable:
         """One table of the objects of ``tables``, in order."""
-        return cls(
-            *(
-                np.concatenate([getattr(t, name) for t in tables])
-                for name in ("diffuse", "has_diffuse", "specular", "shininess", "mirror")
-            )
-        )
+        return cls(*(np.concatenate([getattr(t, name) for t in tables]) for name in FIELDS))
 
     @property
     def any_mirror(self) -> bool:
         return bool(np.any(self.mirror > 0))
+
+    @property
+    def any_glossy(self) -> bool:
+        """Whether some mirror is glossy (km > 0 and a > 0): its rays take uniform numbers."""
+        return bool(np.any(self.mirror.any(axis=1) & (self.glossiness > 0)))
 
     @property
     def any_shiny(self) -> bool:

@@ -24,8 +24,10 @@ mean of its samples' colours, taken before quantising to 8 bits (:mod:`raykit.io
 pinhole's ray, with a lens).
 
 Distributed ray tracing (stage 5, FOCG 13.4). A scene with more than one sample per pixel, an
-area light or a lens is rendered the same way, a sample at a time: each sample of a pixel has
-its own point in the pixel, on the lens and on each area light, from the sampler the scene
+area light, a lens, a glossy mirror or a sphere moving in the shutter interval is rendered the
+same way, a sample at a time: each sample of a pixel has
+its own point in the pixel, on the lens and on each area light, its own perturbation of each
+glossy mirror's reflection and its own time in the shutter interval, from the sampler the scene
 names (:mod:`raykit.sampling`), and the pixel is the mean of its samples. The same seed gives
 the same bytes (:mod:`raykit.engine.noise`).
 """
@@ -47,7 +49,7 @@ from raykit.hits import Hits, solid
 from raykit.scene import Scene
 from raykit.shading import shade
 from raykit.shadows import Caster
-from raykit.spheres import hit_sphere
+from raykit.spheres import center_at, hit_sphere
 
 
 @dataclass(frozen=True)
@@ -106,7 +108,17 @@ def illumination(plan: Plan, rays: ViewingRays, hits: Hits) -> np.ndarray:
     if plan.secondary is None:  # no light: "copy the color of the object at this point"
         return hits.color
     on_lights = plan.on_lights(rays)  # where on the area lights: a distributed render's
-    return shade(plan.scene, plan.secondary, rays.origins, rays.directions, hits, on_lights)
+    gloss = plan.on_glossy(rays)  # how glossy mirrors perturb their rays, and
+    return shade(  # each ray's time in the shutter interval (None: no such choice)
+        plan.scene,
+        plan.secondary,
+        rays.origins,
+        rays.directions,
+        hits,
+        on_lights,
+        gloss_uniforms=gloss,
+        times=rays.times,
+    )
 
 
 def _adaptive(scene: Scene, plan: Plan) -> Render:
@@ -118,14 +130,22 @@ def _adaptive(scene: Scene, plan: Plan) -> Render:
     return first
 
 
-def cast(scene: Scene, origins: np.ndarray, directions: np.ndarray) -> Hits:
-    """The nearest hit of each ray ``(N, 3)`` over all objects of the scene."""
+def cast(
+    scene: Scene, origins: np.ndarray, directions: np.ndarray, times: np.ndarray | None = None
+) -> Hits:
+    """The nearest hit of each ray ``(N, 3)`` over all objects of the scene; with ``times (N,)``
+    (motion blur) each ray sees the moving spheres at its own time (None: as they stand)."""
     # BEGIN SOLUTION
     # hint: start from Hits.none, then offer every sphere and every billboard, in index order, to
-    #       Hits.keep_nearer
+    #       Hits.keep_nearer; with times, a sphere with a velocity (scene.velocities[i]) is at
+    #       center_at(center, velocity, times), one centre per ray
     hits = Hits.none(len(origins), scene.background)
+    moving = times is not None and scene.velocities is not None
     for i, sphere in enumerate(scene.spheres):
-        t = hit_sphere(origins, directions, sphere.center, sphere.radius)
+        center = sphere.center
+        if moving and scene.velocities[i].any():
+            center = center_at(sphere.center, scene.velocities[i], times)
+        t = hit_sphere(origins, directions, center, sphere.radius)
         hits.keep_nearer(i, t, solid(sphere.color))
     for i, billboard in enumerate(scene.billboards, start=len(scene.spheres)):
         t, alpha, beta = hit_billboard(origins, directions, billboard)

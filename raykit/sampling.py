@@ -2,8 +2,9 @@
 
 Distributed ray tracing (Cook et al. 1984) sends many rays per pixel, each with its own random
 choices: where in the pixel it passes, where on the lens it starts, which point of an area light
-its shadow ray aims at, how a glossy reflection is perturbed. Each choice is a point of a 2D
-pattern made from uniform numbers, and every function here is a pure function of those numbers.
+its shadow ray aims at, how a glossy reflection is perturbed, at what time in the shutter
+interval it sees a moving scene. Each choice is a point of a 2D pattern (or, for the time, a
+number) made from uniform numbers, and every function here is a pure function of those numbers.
 
 Conventions (owned here; the renderer's noise, :mod:`raykit.engine.noise`, refers to this page)
 -----------------------------------------------------------------------------------------------
@@ -31,6 +32,15 @@ Conventions (owned here; the renderer's noise, :mod:`raykit.engine.noise`, refer
 * A perturbed direction (glossy reflection, FOCG 13.4.4): the unit direction r, moved within the
   square of side a perpendicular to r, in the orthonormal basis (u, v, w) with w = r
   (:func:`basis_around`): r' = normalize(r + u'·u + v'·v), u' = -a/2 + ξ1·a, v' = -a/2 + ξ2·a.
+  The basis must be orthonormal: with u and v of other lengths, or not perpendicular to r, the
+  square is stretched or tilted and the reflection blurs more one way than the other.
+* A time in the shutter interval (motion blur, Cook et al. 1984; FOCG 13.4.5): the shutter is
+  open from T0 to T1 (the book's capital T, not the ray's t), and each *ray*, each sample of
+  each pixel, sees the scene at its own time T = T0 + ξ·(T1 - T0) from its own uniform number
+  (:func:`shutter_times`); a sphere moving with velocity v is then at c + T·v
+  (:func:`raykit.spheres.center_at`). A time per pixel,
+  shared by its samples, shows each pixel the moving object at one instant: the mean over the
+  samples no longer blurs it, and the streak is noise (each pixel all object or all background).
 
 Which low-discrepancy sequence. :func:`sobol_set` takes scipy's scrambled Sobol' sequence
 (``scipy.stats.qmc.Sobol``): every power-of-two prefix of it is a (t, m, s)-net, so 2^m points
@@ -58,11 +68,13 @@ SAMPLERS = ("random", "jittered", "sobol")
 @dataclass(frozen=True)
 class Sampling:
     """How a render samples (format v2's ``render``): ``samples_per_pixel``, the ``sampler``
-    (one of :data:`SAMPLERS`) and the ``seed`` its uniform numbers come from."""
+    (one of :data:`SAMPLERS`), the ``seed`` its uniform numbers come from, and the ``shutter``
+    interval (T0, T1) its rays' times lie in (None: no shutter, every ray at time 0)."""
 
     samples_per_pixel: int = 1
     sampler: str = "jittered"
     seed: int = 0
+    shutter: tuple[float, float] | None = None  # (T0, T1), 0 <= T0 <= T1; None: every ray at 0
 
 
 def point_in_pixel(
@@ -202,10 +214,10 @@ def basis_around(r: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 def perturbed_direction(r: np.ndarray, a: float, uniforms: np.ndarray) -> np.ndarray:
-    """Unit directions ``(N, 3)``: unit ``r (N, 3)`` moved within the square of side ``a``
-    perpendicular to it (FOCG 13.4.4, glossy reflection): r' = normalize(r + u'·u + v'·v) with
-    u' = -a/2 + ξ1·a, v' = -a/2 + ξ2·a in the basis of :func:`basis_around`, from
-    ``uniforms (N, 2)``. A stage-5 student function."""
+    """Unit directions ``(N, 3)``: unit ``r (N, 3)`` moved within the square of side ``a`` (a
+    number, or each row's own, ``(N, 1)``) perpendicular to it (FOCG 13.4.4, glossy
+    reflection): r' = normalize(r + u'·u + v'·v) with u' = -a/2 + ξ1·a, v' = -a/2 + ξ2·a in the
+    basis of :func:`basis_around`, from ``uniforms (N, 2)``. A stage-5 student function."""
     # BEGIN SOLUTION
     # hint: u, v from basis_around(r); u' = -a/2 + ξ1·a, v' = -a/2 + ξ2·a;
     #       normalize(r + u'·u + v'·v)
@@ -214,6 +226,17 @@ def perturbed_direction(r: np.ndarray, a: float, uniforms: np.ndarray) -> np.nda
     along_u = -a / 2 + uniforms[:, 0:1] * a
     along_v = -a / 2 + uniforms[:, 1:2] * a
     return normalize(np.asarray(r, dtype=float) + along_u * u + along_v * v)
+    # END SOLUTION
+
+
+def shutter_times(shutter_open: float, shutter_close: float, uniforms: np.ndarray) -> np.ndarray:
+    """The times T = T0 + ξ·(T1 - T0) ``(P, S)`` of the S samples (rays) of each of P pixels, in
+    the shutter interval [T0, T1] = [``shutter_open``, ``shutter_close``], each from its own
+    number ``uniforms (P, S)`` (motion blur; the module page). A stage-5 student function."""
+    # BEGIN SOLUTION
+    # hint: every ray its own time: T0 + ξ·(T1 - T0) for each sample of each pixel, not one
+    #       time per pixel shared by its samples
+    return shutter_open + np.asarray(uniforms, dtype=float) * (shutter_close - shutter_open)
     # END SOLUTION
 
 

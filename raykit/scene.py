@@ -5,8 +5,9 @@ Stage 4 adds, all optional: ``lights`` (:mod:`raykit.lights`), ``ambient``, per-
 without them renders exactly as format v1 always did.
 
 Stage 5 (format v2) adds distributed ray tracing (FOCG 13.4): area lights
-(:class:`raykit.lights.AreaLight`), a thin-lens camera (:mod:`raykit.camera`), and how the
-render samples (:class:`raykit.sampling.Sampling`: samples per pixel, the sampler, the seed).
+(:class:`raykit.lights.AreaLight`), a thin-lens camera (:mod:`raykit.camera`), glossy mirrors
+(:mod:`raykit.mirrors`), motion blur, and how the render samples
+(:class:`raykit.sampling.Sampling`: samples per pixel, the sampler, the seed, the shutter).
 A scene with any of them is :attr:`Scene.distributed`; one without renders as before.
 
 Scenes are read from files by :mod:`raykit.io.scene_json` (format v1, documented in
@@ -23,6 +24,10 @@ Motion (for the 3D line-scan camera's sweep, :mod:`raykit.linescan.sweep3d`): an
 a ``velocity``, in scene units per scan, kept in :attr:`Scene.velocities` in object index order.
 A render shows the scene as it stands (scan 0); scan m of a sweep sees every object moved by
 m·velocity (:meth:`Scene.at`), as in the 2D line-scan scene (:mod:`raykit.linescan.scene`).
+With a shutter (format v2's ``render.shutter``, motion blur) the velocity is per unit of time
+and each ray sees the spheres at its own time T in the shutter interval, a sphere at c + T·v
+(:func:`raykit.spheres.center_at`): the scene :attr:`Scene.moving`. Only spheres move in a
+render; the loader refuses a billboard's velocity in a scene with a shutter.
 """
 
 from __future__ import annotations
@@ -115,11 +120,28 @@ class Scene:
         return sum(isinstance(light, AreaLight) for light in self.lights)
 
     @property
+    def moving(self) -> bool:
+        """Whether rays see spheres move: a shutter, and a sphere with a non-zero velocity."""
+        if self.sampling.shutter is None or self.velocities is None:
+            return False
+        return bool(np.any(self.velocities[: len(self.spheres)]))
+
+    @property
+    def blurred(self) -> bool:
+        """Whether each ray takes its own time (:attr:`moving`, the shutter open a while)."""
+        return self.moving and self.sampling.shutter[1] > self.sampling.shutter[0]
+
+    @property
     def distributed(self) -> bool:
         """Whether the render is distributed (stage 5): more than one sample per pixel of the
-        scene's :class:`raykit.sampling.Sampling`, an area light, or a lens (aperture > 0)."""
+        scene's :class:`raykit.sampling.Sampling`, an area light, a lens (aperture > 0), a glossy
+        mirror, or spheres moving while the shutter is open."""
         return (
-            self.sampling.samples_per_pixel > 1 or self.area_lights > 0 or self.camera.aperture > 0
+            self.sampling.samples_per_pixel > 1
+            or self.area_lights > 0
+            or self.camera.aperture > 0
+            or self.materials.any_glossy
+            or self.moving
         )
 
     @cached_property

@@ -15,7 +15,11 @@ surface point (the conventions of :mod:`raykit.lights`):
   point of the light (:func:`raykit.lights.sampled`): one shadow ray per ray and light, the
   penumbra the mean over a pixel's samples. The uniform numbers come with the rays
   (``light_uniforms``); without them each area light is sampled at its centre;
-* km·L(r): what the mirror reflects (:mod:`raykit.mirrors`).
+* km·L(r): what the mirror reflects (:mod:`raykit.mirrors`); a glossy mirror (stage 5, FOCG
+  13.4.4) reflects along r', r perturbed by the ray's own uniform numbers (``gloss_uniforms``),
+  and an r' below the surface is absorbed: that ray's mirror term is black;
+* motion blur (stage 5): a ray with a time (``times``) sees the moving spheres where they are
+  at that time, and so do its shadow and mirror rays: they belong to the same instant.
 
 A scene with no lights and no ambient (every format v1 scene) is unlit: L is the object's flat
 colour (plus km·L(r) on mirrors). Colours add up unclamped; the image clamps to [0, 1] when it
@@ -32,12 +36,13 @@ computed only on objects with a specular colour; mirror rays start only on mirro
 from __future__ import annotations
 
 from dataclasses import replace
+from functools import partial
 
 import numpy as np
 
 from raykit.hits import Hits
 from raykit.lights import AreaLight, sampled, toward_light
-from raykit.mirrors import reflect
+from raykit.mirrors import glossy_reflect, reflect
 from raykit.rays import dot, normalize
 from raykit.scene import Scene
 from raykit.shadows import Caster, in_shadow, light_reach
@@ -90,12 +95,19 @@ def shade(
     directions: np.ndarray,
     hits: Hits,
     light_uniforms: np.ndarray | None = None,
+    *,
+    gloss_uniforms: np.ndarray | None = None,
+    times: np.ndarray | None = None,
 ) -> np.ndarray:
     """Colours ``(N, 3)`` of rays ``(N, 3)`` (unit directions) with their nearest ``hits``
     (object indices of ``scene``). ``cast`` finds the nearest hits of secondary rays over the
     whole scene (a diagram that wants to see those rays wraps it: :mod:`raykit.diagrams.rays`).
     ``light_uniforms (N, max_depth + 1, A, 2)``: each ray's uniform numbers for the A area
-    lights (in the order of ``scene.lights``) at each mirror depth."""
+    lights (in the order of ``scene.lights``) at each mirror depth. ``gloss_uniforms
+    (N, max_depth, 2)``: each ray's numbers for the glossy perturbation of its mirror bounce at
+    each depth (None: glossy mirrors reflect as ideal ones). ``times (N,)``: each ray's time in
+    the shutter interval, which its shadow and mirror rays share (``cast`` then takes
+    ``times=``; None: the scene as it stands)."""
     count = len(origins)
     colors = np.zeros((count, 3))
     weight = np.ones((count, 3))  # what one unit of light along the ray adds to its pixel
@@ -108,19 +120,30 @@ def shade(
         index, color = hits.index[hit], hits.color[hit]
         if not len(index):
             break
-        surface = surface_points(scene, origins, directions, hits.t[hit], index)
+        at = None if times is None else times[ray]
+        surface = surface_points(scene, origins, directions, hits.t[hit], index, at)
         on_lights = None if light_uniforms is None else light_uniforms[ray, depth]
         colors[ray] += weight * surface_color(
-            scene, cast, surface, directions, index, color, on_lights
+            scene, cast, surface, directions, index, color, on_lights, times=at
         )
         km = mirror[index]
         bounce = np.flatnonzero(km.any(axis=1))
         if depth == scene.max_depth or not len(bounce):
             break
-        directions = reflect(directions[bounce], surface.normals[bounce])
+        d, n = directions[bounce], surface.normals[bounce]
+        if gloss_uniforms is None:
+            directions = reflect(d, n)
+        else:  # a perturbed ray below the surface is absorbed: it goes no further
+            glossiness = scene.materials.glossiness[index[bounce]]
+            directions, above = glossy_reflect(d, n, glossiness, gloss_uniforms[ray[bounce], depth])
+            bounce, directions = bounce[above], directions[above]
         origins = surface.take(bounce).start(directions)
         ray, weight = ray[bounce], weight[bounce] * km[bounce]
-        hits = cast(origins, directions)
+        hits = (
+            cast(origins, directions)
+            if times is None
+            else cast(origins, directions, times=times[ray])
+        )
     return colors
 
 
@@ -132,11 +155,14 @@ def surface_color(
     index: np.ndarray,
     color: np.ndarray,
     light_uniforms: np.ndarray | None = None,
+    *,
+    times: np.ndarray | None = None,
 ) -> np.ndarray:
     """A surface's own colour ``(N, 3)`` at hit points (all but the mirror term): the flat
     ``color (N, 3)`` in an unlit scene, else ambient + each visible light's Lambert and
     Blinn-Phong terms. ``index (N,)``: the objects hit. ``light_uniforms (N, A, 2)``: where on
-    each of the A area lights each point's shadow ray aims (None: at the light's centre)."""
+    each of the A area lights each point's shadow ray aims (None: at the light's centre).
+    ``times (N,)``: the time of each point's ray, at which its shadow rays look for blockers."""
     if not scene.lit:
         return color
     table = scene.materials
@@ -161,7 +187,8 @@ def surface_color(
             facing = surface.take(lit)
             reaching = replace(light, position=light.position[lit]) if area else light
             reach = light_reach(facing, l[lit], reaching)  # from the offset start, less its margin
-            lit = lit[~in_shadow(cast, facing, l[lit], reach)]
+            blockers = cast if times is None else partial(cast, times=times[lit])  # that instant
+            lit = lit[~in_shadow(blockers, facing, l[lit], reach)]
         n = surface.normals
         total[lit] += lambert(kd[lit], light.color, n[lit], l[lit])
         highlight = lit[shiny[lit]]

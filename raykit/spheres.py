@@ -38,6 +38,10 @@ Dividing out the 2s changes no bit (they are powers of two); the digits are lost
    lost those digits; no root formula can win them back, so a ray should not start on a surface:
    see the t > 0 rule in raykit.rays.)
 
+A moving sphere (motion blur, stage 5): with velocity v, the sphere is at c(T) = c + T·v at time
+T (:func:`center_at`), and a ray with its own time T meets the sphere there: the centre is then
+one per ray, ``(N, k)``, which every function here takes in place of one ``(k,)``.
+
 This module owns the sphere; the 2D line-scan world calls the same function with k = 2 for its
 balls (a circle is the 2D sphere).
 """
@@ -117,7 +121,8 @@ def sphere_roots(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Both roots and the discriminant of the ray–sphere quadratic, by the stable form.
 
-    ``origins``, ``directions``: ``(N, k)``; ``center``: ``(k,)``. Returns ``(t0, t1,
+    ``origins``, ``directions``: ``(N, k)``; ``center``: ``(k,)``, or each ray's own ``(N, k)``
+    (a moving sphere, :func:`center_at`). Returns ``(t0, t1,
     discriminant)``, each ``(N,)``, where the discriminant is Δ = D/4 (the module docstring:
     the same sign as D); the roots are NaN where it is negative (the ray's line misses), and
     in no particular order.
@@ -142,14 +147,24 @@ def hit_sphere(
 ) -> np.ndarray:
     """Nearest t > 0 ``(N,)`` where each ray meets the sphere, or ``MISS``; the stable form.
 
-    ``origins``, ``directions``: ``(N, k)``; ``center``: ``(k,)``. A ray starting inside the
-    sphere hits its far side.
+    ``origins``, ``directions``: ``(N, k)``; ``center``: ``(k,)``, or each ray's own ``(N, k)``.
+    A ray starting inside the sphere hits its far side.
     """
     # BEGIN SOLUTION
     # hint: the nearest root with t > 0 where the discriminant is >= 0, else MISS (see
     #       raykit.rays.nearest_positive)
     t0, t1, discriminant = sphere_roots(origins, directions, center, radius)
     return np.where(discriminant >= 0, nearest_positive(t0, t1), MISS)
+    # END SOLUTION
+
+
+def center_at(center: np.ndarray, velocity: np.ndarray, times: np.ndarray) -> np.ndarray:
+    """The centres c(T) = c + T·v ``(N, 3)`` of a sphere with ``center`` c and ``velocity`` v
+    ``(3,)`` at the times T ``(N,)`` of N rays (motion blur, :mod:`raykit.sampling`). A stage-5
+    student function."""
+    # BEGIN SOLUTION
+    # hint: one centre per ray, each moved by its own time: c + T·v, with T made a column
+    return np.asarray(center, dtype=float) + np.asarray(times, dtype=float)[:, None] * velocity
     # END SOLUTION
 
 

@@ -69,9 +69,11 @@ def surface_points(
     directions: np.ndarray,
     t: np.ndarray,
     index: np.ndarray,
+    times: np.ndarray | None = None,
 ) -> SurfacePoints:
     """Where rays ``(N, 3)`` hit objects ``index (N,)`` (each >= 0) at ``t (N,)``; directions
-    must be unit length (as the camera's, shadow and mirror rays are)."""
+    must be unit length (as the camera's, shadow and mirror rays are). ``times (N,)``: the
+    rays' times, where a moving sphere is (motion blur; None: the spheres as they stand)."""
     points = point_at(origins, directions, t)
     normals = np.empty_like(points)
     spheres = len(scene.spheres)
@@ -81,6 +83,9 @@ def surface_points(
         centers = np.stack([np.asarray(scene.spheres[i].center) for i in hit])
         radii = np.array([scene.spheres[i].radius for i in hit])
         which = np.searchsorted(hit, index[on_sphere])
+        if times is not None and scene.velocities is not None:  # each centre at its ray's time
+            centers = centers[which] + times[on_sphere][:, None] * scene.velocities[hit[which]]
+            radii, which = radii[which], np.arange(len(on_sphere))
         normals[on_sphere] = sphere_normals(
             points[on_sphere], centers[which], radii[which][:, None]
         )

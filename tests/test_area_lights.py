@@ -24,6 +24,9 @@ from raykit.shading import shade
 
 SCHEMA_V2 = json.loads((REPO / "raykit/io/schemas/scene-v2.schema.json").read_text())
 PANEL = {"type": "area", "corner": [-1, 4, -1], "edge1": [2, 0, 0], "edge2": [0, 0, 2]}
+SPHERE = {"center": [0, 0, 0], "radius": 1, "color": [1, 0, 0]}
+BOARD = {"upper_left": [-1, 1, -2], "lower_left": [-1, -1, -2], "upper_right": [1, 1, -2],
+         "color": [0, 1, 0]}  # fmt: skip
 
 
 def _penumbra_scene(shadows: bool = True) -> Scene:
@@ -232,6 +235,59 @@ V2_CASES = [
         "render.samples",
         "unknown field",
         True,
+    ),
+    (
+        "glossy mirror in a v1 scene",
+        {"spheres": [{**SPHERE, "mirror": [1, 1, 1], "glossiness": 0.2}]},
+        "spheres[0].glossiness",
+        '"version": 2',
+        False,
+    ),
+    (
+        "negative glossiness",
+        {"version": 2, "spheres": [{**SPHERE, "mirror": [1, 1, 1], "glossiness": -0.1}]},
+        "spheres[0].glossiness",
+        "must be >= 0",
+        True,
+    ),
+    (
+        "glossiness without a mirror",
+        {"version": 2, "spheres": [{**SPHERE, "glossiness": 0.2}]},
+        "spheres[0].glossiness",
+        'give the object a "mirror"',
+        False,
+    ),
+    (
+        "shutter closing before it opens",
+        {"version": 2, "render": {"shutter": [1, 0.5]}},
+        "render.shutter",
+        "closes before it opens",
+        False,
+    ),
+    (
+        "shutter opening before time 0",
+        {"version": 2, "render": {"shutter": [-1, 0.5]}},
+        "render.shutter[0]",
+        "must be >= 0",
+        True,
+    ),
+    (
+        "shutter of three times",
+        {"version": 2, "render": {"shutter": [0, 0.5, 1]}},
+        "render.shutter",
+        "must have 2 numbers",
+        True,
+    ),
+    (
+        "moving billboard with a shutter",
+        {
+            "version": 2,
+            "render": {"shutter": [0, 1]},
+            "billboards": [{**BOARD, "velocity": [1, 0, 0]}],
+        },
+        "billboards[0].velocity",
+        "only spheres move",
+        False,
     ),
 ]
 

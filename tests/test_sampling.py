@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from raykit.engine.noise import PixelSamples, counter_hash, shuffle, uniforms
+from raykit.engine.noise import Dimensions, PixelSamples, counter_hash, shuffle, uniforms
 from raykit.rays import dot, length
 from raykit.sampling import (
     Sampling,
@@ -21,6 +21,7 @@ from raykit.sampling import (
     point_on_lens,
     point_on_parallelogram,
     random_set,
+    shutter_times,
     sobol_set,
 )
 
@@ -203,3 +204,39 @@ def test_jittered_pixel_samples_hold_one_sample_per_cell_in_every_pair():
     k = np.arange(16)
     assert (cells[:, :, 0] == k % n).all() and (cells[:, :, 1] == k // n).all()
     assert not (cells[:, :, 2] == k % n).all()
+
+
+def test_each_ray_has_its_own_time_in_the_shutter_interval():
+    numbers = np.array([[0.0, 0.25, 0.5], [0.75, 0.125, 0.999]])  # (P, S): 2 pixels, 3 rays each
+    times = shutter_times(0.5, 1.5, numbers)
+    assert times.tolist() == [[0.5, 0.75, 1.0], [1.25, 0.625, 1.499]]
+    assert shutter_times(2.0, 2.0, numbers).tolist() == [[2.0] * 3] * 2  # a shutter of no length
+
+
+def test_new_dimensions_come_after_the_old_ones_which_keep_their_places():
+    old = Dimensions(area_lights=2, max_depth=3)
+    assert (old.count, old.light(0, 0), old.light(3, 1)) == (4 + 2 * 4 * 2, 4, 4 + 2 * 7)
+    both = Dimensions(2, 3, glossy=True, timed=True)
+    assert both.light(3, 1) == old.light(3, 1)
+    assert [both.gloss(d) for d in range(3)] == [old.count, old.count + 2, old.count + 4]
+    assert (both.time, both.count) == (old.count + 6, old.count + 7)
+    timed = Dimensions(2, 3, timed=True)  # no glossy mirror: the time right after the lights
+    assert (timed.time, timed.count) == (old.count, old.count + 1)
+
+
+@pytest.mark.parametrize("sampler", ["random", "jittered", "sobol"])
+def test_a_dimensions_numbers_for_all_samples_at_once_are_its_column_sample_by_sample(sampler):
+    samples = PixelSamples(Sampling(16, sampler, 7), 7)  # 3 pairs, then a single number
+    pixels = np.arange(40)
+    every = np.stack([samples.of(pixels, k) for k in range(16)], axis=1)  # (40, 16, 7)
+    assert samples.stratum(pixels, 6).tobytes() == every[:, :, 6].tobytes()
+    assert ((every >= 0) & (every < 1)).all()
+
+
+def test_the_jittered_time_puts_one_sample_of_a_pixel_in_each_of_its_n_n_strata():
+    samples = PixelSamples(Sampling(16, "jittered", 9), 7)
+    times = samples.stratum(np.arange(50), 6)  # (50, 16)
+    strata = np.floor(times * 16).astype(int)
+    assert (np.sort(strata, axis=1) == np.arange(16)).all()
+    # shuffled against the pixel's cells: sample k is not in stratum k in every pixel
+    assert not (strata == np.arange(16)).all()

@@ -13,7 +13,12 @@ Flood 2014) applied after each part of the counter is folded in: a bijection of 
 counters that differ only in their last part never collide.
 
 Pixel p = r·width + c. The dimensions of one sample (:class:`Dimensions`): the point in the
-pixel, then the point on the lens, then one point per (mirror depth, area light), each a pair.
+pixel, then the point on the lens, then one point per (mirror depth, area light), each a pair;
+then, in a scene with a glossy mirror, one pair per mirror bounce (the perturbation of the
+reflection at depth 0 .. max_depth - 1); then, in a scene whose shutter is open for a while and
+in which a sphere moves, one number (not a pair): the ray's time. Each is appended after the
+others only when the scene uses it, so a scene without it keeps its numbers, and its bytes
+(the Sobol' set's scrambling depends on how many dimensions it has).
 
 The three samplers (:data:`raykit.sampling.SAMPLERS`) make sample k of a pixel from them:
 
@@ -22,7 +27,10 @@ The three samplers (:data:`raykit.sampling.SAMPLERS`) make sample k of a pixel f
   other pair in cell π(k), a permutation of the n x n cells drawn per pixel and pair
   (:func:`shuffle`), as FOCG 13.4.2 shuffles the light's samples against the pixel's: without
   it the top left of the pixel would always see the light's top left corner, and the penumbra
-  would show the pattern;
+  would show the pattern; the time, a single number, is stratified in one dimension: sample k
+  takes stratum π(k) of the n·n strata of [0, 1), (π(k) + ξ)/(n·n), π again a permutation
+  drawn per pixel (:meth:`PixelSamples.stratum`). So a pixel's n·n rays see n·n different
+  slices of the shutter interval, exactly one in each, as its pixel points are one per cell;
 * ``sobol``: point k of one scrambled Sobol' set (:func:`raykit.sampling.sobol_set`) for the
   whole image, each pixel's copy shifted modulo 1 by its own numbers (a Cranley-Patterson
   rotation), so that neighbouring pixels' errors do not line up.
@@ -45,6 +53,7 @@ UNIT = 2.0**-53
 # and of its Sobol' shift
 SHUFFLE_SAMPLE = np.uint64(0xFFFFFFFFFFFFFFFF)
 SHIFT_SAMPLE = np.uint64(0xFFFFFFFFFFFFFFFE)
+STRATUM_SAMPLE = np.uint64(0xFFFFFFFFFFFFFFFD)  # the key of a 1-D dimension's shuffle
 
 
 def mix64(z: np.ndarray) -> np.ndarray:
@@ -103,10 +112,14 @@ def shuffle(index: np.ndarray, count: int, key: np.ndarray) -> np.ndarray:
 @dataclass(frozen=True)
 class Dimensions:
     """Where each choice of one sample lies among its uniform numbers: ``pixel`` (0, 1),
-    ``lens`` (2, 3), then ``light(depth, a)`` for area light a at mirror depth d."""
+    ``lens`` (2, 3), then ``light(depth, a)`` for area light a at mirror depth d, then (with
+    ``glossy``) ``gloss(depth)`` for the mirror bounce at depth d < max_depth, then (with
+    ``timed``) ``time``, one number."""
 
     area_lights: int
     max_depth: int
+    glossy: bool = False  # a mirror of the scene is glossy (glossiness > 0)
+    timed: bool = False  # the scene's rays have times of their own (a shutter, a moving sphere)
 
     pixel = 0
     lens = 2
@@ -114,9 +127,16 @@ class Dimensions:
     def light(self, depth: int, a: int) -> int:
         return 4 + 2 * (depth * self.area_lights + a)
 
+    def gloss(self, depth: int) -> int:
+        return self.light(self.max_depth + 1, 0) + 2 * depth
+
+    @property
+    def time(self) -> int:
+        return self.gloss(self.max_depth if self.glossy else 0)
+
     @property
     def count(self) -> int:
-        return 4 + 2 * (self.max_depth + 1) * self.area_lights
+        return self.time + self.timed
 
 
 class PixelSamples:
@@ -153,4 +173,39 @@ class PixelSamples:
             out[:, 2 * pair : 2 * pair + 2] = jittered_point(
                 cells, self.n, jitter[:, 2 * pair : 2 * pair + 2]
             )
+        if self.dimensions % 2:  # the last dimension is a single number: stratified in 1-D
+            last = self.dimensions - 1
+            out[:, last] = self._strata(
+                pixels[:, 0], np.full(len(pixels), k), last, jitter[:, last]
+            )
         return out
+
+    def stratum(self, pixels: np.ndarray, dimension: int) -> np.ndarray:
+        """The numbers ``(P, S)`` of one dimension for all S samples of pixels ``(P,)``: the
+        column ``dimension`` of :meth:`of` for k = 0 .. S - 1, made at once (the rays' times,
+        which :func:`raykit.sampling.shutter_times` takes a pixel's samples together)."""
+        spp = self.sampling.samples_per_pixel
+        pixels = np.asarray(pixels, dtype=np.int64)
+        samples = np.arange(spp)
+        seed = self.sampling.seed
+        if self.sampling.sampler == "random":
+            return uniforms(seed, pixels[:, None], samples[None, :], dimension)
+        if self.sampling.sampler == "sobol":
+            shift = uniforms(seed, pixels, SHIFT_SAMPLE, dimension)[:, None]
+            shifted = self.table[:, dimension][None, :] + shift
+            return np.where(shifted >= 1.0, shifted - 1.0, shifted)
+        if dimension != self.dimensions - 1 or self.dimensions % 2 == 0:
+            raise ValueError(f"dimension {dimension} is one of a pair, not a 1-D stratum")
+        jitter = uniforms(seed, pixels[:, None], samples[None, :], dimension)
+        every = np.repeat(pixels, spp)
+        strata = self._strata(every, np.tile(samples, len(pixels)), dimension, jitter.ravel())
+        return strata.reshape(len(pixels), spp)
+
+    def _strata(
+        self, pixels: np.ndarray, samples: np.ndarray, dimension: int, jitter: np.ndarray
+    ) -> np.ndarray:
+        """(π(k) + ξ)/S ``(N,)`` for pixels ``(N,)``, samples k ``(N,)`` and their numbers ξ
+        ``(N,)``: sample k in stratum π(k) of S, π a permutation per pixel and dimension."""
+        spp = self.sampling.samples_per_pixel
+        key = counter_hash(self.sampling.seed, pixels, STRATUM_SAMPLE, dimension)
+        return (shuffle(samples, spp, key) + jitter) / spp

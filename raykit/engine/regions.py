@@ -19,7 +19,13 @@ samples per pixel instead of the n x n grid: sample k of every pixel of a region
 its image points and its choices on the lens and the area lights made from the sample's uniform
 numbers (:mod:`raykit.engine.noise`), which depend on the seed, the pixel and k only, never on
 the region. With a lens, rays no longer start at the eye, so the screen rectangles bound
-nothing: such a render tests every object (as ``skip_hidden=False`` does).
+nothing: such a render tests every object (as ``skip_hidden=False`` does). With spheres moving
+in the shutter interval (:attr:`raykit.scene.Scene.moving`) neither the screen rectangles nor
+the boxes of the objects as they stand bound where the rays find them: every ray, primary,
+shadow or mirror, is tested against every object at its own time (``cast(..., times=)``). The
+rays' times of a region are made for all its pixels' samples at once
+(:func:`raykit.sampling.shutter_times` takes a pixel's samples together), in bands of at most
+``TIMES_PER_BAND`` numbers.
 
 Conventions: pixels, samples and rays per :mod:`raykit.camera`; object indices per
 :mod:`raykit.scene`.
@@ -46,14 +52,15 @@ from raykit.engine.bvh import BVH
 from raykit.engine.noise import Dimensions, PixelSamples
 from raykit.engine.pairs import nearest_of_pairs
 from raykit.engine.precision import eye_relative
-from raykit.engine.tiles import CROWDED, Region, regions
+from raykit.engine.tiles import CROWDED, RAYS_PER_BAND, Region, regions
 from raykit.hits import Hits
-from raykit.sampling import point_in_pixel
+from raykit.sampling import point_in_pixel, shutter_times
 from raykit.scene import Scene
 from raykit.shading import needs_shading
 from raykit.shadows import Caster
 
 BVH_FROM = 24  # objects: below this, brute force was faster for secondary rays (measured)
+TIMES_PER_BAND = 1 << 20  # a motion-blurred band's ray times (pixels x samples): bounds memory
 
 # cast(scene, origins (N, 3), directions (N, 3)) -> Hits: the lecture's nearest hit over every
 # object of a scene (raykit.render.cast); the engine only chooses which scene to give it
@@ -64,10 +71,25 @@ def secondary_caster(scene: Scene, cast: SceneCaster, arrays: SceneArrays | None
     """The nearest-hit function for shadow and mirror rays over the whole scene: ``cast`` over
     the objects the rays can reach, or a BVH's for scenes of ``BVH_FROM`` objects or more (the
     same answers)."""
+    if scene.moving:
+        return partial(cast_at_times, scene, cast)
     arrays = arrays or SceneArrays.of(scene)
     if scene.object_count < BVH_FROM:
         return partial(cast_nearby, scene, arrays, cast)
     return BVH.build(scene, arrays).cast
+
+
+def cast_at_times(
+    scene: Scene,
+    cast: SceneCaster,
+    origins: np.ndarray,
+    directions: np.ndarray,
+    t_max: np.ndarray | None = None,
+    times: np.ndarray | None = None,
+) -> Hits:
+    """``cast`` over every object, each ray at its own time ``times (N,)`` (a scene whose
+    spheres move: no box of them as they stand bounds where a ray finds them)."""
+    return cast(scene, origins, directions, times=times)
 
 
 def cast_nearby(
@@ -106,6 +128,7 @@ class Batch:
     colour: bool = True
     finishes: int = 0  # pixels of the region done once this batch is stored (its last batch)
     uniforms: np.ndarray | None = None  # a distributed sample's numbers (N, dimensions)
+    times: np.ndarray | None = None  # its rays' times (N,) in a scene that moves
 
 
 class Plan:
@@ -134,10 +157,12 @@ class Plan:
                     f"{scene.source}: a distributed scene takes its samples from "
                     f"render.samples_per_pixel, not from the n x n grid (samples {samples})"
                 )
-            self.dimensions = Dimensions(scene.area_lights, scene.max_depth)
+            glossy = scene.materials.any_glossy and scene.max_depth > 0
+            self.dimensions = Dimensions(scene.area_lights, scene.max_depth, glossy, scene.blurred)
             self.pixel_samples = PixelSamples(scene.sampling, self.dimensions.count)
             self.sample_count = scene.sampling.samples_per_pixel
-            skip_hidden = skip_hidden and scene.camera.aperture == 0  # see the module page
+            # see the module page
+            skip_hidden = skip_hidden and scene.camera.aperture == 0 and not scene.moving
         self.skip_hidden = skip_hidden
         self.dtype = dtype
         self.progress = progress  # told each finished tile's pixel count
@@ -146,7 +171,10 @@ class Plan:
         self.secondary = secondary_caster(self.scene, cast, self.arrays) if shaded else None
 
     def regions(self) -> Iterator[Region]:
-        return regions(self.scene, self.skip_hidden, self.arrays)
+        band = RAYS_PER_BAND
+        if self.scene.blurred:  # the band's times, pixels x samples (the module page)
+            band = min(band, TIMES_PER_BAND // self.sample_count)
+        return regions(self.scene, self.skip_hidden, self.arrays, band)
 
     def batches(self) -> Iterator[Batch]:
         """Every region's pixels at every sample offset, in the order their colours are summed."""
@@ -167,19 +195,37 @@ class Plan:
 
     def _distributed_batches(self) -> Iterator[Batch]:
         """A distributed render's batches: each region's pixels at sample k, for every k, each
-        point in its pixel (and on the lens and lights) by the sample's uniform numbers; then
-        the pixel centres, cast only for the hits the image keeps."""
+        point in its pixel (and on the lens and lights, its glossy perturbations and its time)
+        by the sample's uniform numbers; then the pixel centres, cast only for the hits the
+        image keeps (at the shutter's opening, in a scene that moves)."""
         width = self.scene.camera.width
+        shutter = self.scene.sampling.shutter
         for region in self.regions():
             rows = np.repeat(np.asarray(region.rows), len(region.cols))
             cols = np.tile(np.asarray(region.cols), len(region.rows))
             pixels = rows * width + cols
+            times = self._times(pixels)  # (P, S), or None
             for k in range(self.sample_count):
                 uniforms = self.pixel_samples.of(pixels, k)
                 x, y = point_in_pixel(rows, cols, uniforms[:, 0:2])
-                yield Batch(region, x, y, None, uniforms=uniforms)
+                at = None if times is None else times[:, k]
+                yield Batch(region, x, y, None, uniforms=uniforms, times=at)
             x, y = region_points(region.rows, region.cols)
-            yield Batch(region, x, y, (0.5, 0.5), True, colour=False, finishes=len(pixels))
+            at = None if times is None else np.full(len(pixels), float(shutter[0]))
+            yield Batch(
+                region, x, y, (0.5, 0.5), True, colour=False, finishes=len(pixels), times=at
+            )
+
+    def _times(self, pixels: np.ndarray) -> np.ndarray | None:
+        """The times ``(P, S)`` of the S samples of pixels ``(P,)`` in a scene that moves (each
+        its own with the shutter open a while, else all at its opening); None: nothing moves."""
+        if not self.scene.moving:
+            return None
+        shutter_open, shutter_close = self.scene.sampling.shutter
+        if not self.scene.blurred:
+            return np.full((len(pixels), self.sample_count), float(shutter_open))
+        uniforms = self.pixel_samples.stratum(pixels, self.dimensions.time)
+        return shutter_times(shutter_open, shutter_close, uniforms)
 
     def viewing_rays(self, batch: Batch) -> ViewingRays:
         """The rays through the batch's points that some object's screen rectangle holds; a
@@ -187,9 +233,11 @@ class Plan:
         rays with a lens start on it (:func:`raykit.camera.thin_lens_rays`)."""
         seen, pairs = _seen_and_pairs(batch.region, batch.x, batch.y, batch.grid)
         x, y = (batch.x, batch.y) if seen is None else (batch.x[seen], batch.y[seen])
-        uniforms = batch.uniforms
+        uniforms, times = batch.uniforms, batch.times
         if uniforms is not None and seen is not None:
             uniforms = uniforms[seen]
+        if times is not None and seen is not None:
+            times = times[seen]
         camera = self.scene.camera
         if uniforms is not None and camera.aperture > 0:
             lens = self.dimensions.lens
@@ -202,6 +250,7 @@ class Plan:
             seen,
             pairs,
             uniforms,
+            times,
         )
 
     def on_lights(self, rays: ViewingRays) -> np.ndarray | None:
@@ -210,13 +259,27 @@ class Plan:
         if rays.uniforms is None or not self.scene.area_lights:
             return None
         first = self.dimensions.light(0, 0)
+        last = self.dimensions.light(self.scene.max_depth + 1, 0)
         shape = (len(rays.uniforms), self.scene.max_depth + 1, self.scene.area_lights, 2)
-        return rays.uniforms[:, first:].reshape(shape)
+        return rays.uniforms[:, first:last].reshape(shape)
+
+    def on_glossy(self, rays: ViewingRays) -> np.ndarray | None:
+        """The rays' uniform numbers for the glossy perturbation of each mirror bounce
+        ``(M, max_depth, 2)``, as :func:`raykit.shading.shade` takes them; None outside a
+        distributed sample of a scene with a glossy mirror."""
+        if rays.uniforms is None or not self.dimensions.glossy:
+            return None
+        first = self.dimensions.gloss(0)
+        last = self.dimensions.gloss(self.scene.max_depth)
+        shape = (len(rays.uniforms), self.scene.max_depth, 2)
+        return rays.uniforms[:, first:last].reshape(shape)
 
     def nearest_hits(self, batch: Batch, rays: ViewingRays) -> Hits:
         """The nearest hits of the viewing rays, with the scene's object indices."""
         if not len(rays.origins):
             return Hits.none(0, self.scene.background)
+        if rays.times is not None:  # a scene that moves: every object, at each ray's time
+            return self.cast(self.scene, rays.origins, rays.directions, times=rays.times)
         return cast_region(
             self.cast, batch.region, self.arrays, rays.origins, rays.directions, rays.pairs
         )
@@ -236,13 +299,14 @@ class Plan:
 class ViewingRays:
     """Rays ``origins``, ``directions`` ``(M, 3)`` through the ``seen (N,)`` points of a batch
     (None: all N), in a crowded region the (object, ray) ``pairs`` to intersect, and in a
-    distributed render the rays' uniform numbers."""
+    distributed render the rays' uniform numbers and, in a scene that moves, their times."""
 
     origins: np.ndarray
     directions: np.ndarray
     seen: np.ndarray | None
     pairs: tuple[np.ndarray, np.ndarray] | None
     uniforms: np.ndarray | None = None  # a distributed sample's numbers, (M, dimensions)
+    times: np.ndarray | None = None  # the rays' times (M,) in a scene that moves
 
 
 def _scatter(scene: Scene, seen, count: int, hits: Hits, colors: np.ndarray):

@@ -148,15 +148,18 @@ def _counting_within(counts: np.ndarray) -> np.ndarray:
 
 
 def regions(
-    scene: Scene, skip_hidden: bool = True, arrays: SceneArrays | None = None
+    scene: Scene,
+    skip_hidden: bool = True,
+    arrays: SceneArrays | None = None,
+    rays_per_band: int = RAYS_PER_BAND,
 ) -> Iterator[Region]:
     """The regions that cover the image, each with the objects it must test (``arrays``: the
-    scene's, if made already)."""
+    scene's, if made already); without skipping, bands of about ``rays_per_band`` pixels."""
     camera = scene.camera
     width, height = camera.width, camera.height
     everything = np.append(np.arange(scene.object_count), -1)
     if not skip_hidden:
-        rows_per_band = max(1, RAYS_PER_BAND // width)
+        rows_per_band = max(1, rays_per_band // width)
         for top in range(0, height, rows_per_band):
             rows = range(top, min(top + rows_per_band, height))
             yield Region(rows, range(width), scene, everything, scene)

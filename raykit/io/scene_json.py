@@ -6,9 +6,11 @@ as it is read (:mod:`raykit.io.fields`); a bad one is a :class:`raykit.io.errors
 naming the file and the field, before any rendering starts.
 
 Format v2 (stage 5, distributed ray tracing) is v1 with ``"version": 2`` at the top, and adds
-area lights, the camera's ``aperture`` and ``focus_distance``, and a ``render`` object
-(``samples_per_pixel``, ``sampler``, ``seed``). A file without ``version`` is v1, read as it
-always was; a v2 field in it is refused, naming the field and the fix.
+area lights, the camera's ``aperture`` and ``focus_distance``, a mirror's ``glossiness``, and a
+``render`` object (``samples_per_pixel``, ``sampler``, ``seed``, ``shutter``). A file without
+``version`` is v1, read as it always was; a v2 field in it is refused, naming the field and the
+fix. A scene with a ``shutter`` moves its spheres by their ``velocity`` (motion blur); a
+billboard's velocity is refused there.
 """
 
 from __future__ import annotations
@@ -34,7 +36,7 @@ from raykit.spheres import Sphere, SphereTable
 
 MAX_IMAGE_SIDE = 16384
 MAX_DEPTH_LIMIT = 16
-MATERIAL_FIELDS = ("diffuse", "specular", "shininess", "mirror")
+MATERIAL_FIELDS = ("diffuse", "specular", "shininess", "mirror", "glossiness")
 VERSION = 2  # the newest format; a file without "version" is v1
 MAX_SAMPLES_PER_PIXEL = 4096
 MAX_SEED = 2**32 - 1
@@ -68,13 +70,16 @@ def scene_from_dict(data: Any, source: str = "<scene>", folder: str | Path = "."
     v2 = _read_version(top)
     camera = _read_camera(top["camera"], v2)
     background = top["background"].color() if "background" in top else np.zeros(3)
-    spheres = _read_spheres(top["spheres"]) if "spheres" in top else ()
+    spheres = _read_spheres(top["spheres"], v2) if "spheres" in top else ()
     textures: dict[Path, Texture] = {}  # one per file, however many billboards name it
     billboards = (
-        tuple(_read_billboard(f, Path(folder), textures) for f in top["billboards"].items())
+        tuple(_read_billboard(f, Path(folder), textures, v2) for f in top["billboards"].items())
         if "billboards" in top
         else ()
     )
+    sampling = _read_sampling(top["render"], v2) if "render" in top else Sampling()
+    if sampling.shutter is not None:
+        _refuse_moving_billboards(top)
     return Scene(
         camera,
         spheres,
@@ -90,7 +95,7 @@ def scene_from_dict(data: Any, source: str = "<scene>", folder: str | Path = "."
             if "max_depth" in top
             else DEFAULT_MAX_DEPTH
         ),
-        sampling=_read_sampling(top["render"], v2) if "render" in top else Sampling(),
+        sampling=sampling,
     )
 
 
@@ -111,6 +116,17 @@ def _read_velocities(top: dict[str, Field]) -> np.ndarray | None:
     )
 
 
+def _refuse_moving_billboards(top: dict[str, Field]) -> None:
+    """Only spheres move in a render with a shutter: a billboard's velocity is refused there."""
+    for f in top["billboards"].items() if "billboards" in top else ():
+        if isinstance(f.value, dict) and "velocity" in f.value:
+            velocity = Field(f.value["velocity"], f.source, f"{f.path}.velocity")
+            raise velocity.error(
+                "only spheres move during the shutter (motion blur); remove the billboard's "
+                'velocity or the render\'s "shutter"'
+            )
+
+
 def _read_version(top: dict[str, Field]) -> bool:
     """Whether the scene is format v2 (``"version": 2``); without ``version`` it is v1."""
     if "version" not in top:
@@ -129,7 +145,7 @@ def _needs_v2(f: Field, v2: bool, what: str) -> None:
 
 def _read_sampling(node: Field, v2: bool) -> Sampling:
     _needs_v2(node, v2, "render settings are")
-    f = node.object(required=(), optional=("samples_per_pixel", "sampler", "seed"))
+    f = node.object(required=(), optional=("samples_per_pixel", "sampler", "seed", "shutter"))
     count = (
         f["samples_per_pixel"].integer(ge=1, le=MAX_SAMPLES_PER_PIXEL)
         if "samples_per_pixel" in f
@@ -142,7 +158,19 @@ def _read_sampling(node: Field, v2: bool) -> Sampling:
         raise where.error(f'the "jittered" sampler takes n x n samples (a square), got {count}')
     if sampler == "sobol" and count & (count - 1):
         raise where.error(f'the "sobol" sampler takes a power of two samples, got {count}')
-    return Sampling(count, sampler, seed)
+    shutter = _read_shutter(f["shutter"]) if "shutter" in f else None
+    return Sampling(count, sampler, seed, shutter)
+
+
+def _read_shutter(f: Field) -> tuple[float, float]:
+    """The shutter interval [T0, T1], 0 <= T0 <= T1 (T1 = T0: every ray at T0)."""
+    shutter_open, shutter_close = f.vector(2, ge=0.0)
+    if shutter_close < shutter_open:
+        raise f.error(
+            f"closes before it opens: [open, close] must have open <= close, got "
+            f"[{shutter_open:g}, {shutter_close:g}]"
+        )
+    return (shutter_open, shutter_close)
 
 
 def _read_area_light(node: Field) -> AreaLight:
@@ -181,14 +209,24 @@ def _read_light(node: Field, v2: bool = False) -> Light:
     return DirectionalLight(direction, color)
 
 
-def _read_material(f: dict[str, Field]) -> Material:
+def _read_material(f: dict[str, Field], v2: bool = False) -> Material:
     if not any(key in f for key in MATERIAL_FIELDS):
         return PLAIN
+    mirror = f["mirror"].color() if "mirror" in f else np.zeros(3)
+    glossiness = 0.0
+    if "glossiness" in f:
+        _needs_v2(f["glossiness"], v2, "glossy mirrors are")
+        glossiness = f["glossiness"].number(ge=0)
+        if glossiness > 0 and not mirror.any():
+            raise f["glossiness"].error(
+                'blurs a mirror\'s reflection: give the object a "mirror" (km) too'
+            )
     return Material(
         diffuse=f["diffuse"].color() if "diffuse" in f else None,
         specular=f["specular"].color() if "specular" in f else np.zeros(3),
         shininess=f["shininess"].number(gt=0) if "shininess" in f else DEFAULT_SHININESS,
-        mirror=f["mirror"].color() if "mirror" in f else np.zeros(3),
+        mirror=mirror,
+        glossiness=glossiness,
     )
 
 
@@ -216,12 +254,12 @@ def _read_camera(node: Field, v2: bool = False) -> Camera:
     return Camera(eye, lookat, up, fov_angle, width, height, projection, aperture, focus_distance)
 
 
-def _read_spheres(node: Field) -> Sequence[Sphere]:
+def _read_spheres(node: Field, v2: bool = False) -> Sequence[Sphere]:
     """All spheres: plain ones in bulk (:func:`_plain_spheres`), else field by field."""
     plain = _plain_spheres(node.value)
     if plain is not None:
         return plain
-    return tuple(_read_sphere(f) for f in node.items())
+    return tuple(_read_sphere(f, v2) for f in node.items())
 
 
 PLAIN_SPHERE_KEYS = {"center", "radius", "color"}
@@ -257,7 +295,7 @@ def _plain_spheres(values) -> SphereTable | None:
     return SphereTable(center, radius, color) if valid else None
 
 
-def _read_sphere(node: Field) -> Sphere:
+def _read_sphere(node: Field, v2: bool = False) -> Sphere:
     f = node.object(
         required=("center", "radius", "color"),
         optional=("name", "velocity", *MATERIAL_FIELDS),
@@ -267,11 +305,13 @@ def _read_sphere(node: Field) -> Sphere:
         radius=f["radius"].number(gt=0),
         color=f["color"].color(),
         name=f["name"].string() if "name" in f else None,
-        material=_read_material(f),
+        material=_read_material(f, v2),
     )
 
 
-def _read_billboard(node: Field, folder: Path, textures: dict[Path, Texture]) -> Billboard:
+def _read_billboard(
+    node: Field, folder: Path, textures: dict[Path, Texture], v2: bool = False
+) -> Billboard:
     f = node.object(
         required=("upper_left", "lower_left", "upper_right"),
         optional=("image", "color", "name", "velocity", *MATERIAL_FIELDS),
@@ -298,5 +338,5 @@ def _read_billboard(node: Field, folder: Path, textures: dict[Path, Texture]) ->
             texture = textures[path.resolve()] = Texture(path, f["image"].source, f["image"].path)
     name = f["name"].string() if "name" in f else None
     return Billboard(
-        upper_left, lower_left, upper_right, color, texture, name, material=_read_material(f)
+        upper_left, lower_left, upper_right, color, texture, name, material=_read_material(f, v2)
     )
