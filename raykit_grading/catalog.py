@@ -437,6 +437,34 @@ def _directions_to_perturb(rng):
     return np.vstack([ties, rng.normal(size=(60, 3)) * rng.uniform(0.2, 5, (60, 1))])
 
 
+def _glossy_bounces(rng):
+    """Rays d arriving at surfaces n (d·n < 0), glossy mirrors of each row's own glossiness a,
+    a sixth of them ideal (a = 0)."""
+    n = _unit_rows(rng, 90)
+    d = _unit_rows(rng, 90)
+    d = np.where((dot(d, n) > 0)[:, None], -d, d)
+    a = rng.uniform(0.02, 0.8, 90)
+    a[rng.uniform(0, 1, 90) < 1 / 6] = 0.0
+    return {"d": d, "n": n, "a": a, "uniforms": _uniforms(rng, 90)}
+
+
+def _shutter(rng):
+    start = float(rng.uniform(0, 2))
+    return {
+        "open": start,
+        "close": start + float(rng.uniform(0.1, 3)),
+        "uniforms": rng.uniform(0, 1, (int(rng.integers(3, 30)), int(rng.integers(2, 26)))),
+    }
+
+
+def _moving_sphere(rng):
+    return {
+        "center": rng.uniform(-3, 3, 3),
+        "velocity": rng.uniform(-2, 2, 3),
+        "times": rng.uniform(0, 2, 70),
+    }
+
+
 STAGE1, STAGE2, STAGE3 = "1 line-scan camera", "2 rays, planes and spheres", "3 renderer"
 STAGE4 = "4 shading, shadows and mirrors"
 STAGE5 = "5 distributed ray tracing"
@@ -710,19 +738,45 @@ TESTS = [
             {}, {"r": arrays["r"]})),),
     ),
     GradingTest(
-        "5.13 render scenes/soft_shadows.json (an area light)",
+        "5.13 glossy mirror directions, and which leave above the surface",
+        STAGE5, 2, VISIBLE, "glossy_reflect", _drawn(513, _glossy_bounces),
+        callees=(Callee("reflect", "reflect", lambda spec, arrays: (
+            {}, {"d": arrays["d"], "n": arrays["n"]})),),
+    ),
+    GradingTest(
+        "5.14 a time in the shutter interval for every ray",
+        STAGE5, 1, VISIBLE, "shutter_times", _drawn(514, _shutter),
+    ),
+    GradingTest(
+        "5.15 a moving sphere's centre at each ray's time",
+        STAGE5, 1, VISIBLE, "center_at", _drawn(515, _moving_sphere),
+    ),
+    GradingTest(
+        "5.16 render scenes/soft_shadows.json (an area light)",
         STAGE5, 3, VISIBLE, "render",
         _scene_test(SCENES / "soft_shadows.json", width=128, height=96),
         kind="image", mistakes=True,
     ),
     GradingTest(
-        "5.14 render scenes/depth_of_field.json (a thin lens)",
+        "5.17 render scenes/depth_of_field.json (a thin lens)",
         STAGE5, 3, VISIBLE, "render",
         _scene_test(SCENES / "depth_of_field.json", width=128, height=96),
         kind="image", mistakes=True,
     ),
     GradingTest(
-        "5.15 render a hidden scene: a tilted area light seen through a lens, random samples",
+        "5.18 render scenes/glossy.json (glossy mirrors)",
+        STAGE5, 3, VISIBLE, "render",
+        _scene_test(SCENES / "glossy.json", width=96, height=72),
+        kind="image", mistakes=True,
+    ),
+    GradingTest(
+        "5.19 render scenes/motion_blur.json (a moving sphere)",
+        STAGE5, 3, HIDDEN, "render",
+        _scene_test(SCENES / "motion_blur.json", width=96, height=72),
+        kind="image", mistakes=True,
+    ),
+    GradingTest(
+        "5.20 render a hidden scene: a tilted area light seen through a lens, random samples",
         STAGE5, 3, HIDDEN, "render",
         _scene_test(HIDDEN_SCENES / "lens_and_panel.json"),
         kind="image", mistakes=True,

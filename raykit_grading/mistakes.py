@@ -256,6 +256,13 @@ def _basis_not_unit(r):
     return u, np.cross(w, u), w
 
 
+def _time_per_pixel(shutter_open, shutter_close, uniforms):
+    """One time per pixel, its first sample's, shared by all its samples (rays)."""
+    uniforms = np.asarray(uniforms, dtype=float)
+    first = shutter_open + uniforms[:, :1] * (shutter_close - shutter_open)
+    return np.repeat(first, uniforms.shape[1], axis=1)
+
+
 def _shading(name: str, wrong: Callable, *modules) -> Callable[[], list]:
     """Patch ``name`` in raykit.shading (what the renderer calls) and in ``modules`` (where the
     array tests' tasks import it from)."""
@@ -461,6 +468,17 @@ MISTAKES = [
         patches=_patch((raykit.sampling, "basis_around", _basis_not_unit)),
         stage="5",
         where="raykit/sampling.py: basis_around",
-        in_renders=False,  # no render perturbs a direction until glossy reflection lands
+    ),
+    Mistake(
+        "time_per_pixel",
+        "each pixel has one time in the shutter interval, shared by its samples, instead of a "
+        "time per ray (the moving object is not blurred but noisy: each pixel sees it at one "
+        "instant)",
+        patches=_patch(
+            (raykit.sampling, "shutter_times", _time_per_pixel),
+            (raykit.engine.regions, "shutter_times", _time_per_pixel),
+        ),
+        stage="5",
+        where="raykit/sampling.py: shutter_times",
     ),
 ]

@@ -135,11 +135,13 @@ LECTURE_STAGES = {
     STAGE3: ["camera.py", "billboards.py", "render.py"],
     STAGE4: ["spheres.py: sphere_normals", "lights.py: toward_light", "shading.py", "shadows.py",
              "mirrors.py"],
-    # FOCG 13.4's order: in the pixel, soft shadows, depth of field, glossy (the rest)
+    # FOCG 13.4's order: in the pixel, soft shadows, depth of field, glossy, motion blur
     STAGE5: ["sampling.py: point_in_pixel", "sampling.py: random_set", "sampling.py: jittered",
              "sampling.py: point_on_parallelogram", "lights.py: sampled",
              "sampling.py: point_on_disk", "sampling.py: point_on_lens",
-             "camera.py: thin_lens_rays", "sampling.py"],
+             "camera.py: thin_lens_rays", "sampling.py: basis_around",
+             "sampling.py: perturbed_direction", "mirrors.py: glossy_reflect",
+             "sampling.py: shutter_times", "spheres.py: center_at", "sampling.py"],
 }  # fmt: skip
 LECTURE_ORDER = [key for keys in LECTURE_STAGES.values() for key in keys]
 

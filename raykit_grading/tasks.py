@@ -304,6 +304,25 @@ def task_perturbed_direction(spec, arrays):
     return {"r": perturbed_direction(arrays["r"], float(spec["a"]), arrays["uniforms"])}
 
 
+def task_glossy_reflect(spec, arrays):
+    from raykit.mirrors import glossy_reflect
+
+    r, above = glossy_reflect(arrays["d"], arrays["n"], arrays["a"], arrays["uniforms"])
+    return {"r": r, "above": above.astype(float)}
+
+
+def task_shutter_times(spec, arrays):
+    from raykit.sampling import shutter_times
+
+    return {"times": shutter_times(spec["open"], spec["close"], arrays["uniforms"])}
+
+
+def task_center_at(spec, arrays):
+    from raykit.spheres import center_at
+
+    return {"centers": center_at(arrays["center"], arrays["velocity"], arrays["times"])}
+
+
 def task_render(spec, arrays):
     from raykit.io.scene_json import scene_from_dict
     from raykit.render import render

@@ -183,7 +183,7 @@ def test_each_classic_mistake_is_named_in_the_feedback(key, tmp_path, child_pyth
         "1": ["1.6", "1.7"],  # a scan and a sweep of the line-scan camera
         "3": ["3.6", "3.8", "3.9", "3.11"],  # classic, parallel rays, inside a ring, overlaps
         "4": ["4.8", "4.10", "4.11"],  # lit classic, mirrors, at 1e6 with a touching ball
-        "5": ["5.13", "5.14", "5.15"],  # an area light, a lens, both with random samples
+        "5": ["5.16", "5.17", "5.18", "5.19", "5.20"],  # light, lens, glossy, blur, hidden
     }[mistake.stage]
     results = grade(submission, options=Options(child_python), names=names)
     outputs = [html.unescape(t["output"]) for t in results["tests"]]
@@ -209,7 +209,7 @@ def test_stage5_written_right_another_way_scores_in_full(tmp_path, child_python)
 
 
 def test_no_mistake_is_named_for_the_solution(solution, child_python):
-    names = ["3.6", "3.9", "3.11", "4.8", "4.10", "4.11", "5.13", "5.14", "5.15"]
+    names = ["3.6", "3.9", "3.11", "4.8", "4.10", "4.11", "5.16", "5.18", "5.19", "5.20"]
     results = grade(solution, options=Options(child_python), names=names)
     assert not any("Diagnosis:" in t["output"] for t in results["tests"])
 
@@ -330,7 +330,7 @@ def test_release_readme_lists_the_functions_in_the_lectures_order(release):
         if line.startswith("- `raykit/")
     ]
     names = [line.split(": ")[1].rstrip("`") for line in listed]
-    assert names[0] == "pixel_x" and names[-1] == "perturbed_direction"
+    assert names[0] == "pixel_x" and names[-1] == "center_at"
     assert names.index("hit_plane") < names.index("camera_frame") < names.index("cast")
     assert names.index("cast") < names.index("lambert") < names.index("reflect")
     # stage 5 in FOCG 13.4's order, its camera and light functions among the sample patterns
@@ -338,6 +338,13 @@ def test_release_readme_lists_the_functions_in_the_lectures_order(release):
     assert stage5[:4] == ["point_in_pixel", "random_set", "jittered_point", "jittered_set"]
     assert stage5.index("sampled") < stage5.index("point_on_lens") < stage5.index("thin_lens_rays")
     assert stage5.index("thin_lens_rays") < stage5.index("basis_around")
+    assert stage5[-5:] == [
+        "basis_around",
+        "perturbed_direction",
+        "glossy_reflect",
+        "shutter_times",
+        "center_at",
+    ]
 
 
 @pytest.mark.parametrize(

@@ -177,6 +177,16 @@ EDITS = {
     "basis_not_orthonormal": [
         ("sampling.py", "u = normalize(np.cross(t, w))", "u = np.cross(t, w)")
     ],
+    "time_per_pixel": [
+        (
+            "sampling.py",
+            "return shutter_open + np.asarray(uniforms, dtype=float) * (shutter_close - "
+            "shutter_open)",
+            "uniforms = np.asarray(uniforms, dtype=float)\n"
+            "    first = shutter_open + uniforms[:, :1] * (shutter_close - shutter_open)\n"
+            "    return np.repeat(first, uniforms.shape[1], axis=1)",
+        )
+    ],
 }
 
 # Stage 5's functions written right but another way, as a student may: other orders of the
@@ -236,6 +246,20 @@ REWRITTEN = {
     c, e1, e2 = light.corner, light.edge1, light.edge2
     xi = np.asarray(uniforms, dtype=float)
     return PointLight(c + xi[:, :1] * e1 + xi[:, 1:] * e2, light.color)
+""",
+    ("mirrors.py", "glossy_reflect"): """\
+    r = d - 2 * (d * n).sum(axis=1)[:, None] * n
+    a = np.asarray(a, dtype=float)
+    moved = np.where((a > 0)[:, None], perturbed_direction(r, a[:, None], uniforms), r)
+    leaves = (moved * n).sum(axis=1) * (d * n).sum(axis=1) < 0
+    return moved, (a == 0) | leaves
+""",
+    ("sampling.py", "shutter_times"): """\
+    xi = np.asarray(uniforms, dtype=float)
+    return (1 - xi) * shutter_open + xi * shutter_close
+""",
+    ("spheres.py", "center_at"): """\
+    return np.asarray(center) + np.outer(times, velocity)
 """,
     ("camera.py", "thin_lens_rays"): """\
     u, v, w = camera.frame
