@@ -309,6 +309,7 @@ CALLERS = {
     "rays_through": "rays_through",
     "thin_lens_rays": "thin_lens_rays",
     "perturbed_direction": "perturbed_direction",
+    "glossy_reflect": "glossy_reflect",
 }
 
 
