@@ -13,7 +13,7 @@ import pytest
 
 from conftest import REPO
 from mistaken_submissions import EDITS, make_rewritten, make_submission
-from raykit_grading.catalog import HIDDEN, TESTS, VISIBLE
+from raykit_grading.catalog import HIDDEN, HIDDEN_SCENES, TESTS, VISIBLE
 from raykit_grading.compare import check_arrays, compare_images, feedback_picture, strict_fraction
 from raykit_grading.grade import Options, grade, grade_to_file
 from raykit_grading.markers import MarkerError, strip_solutions
@@ -153,7 +153,9 @@ def test_release_hides_the_solutions_and_the_hidden_scenes(release):
     sources = "".join(p.read_text() for p in (release / "raykit").rglob("*.py"))
     assert "BEGIN SOLUTION" not in sources
     assert "(a - origins) @ n" not in sources  # the ray-plane solution line
-    assert not list(release.rglob("odd.json")) and not list(release.rglob("overlaps.json"))
+    hidden = sorted(p.name for p in HIDDEN_SCENES.glob("*.json"))
+    assert {"odd.json", "overlaps.json", "lens_and_panel.json"} <= set(hidden)
+    assert not [name for name in hidden if list(release.rglob(name))]
     assert (release / "tests/expected/3_6/reference.png").is_file()
 
 
