@@ -11,8 +11,9 @@ mistake is in; every mistake is tried on every graded picture (``in_renders``), 
 mistake spoils a lit picture too, and on every array test (``array_patches``: the same swap,
 reaching also the names the array tasks call), skipped where it changes nothing. A stage-5
 mistake is made in code only a distributed render runs (the sample patterns, the area lights,
-the lens), so it is tried on stage 5's pictures only (:meth:`Mistake.tried_on`): elsewhere its
-picture is the right one, and rendering it would only cost time.
+the lens, glossy mirrors, the shutter), so it is tried on stage 5's pictures only
+(:meth:`Mistake.tried_on`): elsewhere its picture is the right one, and rendering it would only
+cost time.
 """
 
 from __future__ import annotations
