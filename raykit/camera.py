@@ -189,6 +189,11 @@ def thin_lens_rays(
     its own point on the lens chosen by ``uniforms (N, 2)``: ``origins (N, 3)`` r on the lens,
     unit ``directions (N, 3)`` toward s = e + (f/d)·(P - e) on the focal plane (module
     conventions). Perspective cameras only. A stage-5 student function."""
+    # BEGIN SOLUTION
+    # hint: r = point_on_lens(eye, u, v, aperture, uniforms); the pinhole ray's P - e is
+    #       _in_plane(x, y) - d·w, which meets the focal plane at s = e + (f/d)·(P - e)
+    #       (f = camera.focus); origins r, directions normalize(s - r), both formed
+    #       relative to the eye (as rays_through does)
     u, v, w = camera.frame
     eye = np.asarray(camera.eye, dtype=float)
     pinhole = _in_plane(camera, x, y) - camera.d * w  # P - e, the pinhole ray's direction
@@ -197,6 +202,7 @@ def thin_lens_rays(
     # origin keeps its digits
     directions = normalize((camera.focus / camera.d) * pinhole - on_lens)
     return eye + on_lens, directions
+    # END SOLUTION
 
 
 def _in_plane(camera: Camera, x: np.ndarray, y: np.ndarray) -> np.ndarray:

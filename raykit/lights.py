@@ -68,9 +68,13 @@ def sampled(light: AreaLight, uniforms: np.ndarray) -> PointLight:
     """The area light as point lights, one per shading point: positions ``(N, 3)`` on it from
     ``uniforms (N, 2)`` (:func:`raykit.sampling.point_on_parallelogram`), the same colour. A
     stage-5 student function."""
+    # BEGIN SOLUTION
+    # hint: a PointLight whose position (N, 3) is the point of the parallelogram each row of
+    #       uniforms chooses (point_on_parallelogram), with the light's colour
     return PointLight(
         point_on_parallelogram(light.corner, light.edge1, light.edge2, uniforms), light.color
     )
+    # END SOLUTION
 
 
 def toward_light(light: Light, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

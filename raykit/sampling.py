@@ -82,26 +82,35 @@ def point_in_pixel(
 ) -> tuple[np.ndarray, np.ndarray]:
     """The image points (x, y) = (c + ξ1, r + ξ2), each ``(N,)``, in pixels (rows, cols)
     ``(N,)`` from ``uniforms (N, 2)``. A stage-5 student function."""
+    # BEGIN SOLUTION
+    # hint: x = c + ξ1, y = r + ξ2 (column c, row r): each (N,)
     uniforms = np.asarray(uniforms, dtype=float)
     x = np.asarray(cols, dtype=float) + uniforms[:, 0]
     y = np.asarray(rows, dtype=float) + uniforms[:, 1]
     return x, y
+    # END SOLUTION
 
 
 def random_set(uniforms: np.ndarray) -> np.ndarray:
     """The random (uniform) sample set ``(n, 2)`` in the unit square: the numbers
     ``uniforms (n, 2)`` themselves, each sample anywhere, independent of the others.
     A stage-5 student function."""
+    # BEGIN SOLUTION
+    # hint: the random set is the uniform numbers themselves, as a new (n, 2) float array
     return np.array(uniforms, dtype=float)
+    # END SOLUTION
 
 
 def jittered_point(cells: np.ndarray, n: int, uniforms: np.ndarray) -> np.ndarray:
     """Points ``(N, 2)`` jittered in cells ``(N,)`` of the n x n grid of the unit square (FOCG
     13.4.1): cell k = i + n·j (column i, row j) gives ((i + ξ1)/n, (j + ξ2)/n), from
     ``uniforms (N, 2)``. A stage-5 student function."""
+    # BEGIN SOLUTION
+    # hint: cell k is column i = k mod n, row j = k div n; its point is ((i + ξ1)/n, (j + ξ2)/n)
     cells = np.asarray(cells)
     grid = np.column_stack([cells % n, cells // n]).astype(float)  # (N, 2): column i, row j
     return (grid + np.asarray(uniforms, dtype=float)) / n
+    # END SOLUTION
 
 
 def jittered_set(n: int, uniforms: np.ndarray) -> np.ndarray:
@@ -111,7 +120,10 @@ def jittered_set(n: int, uniforms: np.ndarray) -> np.ndarray:
     uniforms = np.asarray(uniforms, dtype=float)
     if uniforms.shape != (n * n, 2):
         raise ValueError(f"a jittered set of {n} x {n} takes ({n * n}, 2), got {uniforms.shape}")
+    # BEGIN SOLUTION
+    # hint: sample k in cell k, k = 0 … n·n - 1: jittered_point of every cell
     return jittered_point(np.arange(n * n), n, uniforms)
+    # END SOLUTION
 
 
 def point_on_parallelogram(
@@ -120,9 +132,12 @@ def point_on_parallelogram(
     """Points c + ξ1·a + ξ2·b ``(N, 3)`` of the parallelogram with ``corner`` c and edges
     ``edge1`` a and ``edge2`` b ``(3,)`` (FOCG 13.4.2's area light), from ``uniforms (N, 2)``.
     A stage-5 student function."""
+    # BEGIN SOLUTION
+    # hint: c + ξ1·a + ξ2·b for each row (ξ1, ξ2) of uniforms: shape (N, 3)
     uniforms = np.asarray(uniforms, dtype=float)
     c, a, b = (np.asarray(x, dtype=float) for x in (corner, edge1, edge2))
     return c + uniforms[:, 0:1] * a + uniforms[:, 1:2] * b
+    # END SOLUTION
 
 
 def point_on_disk(uniforms: np.ndarray) -> np.ndarray:
@@ -130,6 +145,10 @@ def point_on_disk(uniforms: np.ndarray) -> np.ndarray:
     Shirley and Chiu's concentric map: (a, b) = 2ξ - 1 in [-1, 1)²; the square ring
     max(|a|, |b|) = ρ goes to the circle of radius ρ, so area is kept and strata stay compact
     (see the module page). A stage-5 student function."""
+    # BEGIN SOLUTION
+    # hint: (a, b) = 2ξ - 1; where |a| > |b|: radius a, φ = (π/4)·(b/a), else radius b,
+    #       φ = π/2 - (π/4)·(a/b); the point radius·(cos φ, sin φ) (radius 0 at the centre);
+    #       _cos_sin gives cos and sin of angles in [-π/4, π/4]
     uniforms = np.asarray(uniforms, dtype=float)
     a = 2.0 * uniforms[:, 0] - 1.0
     b = 2.0 * uniforms[:, 1] - 1.0
@@ -142,6 +161,7 @@ def point_on_disk(uniforms: np.ndarray) -> np.ndarray:
     angle = np.where(radius == 0, 0.0, angle)  # the centre (a = b = 0): any angle, radius 0
     cos, sin = _cos_sin(angle)
     return np.column_stack([radius * np.where(wide, cos, sin), radius * np.where(wide, sin, cos)])
+    # END SOLUTION
 
 
 def _cos_sin(angle: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -165,17 +185,24 @@ def point_on_lens(
     lens's diameter) around ``eye (3,)`` in the plane of the camera's ``u`` and ``v`` ``(3,)``,
     e + (aperture/2)·(x·u + y·v) with (x, y) = :func:`point_on_disk` of ``uniforms (N, 2)``.
     A stage-5 student function."""
+    # BEGIN SOLUTION
+    # hint: (x, y) = point_on_disk(uniforms); e + (aperture/2)·(x·u + y·v): the aperture is the
+    #       lens's diameter
     disk = point_on_disk(uniforms)
     radius = aperture / 2.0
     return np.asarray(eye, dtype=float) + radius * (
         disk[:, 0:1] * np.asarray(u, dtype=float) + disk[:, 1:2] * np.asarray(v, dtype=float)
     )
+    # END SOLUTION
 
 
 def basis_around(r: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """An orthonormal basis (u, v, w), each ``(N, 3)``, with w = r/|r| for ``r (N, 3)`` (FOCG
     2.4.6): t is w with its smallest component (by magnitude; the first of equals) set to 1,
     u = t × w / |t × w|, v = w × u; right-handed. A stage-5 student function."""
+    # BEGIN SOLUTION
+    # hint: w = r/|r|; t = w with its smallest component (by magnitude, the first of equals) set
+    #       to 1; u = t × w / |t × w|, v = w × u
     w = normalize(r)
     t = w.copy()
     smallest = np.argmin(np.abs(w), axis=1)
@@ -183,6 +210,7 @@ def basis_around(r: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     u = normalize(np.cross(t, w))
     v = np.cross(w, u)
     return u, v, w
+    # END SOLUTION
 
 
 def perturbed_direction(r: np.ndarray, a: float, uniforms: np.ndarray) -> np.ndarray:
@@ -190,11 +218,15 @@ def perturbed_direction(r: np.ndarray, a: float, uniforms: np.ndarray) -> np.nda
     number, or each row's own, ``(N, 1)``) perpendicular to it (FOCG 13.4.4, glossy
     reflection): r' = normalize(r + u'·u + v'·v) with u' = -a/2 + ξ1·a, v' = -a/2 + ξ2·a in the
     basis of :func:`basis_around`, from ``uniforms (N, 2)``. A stage-5 student function."""
+    # BEGIN SOLUTION
+    # hint: u, v from basis_around(r); u' = -a/2 + ξ1·a, v' = -a/2 + ξ2·a;
+    #       normalize(r + u'·u + v'·v)
     uniforms = np.asarray(uniforms, dtype=float)
     u, v, _ = basis_around(r)
     along_u = -a / 2 + uniforms[:, 0:1] * a
     along_v = -a / 2 + uniforms[:, 1:2] * a
     return normalize(np.asarray(r, dtype=float) + along_u * u + along_v * v)
+    # END SOLUTION
 
 
 def shutter_times(shutter_open: float, shutter_close: float, uniforms: np.ndarray) -> np.ndarray:

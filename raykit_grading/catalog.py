@@ -21,6 +21,19 @@ draw uses numpy's generator, elementwise arithmetic, ``np.sqrt`` (correctly roun
 ``np.dot``, ``np.linalg.norm`` or numpy's vectorised sin/cos, whose last bits depend on BLAS
 and the processor's vector width (tests/grading/test_grading_seeds.py checks both).
 
+Stage 5 (distributed ray tracing) is graded with a fixed seed, not statistically. Its student
+functions are pure functions of given uniform numbers (:mod:`raykit.sampling`), so each is
+tested exactly on drawn numbers, within the same tolerance as every array test. A render's
+numbers come from the renderer's noise (:mod:`raykit.engine.noise`: a hash of the seed, the
+pixel, the sample and the dimension), which is given code, not the student's: a correct
+submission gets the same numbers, makes the same choices in each pixel, on the lens and on
+the lights, and so renders the same picture, noise and all, to within rounding; the image
+comparison's tolerance (2 levels, or a neighbour) absorbs what another order of the same
+operations changes. A statistical test (mean and variance of the noise) would pass mistakes
+that keep the mean, such as samples that are not jittered, and would need many samples: a
+fixed seed needs few and names the mistake. Graded draws of a distributed scene take a new
+render seed besides the moved camera, so no shipped picture is a graded one.
+
 ``visible`` tests show their result at once; ``after_due_date`` tests are hidden until then.
 """
 
@@ -182,6 +195,8 @@ def _scene_test(
             scene["camera"]["width"], scene["camera"]["height"] = width, height
         if rng is not None:
             jitter_camera(scene, rng)
+            if "render" in scene:  # a distributed render: new noise too (see the module page)
+                scene["render"]["seed"] = int(rng.integers(2**31))
         files = {}
         for board in scene.get("billboards", []):
             if "image" in board:
@@ -339,9 +354,120 @@ def _shadow_test(rng: np.random.Generator):
     }
 
 
+def _uniforms(rng, count: int) -> np.ndarray:
+    """Uniform numbers ``(count, 2)`` in [0, 1), a few of them exactly 0 (the square's edge)."""
+    values = rng.uniform(0, 1, (count, 2))
+    values[rng.uniform(0, 1, (count, 2)) < 0.05] = 0.0
+    return values
+
+
+def _in_pixels(rng):
+    count, width, height = 60, int(rng.integers(4, 30)), int(rng.integers(4, 30))
+    return {
+        "rows": rng.integers(0, height, count),
+        "cols": rng.integers(0, width, count),
+        "uniforms": _uniforms(rng, count),
+    }
+
+
+def _jittered_set(rng):
+    n = int(rng.integers(2, 7))
+    return {"n": n, "uniforms": _uniforms(rng, n * n)}
+
+
+def _jittered_cells(rng):
+    """Points in cells in any order, as the renderer's shuffled pairs ask for them."""
+    n = int(rng.integers(2, 7))
+    cells = np.concatenate([rng.permutation(n * n) for _ in range(3)])
+    return {"n": n, "cells": cells, "uniforms": _uniforms(rng, len(cells))}
+
+
+def _parallelogram(rng, **more):
+    return {
+        "corner": rng.uniform(-3, 3, 3),
+        "edge1": rng.uniform(-2, 2, 3),
+        "edge2": rng.uniform(-2, 2, 3),
+        "uniforms": _uniforms(rng, 80),
+        **more,
+    }
+
+
+def _disk_edges(rng):
+    """The concentric map where it changes quarters or divides by zero: the centre, the
+    square's diagonals (|a| = |b|), its edges and the lines a = 0 and b = 0 through the
+    centre, with random numbers between."""
+    t = np.append(rng.uniform(0, 1, 12), [0.0, 0.25, 0.5, 0.75])
+    half = np.full_like(t, 0.5)
+    zero = np.zeros_like(t)
+    special = np.vstack([
+        np.column_stack([t, t]), np.column_stack([t, 1 - t]),  # the diagonals
+        np.column_stack([t, zero]), np.column_stack([zero, t]),  # two edges of the square
+        np.column_stack([t, half]), np.column_stack([half, t]),  # a = 0 or b = 0
+    ])  # fmt: skip
+    return {"uniforms": np.vstack([special, _uniforms(rng, 40)])}
+
+
+def _lens(rng):
+    from raykit.camera import camera_frame
+
+    camera = _camera(rng)
+    u, v, _ = camera_frame(*(np.array(camera[k], float) for k in ("eye", "lookat", "up")))
+    return {
+        "eye": np.array(camera["eye"]),
+        "u": u,
+        "v": v,
+        "aperture": float(rng.uniform(0.05, 1.0)),
+        "uniforms": _uniforms(rng, 60),
+    }
+
+
+def _thin_lens(rng):
+    camera = _camera(
+        rng, aperture=float(rng.uniform(0.05, 1.0)), focus_distance=float(rng.uniform(2, 12))
+    )
+    points = _pixel_points(rng, camera)
+    return {**points, "uniforms": _uniforms(rng, len(points["x"]))}
+
+
+def _directions_to_perturb(rng):
+    """Rows r of any length, and some whose components tie in magnitude (the basis takes the
+    first of equals) or are zero."""
+    ties = np.array([[1.0, 1.0, 1.0], [2.0, -2.0, 5.0], [0.0, 0.0, 3.0], [-1.0, 0.0, 0.0],
+                     [0.0, -4.0, 4.0], [3.0, 1.0, -1.0]])  # fmt: skip
+    return np.vstack([ties, rng.normal(size=(60, 3)) * rng.uniform(0.2, 5, (60, 1))])
+
+
+def _glossy_bounces(rng):
+    """Rays d arriving at surfaces n (d·n < 0), glossy mirrors of each row's own glossiness a,
+    a sixth of them ideal (a = 0)."""
+    n = _unit_rows(rng, 90)
+    d = _unit_rows(rng, 90)
+    d = np.where((dot(d, n) > 0)[:, None], -d, d)
+    a = rng.uniform(0.02, 0.8, 90)
+    a[rng.uniform(0, 1, 90) < 1 / 6] = 0.0
+    return {"d": d, "n": n, "a": a, "uniforms": _uniforms(rng, 90)}
+
+
+def _shutter(rng):
+    start = float(rng.uniform(0, 2))
+    return {
+        "open": start,
+        "close": start + float(rng.uniform(0.1, 3)),
+        "uniforms": rng.uniform(0, 1, (int(rng.integers(3, 30)), int(rng.integers(2, 26)))),
+    }
+
+
+def _moving_sphere(rng):
+    return {
+        "center": rng.uniform(-3, 3, 3),
+        "velocity": rng.uniform(-2, 2, 3),
+        "times": rng.uniform(0, 2, 70),
+    }
+
+
 STAGE1, STAGE2, STAGE3 = "1 line-scan camera", "2 rays, planes and spheres", "3 renderer"
 STAGE4 = "4 shading, shadows and mirrors"
-STAGE5 = "5 distributed ray tracing"  # its functions are in the release; its tests are to come
+STAGE5 = "5 distributed ray tracing"
 
 TESTS = [
     GradingTest(
@@ -551,6 +677,108 @@ TESTS = [
         "4.11 render a hidden lit scene at 1e6, a ball touching the floor",
         STAGE4, 3, HIDDEN, "render",
         _scene_test(HIDDEN_SCENES / "lit_far.json"),
+        kind="image", mistakes=True,
+    ),
+    GradingTest(
+        "5.1 a point in each pixel from uniform numbers",
+        STAGE5, 1, VISIBLE, "point_in_pixel", _drawn(51, _in_pixels),
+    ),
+    GradingTest(
+        "5.2 the random sample set",
+        STAGE5, 1, VISIBLE, "random_set",
+        _drawn(52, lambda rng: {"uniforms": _uniforms(rng, int(rng.integers(4, 40)))}),
+    ),
+    GradingTest(
+        "5.3 the jittered sample set of n x n",
+        STAGE5, 2, VISIBLE, "jittered_set", _drawn(53, _jittered_set),
+    ),
+    GradingTest(
+        "5.4 jittered points in cells in any order",
+        STAGE5, 1, HIDDEN, "jittered_point", _drawn(54, _jittered_cells),
+    ),
+    GradingTest(
+        "5.5 points on a parallelogram (an area light)",
+        STAGE5, 1, VISIBLE, "point_on_parallelogram", _drawn(55, _parallelogram),
+    ),
+    GradingTest(
+        "5.6 an area light sampled as point lights",
+        STAGE5, 1, HIDDEN, "sampled",
+        _drawn(56, lambda rng: _parallelogram(rng, color=rng.uniform(0, 1.5, 3))),
+    ),
+    GradingTest(
+        "5.7 points on the unit disk (the concentric map)",
+        STAGE5, 2, VISIBLE, "point_on_disk",
+        _drawn(57, lambda rng: {"uniforms": _uniforms(rng, 100)}),
+    ),
+    GradingTest(
+        "5.8 the concentric map on the square's diagonals, edges and centre",
+        STAGE5, 1, HIDDEN, "point_on_disk", _drawn(58, _disk_edges),
+    ),
+    GradingTest(
+        "5.9 points on the thin lens",
+        STAGE5, 1, VISIBLE, "point_on_lens", _drawn(59, _lens),
+    ),
+    GradingTest(
+        "5.10 thin-lens rays through pixel points",
+        STAGE5, 2, VISIBLE, "thin_lens_rays", _drawn(510, _thin_lens),
+        callees=RAYS_THROUGH_CALLS,
+    ),
+    GradingTest(
+        "5.11 an orthonormal basis around a direction",
+        STAGE5, 1, VISIBLE, "basis_around",
+        _drawn(511, lambda rng: {"r": _directions_to_perturb(rng)}),
+    ),
+    GradingTest(
+        "5.12 perturbed directions (glossy reflection)",
+        STAGE5, 2, VISIBLE, "perturbed_direction",
+        _drawn(512, lambda rng: {"r": normalize(_directions_to_perturb(rng)),
+                                 "a": float(rng.uniform(0.05, 0.6)),
+                                 "uniforms": _uniforms(rng, 66)}),
+        callees=(Callee("basis_around", "basis_around", lambda spec, arrays: (
+            {}, {"r": arrays["r"]})),),
+    ),
+    GradingTest(
+        "5.13 glossy mirror directions, and which leave above the surface",
+        STAGE5, 2, VISIBLE, "glossy_reflect", _drawn(513, _glossy_bounces),
+        callees=(Callee("reflect", "reflect", lambda spec, arrays: (
+            {}, {"d": arrays["d"], "n": arrays["n"]})),),
+    ),
+    GradingTest(
+        "5.14 a time in the shutter interval for every ray",
+        STAGE5, 1, VISIBLE, "shutter_times", _drawn(514, _shutter),
+    ),
+    GradingTest(
+        "5.15 a moving sphere's centre at each ray's time",
+        STAGE5, 1, VISIBLE, "center_at", _drawn(515, _moving_sphere),
+    ),
+    GradingTest(
+        "5.16 render scenes/soft_shadows.json (an area light)",
+        STAGE5, 3, VISIBLE, "render",
+        _scene_test(SCENES / "soft_shadows.json", width=128, height=96),
+        kind="image", mistakes=True,
+    ),
+    GradingTest(
+        "5.17 render scenes/depth_of_field.json (a thin lens)",
+        STAGE5, 3, VISIBLE, "render",
+        _scene_test(SCENES / "depth_of_field.json", width=128, height=96),
+        kind="image", mistakes=True,
+    ),
+    GradingTest(
+        "5.18 render scenes/glossy.json (glossy mirrors)",
+        STAGE5, 3, VISIBLE, "render",
+        _scene_test(SCENES / "glossy.json", width=96, height=72),
+        kind="image", mistakes=True,
+    ),
+    GradingTest(
+        "5.19 render scenes/motion_blur.json (a moving sphere)",
+        STAGE5, 3, HIDDEN, "render",
+        _scene_test(SCENES / "motion_blur.json", width=96, height=72),
+        kind="image", mistakes=True,
+    ),
+    GradingTest(
+        "5.20 render a hidden scene: a tilted area light seen through a lens, random samples",
+        STAGE5, 3, HIDDEN, "render",
+        _scene_test(HIDDEN_SCENES / "lens_and_panel.json"),
         kind="image", mistakes=True,
     ),
 ]  # fmt: skip

@@ -304,7 +304,13 @@ def _visible_first(tests: list[GradingTest]) -> list[GradingTest]:
 
 
 # the student function each array task calls first, as the callee lines name it
-CALLERS = {"line_rays": "line_rays", "rays_through": "rays_through"}
+CALLERS = {
+    "line_rays": "line_rays",
+    "rays_through": "rays_through",
+    "thin_lens_rays": "thin_lens_rays",
+    "perturbed_direction": "perturbed_direction",
+    "glossy_reflect": "glossy_reflect",
+}
 
 
 def array_mistakes(test: GradingTest, seed: int | None):
@@ -392,7 +398,7 @@ def _image_result(
         (
             (m.says, quantize(expected(test.name, seed, m.key)["rgb"]), m.where)
             for m in MISTAKES
-            if m.in_renders
+            if m.in_renders and m.tried_on(test.stage)
         )
         if test.mistakes
         else ()

@@ -9,7 +9,11 @@ made too; if one explains the result better than the reference does, the feedbac
 (and ``where``: the function a student makes it in). ``stage`` says which stage's code the
 mistake is in; every mistake is tried on every graded picture (``in_renders``), since a camera
 mistake spoils a lit picture too, and on every array test (``array_patches``: the same swap,
-reaching also the names the array tasks call), skipped where it changes nothing.
+reaching also the names the array tasks call), skipped where it changes nothing. A stage-5
+mistake is made in code only a distributed render runs (the sample patterns, the area lights,
+the lens, glossy mirrors, the shutter), so it is tried on stage 5's pictures only
+(:meth:`Mistake.tried_on`): elsewhere its picture is the right one, and rendering it would only
+cost time.
 """
 
 from __future__ import annotations
@@ -24,6 +28,7 @@ import numpy as np
 
 import raykit.billboards
 import raykit.camera
+import raykit.engine.noise
 import raykit.engine.regions
 import raykit.lights
 import raykit.linescan.camera
@@ -31,14 +36,16 @@ import raykit.linescan.objects
 import raykit.mirrors
 import raykit.planes
 import raykit.render
+import raykit.sampling
 import raykit.shading
 import raykit.shadows
 import raykit.spheres
 import raykit.surfaces
 from raykit.camera import Camera
-from raykit.lights import toward_light
+from raykit.lights import PointLight, toward_light
 from raykit.linescan.camera import LineCamera
-from raykit.rays import MISS, dot
+from raykit.rays import MISS, dot, normalize
+from raykit.sampling import point_on_disk
 from raykit.spheres import sphere_roots
 
 
@@ -54,6 +61,11 @@ class Mistake:
     where: str = ""  # the student's function it is made in: "raykit/camera.py: _in_plane"
     arrays: Callable[[], list] | None = None  # patches for the array tests (None: ``patches``)
     in_renders: bool = True  # tried on rendered pictures too
+
+    def tried_on(self, stage: str) -> bool:
+        """Whether a picture of the test stage ``stage`` ("5 distributed ray tracing") can show
+        this mistake: a stage-5 mistake only a distributed render's (the module page)."""
+        return self.stage != "5" or stage.split()[0] == "5"
 
     @contextmanager
     def active(self, *, arrays: bool = False) -> Iterator[None]:
@@ -199,6 +211,57 @@ def _reflect_sign(d, n):
 
 def _half_vector_not_unit(ks, intensity, n, l, v, p):
     return ks * intensity * (np.maximum(0.0, dot(n, l + v)) ** p)[:, None]
+
+
+def _one_point_light(light, uniforms):
+    """The area light as one point light at its centre, whatever the uniform numbers: hard
+    shadows."""
+    centre = light.corner + 0.5 * light.edge1 + 0.5 * light.edge2
+    return PointLight(np.broadcast_to(centre, (len(uniforms), 3)), light.color)
+
+
+def _lens_radius_aperture(eye, u, v, aperture, uniforms):
+    """The lens of radius aperture: twice the lens, twice the blur."""
+    disk = point_on_disk(uniforms)
+    return np.asarray(eye, float) + aperture * (
+        disk[:, 0:1] * np.asarray(u, float) + disk[:, 1:2] * np.asarray(v, float)
+    )
+
+
+def _not_stratified(cells, n, uniforms):
+    """The uniform numbers as they are: a random set, not one sample in each cell."""
+    return np.array(uniforms, dtype=float)
+
+
+def _cell_centres(cells, n, uniforms):
+    """The cells' centres ((i + ½)/n, (j + ½)/n): a regular grid, the numbers unused."""
+    cells = np.asarray(cells)
+    return (np.column_stack([cells % n, cells // n]).astype(float) + 0.5) / n
+
+
+def _jittered(wrong: Callable) -> Callable[[], list]:
+    """Patch jittered_point where the array tasks find it and where the renderer's noise
+    calls it."""
+    return _patch(
+        (raykit.sampling, "jittered_point", wrong), (raykit.engine.noise, "jittered_point", wrong)
+    )
+
+
+def _basis_not_unit(r):
+    """u = t × w not divided by its length: u is not unit length, so the square of side a
+    the perturbation moves in is stretched along u."""
+    w = normalize(r)
+    t = w.copy()
+    t[np.arange(len(w)), np.argmin(np.abs(w), axis=1)] = 1.0
+    u = np.cross(t, w)
+    return u, np.cross(w, u), w
+
+
+def _time_per_pixel(shutter_open, shutter_close, uniforms):
+    """One time per pixel, its first sample's, shared by all its samples (rays)."""
+    uniforms = np.asarray(uniforms, dtype=float)
+    first = shutter_open + uniforms[:, :1] * (shutter_close - shutter_open)
+    return np.repeat(first, uniforms.shape[1], axis=1)
 
 
 def _shading(name: str, wrong: Callable, *modules) -> Callable[[], list]:
@@ -360,5 +423,63 @@ MISTAKES = [
         patches=_shading("blinn_phong", _half_vector_not_unit),
         stage="4",
         where="raykit/shading.py: blinn_phong",
+    ),
+    Mistake(
+        "area_light_as_point",
+        "the area light is one point light at its centre instead of a point of it sampled per "
+        "shadow ray (hard shadows, no penumbra)",
+        patches=_patch(
+            (raykit.lights, "sampled", _one_point_light),
+            (raykit.shading, "sampled", _one_point_light),
+        ),
+        stage="5",
+        where="raykit/lights.py: sampled",
+    ),
+    Mistake(
+        "aperture_as_radius",
+        "the aperture is taken as the lens's radius instead of its diameter (a lens twice as "
+        "wide: twice the blur)",
+        patches=_patch(
+            (raykit.sampling, "point_on_lens", _lens_radius_aperture),
+            (raykit.camera, "point_on_lens", _lens_radius_aperture),
+        ),
+        stage="5",
+        where="raykit/sampling.py: point_on_lens",
+    ),
+    Mistake(
+        "not_jittered",
+        "the samples are not jittered: each is anywhere in the square (the uniform numbers as "
+        "they are), not one in each of the n x n cells",
+        patches=_jittered(_not_stratified),
+        stage="5",
+        where="raykit/sampling.py: jittered_point",
+    ),
+    Mistake(
+        "jitter_missing",
+        "the samples sit at the centres of their cells (a regular grid): the uniform numbers "
+        "do not jitter them within the cells",
+        patches=_jittered(_cell_centres),
+        stage="5",
+        where="raykit/sampling.py: jittered_point",
+    ),
+    Mistake(
+        "basis_not_orthonormal",
+        "the basis around r is not orthonormal: u = t × w is not divided by its length, so "
+        "the glossy perturbation is stretched along u",
+        patches=_patch((raykit.sampling, "basis_around", _basis_not_unit)),
+        stage="5",
+        where="raykit/sampling.py: basis_around",
+    ),
+    Mistake(
+        "time_per_pixel",
+        "each pixel has one time in the shutter interval, shared by its samples, instead of a "
+        "time per ray (the moving object is not blurred but noisy: each pixel sees it at one "
+        "instant)",
+        patches=_patch(
+            (raykit.sampling, "shutter_times", _time_per_pixel),
+            (raykit.engine.regions, "shutter_times", _time_per_pixel),
+        ),
+        stage="5",
+        where="raykit/sampling.py: shutter_times",
     ),
 ]

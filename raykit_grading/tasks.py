@@ -40,6 +40,7 @@ def _camera(spec: dict):
         spec["width"],
         spec["height"],
         spec.get("projection", "perspective"),
+        **{k: spec[k] for k in ("aperture", "focus_distance") if k in spec},
     )
 
 
@@ -56,7 +57,7 @@ IMPORTED = (
     "raykit", "raykit.billboards", "raykit.camera", "raykit.io.linescan_json",
     "raykit.io.scene_json", "raykit.lights", "raykit.linescan.camera", "raykit.linescan.objects",
     "raykit.linescan.scan", "raykit.mirrors", "raykit.planes", "raykit.render",
-    "raykit.shading", "raykit.shadows", "raykit.spheres", "raykit.surfaces",
+    "raykit.sampling", "raykit.shading", "raykit.shadows", "raykit.spheres", "raykit.surfaces",
 )  # fmt: skip
 
 
@@ -226,6 +227,100 @@ def task_in_shadow(spec, arrays):
     surface = SurfacePoints(arrays["points"], arrays["normals"], arrays["error"])
     blocked = in_shadow(secondary_caster(scene), surface, arrays["l"], arrays["distance"])
     return {"blocked": blocked.astype(float)}
+
+
+def task_point_in_pixel(spec, arrays):
+    from raykit.sampling import point_in_pixel
+
+    x, y = point_in_pixel(arrays["rows"], arrays["cols"], arrays["uniforms"])
+    return {"x": x, "y": y}
+
+
+def task_random_set(spec, arrays):
+    from raykit.sampling import random_set
+
+    return {"samples": random_set(arrays["uniforms"])}
+
+
+def task_jittered_point(spec, arrays):
+    from raykit.sampling import jittered_point
+
+    return {"points": jittered_point(arrays["cells"], spec["n"], arrays["uniforms"])}
+
+
+def task_jittered_set(spec, arrays):
+    from raykit.sampling import jittered_set
+
+    return {"samples": jittered_set(spec["n"], arrays["uniforms"])}
+
+
+def task_point_on_parallelogram(spec, arrays):
+    from raykit.sampling import point_on_parallelogram
+
+    corner, edge1, edge2 = (arrays[k] for k in ("corner", "edge1", "edge2"))
+    return {"points": point_on_parallelogram(corner, edge1, edge2, arrays["uniforms"])}
+
+
+def task_sampled(spec, arrays):
+    from raykit.lights import AreaLight, sampled
+
+    light = AreaLight(arrays["corner"], arrays["edge1"], arrays["edge2"], arrays["color"])
+    point = sampled(light, arrays["uniforms"])
+    # broadcast: the colour is the light's, one (3,) for all its points
+    return {"position": point.position, "color": point.color}
+
+
+def task_point_on_disk(spec, arrays):
+    from raykit.sampling import point_on_disk
+
+    return {"points": point_on_disk(arrays["uniforms"])}
+
+
+def task_point_on_lens(spec, arrays):
+    from raykit.sampling import point_on_lens
+
+    eye, u, v = (arrays[k] for k in ("eye", "u", "v"))
+    return {"points": point_on_lens(eye, u, v, float(spec["aperture"]), arrays["uniforms"])}
+
+
+def task_thin_lens_rays(spec, arrays):
+    from raykit.camera import thin_lens_rays
+
+    camera = _camera(spec["camera"])
+    origins, directions = thin_lens_rays(camera, arrays["x"], arrays["y"], arrays["uniforms"])
+    return {"origins": origins, "directions": directions}
+
+
+def task_basis_around(spec, arrays):
+    from raykit.sampling import basis_around
+
+    u, v, w = basis_around(arrays["r"])
+    return {"u": u, "v": v, "w": w}
+
+
+def task_perturbed_direction(spec, arrays):
+    from raykit.sampling import perturbed_direction
+
+    return {"r": perturbed_direction(arrays["r"], float(spec["a"]), arrays["uniforms"])}
+
+
+def task_glossy_reflect(spec, arrays):
+    from raykit.mirrors import glossy_reflect
+
+    r, above = glossy_reflect(arrays["d"], arrays["n"], arrays["a"], arrays["uniforms"])
+    return {"r": r, "above": above.astype(float)}
+
+
+def task_shutter_times(spec, arrays):
+    from raykit.sampling import shutter_times
+
+    return {"times": shutter_times(spec["open"], spec["close"], arrays["uniforms"])}
+
+
+def task_center_at(spec, arrays):
+    from raykit.spheres import center_at
+
+    return {"centers": center_at(arrays["center"], arrays["velocity"], arrays["times"])}
 
 
 def task_render(spec, arrays):

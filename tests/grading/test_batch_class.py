@@ -165,7 +165,7 @@ def test_the_tests_command_lists_each_stage_with_its_totals():
     headings = [line for line in lines if line.startswith("Stage ")]
     assert [h.split(":")[0] for h in headings] == [
         "Stage 1 line-scan camera", "Stage 2 rays, planes and spheres", "Stage 3 renderer",
-        "Stage 4 shading, shadows and mirrors",
+        "Stage 4 shading, shadows and mirrors", "Stage 5 distributed ray tracing",
     ]  # fmt: skip
     total = sum(t.points for t in TESTS)
     assert lines[-1].startswith(f"Total: {len(TESTS)} tests, {total:g} points")
@@ -216,9 +216,9 @@ def test_the_kits_pytest_prints_one_line_per_failing_test(release):
 def test_the_kits_readme_lists_the_functions_under_each_stage(release):
     readme = (release / "README.md").read_text()
     headings = re.findall(r"^### (.*)$", readme, re.M)
-    assert headings[:4] == [
+    assert headings[:5] == [
         "Stage 1 line-scan camera", "Stage 2 rays, planes and spheres", "Stage 3 renderer",
-        "Stage 4 shading, shadows and mirrors",
+        "Stage 4 shading, shadows and mirrors", "Stage 5 distributed ray tracing",
     ]  # fmt: skip
     stage3 = readme.split("### Stage 3")[1].split("###")[0]
     assert "camera.py: camera_frame`" in stage3 and "hit_sphere" not in stage3

@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 from conftest import REPO
-from mistaken_submissions import EDITS, make_submission
-from raykit_grading.catalog import HIDDEN, TESTS, VISIBLE
+from mistaken_submissions import EDITS, make_rewritten, make_submission
+from raykit_grading.catalog import HIDDEN, HIDDEN_SCENES, TESTS, VISIBLE
 from raykit_grading.compare import check_arrays, compare_images, feedback_picture, strict_fraction
 from raykit_grading.grade import Options, grade, grade_to_file
 from raykit_grading.markers import MarkerError, strip_solutions
@@ -86,7 +86,7 @@ def test_mistakes_apply_to_a_camera_that_has_already_computed_its_frame():
 
 def test_catalog_has_points_visibility_and_every_stage():
     assert {t.visibility for t in TESTS} == {VISIBLE, HIDDEN}
-    assert {t.stage.split()[0] for t in TESTS} == {"1", "2", "3", "4"}
+    assert {t.stage.split()[0] for t in TESTS} == {"1", "2", "3", "4", "5"}
     assert len({t.name.split()[0] for t in TESTS}) == len(TESTS)
     assert all(t.points > 0 for t in TESTS)
 
@@ -153,7 +153,9 @@ def test_release_hides_the_solutions_and_the_hidden_scenes(release):
     sources = "".join(p.read_text() for p in (release / "raykit").rglob("*.py"))
     assert "BEGIN SOLUTION" not in sources
     assert "(a - origins) @ n" not in sources  # the ray-plane solution line
-    assert not list(release.rglob("odd.json")) and not list(release.rglob("overlaps.json"))
+    hidden = sorted(p.name for p in HIDDEN_SCENES.glob("*.json"))
+    assert {"odd.json", "overlaps.json", "lens_and_panel.json"} <= set(hidden)
+    assert not [name for name in hidden if list(release.rglob(name))]
     assert (release / "tests/expected/3_6/reference.png").is_file()
 
 
@@ -183,6 +185,7 @@ def test_each_classic_mistake_is_named_in_the_feedback(key, tmp_path, child_pyth
         "1": ["1.6", "1.7"],  # a scan and a sweep of the line-scan camera
         "3": ["3.6", "3.8", "3.9", "3.11"],  # classic, parallel rays, inside a ring, overlaps
         "4": ["4.8", "4.10", "4.11"],  # lit classic, mirrors, at 1e6 with a touching ball
+        "5": ["5.16", "5.17", "5.18", "5.19", "5.20"],  # light, lens, glossy, blur, hidden
     }[mistake.stage]
     results = grade(submission, options=Options(child_python), names=names)
     outputs = [html.unescape(t["output"]) for t in results["tests"]]
@@ -191,8 +194,24 @@ def test_each_classic_mistake_is_named_in_the_feedback(key, tmp_path, child_pyth
         assert all(f"when {m.says}" not in out for m in MISTAKES if m.key != key)
 
 
+STAGE5 = [t.key for t in TESTS if t.stage.startswith("5")]
+
+
+def test_stage5_written_right_another_way_scores_in_full(tmp_path, child_python):
+    # the renders' noise reaches pixels through the student's own jittered_point, point_in_pixel,
+    # point_on_lens and sampled: rounded otherwise, the same picture within the comparison's
+    # tolerance, under any seed
+    submission = make_rewritten(tmp_path / "rewritten")
+    for seed in (5, 2026):
+        results = grade(submission, options=Options(child_python), names=STAGE5, seed=seed)
+        failed = [(t["number"], t["output"]) for t in results["tests"]
+                  if t["score"] < t["max_score"]]  # fmt: skip
+        assert failed == []
+        assert results["score"] == pytest.approx(sum(t.points for t in TESTS if t.key in STAGE5))
+
+
 def test_no_mistake_is_named_for_the_solution(solution, child_python):
-    names = ["3.6", "3.9", "3.11", "4.8", "4.10", "4.11"]
+    names = ["3.6", "3.9", "3.11", "4.8", "4.10", "4.11", "5.16", "5.18", "5.19", "5.20"]
     results = grade(solution, options=Options(child_python), names=names)
     assert not any("Diagnosis:" in t["output"] for t in results["tests"])
 
@@ -316,7 +335,18 @@ def test_release_readme_lists_the_functions_in_the_lectures_order(release):
     assert names[0] == "pixel_x" and names[-1] == "center_at"
     assert names.index("hit_plane") < names.index("camera_frame") < names.index("cast")
     assert names.index("cast") < names.index("lambert") < names.index("reflect")
-    assert names.index("reflect") < names.index("shutter_times") < names.index("glossy_reflect")
+    # stage 5 in FOCG 13.4's order, its camera and light functions among the sample patterns
+    stage5 = names[names.index("reflect") + 1 :]
+    assert stage5[:4] == ["point_in_pixel", "random_set", "jittered_point", "jittered_set"]
+    assert stage5.index("sampled") < stage5.index("point_on_lens") < stage5.index("thin_lens_rays")
+    assert stage5.index("thin_lens_rays") < stage5.index("basis_around")
+    assert stage5[-5:] == [
+        "basis_around",
+        "perturbed_direction",
+        "glossy_reflect",
+        "shutter_times",
+        "center_at",
+    ]
 
 
 @pytest.mark.parametrize(

@@ -22,4 +22,10 @@ NAMED_IN = {
     "no_offset": ["4.7", "4.11"],
     "reflect_sign": ["4.6", "4.10"],
     "half_vector_not_unit": ["4.5", "4.8"],
+    "area_light_as_point": ["5.6", "5.16", "5.20"],
+    "aperture_as_radius": ["5.9", "5.10", "5.17", "5.20"],
+    "not_jittered": ["5.3", "5.4", "5.16", "5.17"],
+    "jitter_missing": ["5.3", "5.4", "5.16", "5.17"],
+    "basis_not_orthonormal": ["5.11", "5.12", "5.13", "5.18"],
+    "time_per_pixel": ["5.14", "5.19"],
 }
