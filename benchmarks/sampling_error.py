@@ -62,6 +62,7 @@ import argparse
 import hashlib
 import itertools
 import json
+import math
 import os
 import sys
 import tempfile
@@ -92,7 +93,7 @@ from mitsuba_compare import (  # noqa: E402
 )
 
 from raykit.engine.adaptive import edge_pixels  # noqa: E402
-from raykit.engine.choice import ENGINES, choose  # noqa: E402
+from raykit.engine.choice import ENGINES, choose, compiled_refuses  # noqa: E402
 from raykit.io.errors import SceneError  # noqa: E402
 from raykit.io.scene_json import scene_from_dict  # noqa: E402
 from raykit.render import render  # noqa: E402
@@ -184,7 +185,11 @@ def effects(width: int, height: int) -> tuple[list[Effect], list[str]]:
     out = []
     for name, source, data, mitsuba in made:
         data = {**data, "camera": {**data["camera"], "width": width, "height": height}}
-        data.pop("render", None)
+        # the samples are the benchmark's; the shutter stays the scene's (motion blur's own)
+        shutter = data.get("render", {}).get("shutter")
+        data = {key: value for key, value in data.items() if key != "render"}
+        if shutter is not None:
+            data["render"] = {"shutter": shutter}
         try:
             scene = scene_from_dict(data, source, SCENES)
         except SceneError as error:  # a format this raykit does not read yet
@@ -203,6 +208,12 @@ def sources_digest() -> str:
     return digest.hexdigest()
 
 
+def sampled(effect: Effect, spp: int, sampler: str, seed: int) -> Sampling:
+    """The effect's scene's sampling with ``spp`` samples per pixel of ``sampler`` from
+    ``seed``: its shutter kept (a moving scene blurs only while the shutter is open)."""
+    return replace(effect.scene.sampling, samples_per_pixel=spp, sampler=sampler, seed=seed)
+
+
 def reference(effect: Effect, spp: int, engine: str, cache: Path) -> np.ndarray:
     """raykit's converged picture ``(H, W, 3)`` of the effect: ``spp`` Sobol' samples per pixel,
     seed :data:`REFERENCE_SEED`, from ``cache`` when it was made there before."""
@@ -210,7 +221,7 @@ def reference(effect: Effect, spp: int, engine: str, cache: Path) -> np.ndarray:
     path = cache / f"{hashlib.sha256(key.encode()).hexdigest()[:20]}.npy"
     if path.exists():
         return np.load(path)
-    sampling = Sampling(spp, "sobol", REFERENCE_SEED)
+    sampling = sampled(effect, spp, "sobol", REFERENCE_SEED)
     image = render(replace(effect.scene, sampling=sampling), engine=engine).rgb
     cache.mkdir(parents=True, exist_ok=True)
     np.save(path, image)
@@ -223,7 +234,7 @@ def raykit_timer(effect: Effect, curve: Curve, spp: int, engine: str, converged:
     seeds = itertools.count(1)
 
     def timed() -> float:
-        sampling = Sampling(spp, curve.sampler, next(seeds))
+        sampling = sampled(effect, spp, curve.sampler, next(seeds))
         scene = replace(effect.scene, sampling=sampling)
         start = time.perf_counter()
         image = render(scene, engine=engine).rgb
@@ -265,7 +276,7 @@ def measure(effect: Effect, args, counts: list[int], child, folder: Path) -> tup
     for sampler in SAMPLERS:
         curve = Curve("raykit", sampler, counts, {n: [] for n in counts}, {})
         # a first render, untimed: the compiled engine, if it renders, loads its kernels
-        render(replace(effect.scene, sampling=Sampling(1, sampler, 0)), engine=args.engine)
+        render(replace(effect.scene, sampling=sampled(effect, 1, sampler, 0)), engine=args.engine)
         for n in counts:
             timers[curve.label, n] = raykit_timer(
                 effect, curve, n, args.engine, converged["raykit"]
@@ -415,7 +426,9 @@ def soft_shadow_agreement(effect: Effect, converged: np.ndarray, child, n: int, 
         return None
     with np.load(path) as pictures:
         check = dict(pictures)
-    centre = render(replace(effect.scene, sampling=Sampling(1, "jittered", 0)), engine="numpy")
+    centre = render(
+        replace(effect.scene, sampling=sampled(effect, 1, "jittered", 0)), engine="numpy"
+    )
     index = centre.object_index.copy()
     index[edge_pixels(np.zeros_like(converged), index)] = -1  # silhouettes: not compared
     grid = scene_from_dict(grid_of_points(effect.data, n), effect.source, SCENES)
@@ -444,9 +457,20 @@ def print_agreement(rows: list[tuple[str, str, tuple | None]]) -> None:
     print()
 
 
+def _time_ticks(low: float, high: float) -> list[float]:
+    """Ticks of a log time axis from ``low`` to ``high``: 1 and 3 per decade, 1 where that
+    crowds them, and the two ends (two digits) where no such tick falls in between."""
+    subs = (1, 3) if high < 300 * low else (1,)
+    decades = range(math.floor(math.log10(low)), math.ceil(math.log10(high)) + 1)
+    ticks = [sub * 10.0**k for k in decades for sub in subs if low <= sub * 10.0**k <= high]
+    return ticks if len(ticks) >= 2 else [float(f"{low:.2g}"), float(f"{high:.2g}")]
+
+
 def plot(path: Path, panels: list[tuple[str, list[Curve]]]) -> None:
-    """Per effect, a row of two log-log panels: RMS error against samples per pixel (with a
-    line of slope -1/2 through random's first point) and against render time; one legend."""
+    """Per effect, a column of two log-log panels: RMS error against samples per pixel (with a
+    line of slope -1/2 through random's first point) above RMS error against render time; one
+    legend. Effects side by side, not stacked: a wide figure keeps its text legible on a
+    projector (:func:`raykit.io.images.figure_png`) where five rows of panels shrank it."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -456,12 +480,12 @@ def plot(path: Path, panels: list[tuple[str, list[Curve]]]) -> None:
     from raykit.io.images import save_figure
 
     figure, axes = plt.subplots(
-        len(panels), 2, figsize=(9, 2.6 * len(panels) + 0.8), layout="constrained", squeeze=False
+        2, len(panels), figsize=(3.4 * len(panels), 6.6), layout="constrained", squeeze=False
     )
     styles = {"random": "o-", "jittered": "s-", "sobol": "^-",
               "independent": "o--", "stratified": "s--"}  # fmt: skip
     legend = {}
-    for (name, curves), (by_spp, by_time) in zip(panels, axes, strict=True):
+    for (name, curves), by_spp, by_time in zip(panels, axes[0], axes[1], strict=True):
         for curve in curves:
             style = styles[curve.sampler]
             (line,) = by_spp.loglog(curve.spp, curve.rmse(), style, label=curve.label)
@@ -471,20 +495,19 @@ def plot(path: Path, panels: list[tuple[str, list[Curve]]]) -> None:
         spp = np.asarray(first.spp, float)
         (line,) = by_spp.loglog(spp, first.rmse()[0] * (spp / spp[0]) ** -0.5, ":", color="grey")
         legend.setdefault("slope -1/2", line)
+        by_spp.set_title(name, fontsize=11)
         by_spp.set_xlabel("samples per pixel")
         by_time.set_xlabel("render time (s)")
-        by_spp.set_ylabel(f"{name}\nRMS error")
         by_spp.set_xticks(first.spp)
-        low, high = by_time.get_xlim()  # 1 and 3 per decade, or 1 where that crowds them
-        by_time.xaxis.set_major_locator(LogLocator(subs=(1, 3) if high < 300 * low else (1,)))
+        by_time.set_xticks(_time_ticks(*by_time.get_xlim()))
         for ax in (by_spp, by_time):
             ax.yaxis.set_major_locator(LogLocator(subs=(1, 2, 5)))
             for axis in (ax.xaxis, ax.yaxis):
                 axis.set_major_formatter(FormatStrFormatter("%g"))
                 axis.set_minor_formatter(NullFormatter())
-    axes[0][0].set_title("error against samples per pixel", fontsize=10)
-    axes[0][1].set_title("error against render time", fontsize=10)
-    figure.legend(legend.values(), legend.keys(), loc="outside lower center", ncol=3)
+    axes[0][0].set_ylabel("RMS error")
+    axes[1][0].set_ylabel("RMS error")
+    figure.legend(legend.values(), legend.keys(), loc="outside lower center", ncol=4)
     save_figure(figure, path)
     plt.close(figure)
     print(f"\nwrote {path}")
@@ -564,7 +587,7 @@ def machine_line() -> str:
     return (
         f"Machine: {model or 'an unnamed processor'}, {os.cpu_count()} cores"
         f"{', ' + widest if widest else ''}. raykit's numpy engine renders in one thread (numpy's"
-        " own), Mitsuba's llvm_ad_rgb in as many as there are cores."
+        " own), its compiled engine and Mitsuba's llvm_ad_rgb in as many as there are cores."
     )
 
 
@@ -615,10 +638,16 @@ def run(args: argparse.Namespace) -> None:
                 if child.failure:
                     print(f"Mitsuba {version} {VARIANT} {child.failure}\n")
                     child = None
+            refused = args.engine == "compiled" and compiled_refuses(effect.scene)
+            if refused:  # measured all the same, by the engine that renders it
+                print(f"{effect.name}: the compiled engine does not render {refused}: numpy does\n")
+            effect_args = (
+                argparse.Namespace(**{**vars(args), "engine": "numpy"}) if refused else args
+            )
             # the engine of the renders with many samples (a distributed scene)
-            many = Sampling(counts[-1], "jittered", 1)
-            engine = choose(args.engine, replace(effect.scene, sampling=many))
-            curves, converged = measure(effect, args, counts, child, folder)
+            many = sampled(effect, counts[-1], "jittered", 1)
+            engine = choose(effect_args.engine, replace(effect.scene, sampling=many))
+            curves, converged = measure(effect, effect_args, counts, child, folder)
             print_curves(effect, curves, engine, args.repeats)
             panels.append((effect.name, curves))
             slopes += [(effect.name, c) for c in curves]
