@@ -246,13 +246,15 @@ def caster_answers_what_cast_answers(rng):
 
 
 def distributed_scene(
-    rng, sampler, *, lens=False, mirrors=False, samples=4, lights=True, glossy=False
+    rng, sampler, *, lens=False, mirrors=False, samples=4, lights=True, glossy=False, moving=False
 ):
     """A seeded random distributed scene (format v2, read as a file is) of 48 x 36 pixels:
     spheres on a floor, in front of a textured wall, ``samples`` per pixel by ``sampler`` with
     a random seed; with ``lights``, an area light, a point light and a directional light (and
     ambient light), else flat colours; a thin lens of random aperture and focus if ``lens``;
-    mirror spheres and max_depth 2 if ``mirrors``, some of them glossy if ``glossy``."""
+    mirror spheres and max_depth 2 if ``mirrors``, some of them glossy if ``glossy``; with
+    ``moving``, a shutter [T0, T1] and every other sphere moving (motion blur), one of them
+    across the others."""
     spheres = []
     for k in range(6):
         center = rng.uniform([-3, 0.3, -3], [3, 1.5, 2]).tolist()
@@ -264,6 +266,8 @@ def distributed_scene(
             sphere |= {"mirror": rng.uniform(0.3, 0.9, size=3).tolist()}
             if glossy and k == 0:  # one glossy, one ideal mirror
                 sphere |= {"glossiness": float(rng.uniform(0.1, 0.5))}
+        if moving and k % 2 == 0:  # fast enough to cross the others while the shutter is open
+            sphere |= {"velocity": rng.uniform([-3, -0.3, -1], [3, 0.3, 1]).tolist()}
         spheres.append(sphere)
     data = {
         "version": 2,
@@ -294,4 +298,6 @@ def distributed_scene(
                            "focus_distance": float(rng.uniform(5, 10))}  # fmt: skip
     if mirrors:
         data["max_depth"] = 2
+    if moving:
+        data["render"]["shutter"] = sorted(rng.uniform(0, 1, size=2).tolist())
     return scene_from_dict(data, folder=SCENES)

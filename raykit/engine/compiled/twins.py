@@ -148,6 +148,11 @@ TWINS = (
         "render's loop over one job's pixels, distributed, each with all its samples",
     ),
     Twin(
+        "driver.spheres_at",
+        "raykit.render.cast",
+        "cast's centres of the spheres at one ray's time, a moving one's by center_at",
+    ),
+    Twin(
         "driver.pixel_means",
         "raykit.engine.regions.Image.mean",
         "the mean of each pixel's samples, as the image takes it, for one job",
