@@ -59,6 +59,13 @@ def test_random_moving_scenes_render_the_same_with_both_engines(effect, sampler)
     same_render(scene)
 
 
+def test_a_moving_scene_of_more_objects_than_direct_hits_tests_every_one_through_its_tree():
+    rng = np.random.default_rng(44)  # 14 spheres and 2 billboards: the tree's one leaf is walked
+    scene = distributed_scene(rng, "sobol", lens=True, mirrors=True, moving=True, spheres=14)
+    assert scene.object_count > compiled.DIRECT_HITS
+    same_render(scene)
+
+
 @pytest.mark.parametrize("sampler", SAMPLERS)
 def test_a_moving_scene_with_its_shutter_open_no_while_renders_the_same_with_both_engines(
     sampler,
