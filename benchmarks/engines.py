@@ -62,7 +62,7 @@ def benchmark_scenes(quick: bool, *, format_v1_only: bool = False) -> dict:
     scenes = {p.stem: load_scene(p) for p in files}
     if not format_v1_only:  # (a v1 scene renders in every engine; an older raykit has no
         # choice.compiled_refuses)
-        # what the compiled engine does not render yet (motion blur): nothing to compare
+        # what the compiled engine does not render yet (nothing of stage 5): nothing to compare
         scenes = {name: s for name, s in scenes.items() if choice.compiled_refuses(s) is None}
     if not quick:
         scenes["sphereflake 4"] = sphereflake(4)

@@ -336,7 +336,7 @@ def test_shading_cost_plot_draws_flat_shaded_and_unculled_per_scene(tmp_path, mo
 
 
 _SCENES = {p.stem: load_scene(p) for p in sorted((REPO / "scenes").glob("*.json"))}
-# the example scenes the compiled engine renders (not motion blur, yet)
+# the example scenes the compiled engine renders (every one, motion blur included)
 EXAMPLES = [name for name, scene in _SCENES.items() if compiled_refuses(scene) is None]
 # those whose rays the screen tiles serve (stage 5's distributed ones walk the tree)
 PINHOLE_EXAMPLES = [name for name in EXAMPLES if not _SCENES[name].distributed]

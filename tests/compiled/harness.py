@@ -246,15 +246,26 @@ def caster_answers_what_cast_answers(rng):
 
 
 def distributed_scene(
-    rng, sampler, *, lens=False, mirrors=False, samples=4, lights=True, glossy=False
+    rng,
+    sampler,
+    *,
+    lens=False,
+    mirrors=False,
+    samples=4,
+    lights=True,
+    glossy=False,
+    moving=False,
+    spheres=6,
 ):
     """A seeded random distributed scene (format v2, read as a file is) of 48 x 36 pixels:
-    spheres on a floor, in front of a textured wall, ``samples`` per pixel by ``sampler`` with
-    a random seed; with ``lights``, an area light, a point light and a directional light (and
-    ambient light), else flat colours; a thin lens of random aperture and focus if ``lens``;
-    mirror spheres and max_depth 2 if ``mirrors``, some of them glossy if ``glossy``."""
-    spheres = []
-    for k in range(6):
+    ``spheres`` spheres on a floor, in front of a textured wall, ``samples`` per pixel by
+    ``sampler`` with a random seed; with ``lights``, an area light, a point light and a
+    directional light (and ambient light), else flat colours; a thin lens of random aperture
+    and focus if ``lens``; mirror spheres and max_depth 2 if ``mirrors``, some of them glossy if
+    ``glossy``; with ``moving``, a shutter [T0, T1] and every other sphere moving (motion blur),
+    fast enough to cross the others."""
+    balls = []
+    for k in range(spheres):
         center = rng.uniform([-3, 0.3, -3], [3, 1.5, 2]).tolist()
         radius, color = float(rng.uniform(0.3, 0.9)), rng.uniform(size=3).tolist()
         sphere = {"center": center, "radius": radius, "color": color}
@@ -264,13 +275,15 @@ def distributed_scene(
             sphere |= {"mirror": rng.uniform(0.3, 0.9, size=3).tolist()}
             if glossy and k == 0:  # one glossy, one ideal mirror
                 sphere |= {"glossiness": float(rng.uniform(0.1, 0.5))}
-        spheres.append(sphere)
+        if moving and k % 2 == 0:
+            sphere |= {"velocity": rng.uniform([-3, -0.3, -1], [3, 0.3, 1]).tolist()}
+        balls.append(sphere)
     data = {
         "version": 2,
         "camera": {"eye": [float(rng.uniform(-1, 1)), 2.5, 8], "lookat": [0, 0.8, 0],
                    "up": [0, 1, 0], "fov_angle": 45, "width": 48, "height": 36},
         "background": rng.uniform(size=3).tolist(),
-        "spheres": spheres,
+        "spheres": balls,
         "billboards": [
             {"upper_left": [-6, 0, -6], "upper_right": [6, 0, -6], "lower_left": [-6, 0, 6],
              "color": [0.8, 0.8, 0.78]},
@@ -294,4 +307,6 @@ def distributed_scene(
                            "focus_distance": float(rng.uniform(5, 10))}  # fmt: skip
     if mirrors:
         data["max_depth"] = 2
+    if moving:
+        data["render"]["shutter"] = sorted(rng.uniform(0, 1, size=2).tolist())
     return scene_from_dict(data, folder=SCENES)

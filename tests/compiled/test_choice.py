@@ -90,6 +90,6 @@ def test_auto_judges_a_distributed_scene_by_its_sample_rays_and_its_own_kernels(
     assert choice.choose("auto", small) == "numpy"  # numba's load would cost more than it saves
     moving = load_scene(SCENES / "motion_blur.json")
     assert choice.numpy_seconds(moving, 1) >= choice.AUTO_FROM
-    assert choice.choose("auto", moving) == "numpy"  # refused by the compiled engine
+    assert choice.choose("auto", moving) == "compiled"  # a distributed scene like any other
     monkeypatch.setattr(choice, "compiled_once", lambda entry: entry != "trace_sampled")
     assert choice.choose("auto", scene) == "numpy"  # its kernels are not compiled yet

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from conftest import SCENES, shifted_scene
-from raykit.engine.choice import choose, compiled_refuses
+from raykit.engine.choice import compiled_refuses
 from raykit.io.scene_json import load_scene, scene_from_dict
 from raykit.lights import AreaLight
 from raykit.render import render
@@ -31,21 +31,51 @@ numba = pytest.importorskip("numba")
 compiled = pytest.importorskip("raykit.engine.compiled")
 
 
-# every example scene but what the compiled engine refuses (motion blur, below)
-EXAMPLES = [p for p in sorted(SCENES.glob("*.json")) if not compiled_refuses(load_scene(p))]
+EXAMPLES = sorted(SCENES.glob("*.json"))  # motion_blur.json among them
 
 
 @pytest.mark.parametrize("path", EXAMPLES, ids=lambda p: p.stem)
 def test_every_example_scene_gives_the_same_png_bytes_with_both_engines(path):
-    same_render(load_scene(path))  # soft_shadows, depth_of_field, glossy: distributed, to the bit
+    scene = load_scene(path)  # soft_shadows, depth_of_field, glossy, motion_blur: to the bit
+    if scene.moving:  # every object at each ray's time: the numpy engine takes its time
+        scene = replace(scene, camera=replace(scene.camera, width=48, height=32))
+    same_render(scene)
 
 
-def test_the_compiled_engine_refuses_motion_blur_in_one_line_and_auto_takes_numpy():
-    scene = load_scene(SCENES / "motion_blur.json")
-    with pytest.raises(ValueError, match="does not render motion blur") as info:
-        compiled.render(scene)
-    assert "\n" not in str(info.value) and "motion_blur.json" in str(info.value)
-    assert choose("auto", scene) == "numpy"
+def test_the_compiled_engine_refuses_nothing_of_distributed_ray_tracing():
+    assert all(compiled_refuses(load_scene(path)) is None for path in EXAMPLES)
+
+
+@pytest.mark.parametrize("sampler", SAMPLERS)
+@pytest.mark.parametrize("effect", ["area lights", "lens and mirrors", "flat", "glossy"])
+def test_random_moving_scenes_render_the_same_with_both_engines(effect, sampler):
+    rng = np.random.default_rng(sum(map(ord, "moving " + effect + sampler)))
+    samples = {"random": 5, "jittered": 9, "sobol": 8}[sampler]
+    scene = distributed_scene(
+        rng, sampler, lens="lens" in effect, mirrors="mirrors" in effect or effect == "glossy",
+        lights=effect != "flat", samples=samples, glossy=effect == "glossy", moving=True,
+    )  # fmt: skip
+    assert scene.moving and scene.blurred
+    same_render(scene)
+
+
+def test_a_moving_scene_of_more_objects_than_direct_hits_tests_every_one_through_its_tree():
+    rng = np.random.default_rng(44)  # 14 spheres and 2 billboards: the tree's one leaf is walked
+    scene = distributed_scene(rng, "sobol", lens=True, mirrors=True, moving=True, spheres=14)
+    assert scene.object_count > compiled.DIRECT_HITS
+    same_render(scene)
+
+
+@pytest.mark.parametrize("sampler", SAMPLERS)
+def test_a_moving_scene_with_its_shutter_open_no_while_renders_the_same_with_both_engines(
+    sampler,
+):
+    rng = np.random.default_rng(sum(map(ord, "shut " + sampler)))
+    scene = distributed_scene(rng, sampler, mirrors=True, moving=True)
+    shutter = (0.6, 0.6)  # every ray at T0: no time dimension in the numbers
+    scene = replace(scene, sampling=replace(scene.sampling, shutter=shutter))
+    assert scene.moving and not scene.blurred
+    same_render(scene)
 
 
 @pytest.mark.parametrize("sampler", SAMPLERS)
@@ -165,6 +195,8 @@ def test_the_image_does_not_depend_on_which_core_takes_which_tile():
     scenes.append(replace(mirrors, camera=replace(mirrors.camera, width=80, height=60)))
     rng = np.random.default_rng(12)  # distributed: a pixel's numbers are its own, whoever takes it
     scenes += [distributed_scene(rng, sampler, lens=True, mirrors=True) for sampler in SAMPLERS]
+    scenes += [distributed_scene(rng, sampler, lens=True, mirrors=True, moving=True)
+               for sampler in SAMPLERS]  # fmt: skip
     threads = numba.get_num_threads()
     try:
         for scene in scenes:
@@ -352,5 +384,6 @@ CHECKS = {
     "driver.trace_lit": _small("classic_lit"),
     "driver.lit_job": _small("mirror_balls"),
     "driver.pixel_means": _small("classic", samples=3),
+    "driver.spheres_at": _distributed("random", lens=True, mirrors=True, moving=True),
 }
 test_the_twin_repeats_its_reference = twin_test("driver", CHECKS)

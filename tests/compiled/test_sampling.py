@@ -169,6 +169,21 @@ def _perturbed_direction(rng):
         exactly(run(r, a, xi), sampling.perturbed_direction(r, a, xi))
 
 
+def _shutter_times(rng):
+    xi = _uniforms(rng)  # (COUNT, 2): two pixels' worth of samples each
+    for shutter in ((0.0, 1.0), (0.25, 0.75), (0.5, 0.5), tuple(sorted(rng.uniform(0, 1e3, 2)))):
+
+        @numba.njit
+        def run(shutter_open, shutter_close, xi):
+            out = np.empty_like(xi)
+            for i in range(xi.shape[0]):
+                for j in range(xi.shape[1]):
+                    out[i, j] = kernels.shutter_times(shutter_open, shutter_close, xi[i, j])
+            return out
+
+        exactly(run(*shutter, xi), sampling.shutter_times(*shutter, xi))
+
+
 CHECKS = {
     "sampling.basis_around": _basis_around,
     "sampling.perturbed_direction": _perturbed_direction,
@@ -178,5 +193,6 @@ CHECKS = {
     "sampling.point_on_disk": _point_on_disk,
     "sampling.cos_sin": _cos_sin,
     "sampling.point_on_lens": _point_on_lens,
+    "sampling.shutter_times": _shutter_times,
 }
 test_the_twin_repeats_its_reference = twin_test("sampling", CHECKS)

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from raykit.spheres import hit_sphere
+from raykit.spheres import center_at, hit_sphere
 
 from .harness import (
     RAYS,
@@ -86,5 +86,25 @@ def _hit_sphere(rng):
     )
 
 
-CHECKS = {"spheres.hit_sphere": _hit_sphere}
+def _center_at(rng):
+    count = 20_000
+    times = rng.uniform(0, 2, size=count)
+    times[:3] = 0.0, 1.0, np.nextafter(1.0, 0.0)
+    for scale in (1.0, 1e6):
+        center, velocity = rng.normal(size=(2, 3)) * scale
+
+        @numba.njit
+        def run(center, velocity, times):
+            out = np.empty((len(times), 3))
+            for i in range(len(times)):
+                out[i, 0], out[i, 1], out[i, 2] = compiled.spheres.center_at(
+                    center[0], center[1], center[2], velocity[0], velocity[1], velocity[2],
+                    times[i],
+                )  # fmt: skip
+            return out
+
+        exactly(run(center, velocity, times), center_at(center, velocity, times))
+
+
+CHECKS = {"spheres.hit_sphere": _hit_sphere, "spheres.center_at": _center_at}
 test_the_twin_repeats_its_reference = twin_test("spheres", CHECKS)

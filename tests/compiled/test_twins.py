@@ -87,7 +87,7 @@ def _calls(run) -> set[str]:
 def test_every_lecture_function_the_numpy_engine_runs_has_a_twin_or_is_shared():
     def scenes():  # each run its own: a scene caches what it computes once (its camera frame)
         for name in ("classic", "classic_lit", "mirror_balls", "cutouts", "shadow_on_billboard",
-                     "soft_shadows", "depth_of_field", "glossy"):  # fmt: skip
+                     "soft_shadows", "depth_of_field", "glossy", "motion_blur"):  # fmt: skip
             scene = load_scene(SCENES / f"{name}.json")
             yield replace(scene, camera=replace(scene.camera, width=24, height=16))
 
@@ -103,7 +103,8 @@ def test_every_lecture_function_the_numpy_engine_runs_has_a_twin_or_is_shared():
     alone = numpy_calls - shared - twinned
     assert not alone, f"run by the numpy engine, with no compiled twin in the table: {alone}"
     assert {"raykit.shading.blinn_phong", "raykit.render.cast"} <= numpy_calls
-    stage_5 = {"raykit.lights.sampled", "raykit.sampling._cos_sin", "raykit.mirrors.glossy_reflect"}
+    stage_5 = {"raykit.lights.sampled", "raykit.sampling._cos_sin", "raykit.mirrors.glossy_reflect",
+               "raykit.sampling.shutter_times", "raykit.spheres.center_at"}  # fmt: skip
     assert stage_5 <= numpy_calls
 
 

@@ -62,8 +62,15 @@ sample, dimension) in wrapping uint64 arithmetic (:mod:`.noise`; the Sobol' poin
 scipy, made in Python), so no number depends on which worker takes which pixel; the sample
 patterns (:mod:`.sampling`), an area light's point (:func:`.lights.sampled`), the thin lens's
 rays (:func:`.camera.thin_lens_rays`) and a glossy mirror's ray
-(:func:`.mirrors.glossy_reflect`) repeat the reference's operations in its order. Motion blur
-is refused in one line (:func:`raykit.engine.choice.refuse_distributed`).
+(:func:`.mirrors.glossy_reflect`) repeat the reference's operations in its order. Motion
+blur: each sample's ray has its own time in the shutter interval (:func:`.sampling.shutter_times`),
+and each worker moves its copy of the sphere centres there (:func:`.spheres.center_at`,
+:func:`.driver.spheres_at`) before the ray, its shadow and mirror rays and its normals read
+them; the tree is then one leaf of every object (:func:`.scene.every_object_tree`), as the
+reference tests every object of a scene that moves. One corner differs: the reference takes a
+still sphere's normal from c + T·0, which turns a centre coordinate of -0.0 into +0.0 where its
+hit test keeps -0.0; the engine keeps c for both, so a normal's component can differ in the
+sign of a zero where a hit point's coordinate is exactly -0.0 too.
 
 Compiling. Each kernel is compiled on first use, with the kernels it calls, and cached on disk,
 kernel by kernel, in a folder keyed on the sources they are made from (the reference modules

@@ -38,13 +38,16 @@ from raykit.engine.compiled.compiling import (
     marked,
 )
 from raykit.engine.compiled.noise import JITTERED, RANDOM, SOBOL, pixel_sample
-from raykit.engine.compiled.sampling import point_in_pixel
+from raykit.engine.compiled.sampling import point_in_pixel, shutter_times
 from raykit.engine.compiled.scene import (
     _NO_TREE,
     Arrays,
+    Motion,
     Shading,
     Tree,
+    every_object_tree,
     scene_arrays,
+    scene_motion,
     scene_shading,
     scene_tree,
 )
@@ -57,6 +60,7 @@ from raykit.engine.compiled.shading import (
     surface_lanes,
 )
 from raykit.engine.compiled.shadows import SHADOW_CANDIDATES, shadow_lists
+from raykit.engine.compiled.spheres import center_at
 from raykit.engine.compiled.tiles import (
     HOLDING_CHUNK,
     Tiles,
@@ -464,8 +468,8 @@ def scene_noise(scene: Scene) -> Noise:
 
 
 @njit(parallel=True, **MAKES_ARRAYS)
-def trace_sampled(arrays, tree, shading, camera, lens, noise, width, jobs, workers, rgb, index,
-                  t):  # fmt: skip
+def trace_sampled(arrays, tree, shading, camera, lens, noise, motion, width, jobs, workers, rgb,
+                  index, t):  # fmt: skip
     """The lecture's loop for a distributed scene (stage 5, as
     :class:`raykit.engine.regions.Plan` batches it): for each pixel, each of its
     ``noise.count`` samples in order, from the sample's uniform numbers
@@ -478,7 +482,12 @@ def trace_sampled(arrays, tree, shading, camera, lens, noise, width, jobs, worke
     SAMPLED_PIXELS (row-major, P = ``len(t)``); results into ``rgb (P, 3)``, ``index``, ``t
     (P,)``. Every ray walks the tree: a lens's rays do not start at the eye, so the screen
     tiles bound nothing (as the reference tests every object then), and the answer is
-    :func:`raykit.render.cast`'s either way. Workers take grains of jobs as
+    :func:`raykit.render.cast`'s either way. In a scene whose spheres move (``motion``:
+    :class:`Motion`) each sample's ray has its own time (:func:`shutter_times`), and its viewing,
+    shadow and mirror rays and its normals see the moving spheres there (:func:`center_at`):
+    each worker keeps its own copy of the scene's arrays, their centres moved to the time of
+    the ray it traces (:func:`spheres_at`), and the tree is :func:`every_object_tree`, as the
+    reference tests every object then. Workers take grains of jobs as
     :func:`trace_flat`'s do; a pixel's numbers depend on it alone, so the image does not depend
     on which takes which."""
     grain = max(1, len(jobs) // (workers * GRAINS_PER_WORKER))
@@ -486,37 +495,62 @@ def trace_sampled(arrays, tree, shading, camera, lens, noise, width, jobs, worke
     for _ in prange(workers):
         stack = new_stack()
         numbers = np.empty(noise.dimensions)
+        at_time = Arrays(arrays.centers.copy(), arrays.radii, arrays.sphere_colors,
+                         arrays.corners, arrays.n, arrays.alpha_axes, arrays.beta_axes,
+                         arrays.board_colors, arrays.texture_start, arrays.texture_width,
+                         arrays.texture_height, arrays.texels, arrays.background)  # fmt: skip
         while True:
             first_job = take(taken, grain)
             if first_job >= len(jobs):
                 break
             for j in range(first_job, min(len(jobs), first_job + grain)):
-                sampled_job(arrays, tree, shading, camera, lens, noise, width, jobs[j], stack,
-                            numbers, rgb, index, t)  # fmt: skip
+                sampled_job(arrays, at_time, tree, shading, camera, lens, noise, motion, width,
+                            jobs[j], stack, numbers, rgb, index, t)  # fmt: skip
 
 
 @njit(**KERNEL)
-def sampled_job(arrays, tree, shading, camera, lens, noise, width, first, stack, numbers, rgb,
-                index, t):  # fmt: skip
+def spheres_at(arrays, motion, centers, T):
+    """The centres ``centers (S, 3)`` of the scene's spheres at one ray's time T, as
+    :func:`raykit.render.cast` offers them: a sphere with a velocity at :func:`center_at`, the
+    others where they stand."""
+    for i in range(len(centers)):
+        if motion.moves[i]:
+            velocity = motion.velocities
+            centers[i, 0], centers[i, 1], centers[i, 2] = center_at(
+                arrays.centers[i, 0], arrays.centers[i, 1], arrays.centers[i, 2],
+                velocity[i, 0], velocity[i, 1], velocity[i, 2], T,
+            )  # fmt: skip
+
+
+@njit(**KERNEL)
+def sampled_job(arrays, at_time, tree, shading, camera, lens, noise, motion, width, first,
+                stack, numbers, rgb, index, t):  # fmt: skip
     """One job of :func:`trace_sampled`: the SAMPLED_PIXELS pixels from pixel ``first``, with
-    the worker's ``stack`` (:func:`new_stack`) and room for a sample's uniform numbers,
-    ``numbers (D,)``."""
+    the worker's ``stack`` (:func:`new_stack`), room for a sample's uniform numbers,
+    ``numbers (D,)``, and the worker's copy of ``arrays``, ``at_time``, whose centres it moves
+    to each ray's time in a scene that moves (:class:`Motion`), and every ray reads."""
     count = noise.count
     for p in range(first, min(first + SAMPLED_PIXELS, len(t))):
         row, col = p // width, p % width
         r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
         for k in range(count):
             pixel_sample(noise.sampler, noise.seed, p, k, noise.n, noise.table, numbers)
+            if motion.moving:  # the ray's time: its own, or the shutter's opening
+                T = motion.shutter_open
+                if motion.time >= 0:
+                    T = shutter_times(motion.shutter_open, motion.shutter_close,
+                                      numbers[motion.time])  # fmt: skip
+                spheres_at(arrays, motion, at_time.centers, T)
             x, y = point_in_pixel(row, col, numbers[noise.pixel], numbers[noise.pixel + 1])
             if lens[0] > 0:
                 ray = thin_lens_rays(camera, lens, x, y, numbers[noise.lens],
                                      numbers[noise.lens + 1])  # fmt: skip
             else:
                 ray = rays_through(camera, x, y)
-            hit = nearest_hit(arrays, tree, stack, ray.o0, ray.o1, ray.o2, ray.d0, ray.d1,
+            hit = nearest_hit(at_time, tree, stack, ray.o0, ray.o1, ray.o2, ray.d0, ray.d1,
                               ray.d2, np.inf)  # fmt: skip
             if shading.shaded:
-                c0, c1, c2 = shade(arrays, tree, shading, stack, ray.o0, ray.o1, ray.o2, ray.d0,
+                c0, c1, c2 = shade(at_time, tree, shading, stack, ray.o0, ray.o1, ray.o2, ray.d0,
                                    ray.d1, ray.d2, hit.index, hit.t, hit.r, hit.g, hit.b,
                                    numbers)  # fmt: skip
             else:  # no light: the object's flat colour
@@ -528,7 +562,9 @@ def sampled_job(arrays, tree, shading, camera, lens, noise, width, first, stack,
         rgb[p, 1] = g_sum / count
         rgb[p, 2] = b_sum / count
         ray = rays_through(camera, col + 0.5, row + 0.5)  # the pinhole's, with a lens
-        hit = nearest_hit(arrays, tree, stack, ray.o0, ray.o1, ray.o2, ray.d0, ray.d1, ray.d2,
+        if motion.moving:  # at the shutter's opening
+            spheres_at(arrays, motion, at_time.centers, motion.shutter_open)
+        hit = nearest_hit(at_time, tree, stack, ray.o0, ray.o1, ray.o2, ray.d0, ray.d1, ray.d2,
                           np.inf)  # fmt: skip
         index[p], t[p] = hit.index, hit.t
 
@@ -555,7 +591,8 @@ class Prepared(NamedTuple):
     (:func:`screen_tiles`), BVH (:class:`Tree`, for shadow and mirror rays, and a distributed
     render's every ray; empty when the scene has none), :class:`Shading` (lights and materials)
     and camera (:func:`camera_tuple`); and a distributed scene's thin lens (:func:`lens_tuple`)
-    and :class:`Noise` (None for another scene)."""
+    and :class:`Noise` (None for another scene), and its :class:`Motion` (nothing moving but in a
+    scene with a shutter; such a scene's tree is :func:`every_object_tree`)."""
 
     scene: Scene
     arrays: Arrays
@@ -565,6 +602,7 @@ class Prepared(NamedTuple):
     camera: CameraNumbers
     lens: tuple
     noise: Noise | None
+    motion: Motion
 
 
 def prepare(scene: Scene) -> Prepared:
@@ -577,9 +615,11 @@ def prepare(scene: Scene) -> Prepared:
     arrays = scene_arrays(scene)
     shading = scene_shading(scene)
     tree = scene_tree(scene) if shading.shaded or scene.distributed else _NO_TREE
+    if scene.moving:  # no box of the spheres as they stand bounds them: every object
+        tree = every_object_tree(scene)
     noise = scene_noise(scene) if scene.distributed else None
     return Prepared(scene, arrays, screen_tiles(scene, arrays), tree, shading, camera_tuple(scene),
-                    lens_tuple(scene), noise)  # fmt: skip
+                    lens_tuple(scene), noise, scene_motion(scene))  # fmt: skip
 
 
 def render(scene: Scene | Prepared, samples: int = 1, *, adaptive: bool = False, progress=None):
@@ -681,7 +721,8 @@ def _entry(prepared: Prepared) -> tuple:
     name = entry_point(prepared.scene)
     if name == "trace_sampled":
         return name, trace_sampled, (prepared.arrays, prepared.tree, prepared.shading,
-                                     prepared.camera, prepared.lens, prepared.noise)  # fmt: skip
+                                     prepared.camera, prepared.lens, prepared.noise,
+                                     prepared.motion)  # fmt: skip
     if name == "trace_flat":
         return name, trace_flat, (prepared.arrays, prepared.tiles, prepared.camera)
     bounces = True if name == "trace_mirrors" else None

@@ -110,3 +110,10 @@ def perturbed_direction(r0, r1, r2, a, x1, x2):
     p2 = r2 + along_u * u2 + along_v * v2
     length = math.sqrt(p0 * p0 + p1 * p1 + p2 * p2)
     return p0 / length, p1 / length, p2 / length
+
+
+@njit(**ONE_RAY)
+def shutter_times(shutter_open, shutter_close, u):
+    """Repeats :func:`raykit.sampling.shutter_times` for one ray: its time T = T0 + ξ·(T1 - T0)
+    in the shutter interval [T0, T1] from its own number ξ."""
+    return shutter_open + u * (shutter_close - shutter_open)

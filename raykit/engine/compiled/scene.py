@@ -223,6 +223,48 @@ _NO_TREE = Tree(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 2), np.int64),
                 *[np.zeros(0, np.int64)] * 3, np.zeros((0, 3)), np.zeros((0, 3)))  # fmt: skip
 
 
+class Motion(NamedTuple):
+    """A scene's moving spheres (motion blur, :mod:`raykit.sampling`) as :func:`trace_sampled
+    <raykit.engine.compiled.driver.trace_sampled>` moves them: ``moving``, whether any does
+    (:attr:`raykit.scene.Scene.moving`); the spheres' ``velocities (S, 3)`` and ``moves (S,)``,
+    whether each has a velocity (:func:`raykit.render.cast` moves only those); the shutter's
+    ``shutter_open`` and ``shutter_close``; and ``time``, the dimension of a sample's uniform
+    numbers that gives its ray's time (:class:`raykit.engine.noise.Dimensions`), -1 where every
+    ray is at the opening (the shutter open no while, or nothing moving)."""
+
+    moving: bool
+    velocities: np.ndarray
+    moves: np.ndarray
+    shutter_open: float
+    shutter_close: float
+    time: int
+
+
+def scene_motion(scene: Scene) -> Motion:
+    """The scene's :class:`Motion` (nothing moving, for a scene without a shutter)."""
+    spheres = len(scene.spheres)
+    if not scene.moving:
+        return Motion(False, np.zeros((spheres, 3)), np.zeros(spheres, dtype=np.bool_), 0.0, 0.0,
+                      -1)  # fmt: skip
+    velocities = np.require(scene.velocities[:spheres], float, "CAW").reshape(spheres, 3)
+    shutter_open, shutter_close = (float(T) for T in scene.sampling.shutter)
+    time = Dimensions.of(scene).time if scene.blurred else -1
+    return Motion(True, velocities, velocities.any(axis=1), shutter_open, shutter_close, time)
+
+
+def every_object_tree(scene: Scene) -> Tree:
+    """A tree of one leaf, all of space its box, holding every object in index order: what the
+    walk of :func:`~raykit.engine.compiled.bvh.nearest_hit` makes a test of every object, as
+    :func:`raykit.render.cast` tests them in a scene whose spheres move (a box of a sphere as it
+    stands does not bound where a ray at another time finds it; the reference builds none)."""
+    objects = scene.object_count
+    everywhere = np.full((1, 3), np.inf)
+    return Tree(-everywhere, everywhere.copy(), np.full((1, 2), -1, np.int64),
+                np.zeros(1, np.int64), np.full(1, objects, np.int64),
+                np.arange(objects, dtype=np.int64), np.full((objects, 3), -np.inf),
+                np.full((objects, 3), np.inf))  # fmt: skip
+
+
 def scene_tree(scene: Scene) -> Tree:
     """The scene's BVH, built by the numpy engine's own builder, as a :class:`Tree`."""
     bvh = BVH.build(scene)

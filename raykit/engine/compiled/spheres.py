@@ -30,3 +30,10 @@ def hit_sphere(o0, o1, o2, d0, d1, d2, c0, c1, c2, R) -> float:
         return np.inf
     q = -(b + math.copysign(math.sqrt(discriminant), b))
     return nearest_positive(q / A, C / q)
+
+
+@njit(**ONE_RAY)
+def center_at(c0, c1, c2, v0, v1, v2, T):
+    """Repeats :func:`raykit.spheres.center_at` for one ray: the centre c + T·v of a sphere
+    moving with velocity v, at the ray's time T."""
+    return c0 + T * v0, c1 + T * v1, c2 + T * v2

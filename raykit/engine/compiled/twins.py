@@ -40,6 +40,7 @@ class Twin(NamedTuple):
 TWINS = (
     Twin("rays.nearest_positive", "raykit.rays.nearest_positive"),
     Twin("spheres.hit_sphere", "raykit.spheres.hit_sphere"),
+    Twin("spheres.center_at", "raykit.spheres.center_at"),
     Twin("billboards.hit_billboard", "raykit.billboards.hit_billboard"),
     Twin("billboards.billboard_color_at", "raykit.billboards.billboard_color_at"),
     Twin("camera.rays_through", "raykit.camera.rays_through"),
@@ -72,6 +73,7 @@ TWINS = (
     Twin("sampling.point_on_lens", "raykit.sampling.point_on_lens"),
     Twin("sampling.basis_around", "raykit.sampling.basis_around"),
     Twin("sampling.perturbed_direction", "raykit.sampling.perturbed_direction"),
+    Twin("sampling.shutter_times", "raykit.sampling.shutter_times"),
     Twin("surfaces.surface_points", "raykit.surfaces.surface_points"),
     Twin("surfaces.start", "raykit.surfaces.SurfacePoints.start"),
     Twin(
@@ -144,6 +146,11 @@ TWINS = (
         "driver.sampled_job",
         "raykit.render.render",
         "render's loop over one job's pixels, distributed, each with all its samples",
+    ),
+    Twin(
+        "driver.spheres_at",
+        "raykit.render.cast",
+        "cast's centres of the spheres at one ray's time, a moving one's by center_at",
     ),
     Twin(
         "driver.pixel_means",
