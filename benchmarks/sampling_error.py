@@ -460,7 +460,7 @@ def print_agreement(rows: list[tuple[str, str, tuple | None]]) -> None:
 def _time_ticks(low: float, high: float) -> list[float]:
     """Ticks of a log time axis from ``low`` to ``high``: 1 and 3 per decade, 1 where that
     crowds them, and the two ends (two digits) where no such tick falls in between."""
-    subs = (1, 3) if high < 300 * low else (1,)
+    subs = (1, 3) if high < 60 * low else (1,)
     decades = range(math.floor(math.log10(low)), math.ceil(math.log10(high)) + 1)
     ticks = [sub * 10.0**k for k in decades for sub in subs if low <= sub * 10.0**k <= high]
     return ticks if len(ticks) >= 2 else [float(f"{low:.2g}"), float(f"{high:.2g}")]
