@@ -257,7 +257,7 @@ def test_texture_of_a_billboard_no_ray_reaches_is_never_decoded(tmp_path):
     name = write_texture(tmp_path, "unseen.png", [[[1, 2, 3, 255]]])
     scene = scene_from_dict(scene_dict(billboards=[_facing_board(name, z=9.0)]), folder=tmp_path)
     render(scene)  # the board is behind the eye
-    assert "rgba" not in vars(scene.billboards[0].texture)
+    assert not scene.billboards[0].texture.decoded
 
 
 def test_scene_without_light_copies_the_colour_of_the_object_at_each_pixel():

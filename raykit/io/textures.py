@@ -87,6 +87,12 @@ class Texture:
         return width, height
 
     @property
+    def decoded(self) -> bool:
+        """Whether the texels have been decoded (or read from the cache) yet: a texture no ray
+        reaches never is."""
+        return self._rgba is not None
+
+    @property
     def rgba(self) -> np.ndarray:
         """The texels, ``(H, W, 4)`` uint8, row 0 at the top; decoded on first use, or read
         from the cache of decoded textures (a large one, see the module's page). Kept by
