@@ -15,6 +15,7 @@ from .harness import (
     crowd,
     exactly,
     packet_scenes,
+    rays_into_crowd,
     ties_reversed,
     twin_test,
 )
@@ -22,6 +23,9 @@ from .harness import (
 numba = pytest.importorskip("numba")
 compiled = pytest.importorskip("raykit.engine.compiled")
 
+from raykit.engine.compiled.billboards import billboard_color_at, hit_billboard  # noqa: E402
+from raykit.engine.compiled.spheres import hit_sphere  # noqa: E402
+from raykit.engine.compiled.tiles import lane_offer  # noqa: E402
 
 # every way of casting the viewing rays: tiles of each side, their rays in packets or one at a
 # time (raykit.engine.compiled.tile_side picks one per scene); 4-pixel packets are too small to
@@ -156,6 +160,51 @@ def _tiled(side, packets):
     return check
 
 
+@numba.njit
+def _offer_all_by_lane_offer(arrays, objects, origins, directions):
+    """Each ray offered every object in index order, as raykit.render.cast offers them, each
+    taken where lane_offer says it is nearer (and a billboard, opaque there), over a
+    rectangle that holds every point: (index, t, whether every offer went on and held) per
+    ray."""
+    out = np.empty((len(origins), 3))
+    entry = np.array([-np.inf, np.inf, -np.inf, np.inf, 0.0])
+    spheres = len(arrays.radii)
+    for i in range(len(origins)):
+        o, d = origins[i], directions[i]
+        best, best_t, every = -1, np.inf, True
+        for obj in range(objects):
+            if obj < spheres:
+                c = arrays.centers[obj]
+                t = hit_sphere(o[0], o[1], o[2], d[0], d[1], d[2], c[0], c[1], c[2],
+                               arrays.radii[obj])  # fmt: skip
+                opaque = True
+            else:
+                t, alpha, beta = hit_billboard(o[0], o[1], o[2], d[0], d[1], d[2], arrays,
+                                               obj - spheres)  # fmt: skip
+                opaque = t < np.inf and billboard_color_at(arrays, obj - spheres, alpha, beta)[3]
+            still, holds, nearer = lane_offer(True, best, best_t, 0.0, 0.0, entry, obj, t)
+            every = every and still and holds
+            if nearer and opaque:
+                best, best_t = obj, t
+        out[i, 0], out[i, 1], out[i, 2] = best, best_t, every
+    return out
+
+
+def _lane_offer(rng):
+    """lane_offer's rule, offered every object in index order, keeps what cast keeps, exact
+    ties (repeated spheres) and cut-out texels included."""
+    from raykit.render import cast
+
+    scene = crowd(rng, 30)
+    origins, directions = rays_into_crowd(rng, 20_000)
+    expected = cast(scene, origins, directions)
+    got = _offer_all_by_lane_offer(compiled.scene_arrays(scene), scene.object_count, origins,
+                                   directions)  # fmt: skip
+    assert np.array_equal(got[:, 0], expected.index) and (expected.index >= 0).mean() > 0.05
+    exactly(got[:, 1], expected.t)
+    assert got[:, 2].all()  # no rectangle left a lane out, no closest t stopped one
+
+
 def _bin_by_tile(rng):
     """Each tile's list holds the objects of the reference's region of the same pixels that
     can be seen in it (a subset: the compiled lists are cut to the tile's own pixels), nearest
@@ -179,6 +228,7 @@ def _bin_by_tile(rng):
 CHECKS = {
     "tiles.primary_ray": _tiled(4, False),
     "tiles.primary_rays": _tiled(8, True),
+    "tiles.lane_offer": _lane_offer,
     "tiles.bin_by_tile": _bin_by_tile,
 }
 test_the_twin_repeats_its_reference = twin_test("tiles", CHECKS)

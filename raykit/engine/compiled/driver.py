@@ -229,10 +229,10 @@ def pixel_means(film, job, colors, best, best_t):
 class RayRoom(NamedTuple):
     """Room for a job's N rays: each ray's image point ``xy (2, N)``, origin and direction
     ``rays (6, N)``, its hit's object index ``best (N,)`` and ``best_t (N,)``, colour ``colors
-    (3, N)``, whether it was ``made`` (:func:`primary_ray`), room ``alive`` and ``ts`` for
-    :func:`primary_rays`, and ``holding (HOLDING_CHUNK,)`` for :func:`primary_ray`. Each
-    worker makes its own inside the parallel loop (:func:`new_ray_room`), as :class:`Lanes` says
-    why."""
+    (3, N)``, whether it was ``made`` (:func:`primary_ray`), room ``alive``, ``ts``, ``alphas``
+    and ``betas`` for :func:`primary_rays`, and ``holding (HOLDING_CHUNK,)`` for
+    :func:`primary_ray`. Each worker makes its own inside the parallel loop
+    (:func:`new_ray_room`), as :class:`Lanes` says why."""
 
     xy: np.ndarray
     rays: np.ndarray
@@ -242,6 +242,8 @@ class RayRoom(NamedTuple):
     made: np.ndarray
     alive: np.ndarray
     ts: np.ndarray
+    alphas: np.ndarray
+    betas: np.ndarray
     holding: np.ndarray
 
 
@@ -264,7 +266,7 @@ def new_ray_room(n):
     """A :class:`RayRoom` for ``n`` rays."""
     return RayRoom(np.empty((2, n)), np.empty((6, n)), np.empty(n, dtype=np.int64),
                    np.empty(n), np.empty((3, n)), np.empty(n, dtype=np.bool_),
-                   np.empty(n, dtype=np.bool_), np.empty(n),
+                   np.empty(n, dtype=np.bool_), np.empty(n), np.empty(n), np.empty(n),
                    np.empty(HOLDING_CHUNK, dtype=np.int64))  # fmt: skip
 
 
@@ -349,8 +351,7 @@ def flat_job(arrays, tiles, camera, film, job, room):
                     index[p], t[p] = hit.nearest.index, hit.nearest.t
         return
     n = job_points(film, job, room.xy)
-    primary_rays(arrays, tiles, camera, tile, n, room.xy, room.rays, room.best, room.best_t,
-                 room.colors, room.made, room.alive, room.ts)  # fmt: skip
+    primary_rays(arrays, tiles, camera, tile, n, room)
     pixel_means(film, job, room.colors, room.best, room.best_t)
 
 
@@ -399,8 +400,7 @@ def lit_job(arrays, tiles, tree, shading, camera, bounces, film, job, room, shad
     candidates, counts = shading_room.candidates, shading_room.counts
     n = job_points(film, job, xy)
     if tile >= 0 and tiles.packets:
-        primary_rays(arrays, tiles, camera, tile, n, xy, rays, best, best_t, colors, made,
-                     room.alive, room.ts)  # fmt: skip
+        primary_rays(arrays, tiles, camera, tile, n, room)
     else:
         for i in range(n):
             viewing = primary_ray(arrays, tiles, camera, xy[0, i], xy[1, i], tile, holding)

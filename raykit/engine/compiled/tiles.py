@@ -9,8 +9,9 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from raykit.engine.compiled.billboards import billboard_color_at, hit_billboard
 from raykit.engine.compiled.camera import rays_through
-from raykit.engine.compiled.compiling import INLINED, KERNEL, MAKES_ARRAYS
+from raykit.engine.compiled.compiling import INLINED, KERNEL, MAKES_ARRAYS, ONE_RAY
 from raykit.engine.compiled.hits import NearestHit, keep_nearer
 from raykit.engine.compiled.rays import Ray
 from raykit.engine.compiled.scene import Arrays
@@ -142,21 +143,40 @@ def primary_ray(arrays, tiles, camera, x, y, tile, holding):
     return ViewingHit(made=made, nearest=hit, ray=ray)
 
 
+@njit(**ONE_RAY)
+def lane_offer(alive, best, best_t, x, y, entry, obj, t):
+    """:func:`~raykit.engine.compiled.hits.keep_nearer`'s rule for one lane of
+    :func:`primary_rays`, offered object ``obj`` of its tile's list at ``entry (5,)`` (its
+    rectangle x0, x1, y0, y1 and its closest t) with the lane's hit of it at ``t``: whether the
+    lane goes on (``alive`` and its nearest ``best_t`` not nearer than the object can be),
+    whether the rectangle holds its image point (x, y), and whether ``obj`` is nearer than its
+    ``best`` so far, or as near and of a lower index."""
+    x0, x1, y0, y1, closest = entry[0], entry[1], entry[2], entry[3], entry[4]
+    still = alive & (closest <= best_t)
+    holds = still & (x0 <= x) & (x <= x1) & (y0 <= y) & (y <= y1)
+    nearer = holds & ((t < best_t) | ((t == best_t) & (t < np.inf) & (obj < best)))
+    return still, holds, nearer
+
+
 @njit(**KERNEL)
-def primary_rays(arrays, tiles, camera, tile, n, xy, rays, best, best_t, colors, made, alive, ts):
-    """:func:`primary_ray` for the ``n`` image points of ``lanes`` at once, all in ``tile``: a
+def primary_rays(arrays, tiles, camera, tile, n, room):
+    """:func:`primary_ray` for the ``n`` image points of ``room`` at once, all in ``tile``: a
     packet of rays, each a lane of arrays (a :class:`~raykit.engine.compiled.driver.RayRoom`'s:
     points ``xy (2, L)`` in, ``rays (6, L)``, ``best (L,)``, ``best_t``, ``colors (3, L)``,
-    ``made`` out; ``alive``, ``ts`` room). The tile's objects are taken in turn, and each is
-    tested against every lane with one loop of :func:`hit_sphere` that the compiler turns into
-    vector instructions (as many lanes at a time as the processor's vectors hold); masks then
-    keep, for each lane, only what :func:`primary_ray` would: a lane whose rectangle does not
-    hold its point, or that has stopped (its next object can only be farther than its hit),
-    takes nothing from the test. So each lane offers the same objects in the same order as
-    :func:`primary_ray` and gets the same bits; the other lanes' answers are computed and thrown
-    away, which costs less than a branch per ray when the tile's list is short. Billboards are
-    offered lane by lane. Every lane's ray is made (a lane that no rectangle holds is not
+    ``made`` out; ``alive``, ``ts``, ``alphas``, ``betas`` room). The tile's objects are taken
+    in turn, and each is tested against every lane with one loop of :func:`hit_sphere` or
+    :func:`hit_billboard` that the compiler turns into vector instructions (as many lanes at a
+    time as the processor's vectors hold); masks then keep, for each lane, only what
+    :func:`primary_ray` would: a lane whose rectangle does not hold its point, or that has
+    stopped (its next object can only be farther than its hit), takes nothing from the test,
+    and a billboard's texel is looked up only for the lanes it would be nearer for
+    (:func:`~raykit.engine.compiled.hits.keep_nearer`'s rule). So each lane offers the same
+    objects in the same order as :func:`primary_ray` and gets the same bits; the other lanes'
+    answers are computed and thrown away, which costs less than a branch per ray when the
+    tile's list is short. Every lane's ray is made (a lane that no rectangle holds is not
     ``made``, as in :func:`primary_ray`, and its ray is not used)."""
+    xy, rays, best, best_t, colors = room.xy, room.rays, room.best, room.best_t, room.colors
+    made, alive, ts, alphas, betas = room.made, room.alive, room.ts, room.alphas, room.betas
     background = arrays.background
     for i in range(n):
         ray = rays_through(camera, xy[0, i], xy[1, i])
@@ -170,8 +190,6 @@ def primary_rays(arrays, tiles, camera, tile, n, xy, rays, best, best_t, colors,
     entries, objects = tiles.entries, tiles.objects
     centers, radii, sphere_colors = arrays.centers, arrays.radii, arrays.sphere_colors
     for k in range(tiles.start[tile], tiles.start[tile + 1]):
-        closest = entries[k, 4]
-        x0, x1, y0, y1 = entries[k, 0], entries[k, 1], entries[k, 2], entries[k, 3]
         obj = objects[k]
         alive_lanes = 0
         if obj < spheres:
@@ -182,34 +200,31 @@ def primary_rays(arrays, tiles, camera, tile, n, xy, rays, best, best_t, colors,
                     rays[0, i], rays[1, i], rays[2, i], rays[3, i], rays[4, i], rays[5, i],
                     c0, c1, c2, R,
                 )  # fmt: skip
-            for i in range(n):  # keep_nearer's rule, with masks
-                nearest = best_t[i]
-                still = alive[i] & (closest <= nearest)
-                x, y = xy[0, i], xy[1, i]
-                holds = still & (x0 <= x) & (x <= x1) & (y0 <= y) & (y <= y1)
-                t = ts[i]
-                nearer = holds & ((t < nearest) | ((t == nearest) & (t < np.inf) & (obj < best[i])))
+            for i in range(n):
+                still, holds, nearer = lane_offer(alive[i], best[i], best_t[i], xy[0, i],
+                                                  xy[1, i], entries[k], obj, ts[i])  # fmt: skip
                 if nearer:
-                    best[i], best_t[i] = obj, t
+                    best[i], best_t[i] = obj, ts[i]
                     colors[0, i], colors[1, i], colors[2, i] = r, g, b
-                made[i] = made[i] | holds
-                alive[i] = still
+                made[i], alive[i] = made[i] | holds, still
                 alive_lanes += still
         else:
-            for i in range(n):
-                still = alive[i] and closest <= best_t[i]
-                alive[i] = still
+            board = obj - spheres
+            for i in range(n):  # the vector loop: it writes only its three arrays
+                ts[i], alphas[i], betas[i] = hit_billboard(
+                    rays[0, i], rays[1, i], rays[2, i], rays[3, i], rays[4, i], rays[5, i],
+                    arrays, board,
+                )  # fmt: skip
+            for i in range(n):  # a texel only where the billboard is nearer
+                still, holds, nearer = lane_offer(alive[i], best[i], best_t[i], xy[0, i],
+                                                  xy[1, i], entries[k], obj, ts[i])  # fmt: skip
+                if nearer:
+                    r, g, b, opaque = billboard_color_at(arrays, board, alphas[i], betas[i])
+                    if opaque:
+                        best[i], best_t[i] = obj, ts[i]
+                        colors[0, i], colors[1, i], colors[2, i] = r, g, b
+                made[i], alive[i] = made[i] | holds, still
                 alive_lanes += still
-                x, y = xy[0, i], xy[1, i]
-                if still and x0 <= x and x <= x1 and y0 <= y and y <= y1:
-                    made[i] = True
-                    ray = Ray(o0=rays[0, i], o1=rays[1, i], o2=rays[2, i], d0=rays[3, i],
-                              d1=rays[4, i], d2=rays[5, i])  # fmt: skip
-                    so_far = NearestHit(index=best[i], t=best_t[i], r=colors[0, i],
-                                        g=colors[1, i], b=colors[2, i])  # fmt: skip
-                    hit = keep_nearer(arrays, obj, ray, so_far)
-                    best[i], best_t[i] = hit.index, hit.t
-                    colors[0, i], colors[1, i], colors[2, i] = hit.r, hit.g, hit.b
         if alive_lanes == 0:
             break
 

@@ -129,6 +129,11 @@ TWINS = (
         "cast for a packet of a tile's viewing rays, in lanes",
     ),
     Twin(
+        "tiles.lane_offer",
+        "raykit.hits.Hits.keep_nearer",
+        "keep_nearer's rule for one lane of a packet, its hit of the object given",
+    ),
+    Twin(
         "tiles.bin_by_tile",
         "raykit.engine.tiles.regions",
         "each tile's objects as one list, nearest first, for a ray to read straight through",
