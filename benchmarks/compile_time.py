@@ -22,7 +22,10 @@ What it prints is its page, docs/benchmarks/compile_time.md (--page; not with --
    its own cache folder beside it (the first run compiles it), and this one, each in a child
    process of its own, rendering every example scene and the benchmark scenes prepared: medians
    of --repeats renders and their ratio, on every core, then on one (which a neighbour's work
-   on the other core slows less). Not in one process: both engines pass NamedTuples of the same
+   on the other core slows less), then on one timed by the CPU time the child process took
+   (time.process_time: a while in which a neighbour held the core is not counted, so on a
+   busy machine these ratios hold best; on every core they would count the threads' waits).
+   Not in one process: both engines pass NamedTuples of the same
    names and fields (Arrays, Tiles, Tree) to their kernels, and numba's dispatcher, which finds
    the compiled code for a call's arguments by a fingerprint of their types, gives two such
    classes one fingerprint, so the engine that rendered second in the process took numba's slow
@@ -274,14 +277,17 @@ def before_and_after(revision: str, repeats: int, quick: bool) -> None:
         engine: render_child(engine, names, [None], None, quick) for engine in (revision, "now")
     }
     took = {}
-    thread_counts = sorted({numba.config.NUMBA_NUM_THREADS, 1}, reverse=True)
+    # (threads, clock): on every core and on one, by the wall clock; and on one by the CPU
+    # time the render took, which leaves out the whiles a neighbour held the core
+    timings = [(n, "wall") for n in sorted({numba.config.NUMBA_NUM_THREADS, 1}, reverse=True)]
+    timings.append((1, "cpu"))
     try:
-        for threads in thread_counts:  # one: a busy
+        for timing in timings:  # one thread: a busy
             for name in names:  # neighbour on one core holds up no render of it; scene by scene
                 took.update(
                     medians_in_turns(
                         {
-                            (engine, name, threads): timed_render(child, name, None, threads)
+                            (engine, name, timing): timed_render(child, name, None, *timing)
                             for engine, (child, _, _) in children.items()
                         },
                         repeats,
@@ -291,20 +297,23 @@ def before_and_after(revision: str, repeats: int, quick: bool) -> None:
         close(children)
     print(
         f"\n2. prepared renders, median of {repeats} in turns, each engine in a process of its "
-        "own\n"
+        "own; the last three columns time each render by the CPU time its process took (time."
+        "process_time), not the wall clock\n"
     )
     print(
         "| scene | "
         + " | ".join(
-            f"at {revision}, {n} thread(s) | now | now / {revision}" for n in thread_counts
+            f"at {revision}, {n} thread(s){', CPU time' * (clock == 'cpu')} | now | now / "
+            f"{revision}"
+            for n, clock in timings
         )
         + " |"
     )
-    print("|---|" + "---|---|---|" * len(thread_counts))
+    print("|---|" + "---|---|---|" * len(timings))
     for name in names:
         cells = []
-        for threads in thread_counts:
-            old, new = took[(revision, name, threads)], took[("now", name, threads)]
+        for timing in timings:
+            old, new = took[(revision, name, timing)], took[("now", name, timing)]
             cells += [seconds(old, 1), seconds(new, 1), f"{new / old:.2f}"]
         print(f"| {name} | " + " | ".join(cells) + " |")
 
@@ -342,14 +351,15 @@ chosen = {{name: [each.tiles.size, each.tiles.packets]
           for (name, layout), each in prepared.items() if layout is None}}
 print(json.dumps([registers, chosen]), flush=True)
 for line in sys.stdin:
-    name, layout, threads = json.loads(line)
+    name, layout, threads, clock = json.loads(line)
+    clock = time.process_time if clock == "cpu" else time.perf_counter
     numba.set_num_threads(threads)
     each = prepared[name, None if layout is None else tuple(layout)]
     for _ in range({untimed}):
         engine.render(each)
-    started = time.perf_counter()
+    started = clock()
     engine.render(each)
-    print(time.perf_counter() - started, flush=True)
+    print(clock() - started, flush=True)
 """
 
 
@@ -383,12 +393,12 @@ def render_child(engine: str, names: list[str], layouts: list, cache: str | None
     return (child, *json.loads(line))
 
 
-def timed_render(child, scene: str, layout, threads: int):
+def timed_render(child, scene: str, layout, threads: int, clock: str = "wall"):
     """A timer for :func:`medians_in_turns`: ``child`` renders ``scene`` once and says how long
-    it took."""
+    it took, by the wall clock or (``clock`` "cpu") by the CPU time its process took."""
 
     def timed() -> float:
-        child.stdin.write(json.dumps([scene, layout, threads]) + "\n")
+        child.stdin.write(json.dumps([scene, layout, threads, clock]) + "\n")
         child.stdin.flush()
         return float(child.stdout.readline())
 
