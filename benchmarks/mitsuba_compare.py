@@ -2,7 +2,7 @@
 per pixel, pure ray casting (flat scenes) and direct lighting with shadows (lit scenes).
 
     python benchmarks/mitsuba_compare.py [--quick] [--repeats N] [--plot mitsuba_compare.png]
-        [--cpu native haswell] [--pictures FOLDER]
+        [--cpu native haswell] [--threads N] [--pictures FOLDER]
 
 Mitsuba is an optional benchmark dependency, never a runtime one (``pip install mitsuba``).
 Its ``llvm_ad_rgb`` variant needs an LLVM it can load: on Debian 12, ``apt install libllvm19``
@@ -54,6 +54,12 @@ run time, is told ``isa=avx2`` by a small library preloaded into Mitsuba's child
 (:func:`embree_avx2`, compiled with the C compiler; without one, Embree keeps its own pick and
 the page says so). Mitsuba's other ahead-compiled code, all of ``scalar_rgb`` but Embree, is
 as shipped. Each run's page section names the processor and the instruction set.
+
+Threads. ``--threads N`` gives every renderer N threads: raykit's compiled engine N numba
+threads, each Mitsuba variant a Dr.Jit thread pool of N (``drjit.set_thread_count``, which
+both variants render with); by default each takes every core. On a shared machine, one thread
+each times the work more steadily: a render in many threads waits at its end for the slowest,
+and one that a neighbour holds up waits for the scheduler's next turn.
 
 Load: raykit from the scene's file (:func:`set_up_raykit`: the JSON read and checked, each
 texture's header read; a median of 3), Mitsuba ``load_dict`` (which builds its BVH; it reads
@@ -378,18 +384,22 @@ def _distance(a, b) -> float:
     return _distance2(a, b) ** 0.5
 
 
-def mitsuba_child(variant: str, cpu: str) -> None:
+def mitsuba_child(variant: str, cpu: str, threads: int | None = None) -> None:
     """In a child process: load the scene (JSON, the first line of standard input) with one
     Mitsuba variant and render it once; print ``{"load", "first", "hit", "target"}`` as a line
     of JSON; then for each line ``render`` read, render once more and print the seconds it
     took; for a line ``check PATH``, write the pictures of :func:`check_pictures` to PATH (an
     .npz file) and print 1. The lines go to what was standard output when the child started;
     anything a library prints there goes to standard error instead, so it cannot be read as
-    an answer. ``cpu``: "haswell" restricts Dr.Jit's kernels to AVX2 (:func:`drjit_target`)."""
+    an answer. ``cpu``: "haswell" restricts Dr.Jit's kernels to AVX2 (:func:`drjit_target`);
+    ``threads``: the size of Dr.Jit's thread pool (None: one thread a core)."""
     answers = answer_stream()
+    import drjit
     import mitsuba as mi
 
     mi.set_variant(variant)
+    if threads:
+        drjit.set_thread_count(threads)
     target = drjit_target(cpu) if variant.startswith("llvm") else None
     data = json.loads(sys.stdin.readline())
     start = time.perf_counter()
@@ -509,7 +519,8 @@ CHILD_SECONDS = 600  # for one answer of a Mitsuba child: a child slower than th
 class MitsubaChild:
     """One Mitsuba variant in a child process of its own (a variant that aborts takes only
     its child with it), set up on ``data`` (:func:`mitsuba_child`) for ``cpu``, with ``env``
-    added to its environment: ``load``, ``first``, ``hit``, ``target`` (Dr.Jit's), and
+    added to its environment (and ``threads``, its thread pool's size, when given): ``load``,
+    ``first``, ``hit``, ``target`` (Dr.Jit's), and
     :meth:`render_once`. ``failure``: a one-line message, once the child has
     failed to start, died, answered nonsense or taken longer than CHILD_SECONDS for an
     answer; it is then killed, and its row gives the message. ``script``: the benchmark whose
@@ -523,13 +534,15 @@ class MitsubaChild:
         cpu: str = "native",
         env: dict | None = None,
         script: str = __file__,
+        threads: int | None = None,
     ):
         env = {**os.environ, **(env or {})}
         if variant.startswith("llvm") and Path(LLVM_19).exists():
             env.setdefault("DRJIT_LIBLLVM_PATH", LLVM_19)
         self.errors = tempfile.TemporaryFile(mode="w+")
         self.process = subprocess.Popen(
-            [sys.executable, script, "--child", variant, "--cpu", cpu],
+            [sys.executable, script, "--child", variant, "--cpu", cpu]
+            + (["--threads", str(threads)] if threads else []),
             stdin=subprocess.PIPE,
             stdout=subprocess.PIPE,
             stderr=self.errors,
@@ -646,6 +659,9 @@ def main() -> None:
         default=["native"],
         help="instruction sets, a run for each: native (the default), haswell (AVX2)",
     )
+    parser.add_argument(
+        "--threads", type=int, help="threads of each renderer (default: one a core)"
+    )
     parser.add_argument("--pictures", type=Path, help="save the lit scenes' pictures here (PNG)")
     parser.add_argument("--child", help=argparse.SUPPRESS)
     parser.add_argument("--rows", type=Path, help=argparse.SUPPRESS)
@@ -657,7 +673,7 @@ def main() -> None:
     )
     if "--child" in sys.argv:  # one Mitsuba variant, for the parent (MitsubaChild)
         args = parser.parse_args()
-        mitsuba_child(args.child, args.cpu[0])
+        mitsuba_child(args.child, args.cpu[0], args.threads)
         return
     if "--rows" in sys.argv:  # one instruction set's run, for the parent (run_for)
         args = parser.parse_args()
@@ -687,9 +703,8 @@ def run_for(cpu: str, args: argparse.Namespace) -> list[dict]:
     if cpu == "haswell" and engine == "auto" and compiled_available():
         engine = "compiled"
     command = [sys.executable, __file__, "--repeats", str(args.repeats), "--engine", engine]
-    command += ["--quick"] * args.quick + (
-        ["--pictures", str(args.pictures)] if args.pictures else []
-    )
+    command += ["--quick"] * args.quick + ["--threads", str(args.threads)] * bool(args.threads)
+    command += ["--pictures", str(args.pictures)] if args.pictures else []
     with tempfile.TemporaryDirectory() as folder:
         rows = Path(folder) / "rows.json"
         sys.stdout.flush()
@@ -701,7 +716,14 @@ def run_for(cpu: str, args: argparse.Namespace) -> list[dict]:
 def run(args: argparse.Namespace, cpu: str) -> list[dict]:
     """Both tables, flat and lit scenes, for one instruction set (``cpu``); the plot's rows."""
     print(f"## {'Native instruction set' if cpu == 'native' else 'AVX2 (haswell)'}\n")
-    print(machine_line(cpu) + "\n")
+    print(machine_line(cpu, args.threads) + "\n")
+    if args.threads and args.engine != "numpy":
+        from raykit.engine.choice import compiled_available
+
+        if compiled_available():
+            import numba
+
+            numba.set_num_threads(args.threads)
     try:
         import mitsuba
 
@@ -755,8 +777,9 @@ def run(args: argparse.Namespace, cpu: str) -> list[dict]:
     ]
 
 
-def machine_line(cpu: str) -> str:
-    """The processor, and the instruction set this run's compiled code was made for."""
+def machine_line(cpu: str, threads: int | None = None) -> str:
+    """The processor, the instruction set this run's compiled code was made for, and the
+    threads each renderer takes."""
     model, widest = processor()
     model, widest = model or "an unnamed processor", widest or "neither AVX2 nor AVX-512"
     if cpu == "native":
@@ -774,9 +797,15 @@ def machine_line(cpu: str) -> str:
     # the machine's other work as the run starts: every renderer is timed in turns with the
     # others, but a loaded machine slows the many-threaded ones most
     load = os.getloadavg()[0]
+    each = (
+        f"{threads} (raykit's numba threads, Mitsuba's Dr.Jit thread pool)"
+        if threads
+        else "one a core"
+    )
     return (
         f"Machine: {model}, {os.cpu_count()} cores, {widest}; load average {load:.1f} as this"
-        f" run started (1 minute). Instruction set of this run: {how}."
+        f" run started (1 minute). Instruction set of this run: {how}. Threads of each"
+        f" renderer: {each}."
     )
 
 
@@ -818,7 +847,7 @@ class Timing:
             save_image(picture[0], self.args.pictures / f"{_slug(name)}_raykit.png")
         ours = picture[1] >= 0  # the last engine's (all give the same picture)
         for variant in VARIANTS if self.version is not None else ():
-            child = MitsubaChild(variant, data, self.cpu, self.env)
+            child = MitsubaChild(variant, data, self.cpu, self.env, threads=self.args.threads)
             renderer = f"Mitsuba {self.version} {variant}"
             check = child.check() if lit and child.failure is None else None
             if child.failure:
