@@ -6,8 +6,6 @@ from the same bits. Plain numpy: nothing here is compiled."""
 
 from __future__ import annotations
 
-import os
-from concurrent.futures import ThreadPoolExecutor
 from typing import NamedTuple
 
 import numpy as np
@@ -69,13 +67,12 @@ def scene_arrays(scene: Scene) -> Arrays:
     spheres = SceneArrays.of(scene)
     boards = scene.billboards
     f3 = lambda rows: np.array(rows, dtype=float).reshape(-1, 3)  # noqa: E731
-    decoded = _decoded(boards)
     starts, widths, heights, texels, used = [], [], [], [], 0
     for board in boards:
         if board.texture is None:
             starts.append(-1), widths.append(0), heights.append(0)
             continue
-        rgba = decoded[id(board.texture)]
+        rgba = board.texture.rgba
         starts.append(used), widths.append(rgba.shape[1]), heights.append(rgba.shape[0])
         texels.append(rgba.reshape(-1, 4))
         used += rgba.shape[0] * rgba.shape[1]
@@ -96,18 +93,6 @@ def scene_arrays(scene: Scene) -> Arrays:
             np.asarray(scene.background, dtype=float),
         )
     )
-
-
-def _decoded(boards) -> dict[int, np.ndarray]:
-    """The billboards' textures' texels, by ``id`` of each texture, each asked for once: two or
-    more side by side in threads, as Pillow lets go of the GIL while it decodes."""
-    textures = {id(b.texture): b.texture for b in boards if b.texture is not None}
-    if len(textures) < 2:
-        return {key: texture.rgba for key, texture in textures.items()}
-    with ThreadPoolExecutor(min(len(textures), os.cpu_count() or 1)) as pool:
-        return dict(
-            zip(textures, pool.map(lambda texture: texture.rgba, textures.values()), strict=True)
-        )
 
 
 def _one_kind(parts):
