@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from raykit.engine.compiled.compiling import ONE_RAY
+from raykit.engine.compiled.compiling import INLINED, ONE_RAY
 from raykit.engine.compiled.sampling import jittered_point
 from raykit.engine.noise import (
     GAMMA,
@@ -146,7 +146,7 @@ def pixel_keys(sampler, seed, pixel, wanted, keys, shifts):
         row[0], row[1], row[2], row[3] = round_keys(hash_on(h, STRATUM_SAMPLE, dimensions - 1))
 
 
-@njit(**ONE_RAY)
+@njit(**INLINED)
 def sample_numbers(sampler, k, n, table, wanted, keys, shifts, out):
     """Repeats :meth:`raykit.engine.noise.PixelSamples.of` for one pixel, from its
     :func:`pixel_keys`, and its sample k: the sample's uniform numbers into ``out (D,)``, by
