@@ -464,7 +464,7 @@ def wanted_dimensions(scene: Scene, dimensions: Dimensions) -> np.ndarray:
     wanted = np.ones(dimensions.count, dtype=np.bool_)
     if not lens_tuple(scene)[0] > 0:  # thin_lens_rays only where the aperture is open
         wanted[Dimensions.lens : Dimensions.lens + 2] = False
-    if not scene_shading(scene).is_mirror.any():
+    if not scene.materials.mirror.any():  # Shading.is_mirror, without making the rest of it
         deeper = dimensions.light(1, 0)  # from the first light's point at depth 1 to the time
         wanted[deeper : dimensions.time] = False
     return wanted
