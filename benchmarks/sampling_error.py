@@ -19,8 +19,14 @@ The effects, each a small scene (80x60; 32x24 with ``--quick``) made from an exa
 For each sampler and samples per pixel spp = 1, 4, 16, 64, 256 (4^k, which jittered, n x n,
 and Sobol', 2^m, both take; 1, 4, 16 with ``--quick``), ``--repeats`` renders, each with its
 own seed: the RMS error against the reference (the root of the mean squared error over every
-pixel, channel and seed) and the median render time (``raykit.render.render(scene,
-engine=...)``, ``--engine auto`` by default). Every renderer, sampler and count of an effect
+pixel, channel and seed) and the median render time, like for like with Mitsuba's, whose
+timed call, ``mi.render``, renders a scene ``load_dict`` has loaded and built its BVH for: the
+compiled engine's scene is made ready once, untimed, by ``raykit.engine.compiled.prepare``
+(arrays, BVH, camera; the convention of ``benchmarks/mitsuba_compare.py``), and its time is
+that of making the render's sampling (:func:`raykit.engine.compiled.scene_noise`: the seed's
+numbers, the Sobol' table) and rendering the prepared scene, the image's assembly included;
+the numpy engine prepares nothing apart, and its time is its whole ``raykit.render.render``
+(``--engine auto`` by default). Every renderer, sampler and count of an effect
 is rendered in turns (:func:`common.medians_in_turns`), so that the machine's other work falls
 on all alike. At 1 sample per pixel the antialiasing scene, which has neither area light nor
 lens, takes each pixel's centre whatever the sampler (:mod:`raykit.render`).
@@ -230,14 +236,31 @@ def reference(effect: Effect, spp: int, engine: str, cache: Path) -> np.ndarray:
 
 def raykit_timer(effect: Effect, curve: Curve, spp: int, engine: str, converged: np.ndarray):
     """A timer for :func:`common.medians_in_turns`: each call renders the effect at ``spp`` with
-    the next seed (1, 2, ...), keeps its squared error in ``curve`` and returns its seconds."""
+    the next seed (1, 2, ...), keeps its squared error in ``curve`` and returns its seconds: the
+    numpy engine's whole render; the compiled engine's render of the scene prepared once,
+    untimed, its sampling made anew for each seed inside the time (see the module page)."""
     seeds = itertools.count(1)
+    renders_by = choose(
+        engine, replace(effect.scene, sampling=sampled(effect, spp, curve.sampler, 1))
+    )
+    prepared = None
+    if renders_by == "compiled":  # as Mitsuba's load_dict builds its BVH before its timed render
+        from raykit.engine import compiled
+
+        prepared = compiled.prepare(
+            replace(effect.scene, sampling=sampled(effect, spp, curve.sampler, 0))
+        )
 
     def timed() -> float:
         sampling = sampled(effect, spp, curve.sampler, next(seeds))
         scene = replace(effect.scene, sampling=sampling)
-        start = time.perf_counter()
-        image = render(scene, engine=engine).rgb
+        if prepared is None:
+            start = time.perf_counter()
+            image = render(scene, engine=renders_by).rgb
+        else:  # the seed's own sampling (None: a scene without one, as prepare leaves it)
+            start = time.perf_counter()
+            noise = compiled.scene_noise(scene) if scene.distributed else None
+            image = compiled.render(prepared._replace(scene=scene, noise=noise))[0]
         took = time.perf_counter() - start
         curve.squared[spp].append(float(np.mean((image - converged) ** 2)))
         return took
@@ -341,7 +364,11 @@ def print_curves(effect: Effect, curves: list[Curve], engine: str, repeats: int)
     print(
         f"{effect.source}, {camera.width}x{camera.height}; raykit's engine: {engine}; RMS "
         f"error over {repeats} seeds against each renderer's converged reference; render time "
-        f"the median of those {repeats} renders\n"
+        f"the median of those {repeats} renders: Mitsuba's mi.render of a scene loaded (its BVH"
+        f" built) before; raykit's compiled engine's render of a scene prepared before"
+        f" (raykit.engine.compiled.prepare: arrays, BVH, camera), its time that of the seed's"
+        f" sampling and the render, the image's assembly included; raykit's numpy engine's whole"
+        f" render\n"
     )
     print("| renderer | sampler | " + " | ".join(f"{n} spp" for n in curves[0].spp) + " |")
     print("|---|---|" + "---|" * len(curves[0].spp))

@@ -75,22 +75,41 @@ def _shuffled(index, count, key):
     return out
 
 
+@numba.njit
+def _shuffled_by(index, count, key):
+    out = np.empty(len(index), dtype=np.int64)
+    for i in range(len(index)):
+        k0, k1, k2, k3 = kernels.round_keys(key[i])
+        out[i] = kernels.shuffle_by(index[i], count, k0, k1, k2, k3)
+    return out
+
+
 def _shuffle(rng):
+    """The shuffle, and it again from its rounds' keys made before (round_keys, shuffle_by)."""
     for count in (1, 2, 3, 4, 9, 16, 17, 64, 100, 256):
         index = rng.integers(0, count, 20_000)
         key = noise.counter_hash(rng.integers(0, 2**32), rng.integers(0, 2**40, 20_000), 0, 1)
-        exactly(_shuffled(index, count, key), noise.shuffle(index, count, key))
+        expected = noise.shuffle(index, count, key)
+        exactly(_shuffled(index, count, key), expected)
+        exactly(_shuffled_by(index, count, key), expected)
 
 
 @numba.njit
-def _samples(sampler, seed, pixels, k, n, table, dimensions):
-    out = np.empty((len(pixels), dimensions))
+def _samples(sampler, seed, pixels, k, n, table, wanted):
+    out = np.full((len(pixels), len(wanted)), np.nan)
+    keys = np.zeros((len(wanted) // 2 + 2, 4), dtype=np.uint64)
+    shifts = np.empty(len(wanted))
     for i in range(len(pixels)):
-        kernels.pixel_sample(sampler, seed, pixels[i], k, n, table, out[i])
+        kernels.pixel_keys(sampler, seed, pixels[i], wanted, keys, shifts)
+        kernels.sample_numbers(sampler, k, n, table, wanted, keys, shifts, out[i])
     return out
 
 
 def _pixel_sample(rng):
+    """Every sampler's numbers, all dimensions wanted, then some of them only (pairs and the
+    last single number left out, as :func:`~raykit.engine.compiled.driver.wanted_dimensions`
+    leaves what a scene does not read): the wanted ones the reference's, the others not
+    written."""
     for name, count in (("random", 5), ("jittered", 16), ("jittered", 9), ("sobol", 8)):
         for dimensions in (2, 4, 10, 11):  # 11: a last single number (a time), in strata
             seed = int(rng.integers(0, 2**32))
@@ -99,9 +118,41 @@ def _pixel_sample(rng):
             sampler = {"random": kernels.RANDOM, "jittered": kernels.JITTERED,
                        "sobol": kernels.SOBOL}[name]  # fmt: skip
             pixels = rng.integers(0, 2**24, 2000)
+            every = np.ones(dimensions, dtype=np.bool_)
+            some = every.copy()
+            some[2 : min(4, dimensions)] = False  # a pinhole's lens
+            some[6:8] = False  # a light's point at a mirror depth past 0
+            some[dimensions - 1 :] = dimensions % 2 == 0  # (11) the time
             for k in range(count):
-                got = _samples(sampler, seed, pixels, k, samples.n, table, dimensions)
-                exactly(got, samples.of(pixels, k))
+                expected = samples.of(pixels, k)
+                exactly(_samples(sampler, seed, pixels, k, samples.n, table, every), expected)
+                got = _samples(sampler, seed, pixels, k, samples.n, table, some)
+                exactly(got[:, some], expected[:, some])
+                assert np.isnan(got[:, ~some]).all()
+
+
+@numba.njit
+def _in_parts(seed, pixel, sample, dimension):
+    out = np.empty((2, len(seed)), dtype=np.uint64)
+    uniform = np.empty(len(seed))
+    for i in range(len(seed)):
+        h = kernels.pixel_hash(seed[i], pixel[i])
+        out[0, i] = h
+        out[1, i] = kernels.hash_on(h, sample[i], dimension[i])
+        uniform[i] = kernels.uniform(out[1, i])
+    return out, uniform
+
+
+def _hash_in_parts(rng):
+    """The pixel's hash and the rest folded in: the counter's hash, and its uniform number."""
+    seed, pixel, sample, dimension = _counters(rng)
+    (start, whole), uniform = _in_parts(seed, pixel, sample, dimension)
+    exactly(whole, noise.counter_hash(seed, pixel, sample, dimension))
+    exactly(uniform, noise.uniforms(seed, pixel, sample, dimension))
+    with np.errstate(over="ignore"):  # the reference's chain, stopped after (seed, pixel)
+        h = noise.mix64((np.uint64(0) ^ seed.astype(np.uint64)) + noise.GAMMA)
+        h = noise.mix64((h ^ pixel.astype(np.uint64)) + noise.GAMMA)
+    exactly(start, h)
 
 
 def test_the_samplers_constants_are_the_references_order():
@@ -117,6 +168,12 @@ CHECKS = {
     "noise.counter_hash": _counter_hash,
     "noise.uniforms": _uniforms,
     "noise.shuffle": _shuffle,
-    "noise.pixel_sample": _pixel_sample,
+    "noise.pixel_hash": _hash_in_parts,
+    "noise.hash_on": _hash_in_parts,
+    "noise.uniform": _hash_in_parts,
+    "noise.round_keys": _shuffle,
+    "noise.shuffle_by": _shuffle,
+    "noise.pixel_keys": _pixel_sample,
+    "noise.sample_numbers": _pixel_sample,
 }
 test_the_twin_repeats_its_reference = twin_test("noise", CHECKS)

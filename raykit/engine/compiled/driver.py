@@ -37,7 +37,7 @@ from raykit.engine.compiled.compiling import (
     finished,
     marked,
 )
-from raykit.engine.compiled.noise import JITTERED, RANDOM, SOBOL, pixel_sample
+from raykit.engine.compiled.noise import JITTERED, RANDOM, SOBOL, pixel_keys, sample_numbers
 from raykit.engine.compiled.sampling import point_in_pixel, shutter_times
 from raykit.engine.compiled.scene import (
     _NO_TREE,
@@ -440,8 +440,9 @@ class Noise(NamedTuple):
     takes it: the ``sampler`` (:data:`~raykit.engine.compiled.noise.RANDOM`, ``JITTERED`` or
     ``SOBOL``), the ``seed``, the samples per pixel ``count`` (``n`` x ``n`` for the jittered
     sampler), the Sobol' points ``table (count, D)`` (no rows for the others), the ``dimensions``
-    D of a sample, and where in them the point in the pixel and on the lens lie (``pixel``,
-    ``lens``: :class:`raykit.engine.noise.Dimensions`)."""
+    D of a sample, where in them the point in the pixel and on the lens lie (``pixel``,
+    ``lens``: :class:`raykit.engine.noise.Dimensions`), and which of them a ray of the scene
+    may read, ``wanted (D,)`` (:func:`wanted_dimensions`)."""
 
     sampler: int
     seed: int
@@ -451,6 +452,22 @@ class Noise(NamedTuple):
     dimensions: int
     pixel: int
     lens: int
+    wanted: np.ndarray
+
+
+def wanted_dimensions(scene: Scene, dimensions: Dimensions) -> np.ndarray:
+    """Which of a sample's numbers ``(D,)`` a ray of ``scene`` may read: all but the point on
+    the lens through a pinhole, and, in a scene without mirrors, where no ray goes past its
+    first surface, the area lights' points at a mirror depth past 0 and the glossy bounces'
+    numbers. The reference makes them all; each is a hash of its own counter, so the numbers
+    read are the same either way."""
+    wanted = np.ones(dimensions.count, dtype=np.bool_)
+    if not lens_tuple(scene)[0] > 0:  # thin_lens_rays only where the aperture is open
+        wanted[Dimensions.lens : Dimensions.lens + 2] = False
+    if not scene.materials.mirror.any():  # Shading.is_mirror, without making the rest of it
+        deeper = dimensions.light(1, 0)  # from the first light's point at depth 1 to the time
+        wanted[deeper : dimensions.time] = False
+    return wanted
 
 
 def scene_noise(scene: Scene) -> Noise:
@@ -464,7 +481,7 @@ def scene_noise(scene: Scene) -> Noise:
     sampler = {"random": RANDOM, "jittered": JITTERED, "sobol": SOBOL}[sampling.sampler]
     return Noise(sampler, sampling.seed, sampling.samples_per_pixel, samples.n,
                  np.require(table, float, "CAW"), dimensions.count, Dimensions.pixel,
-                 Dimensions.lens)  # fmt: skip
+                 Dimensions.lens, wanted_dimensions(scene, dimensions))  # fmt: skip
 
 
 @njit(parallel=True, **MAKES_ARRAYS)
@@ -473,7 +490,7 @@ def trace_sampled(arrays, tree, shading, camera, lens, noise, motion, width, job
     """The lecture's loop for a distributed scene (stage 5, as
     :class:`raykit.engine.regions.Plan` batches it): for each pixel, each of its
     ``noise.count`` samples in order, from the sample's uniform numbers
-    (:func:`~raykit.engine.compiled.noise.pixel_sample`), a point in the pixel, a ray through
+    (:func:`~raykit.engine.compiled.noise.sample_numbers`), a point in the pixel, a ray through
     the pinhole or from the lens (``lens``: :func:`lens_tuple`), its nearest hit through the
     tree, and its colour, flat or shaded (:func:`shade`, its points on the area lights and its
     glossy perturbations from the same numbers), summed and divided by the count as
@@ -495,6 +512,8 @@ def trace_sampled(arrays, tree, shading, camera, lens, noise, motion, width, job
     for _ in prange(workers):
         stack = new_stack()
         numbers = np.empty(noise.dimensions)
+        keys = np.zeros((noise.dimensions // 2 + 2, 4), dtype=np.uint64)
+        shifts = np.empty(noise.dimensions)
         at_time = Arrays(arrays.centers.copy(), arrays.radii, arrays.sphere_colors,
                          arrays.corners, arrays.n, arrays.alpha_axes, arrays.beta_axes,
                          arrays.board_colors, arrays.texture_start, arrays.texture_width,
@@ -505,7 +524,7 @@ def trace_sampled(arrays, tree, shading, camera, lens, noise, motion, width, job
                 break
             for j in range(first_job, min(len(jobs), first_job + grain)):
                 sampled_job(arrays, at_time, tree, shading, camera, lens, noise, motion, width,
-                            jobs[j], stack, numbers, rgb, index, t)  # fmt: skip
+                            jobs[j], stack, numbers, keys, shifts, rgb, index, t)  # fmt: skip
 
 
 @njit(**KERNEL)
@@ -524,17 +543,19 @@ def spheres_at(arrays, motion, centers, T):
 
 @njit(**KERNEL)
 def sampled_job(arrays, at_time, tree, shading, camera, lens, noise, motion, width, first,
-                stack, numbers, rgb, index, t):  # fmt: skip
+                stack, numbers, keys, shifts, rgb, index, t):  # fmt: skip
     """One job of :func:`trace_sampled`: the SAMPLED_PIXELS pixels from pixel ``first``, with
     the worker's ``stack`` (:func:`new_stack`), room for a sample's uniform numbers,
-    ``numbers (D,)``, and the worker's copy of ``arrays``, ``at_time``, whose centres it moves
-    to each ray's time in a scene that moves (:class:`Motion`), and every ray reads."""
-    count = noise.count
+    ``numbers (D,)``, and for what its pixel's samples share, ``keys`` and ``shifts``
+    (:func:`pixel_keys`), and the worker's copy of ``arrays``, ``at_time``, whose centres it
+    moves to each ray's time in a scene that moves (:class:`Motion`), and every ray reads."""
+    count, wanted = noise.count, noise.wanted
     for p in range(first, min(first + SAMPLED_PIXELS, len(t))):
         row, col = p // width, p % width
         r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
+        pixel_keys(noise.sampler, noise.seed, p, wanted, keys, shifts)
         for k in range(count):
-            pixel_sample(noise.sampler, noise.seed, p, k, noise.n, noise.table, numbers)
+            sample_numbers(noise.sampler, k, noise.n, noise.table, wanted, keys, shifts, numbers)
             if motion.moving:  # the ray's time: its own, or the shutter's opening
                 T = motion.shutter_open
                 if motion.time >= 0:

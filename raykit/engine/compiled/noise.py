@@ -1,6 +1,13 @@
 """Repeats :mod:`raykit.engine.noise` for one number at a time: the counter's hash, its uniform
 number, the jittered sampler's shuffle, and sample k of a pixel from each sampler.
 
+A pixel's samples share what depends on the pixel alone: its counters' hash as far as (seed,
+pixel), its shuffles' round keys and its Sobol' shifts. :func:`pixel_keys` makes those once per
+pixel, and :func:`sample_numbers` each sample's numbers from them, and only the numbers the scene
+reads (a pinhole camera reads no point on the lens, a scene without mirrors no light's point
+past the first surface): the same operations on the same integers as the reference's, fewer of
+them per sample.
+
 Every integer here is uint64 and every constant is made one (``np.uint64(...)``): numba, like
 numpy, wraps uint64 arithmetic, but it turns uint64 mixed with a signed integer into float64,
 which would round the hash. The Sobol' points are not computed here: scipy's, made in Python
@@ -11,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from raykit.engine.compiled.compiling import ONE_RAY
+from raykit.engine.compiled.compiling import INLINED, ONE_RAY
 from raykit.engine.compiled.sampling import jittered_point
 from raykit.engine.noise import (
     GAMMA,
@@ -37,37 +44,68 @@ def mix64(z):
 
 
 @njit(**ONE_RAY)
+def pixel_hash(seed, pixel):
+    """Repeats :func:`raykit.engine.noise.counter_hash` as far as its first two parts: the hash
+    of (seed, pixel), which every counter of the pixel starts from (:func:`hash_on`)."""
+    h = mix64((np.uint64(0) ^ np.uint64(seed)) + GAMMA)
+    return mix64((h ^ np.uint64(pixel)) + GAMMA)
+
+
+@njit(**ONE_RAY)
+def hash_on(h, sample, dimension):
+    """Repeats the rest of :func:`raykit.engine.noise.counter_hash`: the counter's hash from its
+    pixel's, ``h`` (:func:`pixel_hash`), its sample and its dimension folded in."""
+    h = mix64((np.uint64(h) ^ np.uint64(sample)) + GAMMA)
+    return mix64((h ^ np.uint64(dimension)) + GAMMA)
+
+
+@njit(**ONE_RAY)
 def counter_hash(seed, pixel, sample, dimension):
     """Repeats :func:`raykit.engine.noise.counter_hash` for one counter (each part a
     non-negative integer): its uint64 hash."""
-    h = np.uint64(0)
-    h = mix64((h ^ np.uint64(seed)) + GAMMA)
-    h = mix64((h ^ np.uint64(pixel)) + GAMMA)
-    h = mix64((h ^ np.uint64(sample)) + GAMMA)
-    return mix64((h ^ np.uint64(dimension)) + GAMMA)
+    return hash_on(pixel_hash(seed, pixel), sample, dimension)
+
+
+@njit(**ONE_RAY)
+def uniform(h):
+    """Repeats :func:`raykit.engine.noise.uniforms` from a counter's hash ``h``: its top 53
+    bits, times 2^-53, in [0, 1)."""
+    return np.float64(np.uint64(h) >> np.uint64(11)) * UNIT
 
 
 @njit(**ONE_RAY)
 def uniforms(seed, pixel, sample, dimension):
     """Repeats :func:`raykit.engine.noise.uniforms` for one counter: the top 53 bits of its
     hash, times 2^-53, in [0, 1)."""
-    return np.float64(counter_hash(seed, pixel, sample, dimension) >> np.uint64(11)) * UNIT
+    return uniform(counter_hash(seed, pixel, sample, dimension))
+
+
+@njit(**ONE_RAY)
+def round_keys(key):
+    """Repeats the keys of :func:`raykit.engine.noise.shuffle`'s four rounds, from its ``key``
+    (uint64): a tuple of four uint64."""
+    key = np.uint64(key)
+    return (mix64(key + np.uint64(1) * GAMMA), mix64(key + np.uint64(2) * GAMMA),
+            mix64(key + np.uint64(3) * GAMMA), mix64(key + np.uint64(4) * GAMMA))  # fmt: skip
 
 
 @njit(**ONE_RAY)
 def shuffle(index, count, key):
     """Repeats :func:`raykit.engine.noise.shuffle` for one ``index`` in [0, count) and its
     ``key`` (uint64): π(index), as an int."""
+    k0, k1, k2, k3 = round_keys(key)
+    return shuffle_by(index, count, k0, k1, k2, k3)
+
+
+@njit(**ONE_RAY)
+def shuffle_by(index, count, k0, k1, k2, k3):
+    """Repeats :func:`raykit.engine.noise.shuffle` for one ``index`` in [0, count), its rounds'
+    keys made beforehand (:func:`round_keys`): π(index), as an int."""
     bits = 1
     while (1 << bits) < count:  # (count - 1).bit_length(), at least 1
         bits += 1
     mask = np.uint64((1 << bits) - 1)
     down = np.uint64(max(1, bits // 2))
-    key = np.uint64(key)
-    k0 = mix64(key + np.uint64(1) * GAMMA)
-    k1 = mix64(key + np.uint64(2) * GAMMA)
-    k2 = mix64(key + np.uint64(3) * GAMMA)
-    k3 = mix64(key + np.uint64(4) * GAMMA)
     value = np.uint64(index)
     limit = np.uint64(count)
     one = np.uint64(1)
@@ -82,27 +120,62 @@ def shuffle(index, count, key):
 
 
 @njit(**ONE_RAY)
-def pixel_sample(sampler, seed, pixel, k, n, table, out):
-    """Repeats :meth:`raykit.engine.noise.PixelSamples.of` for one pixel (r·width + c) and its
-    sample k: the sample's uniform numbers into ``out (D,)``, by the ``sampler`` (:data:`RANDOM`,
-    :data:`JITTERED` with n x n samples, or :data:`SOBOL` with its points ``table (spp, D)``;
-    an empty table for the others)."""
+def pixel_keys(sampler, seed, pixel, wanted, keys, shifts):
+    """What sample k of ``pixel`` (r·width + c) takes from the pixel alone, for
+    :func:`sample_numbers`: into ``keys (D // 2 + 2, 4)`` (uint64), at [0, 0] the hash of (seed,
+    pixel) (:func:`pixel_hash`), in row 1 + pair the round keys (:func:`round_keys`) of the
+    jittered sampler's shuffle of each pair after the first, in the last row those of a last
+    single number's strata; into ``shifts (D,)`` the Sobol' sampler's shift of each dimension.
+    Only for the dimensions ``wanted (D,)`` says the scene reads."""
+    dimensions = len(wanted)
+    h = pixel_hash(seed, pixel)
+    keys[0, 0] = h
+    if sampler == SOBOL:
+        for d in range(dimensions):
+            if wanted[d]:
+                shifts[d] = uniform(hash_on(h, SHIFT_SAMPLE, d))
+        return
+    if sampler != JITTERED:
+        return
+    for pair in range(1, dimensions // 2):
+        if wanted[2 * pair] or wanted[2 * pair + 1]:
+            row = keys[1 + pair]
+            row[0], row[1], row[2], row[3] = round_keys(hash_on(h, SHUFFLE_SAMPLE, pair))
+    if dimensions % 2 and wanted[dimensions - 1]:
+        row = keys[len(keys) - 1]
+        row[0], row[1], row[2], row[3] = round_keys(hash_on(h, STRATUM_SAMPLE, dimensions - 1))
+
+
+@njit(**INLINED)
+def sample_numbers(sampler, k, n, table, wanted, keys, shifts, out):
+    """Repeats :meth:`raykit.engine.noise.PixelSamples.of` for one pixel, from its
+    :func:`pixel_keys`, and its sample k: the sample's uniform numbers into ``out (D,)``, by
+    the ``sampler`` (:data:`RANDOM`, :data:`JITTERED` with n x n samples, or :data:`SOBOL` with
+    its points ``table (spp, D)``; an empty table for the others), each dimension ``wanted
+    (D,)``, and nothing written to the others (numbers no ray of the scene reads)."""
     dimensions = len(out)
+    h = keys[0, 0]
     if sampler == SOBOL:  # the image's point k, shifted modulo 1 by the pixel's own numbers
         for d in range(dimensions):
-            shifted = table[k, d] + uniforms(seed, pixel, SHIFT_SAMPLE, d)
-            out[d] = shifted - 1.0 if shifted >= 1.0 else shifted
+            if wanted[d]:
+                shifted = table[k, d] + shifts[d]
+                out[d] = shifted - 1.0 if shifted >= 1.0 else shifted
         return
     for d in range(dimensions):
-        out[d] = uniforms(seed, pixel, k, d)
+        if wanted[d]:
+            out[d] = uniform(hash_on(h, k, d))
     if sampler != JITTERED:
         return
     for pair in range(dimensions // 2):  # the pixel's own pair keeps cell k; the others are
-        cell = k  # shuffled against it
+        if not (wanted[2 * pair] or wanted[2 * pair + 1]):  # shuffled against it
+            continue
+        cell = k
         if pair:
-            cell = shuffle(k, n * n, counter_hash(seed, pixel, SHUFFLE_SAMPLE, pair))
+            row = keys[1 + pair]
+            cell = shuffle_by(k, n * n, row[0], row[1], row[2], row[3])
         out[2 * pair], out[2 * pair + 1] = jittered_point(cell, n, out[2 * pair], out[2 * pair + 1])
-    if dimensions % 2:  # a last single number (a time): sample k in stratum π(k) of the n·n
-        last = dimensions - 1
-        stratum = shuffle(k, n * n, counter_hash(seed, pixel, STRATUM_SAMPLE, last))
+    if dimensions % 2 and wanted[dimensions - 1]:  # a last single number (a time): sample k in
+        last = dimensions - 1  # stratum π(k) of the n·n
+        row = keys[len(keys) - 1]
+        stratum = shuffle_by(k, n * n, row[0], row[1], row[2], row[3])
         out[last] = (stratum + out[last]) / (n * n)

@@ -328,7 +328,7 @@ def mirror_rays(arrays, tree, shading, stack, lanes, rays, best, made, count, co
         )  # fmt: skip
 
 
-@njit(**KERNEL)
+@njit(**INLINED)
 def shade(arrays, tree, shading, stack, o0, o1, o2, d0, d1, d2, hit, t, r, g, b, uniforms):
     """Repeats :func:`raykit.shading.shade` for one viewing ray and its nearest hit: the surface
     point (:func:`surface_points`), its colour (:func:`surface_color`), and mirror rays up to

@@ -54,12 +54,39 @@ TWINS = (
     Twin("camera.thin_lens_rays", "raykit.camera.thin_lens_rays"),
     Twin("noise.mix64", "raykit.engine.noise.mix64"),
     Twin("noise.counter_hash", "raykit.engine.noise.counter_hash"),
+    Twin(
+        "noise.pixel_hash",
+        "raykit.engine.noise.counter_hash",
+        "its first two parts, (seed, pixel), the start every counter of a pixel shares",
+    ),
+    Twin(
+        "noise.hash_on",
+        "raykit.engine.noise.counter_hash",
+        "its last two parts, (sample, dimension), folded into the pixel's hash",
+    ),
     Twin("noise.uniforms", "raykit.engine.noise.uniforms"),
+    Twin("noise.uniform", "raykit.engine.noise.uniforms", "from a counter's hash made before"),
     Twin("noise.shuffle", "raykit.engine.noise.shuffle"),
     Twin(
-        "noise.pixel_sample",
+        "noise.round_keys",
+        "raykit.engine.noise.shuffle",
+        "its four rounds' keys, which a pixel's samples share",
+    ),
+    Twin(
+        "noise.shuffle_by",
+        "raykit.engine.noise.shuffle",
+        "its rounds, their keys made before (round_keys)",
+    ),
+    Twin(
+        "noise.pixel_keys",
         "raykit.engine.noise.PixelSamples.of",
-        "sample k of one pixel, into a row of numbers, by each sampler (the Sobol' table as data)",
+        "what its numbers of one pixel take from the pixel alone, made once for all its samples",
+    ),
+    Twin(
+        "noise.sample_numbers",
+        "raykit.engine.noise.PixelSamples.of",
+        "sample k of one pixel, from its pixel_keys, into a row of numbers, by each sampler (the"
+        " Sobol' table as data), only the dimensions the scene reads",
     ),
     Twin("sampling.point_in_pixel", "raykit.sampling.point_in_pixel"),
     Twin("sampling.jittered_point", "raykit.sampling.jittered_point"),
