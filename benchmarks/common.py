@@ -190,38 +190,56 @@ def bar_plot(
     title: str = "",
     log: bool = False,
 ) -> None:
-    """Bars side by side per group, one colour per ``label: values`` in seconds (None: no
-    bar), drawn in milliseconds from zero (``log``: on a log scale, for times that span
-    decades) with each bar's value on it, written to ``path``."""
+    """A panel of bars per group, one colour per ``label: values`` in seconds (None: no bar),
+    drawn in milliseconds from zero (``log``: on a log scale shared by the panels, for times
+    that span decades) with each bar's value on it, written to ``path``; at most four panels a
+    row, the legend below them. Panels, not one axis of many groups: with eight groups of five
+    bars, one axis's labels ran into each other and its legend covered bars."""
+    import math
+
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    import numpy as np
+    from matplotlib.patches import Patch
 
     from raykit.io.images import save_figure
 
-    figure, ax = plt.subplots(figsize=(max(5, 2 * len(groups)), 3.5), layout="constrained")
-    width = 0.8 / max(1, len(series))
-    for k, (label, values) in enumerate(series.items()):
-        shown = [(g, v) for g, v in enumerate(values) if v is not None]
-        bars = ax.bar(
-            [g + (k - (len(series) - 1) / 2) * width for g, _ in shown],
-            [v * 1000 for _, v in shown],
-            width,
-            label=label,
-        )
-        ax.bar_label(bars, fmt="%.0f", fontsize=7, padding=1)
-    ax.set_xticks(
-        np.arange(len(groups)), [textwrap.fill(g, 14, break_long_words=False) for g in groups]
+    columns = max(1, min(4, len(groups)))
+    rows = max(1, math.ceil(len(groups) / columns))
+    figure, axes = plt.subplots(
+        rows,
+        columns,
+        figsize=(2.4 * columns, 2.3 * rows + 0.5 + 0.25 * math.ceil(len(series) / 2)),
+        sharey=log,
+        squeeze=False,
+        layout="constrained",
     )
-    ax.set_ylabel(ylabel)
-    if log:
-        ax.set_yscale("log")
-    ax.margins(y=0.12)  # room for the labels on the tallest bars
+    for g, ax in enumerate(axes.flat):
+        if g >= len(groups):
+            ax.set_visible(False)
+            continue
+        for k, (label, values) in enumerate(series.items()):
+            if values[g] is not None:
+                bars = ax.bar(k, values[g] * 1000, 0.8, color=f"C{k}", label=label)
+                ax.bar_label(bars, fmt="%.0f", fontsize=7, padding=1)
+        ax.set_title(textwrap.fill(groups[g], 18, break_long_words=False), fontsize=8)
+        ax.set_xticks([])
+        ax.set_xlim(-0.6, len(series) - 0.4)
+        if log:
+            ax.set_yscale("log")
+        ax.margins(y=0.15)  # room for the labels on the tallest bars
+        if g % columns == 0:
+            ax.set_ylabel(textwrap.fill(ylabel, 22), fontsize=8)
     if title:
-        ax.set_title(title, fontsize=9)
-    ax.legend(fontsize=8)
+        figure.suptitle(title, fontsize=9)
+    figure.legend(
+        [Patch(color=f"C{k}") for k in range(len(series))],
+        list(series),
+        loc="outside lower center",
+        ncol=2,
+        fontsize=8,
+    )
     save_figure(figure, path)
     plt.close(figure)
     print(f"\nwrote {path}")
