@@ -58,8 +58,8 @@ KERNEL = dict(MAKES_ARRAYS, _nrt=False)
 # inlining (INLINED) copies the kernel and types it anew at each place it is called, which was
 # most of the compile: it is kept for those LLVM leaves as calls, the large ones (nearest_hit,
 # keep_nearer, primary_ray, surface_color, bounce_on, and shade and sample_numbers, which a
-# distributed render calls once a sample, shade with the scene's arrays as some 350 numbers) and
-# the box tests (enters, box_apart, sphere_apart)
+# distributed render calls once a sample, shade with every array of the scene) and the box
+# tests (enters, box_apart, sphere_apart)
 ONE_RAY = KERNEL
 INLINED = dict(KERNEL, inline="always")
 SECONDS_TABLE = Path(__file__).with_name("compile_seconds.json")
