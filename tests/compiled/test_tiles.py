@@ -167,7 +167,7 @@ def _offer_all_by_lane_offer(arrays, objects, origins, directions):
     rectangle that holds every point: (index, t, whether every offer went on and held) per
     ray."""
     out = np.empty((len(origins), 3))
-    entry = np.array([-np.inf, np.inf, -np.inf, np.inf, 0.0])
+    entry = (-np.inf, np.inf, -np.inf, np.inf, 0.0)
     spheres = len(arrays.radii)
     for i in range(len(origins)):
         o, d = origins[i], directions[i]

@@ -146,11 +146,14 @@ def primary_ray(arrays, tiles, camera, x, y, tile, holding):
 @njit(**ONE_RAY)
 def lane_offer(alive, best, best_t, x, y, entry, obj, t):
     """:func:`~raykit.engine.compiled.hits.keep_nearer`'s rule for one lane of
-    :func:`primary_rays`, offered object ``obj`` of its tile's list at ``entry (5,)`` (its
-    rectangle x0, x1, y0, y1 and its closest t) with the lane's hit of it at ``t``: whether the
-    lane goes on (``alive`` and its nearest ``best_t`` not nearer than the object can be),
-    whether the rectangle holds its image point (x, y), and whether ``obj`` is nearer than its
-    ``best`` so far, or as near and of a lower index."""
+    :func:`primary_rays`, offered object ``obj`` of its tile's list with its ``entry``, the
+    tuple (x0, x1, y0, y1, closest) of its rectangle and its closest t, with the lane's hit
+    of it at ``t``: whether the lane goes on (``alive`` and its nearest ``best_t`` not nearer
+    than the object can be), whether the rectangle holds its image point (x, y), and whether
+    ``obj`` is nearer than its ``best`` so far, or as near and of a lower index. The entry comes
+    as numbers, read from the list once an object as the sphere's are, not as the list's row:
+    the mask loop stores into the packet's arrays, and a row read through memory in the loop
+    may have to be read again after each store."""
     x0, x1, y0, y1, closest = entry[0], entry[1], entry[2], entry[3], entry[4]
     still = alive & (closest <= best_t)
     holds = still & (x0 <= x) & (x <= x1) & (y0 <= y) & (y <= y1)
@@ -191,6 +194,7 @@ def primary_rays(arrays, tiles, camera, tile, n, room):
     centers, radii, sphere_colors = arrays.centers, arrays.radii, arrays.sphere_colors
     for k in range(tiles.start[tile], tiles.start[tile + 1]):
         obj = objects[k]
+        entry = (entries[k, 0], entries[k, 1], entries[k, 2], entries[k, 3], entries[k, 4])
         alive_lanes = 0
         if obj < spheres:
             c0, c1, c2, R = centers[obj, 0], centers[obj, 1], centers[obj, 2], radii[obj]
@@ -202,7 +206,7 @@ def primary_rays(arrays, tiles, camera, tile, n, room):
                 )  # fmt: skip
             for i in range(n):
                 still, holds, nearer = lane_offer(alive[i], best[i], best_t[i], xy[0, i],
-                                                  xy[1, i], entries[k], obj, ts[i])  # fmt: skip
+                                                  xy[1, i], entry, obj, ts[i])  # fmt: skip
                 if nearer:
                     best[i], best_t[i] = obj, ts[i]
                     colors[0, i], colors[1, i], colors[2, i] = r, g, b
@@ -217,7 +221,7 @@ def primary_rays(arrays, tiles, camera, tile, n, room):
                 )  # fmt: skip
             for i in range(n):  # a texel only where the billboard is nearer
                 still, holds, nearer = lane_offer(alive[i], best[i], best_t[i], xy[0, i],
-                                                  xy[1, i], entries[k], obj, ts[i])  # fmt: skip
+                                                  xy[1, i], entry, obj, ts[i])  # fmt: skip
                 if nearer:
                     r, g, b, opaque = billboard_color_at(arrays, board, alphas[i], betas[i])
                     if opaque:
