@@ -7,8 +7,9 @@ What it prints is its page, docs/benchmarks/compile_time.md (--page; not with --
 --cpus-only).
 
 1. The first use from an empty cache: whole processes of `raykit render SCENE -o OUT.png
-   --engine compiled` on scenes/classic.json (flat), scenes/classic_lit.json (lit) and
-   scenes/mirror_balls.json (lit, with mirrors), each with a new empty cache folder
+   --engine compiled` on scenes/classic.json (flat), scenes/classic_lit.json (lit),
+   scenes/mirror_balls.json (lit, with mirrors) and scenes/soft_shadows.json (distributed:
+   stage 5's sampled loop), each with a new empty cache folder
    (RAYKIT_CACHE_DIR), taken in turns: wall time, CPU time (the
    process's user + system seconds: what the compile costs where no neighbour takes a core)
    and peak memory (its largest resident set, from os.wait4). Then the same render again from
@@ -35,7 +36,7 @@ What it prints is its page, docs/benchmarks/compile_time.md (--page; not with --
    engine made either, so in rounds of every scene an engine whose small scene came right after
    the other engine's large one lost, by the order alone. With --before-compile, part 1 times
    REV's first uses too, in turns with this tree's, each from a new empty cache folder of its
-   own.
+   own (of the scenes of format v1, which REV reads).
 3. With --cpus NAME,NAME (e.g. native,haswell): the compiled engine's prepared renders of the
    benchmark scenes (CPU_SCENES) compiled for each CPU, in one child process per CPU
    (NUMBA_CPU_NAME=NAME and NUMBA_CPU_FEATURES empty, so that the features are NAME's own and
@@ -82,8 +83,8 @@ from raykit.engine import choice  # noqa: E402
 
 REPO = HERE.parent
 SCENES = REPO / "scenes"
-# part 1's scenes, one per entry point: flat, lit, lit with mirrors
-FIRST_USE = ["classic", "classic_lit", "mirror_balls"]
+# part 1's scenes, one per entry point: flat, lit, lit with mirrors, distributed (stage 5)
+FIRST_USE = ["classic", "classic_lit", "mirror_balls", "soft_shadows"]
 PAGE = REPO / "docs/benchmarks/compile_time.md"
 
 # a child's render, with each kernel's own compile seconds and (if LOOK_FOR_CALLS: only from
@@ -181,18 +182,17 @@ def first_use(repeats: int, folder: Path, revision: str | None = None) -> tuple[
     from raykit.io.scene_json import load_scene
 
     entries = {name: choice.entry_point(load_scene(SCENES / f"{name}.json")) for name in FIRST_USE}
-    engines = ["now"] + ([revision] if revision else [])
     label = {"now": "", revision: f", at {revision}"}
-    runs: dict = {
-        (name, when + label[engine]): []
+    turns = [
+        (name, engine)
         for name in FIRST_USE
-        for engine in engines
-        for when in ("empty", "cached")
-    }
+        for engine in ["now"] + ([revision] if revision and every_revision_reads(name) else [])
+    ]  # fmt: skip
+    runs: dict = {(name, when + label[engine]): [] for name, engine in turns
+                  for when in ("empty", "cached")}  # fmt: skip
     left: set = set()
     own: dict = {entry: {} for entry in entries.values()}
     for round_ in range(repeats):
-        turns = [(name, engine) for name in FIRST_USE for engine in engines]
         for name, engine in turns if round_ % 2 == 0 else turns[::-1]:
             cache = folder / f"cache-{name}-{engine}-{round_}"
             spent = folder / f"seconds-{name}-{engine}-{round_}.json"
@@ -225,6 +225,12 @@ def first_use(repeats: int, folder: Path, revision: str | None = None) -> tuple[
         for entry, kernels in own.items()
     }
     return medians, table, sorted(left)
+
+
+def every_revision_reads(name: str) -> bool:
+    """Whether scene ``name`` is of scene format v1, which every revision of raykit reads (an
+    older one refuses a later version's file)."""
+    return json.loads((SCENES / f"{name}.json").read_text()).get("version", 1) == 1
 
 
 def revision_tree(revision: str) -> Path:
@@ -512,7 +518,7 @@ def all_parts(args) -> None:
         )
     if revision:
         ratios = []
-        for name in FIRST_USE:
+        for name in filter(every_revision_reads, FIRST_USE):
             now, then = medians[(name, "empty")], medians[(name, f"empty, at {revision}")]
             ratios.append(
                 f"{name} {now['wall'] / then['wall']:.2f} (CPU time {now['cpu'] / then['cpu']:.2f})"

@@ -68,9 +68,9 @@ PRIOR_SECONDS = 5.0  # how long the table's own pace counts in the time left (se
 
 
 def measured_seconds() -> dict[str, dict[str, float]]:
-    """Per entry point (``trace_flat``, ``trace_lit``, ``trace_mirrors``), the seconds each
-    kernel's own compile took (its callees' not counted) when benchmarks/compile_time.py last
-    ran; empty if no table."""
+    """Per entry point (``trace_flat``, ``trace_lit``, ``trace_mirrors``, ``trace_sampled``),
+    the seconds each kernel's own compile took (its callees' not counted) when
+    benchmarks/compile_time.py last ran; empty if no table."""
     try:
         return json.loads(SECONDS_TABLE.read_text())
     except (OSError, ValueError):
