@@ -95,9 +95,8 @@ class Texture:
     @property
     def rgba(self) -> np.ndarray:
         """The texels, ``(H, W, 4)`` uint8, row 0 at the top; decoded on first use, or read
-        from the cache of decoded textures (a large one, see the module's page). Kept by
-        hand, not by ``functools.cached_property``, whose lock (before Python 3.12) is one for
-        all textures, so two could not be decoded at once in two threads."""
+        from the cache of decoded textures (a large one, see the module's page), and kept,
+        so that :attr:`decoded` can tell."""
         if self._rgba is None:
             self._rgba = self._texels()
         return self._rgba
