@@ -436,7 +436,7 @@ def lit_job(arrays, tiles, tree, shading, camera, bounces, film, job, room, shad
 
 
 SAMPLED_PIXELS = 16  # pixels per job of a distributed render, each with all its samples
-SAMPLED_LANES = 64  # samples of a pixel shaded together (sampled_lanes)
+SAMPLED_LANES = 256  # samples shaded together (sampled_lanes): of one pixel, or whole pixels
 
 
 class Noise(NamedTuple):
@@ -673,9 +673,11 @@ def cast_lanes(arrays, tree, rays, count, best, best_t, colors, t):
 @njit(**KERNEL)
 def sampled_lanes(arrays, tree, shading, camera, lens, noise, width, first, stack, numbers,
                   columns, keys, shifts, room, shading_room, rgb, index, t):  # fmt: skip
-    """:func:`sampled_job` for a scene where nothing moves, its samples in lanes: a pixel's
-    samples, SAMPLED_LANES at a time, each with its row of ``numbers (SAMPLED_LANES, D)``, the
-    wanted ones copied into the columns of ``columns (D, SAMPLED_LANES)``; their viewing rays,
+    """:func:`sampled_job` for a scene where nothing moves, its samples in lanes: SAMPLED_LANES
+    samples at a time, of one pixel, or of as many whole pixels as they hold (each batch calls
+    kernels of its own, whose arguments cost as much as a few rays: a batch of one pixel's few
+    samples paid them for too few), each sample with its row of ``numbers (SAMPLED_LANES, D)``,
+    the wanted ones copied into the columns of ``columns (D, SAMPLED_LANES)``; their viewing rays,
     their nearest hits (:func:`cast_lanes` in a scene of DIRECT_HITS objects or fewer, each ray
     through the tree in a larger one), into ``room`` (:class:`RayRoom`), then all of them
     shaded at once as :func:`lit_job` shades a tile's rays (:func:`surface_lanes`,
@@ -686,28 +688,34 @@ def sampled_lanes(arrays, tree, shading, camera, lens, noise, width, first, stac
     its divisions and branches. Each ray's operations are :func:`shade`'s, in its order, so the
     bits are :func:`sampled_job`'s."""
     count, wanted, reads = noise.count, noise.wanted, noise.reads
-    rays, best, best_t, colors = room.rays, room.best, room.best_t, room.colors
+    xy, rays, best, best_t, colors = room.xy, room.rays, room.best, room.best_t, room.colors
     lanes, box = shading_room.lanes, shading_room.box
     total, point, normal, error = lanes.total, lanes.p, lanes.n, lanes.error
-    for p in range(first, min(first + SAMPLED_PIXELS, len(t))):
-        row, col = p // width, p % width
-        r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
-        pixel_keys(noise.sampler, noise.seed, p, wanted, keys, shifts)
+    per = max(1, SAMPLED_LANES // count)  # whole pixels a batch holds
+    last = min(first + SAMPLED_PIXELS, len(t))
+    r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
+    for p_first in range(first, last, per):
+        pixels = min(per, last - p_first)
         for k_first in range(0, count, SAMPLED_LANES):
-            shaded = min(SAMPLED_LANES, count - k_first)
-            for i in range(shaded):
-                sample_numbers(noise.sampler, k_first + i, noise.n, noise.table, wanted, reads,
-                               keys, shifts, numbers[i])  # fmt: skip
+            samples = min(SAMPLED_LANES, count - k_first)  # of each pixel in this batch
+            shaded = pixels * samples
+            for i in range(shaded):  # lane i: sample k of pixel p
+                p, k = p_first + i // samples, k_first + i % samples
+                if k == k_first:
+                    pixel_keys(noise.sampler, noise.seed, p, wanted, keys, shifts)
+                u = numbers[i]
+                sample_numbers(noise.sampler, k, noise.n, noise.table, wanted, reads, keys,
+                               shifts, u)  # fmt: skip
                 for d in reads:
-                    columns[d, i] = numbers[i, d]
+                    columns[d, i] = u[d]
+                xy[0, i], xy[1, i] = point_in_pixel(p // width, p % width, u[noise.pixel],
+                                                    u[noise.pixel + 1])  # fmt: skip
             for i in range(shaded):
-                x, y = point_in_pixel(row, col, columns[noise.pixel, i],
-                                      columns[noise.pixel + 1, i])  # fmt: skip
                 if lens[0] > 0:
-                    ray = thin_lens_rays(camera, lens, x, y, columns[noise.lens, i],
+                    ray = thin_lens_rays(camera, lens, xy[0, i], xy[1, i], columns[noise.lens, i],
                                          columns[noise.lens + 1, i])  # fmt: skip
                 else:
-                    ray = rays_through(camera, x, y)
+                    ray = rays_through(camera, xy[0, i], xy[1, i])
                 rays[0, i], rays[1, i], rays[2, i] = ray.o0, ray.o1, ray.o2
                 rays[3, i], rays[4, i], rays[5, i] = ray.d0, ray.d1, ray.d2
             if len(tree.order) <= DIRECT_HITS:
@@ -723,7 +731,10 @@ def sampled_lanes(arrays, tree, shading, camera, lens, noise, width, first, stac
                 if shading.lit:
                     light_lanes(arrays, tree, shading, stack, rays, best, shaded, lanes,
                                 shading_room.candidates, shading_room.counts, columns)  # fmt: skip
-            for i in range(shaded):
+            for i in range(shaded):  # each pixel's samples summed in order
+                p, k = p_first + i // samples, k_first + i % samples
+                if k == 0:
+                    r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
                 c0, c1, c2 = colors[0, i], colors[1, i], colors[2, i]
                 hit = best[i]
                 if shading.shaded:  # as shade weighs them: 1 x the colour, added to nothing
@@ -740,13 +751,14 @@ def sampled_lanes(arrays, tree, shading, camera, lens, noise, width, first, stac
                 r_sum += c0
                 g_sum += c1
                 b_sum += c2
-        rgb[p, 0] = r_sum / count
-        rgb[p, 1] = g_sum / count
-        rgb[p, 2] = b_sum / count
-        ray = rays_through(camera, col + 0.5, row + 0.5)  # the pinhole's, with a lens
-        hit = nearest_hit(arrays, tree, stack, ray.o0, ray.o1, ray.o2, ray.d0, ray.d1, ray.d2,
-                          np.inf)  # fmt: skip
-        index[p], t[p] = hit.index, hit.t
+                if k == count - 1:  # the pixel's last sample: its mean, and its centre's hit
+                    rgb[p, 0] = r_sum / count
+                    rgb[p, 1] = g_sum / count
+                    rgb[p, 2] = b_sum / count
+                    ray = rays_through(camera, p % width + 0.5, p // width + 0.5)  # the pinhole's
+                    hit_centre = nearest_hit(arrays, tree, stack, ray.o0, ray.o1, ray.o2, ray.d0,
+                                             ray.d1, ray.d2, np.inf)  # fmt: skip
+                    index[p], t[p] = hit_centre.index, hit_centre.t
 
 
 def caster(scene: Scene, arrays: Arrays | None = None) -> Callable[..., Hits]:
