@@ -510,7 +510,9 @@ def trace_sampled(arrays, tree, shading, camera, lens, noise, motion, width, job
     shadow and mirror rays and its normals see the moving spheres there (:func:`center_at`):
     each worker keeps its own copy of the scene's arrays, their centres moved to the time of
     the ray it traces (:func:`spheres_at`), and the tree is :func:`every_object_tree`, as the
-    reference tests every object then. Workers take grains of jobs as
+    reference tests every object then. A job is one sample at a time in such a scene
+    (:func:`sampled_job`), and in any other, its samples in lanes (:func:`sampled_lanes`), the
+    same bits. Workers take grains of jobs as
     :func:`trace_flat`'s do; a pixel's numbers depend on it alone, so the image does not depend
     on which takes which."""
     grain = max(1, len(jobs) // (workers * GRAINS_PER_WORKER))
