@@ -375,9 +375,19 @@ def _distributed(sampler, **effects):
     return lambda rng: same_render(distributed_scene(rng, sampler, **effects))
 
 
+def _in_lanes(rng):
+    """A distributed scene's samples in lanes: glossy mirrors; past DIRECT_HITS objects, the
+    viewing rays through the tree; past SHADOW_CANDIDATES, the shadow rays too."""
+    same_render(distributed_scene(rng, "sobol", mirrors=True, glossy=True))
+    same_render(distributed_scene(rng, "random", spheres=12))
+    same_render(distributed_scene(rng, "jittered", lens=True, spheres=18))
+
+
 CHECKS = {
     "driver.trace_sampled": _distributed("jittered", lens=True, mirrors=True),
-    "driver.sampled_job": _distributed("sobol", mirrors=True, glossy=True),
+    "driver.sampled_job": _distributed("sobol", mirrors=True, glossy=True, moving=True),
+    "driver.sampled_lanes": _in_lanes,
+    "driver.cast_lanes": _distributed("jittered", lens=True, lights=False),
     "driver.cast_rays": caster_answers_what_cast_answers,
     "driver.trace_flat": _small("classic"),
     "driver.flat_job": _small("cutouts"),

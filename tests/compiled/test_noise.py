@@ -99,9 +99,10 @@ def _samples(sampler, seed, pixels, k, n, table, wanted):
     out = np.full((len(pixels), len(wanted)), np.nan)
     keys = np.zeros((len(wanted) // 2 + 2, 4), dtype=np.uint64)
     shifts = np.empty(len(wanted))
+    reads = np.flatnonzero(wanted)
     for i in range(len(pixels)):
         kernels.pixel_keys(sampler, seed, pixels[i], wanted, keys, shifts)
-        kernels.sample_numbers(sampler, k, n, table, wanted, keys, shifts, out[i])
+        kernels.sample_numbers(sampler, k, n, table, wanted, reads, keys, shifts, out[i])
     return out
 
 

@@ -109,9 +109,8 @@ def _in_lanes_and_one_by_one(arrays, tree, shading, p, n, d, error, lists):
             pad = 2.0 * compiled.OFFSET_FACTOR * error[tile].max()
             compiled.shadow_lists(arrays, tree, shading, stack, box, pad, volume, candidates,
                                   counts[tile])  # fmt: skip
-        compiled.light_lanes(
-            arrays, tree, shading, stack, rays, best, count, lanes, candidates, counts[tile]
-        )
+        compiled.light_lanes(arrays, tree, shading, stack, rays, best, count, lanes, candidates,
+                             counts[tile], np.empty((0, 0)))  # fmt: skip
         for i in range(count):
             in_lanes[tile, i] = lane_total[:, i]
             one_by_one[tile, i, 0], one_by_one[tile, i, 1], one_by_one[tile, i, 2] = \

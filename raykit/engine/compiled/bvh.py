@@ -59,12 +59,13 @@ def nearest_hit(arrays, tree, stack, o0, o1, o2, d0, d1, d2, t_max, any_blocker=
     if objects == 0:
         return hit
     ray = Ray(o0=o0, o1=o1, o2=o2, d0=d0, d1=d1, d2=d2)
-    i0, i1, i2 = 1.0 / d0, 1.0 / d1, 1.0 / d2  # ±inf along an axis the ray does not move
     lower, upper = tree.lower, tree.upper
     nodes, nears = stack
-    if objects <= DIRECT_HITS:
+    if objects <= DIRECT_HITS:  # no box is tested: the inverse direction, three divisions,
+        i0, i1, i2 = 0.0, 0.0, 0.0  # would be made for nothing
         nodes[0], nears[0] = -1, -np.inf  # -1: every object, as one leaf with no box
     else:
+        i0, i1, i2 = 1.0 / d0, 1.0 / d1, 1.0 / d2  # ±inf along an axis the ray does not move
         entered, near = enters(o0, o1, o2, i0, i1, i2, lower, upper, 0, t_max)
         if not entered:
             return hit

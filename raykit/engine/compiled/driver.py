@@ -21,7 +21,8 @@ from numba.extending import intrinsic
 from raykit.camera import centre_sample, sample_offsets
 from raykit.engine.adaptive import edge_pixels, refine
 from raykit.engine.choice import entry_point, refuse_distributed
-from raykit.engine.compiled.bvh import nearest_hit, new_stack
+from raykit.engine.compiled.billboards import billboard_color_at, hit_billboard
+from raykit.engine.compiled.bvh import DIRECT_HITS, nearest_hit, new_stack
 from raykit.engine.compiled.camera import (
     CameraNumbers,
     camera_tuple,
@@ -53,6 +54,7 @@ from raykit.engine.compiled.scene import (
 )
 from raykit.engine.compiled.shading import (
     Lanes,
+    bounce_on,
     light_lanes,
     mirror_rays,
     new_lanes,
@@ -60,7 +62,7 @@ from raykit.engine.compiled.shading import (
     surface_lanes,
 )
 from raykit.engine.compiled.shadows import SHADOW_CANDIDATES, shadow_lists
-from raykit.engine.compiled.spheres import center_at
+from raykit.engine.compiled.spheres import center_at, hit_sphere
 from raykit.engine.compiled.tiles import (
     HOLDING_CHUNK,
     Tiles,
@@ -417,7 +419,8 @@ def lit_job(arrays, tiles, tree, shading, camera, bounces, film, job, room, shad
         pad = 2.0 * OFFSET_FACTOR * largest
         shadow_lists(arrays, tree, shading, stack, box, pad, volume, candidates, counts)
     if shading.lit:
-        light_lanes(arrays, tree, shading, stack, rays, best, shaded, lanes, candidates, counts)
+        light_lanes(arrays, tree, shading, stack, rays, best, shaded, lanes, candidates, counts,
+                    xy[:0])  # fmt: skip
     total = lanes.total
     for i in range(shaded):  # as shade weighs them: 1 x the colour, added to nothing
         if not made[i]:
@@ -433,6 +436,7 @@ def lit_job(arrays, tiles, tree, shading, camera, bounces, film, job, room, shad
 
 
 SAMPLED_PIXELS = 16  # pixels per job of a distributed render, each with all its samples
+SAMPLED_LANES = 256  # samples shaded together (sampled_lanes): of one pixel, or whole pixels
 
 
 class Noise(NamedTuple):
@@ -442,7 +446,7 @@ class Noise(NamedTuple):
     sampler), the Sobol' points ``table (count, D)`` (no rows for the others), the ``dimensions``
     D of a sample, where in them the point in the pixel and on the lens lie (``pixel``,
     ``lens``: :class:`raykit.engine.noise.Dimensions`), and which of them a ray of the scene
-    may read, ``wanted (D,)`` (:func:`wanted_dimensions`)."""
+    may read, ``wanted (D,)`` (:func:`wanted_dimensions`), and their indices, ``reads``."""
 
     sampler: int
     seed: int
@@ -453,6 +457,7 @@ class Noise(NamedTuple):
     pixel: int
     lens: int
     wanted: np.ndarray
+    reads: np.ndarray
 
 
 def wanted_dimensions(scene: Scene, dimensions: Dimensions) -> np.ndarray:
@@ -479,9 +484,10 @@ def scene_noise(scene: Scene) -> Noise:
     samples = PixelSamples(sampling, dimensions.count)
     table = samples.table if samples.table is not None else np.zeros((0, dimensions.count))
     sampler = {"random": RANDOM, "jittered": JITTERED, "sobol": SOBOL}[sampling.sampler]
+    wanted = wanted_dimensions(scene, dimensions)
     return Noise(sampler, sampling.seed, sampling.samples_per_pixel, samples.n,
                  np.require(table, float, "CAW"), dimensions.count, Dimensions.pixel,
-                 Dimensions.lens, wanted_dimensions(scene, dimensions))  # fmt: skip
+                 Dimensions.lens, wanted, np.flatnonzero(wanted))  # fmt: skip
 
 
 @njit(parallel=True, **MAKES_ARRAYS)
@@ -504,14 +510,19 @@ def trace_sampled(arrays, tree, shading, camera, lens, noise, motion, width, job
     shadow and mirror rays and its normals see the moving spheres there (:func:`center_at`):
     each worker keeps its own copy of the scene's arrays, their centres moved to the time of
     the ray it traces (:func:`spheres_at`), and the tree is :func:`every_object_tree`, as the
-    reference tests every object then. Workers take grains of jobs as
+    reference tests every object then. A job is one sample at a time in such a scene
+    (:func:`sampled_job`), and in any other, its samples in lanes (:func:`sampled_lanes`), the
+    same bits. Workers take grains of jobs as
     :func:`trace_flat`'s do; a pixel's numbers depend on it alone, so the image does not depend
     on which takes which."""
     grain = max(1, len(jobs) // (workers * GRAINS_PER_WORKER))
     taken = np.zeros(1, dtype=np.int64)
     for _ in prange(workers):
         stack = new_stack()
-        numbers = np.empty(noise.dimensions)
+        room, shading_room = new_ray_room(SAMPLED_LANES), new_shading_room(SAMPLED_LANES, shading)
+        every_object(tree, shading, shading_room)
+        numbers = np.empty((SAMPLED_LANES, noise.dimensions))
+        columns = np.empty((noise.dimensions, SAMPLED_LANES))
         keys = np.zeros((noise.dimensions // 2 + 2, 4), dtype=np.uint64)
         shifts = np.empty(noise.dimensions)
         at_time = Arrays(arrays.centers.copy(), arrays.radii, arrays.sphere_colors,
@@ -523,8 +534,14 @@ def trace_sampled(arrays, tree, shading, camera, lens, noise, motion, width, job
             if first_job >= len(jobs):
                 break
             for j in range(first_job, min(len(jobs), first_job + grain)):
-                sampled_job(arrays, at_time, tree, shading, camera, lens, noise, motion, width,
-                            jobs[j], stack, numbers, keys, shifts, rgb, index, t)  # fmt: skip
+                if motion.moving:
+                    sampled_job(arrays, at_time, tree, shading, camera, lens, noise, motion,
+                                width, jobs[j], stack, numbers[0], keys, shifts, rgb, index,
+                                t)  # fmt: skip
+                else:
+                    sampled_lanes(arrays, tree, shading, camera, lens, noise, width, jobs[j],
+                                  stack, numbers, columns, keys, shifts, room, shading_room, rgb,
+                                  index, t)  # fmt: skip
 
 
 @njit(**KERNEL)
@@ -549,13 +566,14 @@ def sampled_job(arrays, at_time, tree, shading, camera, lens, noise, motion, wid
     ``numbers (D,)``, and for what its pixel's samples share, ``keys`` and ``shifts``
     (:func:`pixel_keys`), and the worker's copy of ``arrays``, ``at_time``, whose centres it
     moves to each ray's time in a scene that moves (:class:`Motion`), and every ray reads."""
-    count, wanted = noise.count, noise.wanted
+    count, wanted, reads = noise.count, noise.wanted, noise.reads
     for p in range(first, min(first + SAMPLED_PIXELS, len(t))):
         row, col = p // width, p % width
         r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
         pixel_keys(noise.sampler, noise.seed, p, wanted, keys, shifts)
         for k in range(count):
-            sample_numbers(noise.sampler, k, noise.n, noise.table, wanted, keys, shifts, numbers)
+            sample_numbers(noise.sampler, k, noise.n, noise.table, wanted, reads, keys, shifts,
+                           numbers)  # fmt: skip
             if motion.moving:  # the ray's time: its own, or the shutter's opening
                 T = motion.shutter_open
                 if motion.time >= 0:
@@ -588,6 +606,161 @@ def sampled_job(arrays, at_time, tree, shading, camera, lens, noise, motion, wid
         hit = nearest_hit(at_time, tree, stack, ray.o0, ray.o1, ray.o2, ray.d0, ray.d1, ray.d2,
                           np.inf)  # fmt: skip
         index[p], t[p] = hit.index, hit.t
+
+
+@njit(**KERNEL)
+def every_object(tree, shading, shading_room):
+    """Each light's shadow list (:class:`ShadingRoom`) made every object of the scene, where
+    they fit in one, for :func:`sampled_lanes`: its shadow rays start anywhere, so no box of
+    them culls, and a list's answer is the tree's (any opaque hit before the light), each object
+    tested for all the lanes at once. Else the lists stay empty (-1): the rays walk the tree."""
+    objects = len(tree.order)
+    if objects > SHADOW_CANDIDATES:
+        return
+    candidates, counts = shading_room.candidates, shading_room.counts
+    for j in range(len(candidates)):
+        for m in range(objects):
+            candidates[j, m] = tree.order[m]
+        counts[j] = objects
+
+
+@njit(**KERNEL)
+def cast_lanes(arrays, tree, rays, count, best, best_t, colors, t):
+    """:func:`nearest_hit` for each of ``count`` rays ``rays (6, N)`` (origins, then directions)
+    in a scene of DIRECT_HITS objects or fewer, each object in turn for all the rays
+    (``tree.order``, in the order nearest_hit tests them, :func:`keep_nearer`'s test for each
+    ray, so the same hits): the object index into ``best``, t into ``best_t`` and the colour
+    into ``colors (3, N)``; ``t (N,)`` is room. The step that is the same for every ray (a
+    sphere's t, a hit kept or not) is a loop the compiler turns into vector instructions."""
+    background, spheres = arrays.background, len(arrays.radii)
+    centers, radii, sphere_colors = arrays.centers, arrays.radii, arrays.sphere_colors
+    for i in range(count):
+        best[i], best_t[i] = -1, np.inf
+        colors[0, i], colors[1, i], colors[2, i] = background[0], background[1], background[2]
+    board_colors = arrays.board_colors
+    for m in range(len(tree.order)):
+        obj = tree.order[m]
+        board = obj - spheres
+        if obj < spheres:
+            c0, c1, c2, R = centers[obj, 0], centers[obj, 1], centers[obj, 2], radii[obj]
+            for i in range(count):
+                t[i] = hit_sphere(rays[0, i], rays[1, i], rays[2, i], rays[3, i], rays[4, i],
+                                  rays[5, i], c0, c1, c2, R)  # fmt: skip
+            r, g, b = sphere_colors[obj, 0], sphere_colors[obj, 1], sphere_colors[obj, 2]
+        elif arrays.texture_start[board] < 0:  # one colour, opaque everywhere: as a sphere
+            for i in range(count):
+                t[i] = hit_billboard(rays[0, i], rays[1, i], rays[2, i], rays[3, i], rays[4, i],
+                                     rays[5, i], arrays, board)[0]  # fmt: skip
+            r, g, b = board_colors[board, 0], board_colors[board, 1], board_colors[board, 2]
+        else:  # a texture: the texel's colour and opacity where a hit is nearer
+            for i in range(count):
+                t_hit, alpha, beta = hit_billboard(rays[0, i], rays[1, i], rays[2, i],
+                                                   rays[3, i], rays[4, i], rays[5, i], arrays,
+                                                   board)  # fmt: skip
+                if t_hit < best_t[i] or (t_hit == best_t[i] and t_hit < np.inf and obj < best[i]):
+                    cr, cg, cb, opaque = billboard_color_at(arrays, board, alpha, beta)
+                    if opaque:
+                        best[i], best_t[i] = obj, t_hit
+                        colors[0, i], colors[1, i], colors[2, i] = cr, cg, cb
+            continue
+        for i in range(count):  # keep_nearer's test, with & and | (no branch)
+            nearer = (t[i] < best_t[i]) | ((t[i] == best_t[i]) & (t[i] < np.inf) & (obj < best[i]))
+            best[i] = obj if nearer else best[i]
+            best_t[i] = t[i] if nearer else best_t[i]
+            colors[0, i] = r if nearer else colors[0, i]
+            colors[1, i] = g if nearer else colors[1, i]
+            colors[2, i] = b if nearer else colors[2, i]
+
+
+@njit(**KERNEL)
+def sampled_lanes(arrays, tree, shading, camera, lens, noise, width, first, stack, numbers,
+                  columns, keys, shifts, room, shading_room, rgb, index, t):  # fmt: skip
+    """:func:`sampled_job` for a scene where nothing moves, its samples in lanes: SAMPLED_LANES
+    samples at a time, of one pixel, or of as many whole pixels as they hold (each batch calls
+    kernels of its own, whose arguments cost as much as a few rays: a batch of one pixel's few
+    samples paid them for too few), each sample with its row of ``numbers (SAMPLED_LANES, D)``,
+    the wanted ones copied into the columns of ``columns (D, SAMPLED_LANES)``; their viewing rays,
+    their nearest hits (:func:`cast_lanes` in a scene of DIRECT_HITS objects or fewer, each ray
+    through the tree in a larger one), into ``room`` (:class:`RayRoom`), then all of them
+    shaded at once as :func:`lit_job` shades a tile's rays (:func:`surface_lanes`,
+    :func:`light_lanes`, each area light at each ray's own point of it), the shadow rays against
+    every object (:func:`every_object`); then each mirror's rays (:func:`bounce_on`, with the
+    ray's row of numbers), and the samples summed in order. A step the same for every sample
+    is a loop the compiler turns into vector instructions, where one sample at a time waited on
+    its divisions and branches. Each ray's operations are :func:`shade`'s, in its order, so the
+    bits are :func:`sampled_job`'s."""
+    count, wanted, reads = noise.count, noise.wanted, noise.reads
+    xy, rays, best, best_t, colors = room.xy, room.rays, room.best, room.best_t, room.colors
+    lanes, box = shading_room.lanes, shading_room.box
+    total, point, normal, error = lanes.total, lanes.p, lanes.n, lanes.error
+    per = max(1, SAMPLED_LANES // count)  # whole pixels a batch holds
+    last = min(first + SAMPLED_PIXELS, len(t))
+    r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
+    for p_first in range(first, last, per):
+        pixels = min(per, last - p_first)
+        for k_first in range(0, count, SAMPLED_LANES):
+            samples = min(SAMPLED_LANES, count - k_first)  # of each pixel in this batch
+            shaded = pixels * samples
+            for i in range(shaded):  # lane i: sample k of pixel p
+                p, k = p_first + i // samples, k_first + i % samples
+                if k == k_first:
+                    pixel_keys(noise.sampler, noise.seed, p, wanted, keys, shifts)
+                u = numbers[i]
+                sample_numbers(noise.sampler, k, noise.n, noise.table, wanted, reads, keys,
+                               shifts, u)  # fmt: skip
+                for d in reads:
+                    columns[d, i] = u[d]
+                xy[0, i], xy[1, i] = point_in_pixel(p // width, p % width, u[noise.pixel],
+                                                    u[noise.pixel + 1])  # fmt: skip
+            for i in range(shaded):
+                if lens[0] > 0:
+                    ray = thin_lens_rays(camera, lens, xy[0, i], xy[1, i], columns[noise.lens, i],
+                                         columns[noise.lens + 1, i])  # fmt: skip
+                else:
+                    ray = rays_through(camera, xy[0, i], xy[1, i])
+                rays[0, i], rays[1, i], rays[2, i] = ray.o0, ray.o1, ray.o2
+                rays[3, i], rays[4, i], rays[5, i] = ray.d0, ray.d1, ray.d2
+            if len(tree.order) <= DIRECT_HITS:
+                cast_lanes(arrays, tree, rays, shaded, best, best_t, colors, lanes.t)
+            else:
+                for i in range(shaded):
+                    hit = nearest_hit(arrays, tree, stack, rays[0, i], rays[1, i], rays[2, i],
+                                      rays[3, i], rays[4, i], rays[5, i], np.inf)  # fmt: skip
+                    best[i], best_t[i] = hit.index, hit.t
+                    colors[0, i], colors[1, i], colors[2, i] = hit.r, hit.g, hit.b
+            if shading.shaded:
+                surface_lanes(arrays, shading, rays, best, best_t, colors, shaded, lanes, box)
+                if shading.lit:
+                    light_lanes(arrays, tree, shading, stack, rays, best, shaded, lanes,
+                                shading_room.candidates, shading_room.counts, columns)  # fmt: skip
+            for i in range(shaded):  # each pixel's samples summed in order
+                p, k = p_first + i // samples, k_first + i % samples
+                if k == 0:
+                    r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
+                c0, c1, c2 = colors[0, i], colors[1, i], colors[2, i]
+                hit = best[i]
+                if shading.shaded:  # as shade weighs them: 1 x the colour, added to nothing
+                    if hit >= 0:
+                        c0, c1, c2 = total[0, i], total[1, i], total[2, i]
+                    c0, c1, c2 = 0.0 + 1.0 * c0, 0.0 + 1.0 * c1, 0.0 + 1.0 * c2
+                    if hit >= 0:
+                        c0, c1, c2 = bounce_on(
+                            arrays, tree, shading, stack, 0, hit, point[0, i], point[1, i],
+                            point[2, i], normal[0, i], normal[1, i], normal[2, i], rays[3, i],
+                            rays[4, i], rays[5, i], error[i], c0, c1, c2, 1.0, 1.0, 1.0,
+                            numbers[i],
+                        )  # fmt: skip
+                r_sum += c0
+                g_sum += c1
+                b_sum += c2
+                if k == count - 1:  # the pixel's last sample: its mean, and its centre's hit
+                    rgb[p, 0] = r_sum / count
+                    rgb[p, 1] = g_sum / count
+                    rgb[p, 2] = b_sum / count
+                    ray = rays_through(camera, p % width + 0.5, p // width + 0.5)  # the pinhole's
+                    hit_centre = nearest_hit(arrays, tree, stack, ray.o0, ray.o1, ray.o2, ray.d0,
+                                             ray.d1, ray.d2, np.inf)  # fmt: skip
+                    index[p], t[p] = hit_centre.index, hit_centre.t
 
 
 def caster(scene: Scene, arrays: Arrays | None = None) -> Callable[..., Hits]:

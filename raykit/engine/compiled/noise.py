@@ -147,23 +147,24 @@ def pixel_keys(sampler, seed, pixel, wanted, keys, shifts):
 
 
 @njit(**INLINED)
-def sample_numbers(sampler, k, n, table, wanted, keys, shifts, out):
+def sample_numbers(sampler, k, n, table, wanted, reads, keys, shifts, out):
     """Repeats :meth:`raykit.engine.noise.PixelSamples.of` for one pixel, from its
     :func:`pixel_keys`, and its sample k: the sample's uniform numbers into ``out (D,)``, by
     the ``sampler`` (:data:`RANDOM`, :data:`JITTERED` with n x n samples, or :data:`SOBOL` with
     its points ``table (spp, D)``; an empty table for the others), each dimension ``wanted
-    (D,)``, and nothing written to the others (numbers no ray of the scene reads)."""
-    dimensions = len(out)
+    (D,)``, and nothing written to the others (numbers no ray of the scene reads). ``reads``:
+    the dimensions wanted, in order (``np.flatnonzero(wanted)``): the loops of one number each
+    go through them alone, since a loop over every dimension, made into vector instructions,
+    hashes the unwanted ones too and throws them away."""
     h = keys[0, 0]
     if sampler == SOBOL:  # the image's point k, shifted modulo 1 by the pixel's own numbers
-        for d in range(dimensions):
-            if wanted[d]:
-                shifted = table[k, d] + shifts[d]
-                out[d] = shifted - 1.0 if shifted >= 1.0 else shifted
+        for d in reads:
+            shifted = table[k, d] + shifts[d]
+            out[d] = shifted - 1.0 if shifted >= 1.0 else shifted
         return
-    for d in range(dimensions):
-        if wanted[d]:
-            out[d] = uniform(hash_on(h, k, d))
+    for d in reads:
+        out[d] = uniform(hash_on(h, k, d))
+    dimensions = len(out)
     if sampler != JITTERED:
         return
     for pair in range(dimensions // 2):  # the pixel's own pair keeps cell k; the others are

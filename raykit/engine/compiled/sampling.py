@@ -22,7 +22,14 @@ def point_in_pixel(row, col, u1, u2):
 @njit(**ONE_RAY)
 def jittered_point(cell, n, u1, u2):
     """Repeats :func:`raykit.sampling.jittered_point` for one cell of the n x n grid: ((i +
-    ξ1)/n, (j + ξ2)/n) for cell = i + n·j."""
+    ξ1)/n, (j + ξ2)/n) for cell = i + n·j. Where n is a power of two (the jittered sampler's
+    4^k samples per pixel), with no division, the costliest operation of a sample's numbers: i
+    is the cell's low bits, n·j the rest, and a quotient by n is the product by 1/n, both exact
+    (a power of two only moves the exponent), so the bits are the same."""
+    if n & (n - 1) == 0:
+        inverse = 1.0 / n
+        i = cell & (n - 1)
+        return (float(i) + u1) * inverse, (float(cell - i) * inverse + u2) * inverse
     return (float(cell % n) + u1) / n, (float(cell // n) + u2) / n
 
 

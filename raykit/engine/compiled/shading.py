@@ -17,6 +17,7 @@ from raykit.engine.compiled.bvh import nearest_hit
 from raykit.engine.compiled.compiling import INLINED, KERNEL, MAKES_ARRAYS, ONE_RAY
 from raykit.engine.compiled.lights import sampled, toward_point_light
 from raykit.engine.compiled.mirrors import glossy_reflect, reflect
+from raykit.engine.compiled.sampling import point_on_parallelogram
 from raykit.engine.compiled.shadows import point_light_reach
 from raykit.engine.compiled.spheres import hit_sphere
 from raykit.engine.compiled.surfaces import start, surface_points
@@ -176,10 +177,13 @@ def surface_lanes(arrays, shading, rays, best, best_t, colors, count, lanes, box
 
 
 @njit(**KERNEL)  # called once a job: compiled apart, which keeps trace's compile shorter
-def light_lanes(arrays, tree, shading, stack, rays, best, count, lanes, candidates, counts):
+def light_lanes(arrays, tree, shading, stack, rays, best, count, lanes, candidates, counts,
+                uniforms):  # fmt: skip
     """The lights' part of :func:`surface_color` for ``count`` surface points in ``lanes``
     (:func:`surface_lanes`; those of ``best`` >= 0), seen along the directions in ``rays (6,
-    N)``, light by light, each step for all points at once: l and n·l; whether the light
+    N)``, light by light, each step for all points at once: l and n·l (toward an area light,
+    which only a distributed render has, each ray's own point of it, :func:`sampled`, by its
+    uniform numbers, a column of ``uniforms (D, N)``; none elsewhere); whether the light
     reaches the point (its shadow ray, against light j's ``candidates[j, :counts[j]]``
     (:func:`shadow_lists`), or walking the tree where counts[j] is -1); the Lambert term; the
     highlight. Each point's operations are :func:`surface_color`'s, in its order, so its bits are
@@ -194,7 +198,24 @@ def light_lanes(arrays, tree, shading, stack, rays, best, count, lanes, candidat
     vectors, intensity = shading.light_vectors, shading.light_colors
     for j in range(len(shading.point_light)):
         v0, v1, v2 = vectors[j, 0], vectors[j, 1], vectors[j, 2]
-        if shading.point_light[j]:  # raykit.lights.toward_light; the shadow rays' start and reach
+        area = shading.area[j]
+        if area >= 0:  # a point light where each ray aims: raykit.lights.sampled, as sampled
+            # repeats it, its edges read before the loop (read in it, they might have been the
+            # lanes' own arrays, to the compiler, which then kept the loop one ray at a time)
+            first = shading.light_dims[0, area]
+            e = shading.light_edges
+            e0, e1, e2, e3, e4, e5 = e[j, 0], e[j, 1], e[j, 2], e[j, 3], e[j, 4], e[j, 5]
+            for i in range(count):
+                u1, u2 = uniforms[first, i], uniforms[first + 1, i]
+                a0, a1, a2 = point_on_parallelogram(v0, v1, v2, e0, e1, e2, e3, e4, e5, u1, u2)
+                l[0, i], l[1, i], l[2, i] = toward_point_light(a0, a1, a2, p[0, i], p[1, i],
+                                                               p[2, i])  # fmt: skip
+                s[0, i], s[1, i], s[2, i] = start(
+                    p[0, i], p[1, i], p[2, i], n[0, i], n[1, i], n[2, i], error[i], l[0, i],
+                    l[1, i], l[2, i],
+                )  # fmt: skip
+                reach[i] = point_light_reach(a0, a1, a2, s[0, i], s[1, i], s[2, i])
+        elif shading.point_light[j]:  # raykit.lights.toward_light; the shadow rays' start, reach
             for i in range(count):
                 l[0, i], l[1, i], l[2, i] = toward_point_light(v0, v1, v2, p[0, i], p[1, i],
                                                                p[2, i])  # fmt: skip

@@ -180,6 +180,17 @@ TWINS = (
         "render's loop over one job's pixels, distributed, each with all its samples",
     ),
     Twin(
+        "driver.sampled_lanes",
+        "raykit.render.render",
+        "render's loop over one job's pixels, distributed, where nothing moves: their samples in "
+        "lanes",
+    ),
+    Twin(
+        "driver.cast_lanes",
+        "raykit.render.cast",
+        "cast's nearest hits of a pixel's samples' viewing rays, each object for all at once",
+    ),
+    Twin(
         "driver.spheres_at",
         "raykit.render.cast",
         "cast's centres of the spheres at one ray's time, a moving one's by center_at",
@@ -202,6 +213,7 @@ OWN = {
     "driver.job_pixel": "a pixel of a job",
     "driver.job_points": "a job's image points",
     "driver.background_job": "a tile no object is seen in: the background, with no ray",
+    "driver.every_object": "a distributed render's shadow lists: every object, as the reference",
     "mirrors.sign": "np.sign of one number, which glossy_reflect's reference compares",
     "shadows.extent": "the shadow lists' cull (the reference tests every object)",
     "shadows.box_extent": "the shadow lists' cull",
