@@ -106,7 +106,8 @@ class MaterialTable:
     @property
     def any_glossy(self) -> bool:
         """Whether some mirror is glossy (km > 0 and a > 0): its rays take uniform numbers."""
-        return bool(np.any(self.mirror.any(axis=1) & (self.glossiness > 0)))
+        glossy = self.glossiness > 0  # one number an object: read first, the rows only if need be
+        return bool(glossy.any() and self.mirror[glossy].any())
 
     @property
     def any_shiny(self) -> bool:

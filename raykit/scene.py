@@ -13,7 +13,8 @@ A scene with any of them is :attr:`Scene.distributed`; one without renders as be
 Scenes are read from files by :mod:`raykit.io.scene_json` (format v1, documented in
 ``docs/scene-format.md``) and :mod:`raykit.io.nff`. Geometry conventions live with the
 objects: :mod:`raykit.camera`, :mod:`raykit.spheres`, :mod:`raykit.billboards`. Nothing here
-is kept for speed: the engine's arrays of a scene are :mod:`raykit.engine.arrays`.
+is kept for speed but two answers the scene cannot change (:attr:`Scene.materials`,
+:attr:`Scene.distributed`): the engine's arrays of a scene are :mod:`raykit.engine.arrays`.
 
 Object indices. Wherever raykit reports "which object a ray hit" (the renderer's
 ``object_index`` image, diagrams, grading), object i counts the spheres first, in file order,
@@ -131,11 +132,12 @@ class Scene:
         """Whether each ray takes its own time (:attr:`moving`, the shutter open a while)."""
         return self.moving and self.sampling.shutter[1] > self.sampling.shutter[0]
 
-    @property
+    @cached_property
     def distributed(self) -> bool:
         """Whether the render is distributed (stage 5): more than one sample per pixel of the
         scene's :class:`raykit.sampling.Sampling`, an area light, a lens (aperture > 0), a glossy
-        mirror, or spheres moving while the shutter is open."""
+        mirror, or spheres moving while the shutter is open. Asked at each render, and of every
+        object: answered once (the scene is frozen), as :attr:`materials` is made once."""
         return (
             self.sampling.samples_per_pixel > 1
             or self.area_lights > 0
