@@ -786,7 +786,9 @@ class Prepared(NamedTuple):
     render's every ray; empty when the scene has none), :class:`Shading` (lights and materials)
     and camera (:func:`camera_tuple`); and a distributed scene's thin lens (:func:`lens_tuple`)
     and :class:`Noise` (None for another scene), and its :class:`Motion` (nothing moving but in a
-    scene with a shutter; such a scene's tree is :func:`every_object_tree`)."""
+    scene with a shutter; such a scene's tree is :func:`every_object_tree`); and the ``entry``
+    point that renders it (:func:`raykit.engine.choice.entry_point`, which asks every object's
+    material: asked once here, not at each render)."""
 
     scene: Scene
     arrays: Arrays
@@ -797,6 +799,7 @@ class Prepared(NamedTuple):
     lens: tuple
     noise: Noise | None
     motion: Motion
+    entry: str
 
 
 def prepare(scene: Scene) -> Prepared:
@@ -813,7 +816,7 @@ def prepare(scene: Scene) -> Prepared:
         tree = every_object_tree(scene)
     noise = scene_noise(scene) if scene.distributed else None
     return Prepared(scene, arrays, screen_tiles(scene, arrays), tree, shading, camera_tuple(scene),
-                    lens_tuple(scene), noise, scene_motion(scene))  # fmt: skip
+                    lens_tuple(scene), noise, scene_motion(scene), entry_point(scene))  # fmt: skip
 
 
 def render(scene: Scene | Prepared, samples: int = 1, *, adaptive: bool = False, progress=None):
@@ -907,12 +910,13 @@ def _workers(jobs: np.ndarray) -> int:
 
 def _entry(prepared: Prepared) -> tuple:
     """``(name, entry point, its leading arguments)`` for a prepared scene, the name
-    :func:`raykit.engine.choice.entry_point` gives it: :func:`trace_flat` for a flat scene,
-    which compiles no shading, else :func:`trace_lit` with the tree and :class:`Shading`, and
-    ``bounces``: True for ``trace_mirrors`` (a ray may bounce off a mirror), else None, a type
-    of its own to numba, for which :func:`lit_job` compiles no mirror code. The two are
-    compiled apart, and named apart for the cache's markers and the progress line."""
-    name = entry_point(prepared.scene)
+    :func:`raykit.engine.choice.entry_point` gave it (``prepared.entry``): :func:`trace_flat`
+    for a flat scene, which compiles no shading, else :func:`trace_lit` with the tree and
+    :class:`Shading`, and ``bounces``: True for ``trace_mirrors`` (a ray may bounce off a
+    mirror), else None, a type of its own to numba, for which :func:`lit_job` compiles no mirror
+    code. The two are compiled apart, and named apart for the cache's markers and the progress
+    line."""
+    name = prepared.entry
     if name == "trace_sampled":
         return name, trace_sampled, (prepared.arrays, prepared.tree, prepared.shading,
                                      prepared.camera, prepared.lens, prepared.noise,
