@@ -25,7 +25,7 @@ compiled = pytest.importorskip("raykit.engine.compiled")
 
 from raykit.engine.compiled.billboards import billboard_color_at, hit_billboard  # noqa: E402
 from raykit.engine.compiled.spheres import hit_sphere  # noqa: E402
-from raykit.engine.compiled.tiles import lane_offer  # noqa: E402
+from raykit.engine.compiled.tiles import lane_offer, lanes_under  # noqa: E402
 
 # every way of casting the viewing rays: tiles of each side, their rays in packets or one at a
 # time (raykit.engine.compiled.tile_side picks one per scene); 4-pixel packets are too small to
@@ -108,6 +108,40 @@ def test_a_ray_reading_its_list_in_chunks_offers_what_a_scan_entry_by_entry_offe
             expected = _scan_entry_by_entry(entries, 0.5, 0.5, t_of)
             assert offered == expected, (length, closest, holds, hit)
             assert made == bool(expected)
+
+
+@pytest.mark.parametrize("samples, extra", [(1, 0), (4, 1), (9, 0)])
+def test_a_packet_tests_an_object_on_every_lane_its_rectangle_holds(samples, extra):
+    """lanes_under's runs hold every lane whose image point (as job_points lays the lanes out:
+    a pixel's samples together, the centre rays after them) the object's rectangle holds, on
+    800 seeded rectangles over a tile of 5 x 7 pixels at (21, 13), some past its edges."""
+    from raykit.engine.compiled.driver import TileJob
+
+    rng = np.random.default_rng(5)
+    job = TileJob(first=0, rows=5, top=13, left=21, across=7, tile=0)
+    offsets = rng.random((samples, 2))
+    pixels = job.rows * job.across
+    points = np.empty((pixels * (samples + extra), 2))
+    for q in range(pixels):
+        corner = (job.left + q % job.across, job.top + q // job.across)
+        points[q * samples : (q + 1) * samples] = np.add(corner, offsets)
+        if extra:
+            points[pixels * samples + q] = np.add(corner, 0.5)
+    for _ in range(800):
+        x0, y0 = rng.uniform([17, 9], [31, 21])
+        x1, y1 = x0 + rng.exponential(3), y0 + rng.exponential(3)
+        if rng.random() < 0.1:  # edges on pixel boundaries
+            x0, x1, y0, y1 = np.floor([x0, x1, y0, y1])
+        held = np.flatnonzero(
+            (x0 <= points[:, 0]) & (points[:, 0] <= x1)
+            & (y0 <= points[:, 1]) & (points[:, 1] <= y1)
+        )  # fmt: skip
+        first, end, first_centre, end_centre = lanes_under(
+            (x0, x1, y0, y1, 0.0), job, samples, extra
+        )
+        within = ((first <= held) & (held < end)) | ((first_centre <= held) & (held < end_centre))
+        assert within.all(), (x0, x1, y0, y1, held[~within])
+        assert end <= len(points) and end_centre <= len(points)
 
 
 def test_tile_side_sends_rays_in_packets_unless_the_picture_is_crowded():

@@ -190,6 +190,14 @@ def job_points(film, job, xy):
     samples = len(offsets)
     pixels = job.rows * job.across
     extra = 1 if film.centre < 0 else 0
+    if samples == 1 and not extra and len(film.xs) == 0:  # a tile's pixels, one point each
+        along_x, down_y = offsets[0, 0], offsets[0, 1]
+        for down in range(job.rows):
+            y = float(job.top + down) + down_y
+            for along in range(job.across):
+                q = down * job.across + along
+                xy[0, q], xy[1, q] = float(job.left + along) + along_x, y
+        return pixels
     for down in range(job.rows):
         for along in range(job.across):
             q = down * job.across + along
@@ -211,6 +219,16 @@ def pixel_means(film, job, colors, best, best_t):
     rgb, index, t, centre = film.rgb, film.index, film.t, film.centre
     samples = len(film.offsets)
     pixels = job.rows * job.across
+    if samples == 1 and centre == 0:  # one sample, through the centre: as below, without /1
+        for down in range(job.rows):
+            for along in range(job.across):
+                q = down * job.across + along
+                p, _, _ = job_pixel(film, job, down, along)
+                rgb[p, 0] = 0.0 + colors[0, q]
+                rgb[p, 1] = 0.0 + colors[1, q]
+                rgb[p, 2] = 0.0 + colors[2, q]
+                index[p], t[p] = best[q], best_t[q]
+        return
     for down in range(job.rows):
         for along in range(job.across):
             q = down * job.across + along
@@ -231,8 +249,8 @@ def pixel_means(film, job, colors, best, best_t):
 class RayRoom(NamedTuple):
     """Room for a job's N rays: each ray's image point ``xy (2, N)``, origin and direction
     ``rays (6, N)``, its hit's object index ``best (N,)`` and ``best_t (N,)``, colour ``colors
-    (3, N)``, whether it was ``made`` (:func:`primary_ray`), room ``alive``, ``ts``, ``alphas``
-    and ``betas`` for :func:`primary_rays`, and ``holding (HOLDING_CHUNK,)`` for
+    (3, N)``, whether it was ``made`` (:func:`primary_ray`), room ``ts``, ``alphas`` and
+    ``betas`` for :func:`primary_rays`, and ``holding (HOLDING_CHUNK,)`` for
     :func:`primary_ray`. Each worker makes its own inside the parallel loop
     (:func:`new_ray_room`), as :class:`Lanes` says why."""
 
@@ -242,7 +260,6 @@ class RayRoom(NamedTuple):
     best_t: np.ndarray
     colors: np.ndarray
     made: np.ndarray
-    alive: np.ndarray
     ts: np.ndarray
     alphas: np.ndarray
     betas: np.ndarray
@@ -267,9 +284,8 @@ class ShadingRoom(NamedTuple):
 def new_ray_room(n):
     """A :class:`RayRoom` for ``n`` rays."""
     return RayRoom(np.empty((2, n)), np.empty((6, n)), np.empty(n, dtype=np.int64),
-                   np.empty(n), np.empty((3, n)), np.empty(n, dtype=np.bool_),
-                   np.empty(n, dtype=np.bool_), np.empty(n), np.empty(n), np.empty(n),
-                   np.empty(HOLDING_CHUNK, dtype=np.int64))  # fmt: skip
+                   np.empty(n), np.empty((3, n)), np.empty(n, dtype=np.bool_), np.empty(n),
+                   np.empty(n), np.empty(n), np.empty(HOLDING_CHUNK, dtype=np.int64))  # fmt: skip
 
 
 @njit(**MAKES_ARRAYS)
@@ -352,8 +368,8 @@ def flat_job(arrays, tiles, camera, film, job, room):
                     hit = primary_ray(arrays, tiles, camera, px + 0.5, py + 0.5, tile, room.holding)
                     index[p], t[p] = hit.nearest.index, hit.nearest.t
         return
-    n = job_points(film, job, room.xy)
-    primary_rays(arrays, tiles, camera, tile, n, room)
+    job_points(film, job, room.xy)
+    primary_rays(arrays, tiles, camera, job, len(offsets), int(centre < 0), room)
     pixel_means(film, job, room.colors, room.best, room.best_t)
 
 
@@ -402,7 +418,7 @@ def lit_job(arrays, tiles, tree, shading, camera, bounces, film, job, room, shad
     candidates, counts = shading_room.candidates, shading_room.counts
     n = job_points(film, job, xy)
     if tile >= 0 and tiles.packets:
-        primary_rays(arrays, tiles, camera, tile, n, room)
+        primary_rays(arrays, tiles, camera, job, len(film.offsets), int(film.centre < 0), room)
     else:
         for i in range(n):
             viewing = primary_ray(arrays, tiles, camera, xy[0, i], xy[1, i], tile, holding)

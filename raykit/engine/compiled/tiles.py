@@ -4,6 +4,7 @@ against them, one at a time (:func:`primary_ray`) or in packets (:func:`primary_
 
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numpy as np
@@ -161,26 +162,121 @@ def lane_offer(alive, best, best_t, x, y, entry, obj, t):
     return still, holds, nearer
 
 
+@njit(**ONE_RAY)
+def lanes_under(entry, job, samples, extra):
+    """The lanes of a packet (:func:`primary_rays`) that the rectangle of ``entry`` (x0, x1, y0,
+    y1, closest) can hold, as one run ``first:end`` of each of its two parts, ``(first, end,
+    first_centre, end_centre)``: the pixels of ``job`` (a
+    :class:`~raykit.engine.compiled.driver.TileJob`) whose square [px, px + 1) x [py, py + 1)
+    meets the rectangle lie in its rows and columns from the first such pixel to the last,
+    and a pixel's ``samples`` lanes lie together (lane q·S + s), its ray through the centre,
+    if cast apart (``extra`` 1), after all those (lane P·S + q). Every image point lies in
+    its pixel's square, since sample offsets lie in [0, 1). Each run is widened to whole
+    LANE_BLOCKs (the lanes of the packet's other pixels in it take nothing, as their points are
+    not held); an empty run where no pixel meets the rectangle."""
+    x0, x1, y0, y1 = entry[0], entry[1], entry[2], entry[3]  # within the image: finite
+    first_column = int(max(0.0, math.floor(x0) - job.left))
+    last_column = int(min(job.across - 1.0, math.floor(x1) - job.left))
+    first_row = int(max(0.0, math.floor(y0) - job.top))
+    last_row = int(min(job.rows - 1.0, math.floor(y1) - job.top))
+    if first_column > last_column or first_row > last_row:
+        return 0, 0, 0, 0
+    first = first_row * job.across + first_column  # pixels
+    end = last_row * job.across + last_column + 1
+    pixels = job.rows * job.across
+    lanes, block = pixels * (samples + extra), LANE_BLOCK
+    first_centre, end_centre = pixels * samples + first, pixels * samples + end
+    first, end = first * samples, end * samples
+    return (first - first % block, min(lanes, end + -end % block),
+            (first_centre - first_centre % block) * extra,
+            min(lanes, end_centre + -end_centre % block) * extra)  # fmt: skip
+
+
+# lanes_under widens each run to whole blocks of this many lanes: the vector loop takes that
+# many at a time (a rest of a few lanes goes one at a time, without vector instructions)
+LANE_BLOCK = 16
+
+
+@njit(**ONE_RAY)
+def farthest_hit(best_t, n):
+    """The largest of ``best_t[:n]``, taken in four running maxima, so that each step need not
+    wait for the one before (the compiler keeps a float maximum in order: NaN would change
+    it; none is here, but it cannot know)."""
+    far0, far1, far2, far3 = -np.inf, -np.inf, -np.inf, -np.inf
+    for i in range(0, n - 3, 4):
+        far0 = best_t[i] if best_t[i] > far0 else far0
+        far1 = best_t[i + 1] if best_t[i + 1] > far1 else far1
+        far2 = best_t[i + 2] if best_t[i + 2] > far2 else far2
+        far3 = best_t[i + 3] if best_t[i + 3] > far3 else far3
+    for i in range(n - n % 4, n):
+        far0 = best_t[i] if best_t[i] > far0 else far0
+    return max(max(far0, far1), max(far2, far3))
+
+
+HELD = -1.0  # in ts, for a lane the object's rectangle holds, whose hit is not nearer
+NOT_HELD = -2.0  # for a lane the rectangle does not hold (a hit taken is t > 0)
+
+
+@njit(**ONE_RAY)
+def take_nearer(ts, start, end, obj, r, g, b, room):
+    """Each lane of ``start:end`` whose ``ts`` is a hit (t >= 0, not HELD or NOT_HELD) takes it:
+    object ``obj``, that t and the colour (r, g, b), into ``room`` (a
+    :class:`~raykit.engine.compiled.driver.RayRoom`); a lane held is ``made``. Returns how many
+    lanes had no hit before, and how many took one. One loop per array written, each turned
+    into vector instructions (a loop that writes several arrays is not: the compiler cannot
+    tell that they do not overlap)."""
+    best, best_t, colors, made = room.best, room.best_t, room.colors, room.made
+    first_hits, taken = 0, 0
+    for i in range(start, end):
+        nearer = ts[i] >= 0.0
+        first_hits += nearer & (best_t[i] == np.inf)
+        taken += nearer
+    if taken:
+        for i in range(start, end):
+            best_t[i] = ts[i] if ts[i] >= 0.0 else best_t[i]
+        for i in range(start, end):
+            best[i] = obj if ts[i] >= 0.0 else best[i]
+        for i in range(start, end):
+            colors[0, i] = r if ts[i] >= 0.0 else colors[0, i]
+        for i in range(start, end):
+            colors[1, i] = g if ts[i] >= 0.0 else colors[1, i]
+        for i in range(start, end):
+            colors[2, i] = b if ts[i] >= 0.0 else colors[2, i]
+    for i in range(start, end):
+        made[i] |= ts[i] >= HELD
+    return first_hits, taken
+
+
 @njit(**KERNEL)
-def primary_rays(arrays, tiles, camera, tile, n, room):
-    """:func:`primary_ray` for the ``n`` image points of ``room`` at once, all in ``tile``: a
-    packet of rays, each a lane of arrays (a :class:`~raykit.engine.compiled.driver.RayRoom`'s:
-    points ``xy (2, L)`` in, ``rays (6, L)``, ``best (L,)``, ``best_t``, ``colors (3, L)``,
-    ``made`` out; ``alive``, ``ts``, ``alphas``, ``betas`` room). The tile's objects are taken
-    in turn, and each is tested against every lane with one loop of :func:`hit_sphere` or
-    :func:`hit_billboard` that the compiler turns into vector instructions (as many lanes at a
-    time as the processor's vectors hold); masks then keep, for each lane, only what
-    :func:`primary_ray` would: a lane whose rectangle does not hold its point, or that has
-    stopped (its next object can only be farther than its hit), takes nothing from the test,
-    and a billboard's texel is looked up only for the lanes it would be nearer for
-    (:func:`~raykit.engine.compiled.hits.keep_nearer`'s rule). So each lane offers the same
-    objects in the same order as :func:`primary_ray` and gets the same bits; the other lanes'
-    answers are computed and thrown away, which costs less than a branch per ray when the
-    tile's list is short. Every lane's ray is made (a lane that no rectangle holds is not
-    ``made``, as in :func:`primary_ray`, and its ray is not used)."""
+def primary_rays(arrays, tiles, camera, job, samples, extra, room):
+    """:func:`primary_ray` for every image point of ``room`` at once, all in the tile of ``job``
+    (a :class:`~raykit.engine.compiled.driver.TileJob`), laid out as
+    :func:`~raykit.engine.compiled.driver.job_points` lays them out (``samples`` a pixel, and
+    ``extra`` 1 for a ray through each pixel's centre after those): a packet of rays, each a
+    lane of arrays (a :class:`~raykit.engine.compiled.driver.RayRoom`'s: points ``xy (2, L)`` in,
+    ``rays (6, L)``, ``best (L,)``, ``best_t``, ``colors (3, L)``, ``made`` out; ``ts``,
+    ``alphas``, ``betas`` room). The tile's objects are taken in turn, and each is tested
+    against the lanes its screen rectangle can hold (:func:`lanes_under`), with one loop that
+    the compiler turns into vector instructions (as many lanes at a time as the processor's
+    vectors hold): a sphere's loop tests it (:func:`hit_sphere`) and keeps, for each lane, only
+    what :func:`primary_ray` would take (:func:`lane_offer`: a lane whose rectangle does not
+    hold its point, or whose hit is nearer than the object can be, takes nothing), writing
+    only ``ts``, from which :func:`take_nearer` takes the hits; a billboard's loop tests it
+    (:func:`hit_billboard`), and its texel is looked up only for the lanes it would be nearer
+    for (:func:`~raykit.engine.compiled.hits.keep_nearer`'s rule). So each lane offers the
+    same objects in the same order as :func:`primary_ray` and gets the same bits.
+
+    A lane goes on as :func:`primary_ray` does while the next object's closest t is not past
+    its hit: the list is sorted by closest t and a hit only comes nearer, so once that fails
+    it fails for every later object, and the test at each object is the whole rule. The
+    packet stops where it fails for every lane: at an object whose closest t is past every
+    lane's hit (:func:`farthest_hit`, looked for once no lane is without a hit). Every lane's
+    ray is made (a lane that no rectangle holds is not ``made``, as in :func:`primary_ray`,
+    and its ray is not used)."""
     xy, rays, best, best_t, colors = room.xy, room.rays, room.best, room.best_t, room.colors
-    made, alive, ts, alphas, betas = room.made, room.alive, room.ts, room.alphas, room.betas
+    made, ts, alphas, betas = room.made, room.ts, room.alphas, room.betas
     background = arrays.background
+    n = job.rows * job.across * (samples + extra)
     for i in range(n):
         ray = rays_through(camera, xy[0, i], xy[1, i])
         rays[0, i], rays[1, i], rays[2, i] = ray.o0, ray.o1, ray.o2
@@ -188,49 +284,56 @@ def primary_rays(arrays, tiles, camera, tile, n, room):
     for i in range(n):
         best[i], best_t[i] = -1, np.inf
         colors[0, i], colors[1, i], colors[2, i] = background[0], background[1], background[2]
-        alive[i], made[i] = True, False
+        made[i] = False
     spheres = len(arrays.radii)
     entries, objects = tiles.entries, tiles.objects
     centers, radii, sphere_colors = arrays.centers, arrays.radii, arrays.sphere_colors
-    for k in range(tiles.start[tile], tiles.start[tile + 1]):
+    # lanes with no hit yet, whether a hit came nearer since the lanes' farthest hit was found
+    unhit, nearer_since, farthest = n, False, np.inf
+    for k in range(tiles.start[job.tile], tiles.start[job.tile + 1]):
         obj = objects[k]
         entry = (entries[k, 0], entries[k, 1], entries[k, 2], entries[k, 3], entries[k, 4])
-        alive_lanes = 0
-        if obj < spheres:
-            c0, c1, c2, R = centers[obj, 0], centers[obj, 1], centers[obj, 2], radii[obj]
-            r, g, b = sphere_colors[obj, 0], sphere_colors[obj, 1], sphere_colors[obj, 2]
-            for i in range(n):  # the vector loop: it writes one array only
-                ts[i] = hit_sphere(
-                    rays[0, i], rays[1, i], rays[2, i], rays[3, i], rays[4, i], rays[5, i],
-                    c0, c1, c2, R,
-                )  # fmt: skip
-            for i in range(n):
-                still, holds, nearer = lane_offer(alive[i], best[i], best_t[i], xy[0, i],
-                                                  xy[1, i], entry, obj, ts[i])  # fmt: skip
-                if nearer:
-                    best[i], best_t[i] = obj, ts[i]
-                    colors[0, i], colors[1, i], colors[2, i] = r, g, b
-                made[i], alive[i] = made[i] | holds, still
-                alive_lanes += still
-        else:
-            board = obj - spheres
-            for i in range(n):  # the vector loop: it writes only its three arrays
-                ts[i], alphas[i], betas[i] = hit_billboard(
-                    rays[0, i], rays[1, i], rays[2, i], rays[3, i], rays[4, i], rays[5, i],
-                    arrays, board,
-                )  # fmt: skip
-            for i in range(n):  # a texel only where the billboard is nearer
-                still, holds, nearer = lane_offer(alive[i], best[i], best_t[i], xy[0, i],
-                                                  xy[1, i], entry, obj, ts[i])  # fmt: skip
-                if nearer:
-                    r, g, b, opaque = billboard_color_at(arrays, board, alphas[i], betas[i])
-                    if opaque:
-                        best[i], best_t[i] = obj, ts[i]
-                        colors[0, i], colors[1, i], colors[2, i] = r, g, b
-                made[i], alive[i] = made[i] | holds, still
-                alive_lanes += still
-        if alive_lanes == 0:
-            break
+        if nearer_since:  # a lane with no hit goes on to the end
+            farthest, nearer_since = farthest_hit(best_t, n) if unhit == 0 else np.inf, False
+        if entry[4] > farthest:
+            break  # no lane goes on: every object from here on is farther than its hit
+        runs = lanes_under(entry, job, samples, extra)
+        for part in range(1 + extra):
+            # unsigned: an index known not below 0 needs no wrap-around, which, unknown, kept
+            # the loops from vector instructions
+            start, end = np.uint64(runs[2 * part]), np.uint64(runs[2 * part + 1])
+            if obj < spheres:
+                c0, c1, c2, R = centers[obj, 0], centers[obj, 1], centers[obj, 2], radii[obj]
+                for i in range(start, end):  # the vector loop: it writes one array only
+                    t = hit_sphere(
+                        rays[0, i], rays[1, i], rays[2, i], rays[3, i], rays[4, i], rays[5, i],
+                        c0, c1, c2, R,
+                    )  # fmt: skip
+                    _, holds, nearer = lane_offer(True, best[i], best_t[i], xy[0, i], xy[1, i],
+                                                  entry, obj, t)  # fmt: skip
+                    ts[i] = t if nearer else (HELD if holds else NOT_HELD)
+                taken = take_nearer(ts, start, end, obj, sphere_colors[obj, 0],
+                                    sphere_colors[obj, 1], sphere_colors[obj, 2], room)  # fmt: skip
+                unhit -= taken[0]
+                nearer_since |= taken[1] > 0
+            else:
+                board = obj - spheres
+                for i in range(start, end):  # the vector loop: it writes only its three arrays
+                    ts[i], alphas[i], betas[i] = hit_billboard(
+                        rays[0, i], rays[1, i], rays[2, i], rays[3, i], rays[4, i], rays[5, i],
+                        arrays, board,
+                    )  # fmt: skip
+                for i in range(start, end):  # a texel only where the billboard is nearer
+                    _, holds, nearer = lane_offer(True, best[i], best_t[i], xy[0, i], xy[1, i],
+                                                  entry, obj, ts[i])  # fmt: skip
+                    if nearer:
+                        r, g, b, opaque = billboard_color_at(arrays, board, alphas[i], betas[i])
+                        if opaque:
+                            unhit -= best_t[i] == np.inf
+                            best[i], best_t[i] = obj, ts[i]
+                            colors[0, i], colors[1, i], colors[2, i] = r, g, b
+                            nearer_since = True
+                    made[i] |= holds
 
 
 def screen_tiles(
