@@ -216,7 +216,7 @@ def _offer_all_by_lane_offer(arrays, objects, origins, directions):
                 t, alpha, beta = hit_billboard(o[0], o[1], o[2], d[0], d[1], d[2], arrays,
                                                obj - spheres)  # fmt: skip
                 opaque = t < np.inf and billboard_color_at(arrays, obj - spheres, alpha, beta)[3]
-            still, holds, nearer = lane_offer(True, best, best_t, 0.0, 0.0, entry, obj, t)
+            still, holds, nearer = lane_offer(best, best_t, 0.0, 0.0, entry, obj, t)
             every = every and still and holds
             if nearer and opaque:
                 best, best_t = obj, t

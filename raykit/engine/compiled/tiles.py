@@ -145,18 +145,18 @@ def primary_ray(arrays, tiles, camera, x, y, tile, holding):
 
 
 @njit(**ONE_RAY)
-def lane_offer(alive, best, best_t, x, y, entry, obj, t):
+def lane_offer(best, best_t, x, y, entry, obj, t):
     """:func:`~raykit.engine.compiled.hits.keep_nearer`'s rule for one lane of
     :func:`primary_rays`, offered object ``obj`` of its tile's list with its ``entry``, the
     tuple (x0, x1, y0, y1, closest) of its rectangle and its closest t, with the lane's hit
-    of it at ``t``: whether the lane goes on (``alive`` and its nearest ``best_t`` not nearer
-    than the object can be), whether the rectangle holds its image point (x, y), and whether
-    ``obj`` is nearer than its ``best`` so far, or as near and of a lower index. The entry comes
-    as numbers, read from the list once an object as the sphere's are, not as the list's row:
-    the mask loop stores into the packet's arrays, and a row read through memory in the loop
-    may have to be read again after each store."""
+    of it at ``t``: whether the lane goes on (its nearest ``best_t`` not nearer than the object
+    can be: :func:`primary_rays` says why that is the whole rule), whether the rectangle holds
+    its image point (x, y), and whether ``obj`` is nearer than its ``best`` so far, or as near
+    and of a lower index. The entry comes as numbers, read from the list once an object as the
+    sphere's are, not as the list's row: the mask loop stores into the packet's arrays, and a
+    row read through memory in the loop may have to be read again after each store."""
     x0, x1, y0, y1, closest = entry[0], entry[1], entry[2], entry[3], entry[4]
-    still = alive & (closest <= best_t)
+    still = closest <= best_t
     holds = still & (x0 <= x) & (x <= x1) & (y0 <= y) & (y <= y1)
     nearer = holds & ((t < best_t) | ((t == best_t) & (t < np.inf) & (obj < best)))
     return still, holds, nearer
@@ -309,7 +309,7 @@ def primary_rays(arrays, tiles, camera, job, samples, extra, room):
                         rays[0, i], rays[1, i], rays[2, i], rays[3, i], rays[4, i], rays[5, i],
                         c0, c1, c2, R,
                     )  # fmt: skip
-                    _, holds, nearer = lane_offer(True, best[i], best_t[i], xy[0, i], xy[1, i],
+                    _, holds, nearer = lane_offer(best[i], best_t[i], xy[0, i], xy[1, i],
                                                   entry, obj, t)  # fmt: skip
                     ts[i] = t if nearer else (HELD if holds else NOT_HELD)
                 taken = take_nearer(ts, start, end, obj, sphere_colors[obj, 0],
@@ -324,7 +324,7 @@ def primary_rays(arrays, tiles, camera, job, samples, extra, room):
                         arrays, board,
                     )  # fmt: skip
                 for i in range(start, end):  # a texel only where the billboard is nearer
-                    _, holds, nearer = lane_offer(True, best[i], best_t[i], xy[0, i], xy[1, i],
+                    _, holds, nearer = lane_offer(best[i], best_t[i], xy[0, i], xy[1, i],
                                                   entry, obj, ts[i])  # fmt: skip
                     if nearer:
                         r, g, b, opaque = billboard_color_at(arrays, board, alphas[i], betas[i])
