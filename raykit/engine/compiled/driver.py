@@ -194,9 +194,10 @@ def job_points(film, job, xy):
         along_x, down_y = offsets[0, 0], offsets[0, 1]
         for down in range(job.rows):
             y = float(job.top + down) + down_y
-            for along in range(job.across):
-                q = down * job.across + along
-                xy[0, q], xy[1, q] = float(job.left + along) + along_x, y
+            row = np.uint64(down * job.across)  # unsigned, as primary_rays' loops say why
+            for along in range(np.uint64(job.across)):
+                xy[0, row + along] = float(job.left) + float(along) + along_x
+                xy[1, row + along] = y
         return pixels
     for down in range(job.rows):
         for along in range(job.across):
@@ -221,9 +222,11 @@ def pixel_means(film, job, colors, best, best_t):
     pixels = job.rows * job.across
     if samples == 1 and centre == 0:  # one sample, through the centre: as below, without /1
         for down in range(job.rows):
-            for along in range(job.across):
-                q = down * job.across + along
-                p, _, _ = job_pixel(film, job, down, along)
+            first, _, _ = job_pixel(film, job, down, 0)  # a row's pixels lie side by side
+            # unsigned, as primary_rays' loops say why
+            row_p, row_q = np.uint64(first), np.uint64(down * job.across)
+            for along in range(np.uint64(job.across)):
+                p, q = row_p + along, row_q + along
                 rgb[p, 0] = 0.0 + colors[0, q]
                 rgb[p, 1] = 0.0 + colors[1, q]
                 rgb[p, 2] = 0.0 + colors[2, q]

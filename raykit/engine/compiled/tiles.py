@@ -203,12 +203,14 @@ def farthest_hit(best_t, n):
     wait for the one before (the compiler keeps a float maximum in order: NaN would change
     it; none is here, but it cannot know)."""
     far0, far1, far2, far3 = -np.inf, -np.inf, -np.inf, -np.inf
-    for i in range(0, n - 3, 4):
+    fours = np.uint64(n - n % 4)  # unsigned, as primary_rays' loops say why
+    one, two, three = np.uint64(1), np.uint64(2), np.uint64(3)  # unsigned plus signed is float
+    for i in range(np.uint64(0), fours, np.uint64(4)):
         far0 = best_t[i] if best_t[i] > far0 else far0
-        far1 = best_t[i + 1] if best_t[i + 1] > far1 else far1
-        far2 = best_t[i + 2] if best_t[i + 2] > far2 else far2
-        far3 = best_t[i + 3] if best_t[i + 3] > far3 else far3
-    for i in range(n - n % 4, n):
+        far1 = best_t[i + one] if best_t[i + one] > far1 else far1
+        far2 = best_t[i + two] if best_t[i + two] > far2 else far2
+        far3 = best_t[i + three] if best_t[i + three] > far3 else far3
+    for i in range(fours, np.uint64(n)):
         far0 = best_t[i] if best_t[i] > far0 else far0
     return max(max(far0, far1), max(far2, far3))
 
@@ -262,8 +264,9 @@ def primary_rays(arrays, tiles, camera, job, samples, extra, room):
     what :func:`primary_ray` would take (:func:`lane_offer`: a lane whose rectangle does not
     hold its point, or whose hit is nearer than the object can be, takes nothing), writing
     only ``ts``, from which :func:`take_nearer` takes the hits; a billboard's loop tests it
-    (:func:`hit_billboard`), and its texel is looked up only for the lanes it would be nearer
-    for (:func:`~raykit.engine.compiled.hits.keep_nearer`'s rule). So each lane offers the
+    (:func:`hit_billboard`), a second keeps in ``ts`` what :func:`lane_offer` keeps, and its
+    texel is looked up only for the lanes it would be nearer for
+    (:func:`~raykit.engine.compiled.hits.keep_nearer`'s rule). So each lane offers the
     same objects in the same order as :func:`primary_ray` and gets the same bits.
 
     A lane goes on as :func:`primary_ray` does while the next object's closest t is not past
@@ -323,17 +326,20 @@ def primary_rays(arrays, tiles, camera, job, samples, extra, room):
                         rays[0, i], rays[1, i], rays[2, i], rays[3, i], rays[4, i], rays[5, i],
                         arrays, board,
                     )  # fmt: skip
-                for i in range(start, end):  # a texel only where the billboard is nearer
+                for i in range(start, end):  # lane_offer in a vector loop, as the sphere's
                     _, holds, nearer = lane_offer(best[i], best_t[i], xy[0, i], xy[1, i],
                                                   entry, obj, ts[i])  # fmt: skip
-                    if nearer:
+                    ts[i] = ts[i] if nearer else (HELD if holds else NOT_HELD)
+                for i in range(start, end):  # a texel only where the billboard is nearer
+                    if ts[i] >= 0.0:
                         r, g, b, opaque = billboard_color_at(arrays, board, alphas[i], betas[i])
                         if opaque:
                             unhit -= best_t[i] == np.inf
                             best[i], best_t[i] = obj, ts[i]
                             colors[0, i], colors[1, i], colors[2, i] = r, g, b
                             nearer_since = True
-                    made[i] |= holds
+                for i in range(start, end):  # held, as take_nearer marks it
+                    made[i] |= ts[i] >= HELD
 
 
 def screen_tiles(
