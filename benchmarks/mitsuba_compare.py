@@ -62,23 +62,23 @@ each times the work more steadily: a render in many threads waits at its end for
 and one that a neighbour holds up waits for the scheduler's next turn.
 
 Load: raykit from the scene's file (:func:`set_up_raykit`: the JSON read and checked, each
-texture's header read; a median of 3), Mitsuba ``load_dict`` (which builds its BVH; it reads
-no texture, its depth integrator looks none up). Prepare, raykit's compiled engine only:
-``raykit.engine.compiled.prepare`` of a scene just loaded, its textures' texels got, the scene's
-arrays, screen tiles and (lit scenes) BVH (a median of 3); so load + prepare is what raykit
-does from the file before its first ray, as load_dict is Mitsuba's. A texture of 256² texels or
-more comes from raykit's cache of decoded textures once any render has decoded it
+texture's header read; a median of 3), Mitsuba ``load_dict`` (which builds its BVH, and reads
+and decodes each texture: a ``bitmap`` on its billboard's BSDF, though its depth integrator
+looks none up, so that from the file both do the same steps). Prepare, raykit's compiled engine
+only: ``raykit.engine.compiled.prepare`` of a scene just loaded, its textures' texels got, the
+scene's arrays, screen tiles and (lit scenes) BVH (a median of 3); so load + prepare is what
+raykit does from the file before its first ray, as load_dict is Mitsuba's. A texture of 256²
+texels or more comes from raykit's cache of decoded textures once any render has decoded it
 (:mod:`raykit.io.textures`), as it does for a second render of the same file: the table's
-prepare is that one, and a line below the flat table gives the textured scene's prepare with
-the cache empty, every texture decoded (:func:`cold_prepare`). The flat scenes include
-classic with each texture 256 x 256 RGBA (:func:`scenes.classic_with_large_textures`). Its
-render renders the prepared scene, as Mitsuba's renders its loaded one
-(``raykit.render.render`` does both). Render: the median of ``--repeats`` renders after a
-first one (for ``llvm_ad_rgb`` the first compiles its kernels; it is shown too), every
-renderer of a scene in turns, so that the machine's other work falls on all alike
-(:func:`common.medians_in_turns`; each timed render right after an untimed one of its own).
-Each Mitsuba variant stays in its child process for the whole scene and times its own renders
-there, on request.
+prepare is that one, and a line below the flat table gives the textured scene's prepare with the
+cache empty, every texture decoded (:func:`cold_prepare`). The flat scenes include classic with
+each texture 256 x 256 RGBA (:func:`scenes.classic_with_large_textures`). Its render renders the
+prepared scene, as Mitsuba's renders its loaded one (``raykit.render.render`` does both).
+Render: the median of ``--repeats`` renders after a first one (for ``llvm_ad_rgb`` the first
+compiles its kernels; it is shown too), every renderer of a scene in turns, so that the
+machine's other work falls on all alike (:func:`common.medians_in_turns`; each timed render
+right after an untimed one of its own). Each Mitsuba variant stays in its child process for the
+whole scene and times its own renders there, on request.
 
 The last line checks the growth goals: sphereflake 4 to 6 in at most 3x the render time, level
 6 loaded, prepared and rendered in 2 s. The growth ratio is timed anew, the two prepared
@@ -300,6 +300,9 @@ def mitsuba_dict(
         scene[f"billboard{i}"] = rectangle(ul, ur - ul, ll - ul, mi)
         if lights:  # a billboard is lit on the side its ray comes from, as raykit's
             scene[f"billboard{i}"]["bsdf"] = {"type": "twosided", "bsdf": diffuse(b["color"])}
+        elif "image" in b:  # read and decoded by load_dict, as raykit's load and prepare do
+            texture = {"type": "bitmap", "filename": b["image"]}
+            scene[f"billboard{i}"]["bsdf"] = {"type": "diffuse", "reflectance": texture}
     for i, light in enumerate(lights):
         if only_light is None or i == only_light:
             scene[f"light{i}"] = mitsuba_light(light, camera, mi)
