@@ -1,4 +1,4 @@
-"""The parallel loop (raykit.engine.compiled.driver) against raykit.render.render: whole renders to
+"""The workers' loop (raykit.engine.compiled.driver) against raykit.render.render: whole renders to
 the PNG byte, the workers' jobs, the arguments' kinds and types."""
 
 from __future__ import annotations
@@ -29,6 +29,7 @@ from .harness import (
 
 numba = pytest.importorskip("numba")
 compiled = pytest.importorskip("raykit.engine.compiled")
+driver = pytest.importorskip("raykit.engine.compiled.driver")
 
 
 EXAMPLES = sorted(SCENES.glob("*.json"))  # motion_blur.json among them
@@ -154,25 +155,29 @@ def test_far_tiny_sphere_and_a_scene_at_1e6_render_the_same_with_both_engines():
     same_render(replace(moved, camera=replace(moved.camera, width=120, height=90)))
 
 
-@numba.njit(parallel=True)
+@numba.njit(nogil=True)
+def _take_jobs(jobs, grain, taken, arrived, times):
+    """One worker taking ``grain`` of ``jobs`` at a time from the counter ``taken``, as a call of
+    compiled.trace_flat does, counting in its own row of ``times (workers, jobs)`` how often it
+    took each (so that two workers' counts of one job never share a write)."""
+    worker = compiled.take(arrived, 1)
+    for _ in range(10**9):  # wait (a while at most) for the other workers: all take at once
+        if compiled.take(arrived, 0) >= len(times):
+            break
+    while True:
+        first = compiled.take(taken, grain)
+        if first >= jobs:
+            break
+        for j in range(first, min(jobs, first + grain)):
+            times[worker, j] += 1
+
+
 def _times_taken(jobs, grain, workers):
-    """How often each worker takes each of ``jobs`` when ``workers`` cores take ``grain`` at a
-    time from one counter, as compiled.trace's workers do: ``(workers, jobs)``, a row each, so
-    that two workers' counts of one job never share a write."""
-    taken = np.zeros(1, dtype=np.int64)
-    arrived = np.zeros(1, dtype=np.int64)
+    """How often each of ``workers`` workers, run as the driver runs them (_run_workers), takes
+    each of ``jobs``: ``(workers, jobs)``."""
     times = np.zeros((workers, jobs), dtype=np.int64)
-    for worker in numba.prange(workers):
-        compiled.take(arrived, 1)
-        for _ in range(10**9):  # wait (a while at most) for the other workers: all take at once
-            if compiled.take(arrived, 0) >= workers:
-                break
-        while True:
-            first = compiled.take(taken, grain)
-            if first >= jobs:
-                break
-            for j in range(first, min(jobs, first + grain)):
-                times[worker, j] += 1
+    arguments = (jobs, grain, np.zeros(1, np.int64), np.zeros(1, np.int64), times)
+    driver._run_workers(_take_jobs, arguments, workers)
     return times
 
 

@@ -5,7 +5,7 @@ arrays), :mod:`.rays`, :mod:`.spheres`, :mod:`.billboards`, :mod:`.camera`, :mod
 :mod:`.bvh` (the tree walk), :mod:`.surfaces`, :mod:`.lights`, :mod:`.shadows` (and the shadow
 lists), :mod:`.shading` (per ray and in lanes), :mod:`.mirrors`, :mod:`.sampling` and
 :mod:`.noise` (stage 5's sample patterns and uniform numbers), :mod:`.tiles` (screen tiles and
-packets) and :mod:`.driver` (the parallel loop, :mod:`raykit.render` repeated); :mod:`.compiling`
+packets) and :mod:`.driver` (the workers' loop, :mod:`raykit.render` repeated); :mod:`.compiling`
 is the machinery.
 
 Install with ``pip install "raykit[fast]"``; :func:`raykit.render.render` takes it with

@@ -1,15 +1,17 @@
 """Repeats :func:`raykit.render.render` and :mod:`raykit.engine.regions`: the lecture's loop
-over pixels, as jobs (a screen tile's pixels, or a row of points) that numba's workers take in
-turn, with :func:`trace_flat` for a flat scene and :func:`trace_lit` for a shaded one (two entry
-points, so that a flat scene never compiles shading; and a shaded scene compiles mirror rays
-only if it has mirrors, :func:`_entry`); and :func:`raykit.render.cast` for any
-rays (:func:`cast_rays`, :func:`caster`). :func:`prepare` makes a scene ready once, and
-:func:`render` renders it."""
+over pixels, as jobs (a screen tile's pixels, or a row of points) that workers take in turn
+(:func:`_run_workers`), with :func:`trace_flat` for a flat scene and :func:`trace_lit` for a
+shaded one (two entry points, so that a flat scene never compiles shading; and a shaded scene
+compiles mirror rays only if it has mirrors, :func:`_entry`); and :func:`raykit.render.cast`
+for any rays (:func:`cast_rays`, :func:`caster`). :func:`prepare` makes a scene ready once,
+and :func:`render` renders it."""
 
 from __future__ import annotations
 
+import functools
 import time
 from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
 from typing import NamedTuple
 
 import numba
@@ -118,7 +120,7 @@ class Film(NamedTuple):
     ``offsets (S, 2)`` and the ``centre`` sample (-1: a ray of its own), and where the results
     go, ``rgb (P, 3)``, ``index`` and ``t (P,)``. The scene's arrays travel beside it, not in it:
     a kernel called once a job is passed only what it reads (every array is a handful of numbers
-    at each call). Made inside the parallel loop, by each worker (:class:`Lanes` says why)."""
+    at each call). Made by each worker as its call starts."""
 
     width: int
     xs: np.ndarray
@@ -254,8 +256,8 @@ class RayRoom(NamedTuple):
     ``rays (6, N)``, its hit's object index ``best (N,)`` and ``best_t (N,)``, colour ``colors
     (3, N)``, whether it was ``made`` (:func:`primary_ray`), room ``ts``, ``alphas`` and
     ``betas`` for :func:`primary_rays`, and ``holding (HOLDING_CHUNK,)`` for
-    :func:`primary_ray`. Each worker makes its own inside the parallel loop
-    (:func:`new_ray_room`), as :class:`Lanes` says why."""
+    :func:`primary_ray`. Each worker makes its own as its call starts
+    (:func:`new_ray_room`)."""
 
     xy: np.ndarray
     rays: np.ndarray
@@ -302,8 +304,8 @@ def new_shading_room(n, shading):
                        new_lanes(n))  # fmt: skip
 
 
-@njit(parallel=True, **MAKES_ARRAYS)
-def trace_flat(arrays, tiles, camera, width, height, jobs, workers, xs, ys, offsets, centre,
+@njit(**MAKES_ARRAYS)
+def trace_flat(arrays, tiles, camera, width, height, jobs, grain, taken, xs, ys, offsets, centre,
                empty, rgb, index, t):  # fmt: skip
     """The lecture's loop for a flat scene: for each pixel, per sample offset ``offsets (S, 2)``
     in order, the viewing ray and its nearest hit (:func:`primary_ray`, or a packet of them:
@@ -319,26 +321,24 @@ def trace_flat(arrays, tiles, camera, width, height, jobs, workers, xs, ys, offs
       :func:`_mean_of_samples`), index -1 and t = inf, and no ray;
     * points (``xs``, ``ys (P,)``, the upper-left corners): ``jobs`` are CHUNKs of them.
 
-    One worker per numba thread (``workers``: numba.get_num_threads()), each with its own room for a
-    job's rays (making it for each job cost more than a small tile's rays), takes the next
-    grain of jobs whenever it is free: a worker slowed by other work takes fewer. Each job runs
-    on one core, whole (:func:`flat_job`)."""
+    A call is one worker (:func:`_run_workers` makes one a thread, each with the same
+    arguments): with its own room for a job's rays (making it for each job cost more than a
+    small tile's rays), it takes the next ``grain`` of jobs from the counter ``taken (1,)``
+    (:func:`take`) whenever it is free, so that a worker slowed by other work takes fewer. Each
+    job runs on one core, whole (:func:`flat_job`)."""
     points = len(xs)
-    grain = max(1, len(jobs) // (workers * GRAINS_PER_WORKER))
-    taken = np.zeros(1, dtype=np.int64)
-    for _ in prange(workers):
-        room = new_ray_room((CHUNK if points else tiles.size * tiles.size) * (len(offsets) + 1))
-        film = Film(width, xs, ys, offsets, centre, rgb, index, t)
-        while True:
-            first_job = take(taken, grain)
-            if first_job >= len(jobs):
-                break
-            for j in range(first_job, min(len(jobs), first_job + grain)):
-                job = job_of(jobs, j, points, tiles, width, height)
-                if points or tiles.start[job.tile] < tiles.start[job.tile + 1]:
-                    flat_job(arrays, tiles, camera, film, job, room)
-                else:
-                    background_job(film, job, empty)
+    room = new_ray_room((CHUNK if points else tiles.size * tiles.size) * (len(offsets) + 1))
+    film = Film(width, xs, ys, offsets, centre, rgb, index, t)
+    while True:
+        first_job = take(taken, grain)
+        if first_job >= len(jobs):
+            break
+        for j in range(first_job, min(len(jobs), first_job + grain)):
+            job = job_of(jobs, j, points, tiles, width, height)
+            if points or tiles.start[job.tile] < tiles.start[job.tile + 1]:
+                flat_job(arrays, tiles, camera, film, job, room)
+            else:
+                background_job(film, job, empty)
 
 
 @njit(**KERNEL)
@@ -376,30 +376,27 @@ def flat_job(arrays, tiles, camera, film, job, room):
     pixel_means(film, job, room.colors, room.best, room.best_t)
 
 
-@njit(parallel=True, **MAKES_ARRAYS)
-def trace_lit(arrays, tiles, tree, shading, camera, bounces, width, height, jobs, workers, xs, ys,
-              offsets, centre, empty, rgb, index, t):  # fmt: skip
+@njit(**MAKES_ARRAYS)
+def trace_lit(arrays, tiles, tree, shading, camera, bounces, width, height, jobs, grain, taken, xs,
+              ys, offsets, centre, empty, rgb, index, t):  # fmt: skip
     """:func:`trace_flat` for a shaded scene (:func:`raykit.shading.needs_shading`), with its
     BVH ``tree`` and its :class:`Shading`: each job's pixels (:func:`lit_job`) take the
-    colour :func:`raykit.shading.shade` gives them."""
+    colour :func:`raykit.shading.shade` gives them. A call is one worker, as there."""
     points = len(xs)
-    grain = max(1, len(jobs) // (workers * GRAINS_PER_WORKER))
-    taken = np.zeros(1, dtype=np.int64)
-    for _ in prange(workers):
-        n = (CHUNK if points else tiles.size * tiles.size) * (len(offsets) + 1)
-        room, shading_room = new_ray_room(n), new_shading_room(n, shading)
-        film = Film(width, xs, ys, offsets, centre, rgb, index, t)
-        while True:
-            first_job = take(taken, grain)
-            if first_job >= len(jobs):
-                break
-            for j in range(first_job, min(len(jobs), first_job + grain)):
-                job = job_of(jobs, j, points, tiles, width, height)
-                if points or tiles.start[job.tile] < tiles.start[job.tile + 1]:
-                    lit_job(arrays, tiles, tree, shading, camera, bounces, film, job, room,
-                            shading_room)  # fmt: skip
-                else:
-                    background_job(film, job, empty)
+    n = (CHUNK if points else tiles.size * tiles.size) * (len(offsets) + 1)
+    room, shading_room = new_ray_room(n), new_shading_room(n, shading)
+    film = Film(width, xs, ys, offsets, centre, rgb, index, t)
+    while True:
+        first_job = take(taken, grain)
+        if first_job >= len(jobs):
+            break
+        for j in range(first_job, min(len(jobs), first_job + grain)):
+            job = job_of(jobs, j, points, tiles, width, height)
+            if points or tiles.start[job.tile] < tiles.start[job.tile + 1]:
+                lit_job(arrays, tiles, tree, shading, camera, bounces, film, job, room,
+                        shading_room)  # fmt: skip
+            else:
+                background_job(film, job, empty)
 
 
 @njit(**KERNEL)
@@ -509,9 +506,9 @@ def scene_noise(scene: Scene) -> Noise:
                  Dimensions.lens, wanted, np.flatnonzero(wanted))  # fmt: skip
 
 
-@njit(parallel=True, **MAKES_ARRAYS)
-def trace_sampled(arrays, tree, shading, camera, lens, noise, motion, width, jobs, workers, rgb,
-                  index, t):  # fmt: skip
+@njit(**MAKES_ARRAYS)
+def trace_sampled(arrays, tree, shading, camera, lens, noise, motion, width, jobs, grain, taken,
+                  rgb, index, t):  # fmt: skip
     """The lecture's loop for a distributed scene (stage 5, as
     :class:`raykit.engine.regions.Plan` batches it): for each pixel, each of its
     ``noise.count`` samples in order, from the sample's uniform numbers
@@ -531,36 +528,32 @@ def trace_sampled(arrays, tree, shading, camera, lens, noise, motion, width, job
     the ray it traces (:func:`spheres_at`), and the tree is :func:`every_object_tree`, as the
     reference tests every object then. A job is one sample at a time in such a scene
     (:func:`sampled_job`), and in any other, its samples in lanes (:func:`sampled_lanes`), the
-    same bits. Workers take grains of jobs as
-    :func:`trace_flat`'s do; a pixel's numbers depend on it alone, so the image does not depend
-    on which takes which."""
-    grain = max(1, len(jobs) // (workers * GRAINS_PER_WORKER))
-    taken = np.zeros(1, dtype=np.int64)
-    for _ in prange(workers):
-        stack = new_stack()
-        room, shading_room = new_ray_room(SAMPLED_LANES), new_shading_room(SAMPLED_LANES, shading)
-        every_object(tree, shading, shading_room)
-        numbers = np.empty((SAMPLED_LANES, noise.dimensions))
-        columns = np.empty((noise.dimensions, SAMPLED_LANES))
-        keys = np.zeros((noise.dimensions // 2 + 2, 4), dtype=np.uint64)
-        shifts = np.empty(noise.dimensions)
-        at_time = Arrays(arrays.centers.copy(), arrays.radii, arrays.sphere_colors,
-                         arrays.corners, arrays.n, arrays.alpha_axes, arrays.beta_axes,
-                         arrays.board_colors, arrays.texture_start, arrays.texture_width,
-                         arrays.texture_height, arrays.texels, arrays.background)  # fmt: skip
-        while True:
-            first_job = take(taken, grain)
-            if first_job >= len(jobs):
-                break
-            for j in range(first_job, min(len(jobs), first_job + grain)):
-                if motion.moving:
-                    sampled_job(arrays, at_time, tree, shading, camera, lens, noise, motion,
-                                width, jobs[j], stack, numbers[0], keys, shifts, rgb, index,
-                                t)  # fmt: skip
-                else:
-                    sampled_lanes(arrays, tree, shading, camera, lens, noise, width, jobs[j],
-                                  stack, numbers, columns, keys, shifts, room, shading_room, rgb,
-                                  index, t)  # fmt: skip
+    same bits. A call is one worker, taking grains of jobs as :func:`trace_flat`'s does; a
+    pixel's numbers depend on it alone, so the image does not depend on which takes which."""
+    stack = new_stack()
+    room, shading_room = new_ray_room(SAMPLED_LANES), new_shading_room(SAMPLED_LANES, shading)
+    every_object(tree, shading, shading_room)
+    numbers = np.empty((SAMPLED_LANES, noise.dimensions))
+    columns = np.empty((noise.dimensions, SAMPLED_LANES))
+    keys = np.zeros((noise.dimensions // 2 + 2, 4), dtype=np.uint64)
+    shifts = np.empty(noise.dimensions)
+    at_time = Arrays(arrays.centers.copy(), arrays.radii, arrays.sphere_colors,
+                     arrays.corners, arrays.n, arrays.alpha_axes, arrays.beta_axes,
+                     arrays.board_colors, arrays.texture_start, arrays.texture_width,
+                     arrays.texture_height, arrays.texels, arrays.background)  # fmt: skip
+    while True:
+        first_job = take(taken, grain)
+        if first_job >= len(jobs):
+            break
+        for j in range(first_job, min(len(jobs), first_job + grain)):
+            if motion.moving:
+                sampled_job(arrays, at_time, tree, shading, camera, lens, noise, motion,
+                            width, jobs[j], stack, numbers[0], keys, shifts, rgb, index,
+                            t)  # fmt: skip
+            else:
+                sampled_lanes(arrays, tree, shading, camera, lens, noise, width, jobs[j],
+                              stack, numbers, columns, keys, shifts, room, shading_room, rgb,
+                              index, t)  # fmt: skip
 
 
 @njit(**KERNEL)
@@ -867,7 +860,7 @@ def render(scene: Scene | Prepared, samples: int = 1, *, adaptive: bool = False,
     nothing = np.zeros(0)
     for first in range(0, tile_count, band):
         jobs = np.arange(first, min(first + band, tile_count))
-        _call(name, trace, *kernels, width, height, jobs, _workers(jobs), nothing, nothing,
+        _call(name, trace, jobs, *kernels, width, height, jobs, *_shares(jobs), nothing, nothing,
               offsets, -1 if centre is None else centre, empty, rgb, index, t)  # fmt: skip
         if progress is not None:
             rows = min(height, (first + band) // tiles_x * size) - first // tiles_x * size
@@ -885,8 +878,9 @@ def render(scene: Scene | Prepared, samples: int = 1, *, adaptive: bool = False,
             x, y = np.asarray(x, float), np.asarray(y, float)
             out = np.empty((len(x), 3))
             jobs = np.arange(-(-len(x) // CHUNK))
-            _call(name, trace, *kernels, width, height, jobs, _workers(jobs), x, y, at_the_point,
-                  0, empty, out, np.empty(len(x), np.int64), np.empty(len(x)))  # fmt: skip
+            _call(name, trace, jobs, *kernels, width, height, jobs, *_shares(jobs), x, y,
+                  at_the_point, 0, empty, out, np.empty(len(x), np.int64),
+                  np.empty(len(x)))  # fmt: skip
             return out
 
         refine(regions(scene, skip_hidden=False), colors, rgb, edge, samples)
@@ -906,7 +900,7 @@ def _render_sampled(prepared: Prepared, progress=None):
     band = -(-ROWS_PER_CALL * width // SAMPLED_PIXELS) if progress is not None else len(starts)
     for first in range(0, len(starts), band):
         jobs = starts[first : first + band]
-        _call(name, trace, *kernels, width, jobs, _workers(jobs), rgb, index, t)
+        _call(name, trace, jobs, *kernels, width, jobs, *_shares(jobs), rgb, index, t)
         if progress is not None:
             progress(min(pixels, jobs[-1] + SAMPLED_PIXELS) - jobs[0])
     return rgb.reshape(height, width, 3), index.reshape(height, width), t.reshape(height, width)
@@ -922,9 +916,15 @@ def _mean_of_samples(color: np.ndarray, count: int) -> np.ndarray:
 
 
 def _workers(jobs: np.ndarray) -> int:
-    """How many cores :func:`trace_flat` or :func:`trace_lit` share ``jobs`` among (one at
-    least)."""
+    """How many workers share ``jobs`` (one at least): one per numba thread
+    (numba.get_num_threads(), which numba.set_num_threads sets), and not more than the jobs."""
     return max(1, min(numba.get_num_threads(), len(jobs)))
+
+
+def _shares(jobs: np.ndarray) -> tuple[int, np.ndarray]:
+    """How the workers of one call share ``jobs`` (:func:`trace_flat`): ``(grain, taken)``, the
+    jobs a worker takes at a time, and the counter ``taken (1,)`` of the jobs taken so far."""
+    return max(1, len(jobs) // (_workers(jobs) * GRAINS_PER_WORKER)), np.zeros(1, dtype=np.int64)
 
 
 def _entry(prepared: Prepared) -> tuple:
@@ -950,15 +950,40 @@ def _entry(prepared: Prepared) -> tuple:
 _READY: set[str] = set()  # entry points compiled or loaded from the cache in this process
 
 
-def _call(name, entry, *arguments) -> None:
-    """``entry(*arguments)``; the first time in a process whose cache has no marker for
-    ``name`` (:func:`~raykit.engine.compiled.compiling.marked`), with the progress line of its
-    compile (:func:`~raykit.engine.compiled.compiling.compile_clock`), and then the marker."""
-    if name in _READY or marked(name):
-        entry(*arguments)
-    else:
+def _call(name, entry, jobs, *arguments) -> None:
+    """``entry(*arguments)`` on :func:`_workers` threads at once (:func:`_run_workers`), sharing
+    ``jobs``. The first time in a process whose cache has no marker for ``name``
+    (:func:`~raykit.engine.compiled.compiling.marked`), it is compiled first, in this thread,
+    with the progress line of its compile
+    (:func:`~raykit.engine.compiled.compiling.compile_clock`), and then marked."""
+    if name not in _READY and not marked(name):
         started = time.perf_counter()
         with compile_clock(name):
-            entry(*arguments)
+            entry.compile(tuple(entry.typeof_pyval(argument) for argument in arguments))
         finished(name, time.perf_counter() - started)
     _READY.add(name)
+    _run_workers(entry, arguments, _workers(jobs))
+
+
+def _run_workers(entry, arguments, workers: int) -> None:
+    """``entry(*arguments)`` in ``workers`` threads at once, this one and others of a pool: the
+    kernels hold no lock of Python's (nogil), so each runs on a core of its own. Threads of
+    Python's, not numba's parallel loop (prange): numba compiles such a loop into a function of
+    its own, and a kernel's code is made again in each function that calls it, so that the
+    loop made the largest part of a first use's compile twice. Returns when every worker has;
+    a worker's error is raised here."""
+    if workers == 1:
+        entry(*arguments)
+        return
+    others = [_pool().submit(entry, *arguments) for _ in range(workers - 1)]
+    try:
+        entry(*arguments)
+    finally:  # even on a Ctrl-C: no worker writes into the arrays once this returns
+        for other in others:
+            other.result()
+
+
+@functools.cache
+def _pool() -> ThreadPoolExecutor:
+    """The threads of :func:`_run_workers`' workers but the caller's, made once a process."""
+    return ThreadPoolExecutor(numba.config.NUMBA_NUM_THREADS, "raykit-worker")

@@ -106,8 +106,7 @@ class Lanes(NamedTuple):
     scales ``k (3, N)`` and the colour so far ``total (3, N)``; toward the light at hand, ``l
     (3, N)``, ``n_dot_l (N,)``, the shadow ray's start ``s (3, N)`` and ``reach (N,)``, room
     ``t (N,)``, and whether the light reaches the point, ``lit (N,)``. Each worker makes its
-    own inside the parallel loop (:func:`new_lanes`): a NamedTuple passed into a parallel loop
-    loses the writes through its fields (numba issue #7135), one made inside it does not."""
+    own as its call starts (:func:`new_lanes`; :func:`~raykit.engine.compiled.driver.trace_lit`)."""
 
     p: np.ndarray
     n: np.ndarray

@@ -209,7 +209,7 @@ OWN = {
     "driver.new_ray_room": "room for a job's rays",
     "driver.new_shading_room": "room for shading a job's rays",
     "driver.take": "an atomic add: how workers take jobs",
-    "driver.job_of": "a job's pixels: the parallel loop's own cut of the image",
+    "driver.job_of": "a job's pixels: the workers' own cut of the image",
     "driver.job_pixel": "a pixel of a job",
     "driver.job_points": "a job's image points",
     "driver.background_job": "a tile no object is seen in: the background, with no ray",
