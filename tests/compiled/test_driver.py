@@ -5,6 +5,9 @@ from __future__ import annotations
 
 import contextlib
 import json
+import os
+import signal
+import time
 from dataclasses import replace
 
 import numpy as np
@@ -191,6 +194,31 @@ _TWO_CORES = pytest.mark.skipif(
 def test_cores_taking_jobs_from_one_counter_take_each_job_exactly_once(grain):
     # with a plain add for take, both workers took every job (measured)
     assert (_times_taken(1_000_000, grain, 2).sum(axis=0) == 1).all()
+
+
+@_TWO_CORES
+def test_a_process_forked_after_a_render_renders_with_worker_threads_of_its_own():
+    # a child forked from a process whose pool of workers' threads exists has none of those
+    # threads: handed the parent's pool, it would wait for ever on work no thread runs
+    scene = load_scene(SCENES / "classic.json")
+    scene = replace(scene, camera=replace(scene.camera, width=64, height=48))
+    prepared = compiled.prepare(scene)
+    rgb = compiled.render(prepared)[0]  # two workers: the parent's pool is made
+    assert driver._pool.cache_info().currsize >= 1
+    child = os.fork()
+    if child == 0:  # pragma: no cover (the child's result is its exit status)
+        try:
+            os._exit(0 if np.array_equal(compiled.render(prepared)[0], rgb) else 1)
+        finally:
+            os._exit(2)
+    deadline = time.monotonic() + 120
+    while (status := os.waitpid(child, os.WNOHANG))[0] == 0 and time.monotonic() < deadline:
+        time.sleep(0.05)
+    if status[0] == 0:
+        os.kill(child, signal.SIGKILL)
+        os.waitpid(child, 0)
+        pytest.fail("the forked child's render did not end within 120 s")
+    assert os.waitstatus_to_exitcode(status[1]) == 0
 
 
 @_TWO_CORES

@@ -9,6 +9,7 @@ and :func:`render` renders it."""
 from __future__ import annotations
 
 import functools
+import os
 import time
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
@@ -975,7 +976,7 @@ def _run_workers(entry, arguments, workers: int) -> None:
     if workers == 1:
         entry(*arguments)
         return
-    others = [_pool().submit(entry, *arguments) for _ in range(workers - 1)]
+    others = [_pool(os.getpid()).submit(entry, *arguments) for _ in range(workers - 1)]
     try:
         entry(*arguments)
     finally:  # even on a Ctrl-C: no worker writes into the arrays once this returns
@@ -984,6 +985,7 @@ def _run_workers(entry, arguments, workers: int) -> None:
 
 
 @functools.cache
-def _pool() -> ThreadPoolExecutor:
-    """The threads of :func:`_run_workers`' workers but the caller's, made once a process."""
+def _pool(process: int) -> ThreadPoolExecutor:
+    """The threads of :func:`_run_workers`' workers but the caller's, made once a ``process``
+    (its id: a child forked from a process that made them has none of their threads)."""
     return ThreadPoolExecutor(numba.config.NUMBA_NUM_THREADS, "raykit-worker")
