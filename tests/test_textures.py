@@ -182,3 +182,21 @@ def test_a_cache_that_cannot_be_written_only_decodes(tmp_path, monkeypatch):
     made = _large_texture(tmp_path / "t.png", seed=3)
     assert textures.cache_folder() is None
     assert np.array_equal(_texels(tmp_path / "t.png"), made)
+
+
+def test_the_cache_is_looked_over_only_when_this_process_may_have_filled_it(tmp_path, monkeypatch):
+    monkeypatch.setenv("RAYKIT_CACHE_DIR", str(tmp_path / "cache"))
+    one_decode = CACHED_FROM * 4 + 128
+    monkeypatch.setattr(textures, "CACHE_BYTES", 3 * one_decode)
+    looks = []
+    evict = textures._evict
+    monkeypatch.setattr(textures, "_evict", lambda folder: looks.append(1) or evict(folder))
+    paths = [tmp_path / f"t{k}.png" for k in range(5)]
+    for k, path in enumerate(paths):
+        _large_texture(path, seed=k)
+    for path in paths[:3]:
+        _texels(path)
+    assert looks == [1]  # the first write looks; two more fit in the room it saw
+    _texels(paths[3])  # the room is used up: it looks again, and drops one
+    _texels(paths[4])  # and again
+    assert looks == [1, 1, 1] and len(_cached_files(tmp_path / "cache")) == 3

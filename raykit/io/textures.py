@@ -13,9 +13,11 @@ Decoded once. A texture of :data:`CACHED_FROM` texels or more is kept, decoded, 
 disk (:func:`cache_folder`), under a hash of the file's bytes, of Pillow's version and of
 :data:`CACHE_FORMAT`, so an edited file, another Pillow or another conversion is decoded anew,
 never served from an older one; read back memory-mapped, it is the same bytes the decode made.
-The cache keeps at most :data:`CACHE_BYTES`, the least recently used going first; a cache that
-cannot be written or read is no cache (the texture is decoded, as without one). Smaller
-textures decode faster than a file is written, and are decoded each time.
+The cache keeps at most :data:`CACHE_BYTES`, the least recently used going first (a process
+looks at what the folder holds when its own writes may have filled it, so writes of others since
+its last look may overfill it until then); a cache that cannot be written or read is no cache
+(the texture is decoded, as without one). Smaller textures decode faster than a file is
+written, and are decoded each time.
 """
 
 from __future__ import annotations
@@ -102,7 +104,8 @@ class Texture:
         return self._rgba
 
     def _texels(self) -> np.ndarray:
-        if self.width * self.height < CACHED_FROM:
+        folder = cache_folder() if self.width * self.height >= CACHED_FROM else None
+        if folder is None:
             return self._decode()
         try:
             content = self.path.read_bytes()
@@ -110,12 +113,12 @@ class Texture:
             return self._decode()  # which words the error
         shape = (self.height, self.width, 4)
         key = _cache_key(content)
-        cached = _cached(key, shape)
+        cached = _cached(folder / f"{key}.npy", shape)
         if cached is not None:
             return cached
         rgba = self._decode(content)
         if rgba.shape == shape:
-            _keep(key, rgba)
+            _keep(folder, key, rgba)
         return rgba
 
     def _decode(self, content: bytes | None = None) -> np.ndarray:
@@ -158,13 +161,9 @@ def _cache_key(content: bytes) -> str:
     return digest.hexdigest()
 
 
-def _cached(key: str, shape: tuple[int, int, int]) -> np.ndarray | None:
-    """The decode kept under ``key``, memory-mapped read-only, if it is there and of
-    ``shape`` (uint8); it is marked as used now, for :func:`_keep`'s eviction."""
-    folder = cache_folder()
-    if folder is None:
-        return None
-    path = folder / f"{key}.npy"
+def _cached(path: Path, shape: tuple[int, int, int]) -> np.ndarray | None:
+    """The decode kept at ``path``, memory-mapped read-only, if it is there and of ``shape``
+    (uint8); it is marked as used now, for :func:`_evict`."""
     try:
         rgba = np.load(path, mmap_mode="r", allow_pickle=False)
         os.utime(path)
@@ -175,40 +174,51 @@ def _cached(key: str, shape: tuple[int, int, int]) -> np.ndarray | None:
     return rgba.view(np.ndarray)  # the same bytes, without np.memmap's own type
 
 
-def _keep(key: str, rgba: np.ndarray) -> None:
-    """Write ``rgba`` into the cache under ``key`` (whole: a temporary file, then a rename),
-    then remove the least recently used decodes while the cache holds more than
-    :data:`CACHE_BYTES`. A cache that cannot be written is left as it is."""
-    folder = cache_folder()
-    if folder is None:
-        return
+# Per cache folder, the bytes this process may still write into it before it looks at the
+# folder again (:func:`_evict`): a look stats every file, and most writes leave the cache far
+# below CACHE_BYTES. Another process's writes are seen at this one's next look.
+_room: dict[Path, int] = {}
+
+
+def _keep(folder: Path, key: str, rgba: np.ndarray) -> None:
+    """Write ``rgba`` into the cache ``folder`` under ``key`` (whole: a temporary file, then a
+    rename); then, if this process's writes may have filled the cache since it last looked,
+    remove the least recently used decodes while it holds more than :data:`CACHE_BYTES`. A
+    cache that cannot be written is left as it is."""
     part = None
     try:
         with tempfile.NamedTemporaryFile(dir=folder, suffix=".part", delete=False) as part:
             np.save(part, rgba, allow_pickle=False)
+            size = part.tell()
         os.replace(part.name, folder / f"{key}.npy")
-        _evict(folder)
+        room = _room.get(folder, 0) - size  # a folder not yet looked at: look now
+        _room[folder] = room if room >= 0 else CACHE_BYTES - _evict(folder)
     except OSError:
         if part is not None:
             Path(part.name).unlink(missing_ok=True)
 
 
-def _evict(folder: Path) -> None:
+def _evict(folder: Path) -> int:
     """Remove the least recently used decodes from ``folder`` until it holds at most
-    :data:`CACHE_BYTES` (another process may be removing them too)."""
+    :data:`CACHE_BYTES` (another process may be removing them too); the bytes it holds
+    then."""
     kept = []
-    for entry in folder.glob("*.npy"):
-        try:
-            status = entry.stat()
-        except FileNotFoundError:
-            continue
-        kept.append((status.st_mtime, status.st_size, entry))
+    with os.scandir(folder) as entries:
+        for entry in entries:
+            if not entry.name.endswith(".npy"):
+                continue
+            try:
+                status = entry.stat()
+            except FileNotFoundError:
+                continue
+            kept.append((status.st_mtime, status.st_size, entry.path))
     total = sum(size for _, size, _ in kept)
-    for _, size, entry in sorted(kept, key=lambda kept: kept[0]):
+    for _, size, path in sorted(kept, key=lambda kept: kept[0]):
         if total <= CACHE_BYTES:
             break
-        entry.unlink(missing_ok=True)
+        Path(path).unlink(missing_ok=True)
         total -= size
+    return total
 
 
 def to_rgba8(image: Image.Image) -> np.ndarray:
