@@ -987,5 +987,6 @@ def _run_workers(entry, arguments, workers: int) -> None:
 @functools.cache
 def _pool(process: int) -> ThreadPoolExecutor:
     """The threads of :func:`_run_workers`' workers but the caller's, made once a ``process``
-    (its id: a child forked from a process that made them has none of their threads)."""
-    return ThreadPoolExecutor(numba.config.NUMBA_NUM_THREADS, "raykit-worker")
+    (its id: a child forked from a process that made them has none of their threads): one
+    fewer than numba's most threads, which numba.set_num_threads cannot exceed."""
+    return ThreadPoolExecutor(max(1, numba.config.NUMBA_NUM_THREADS - 1), "raykit-worker")
