@@ -192,9 +192,12 @@ def bar_plot(
 ) -> None:
     """A panel of bars per group, one colour per ``label: values`` in seconds (None: no bar),
     drawn in milliseconds from zero (``log``: on a log scale shared by the panels, for times
-    that span decades) with each bar's value on it, written to ``path``; at most four panels a
-    row, the legend below them. Panels, not one axis of many groups: with eight groups of five
-    bars, one axis's labels ran into each other and its legend covered bars."""
+    that span decades) with each bar's value on it, written to ``path``; in two rows of as many
+    panels as it takes, four a row at least, the legend below them. Panels, not one axis of many
+    groups: with eight groups of five bars, one axis's labels ran into each other and its legend
+    covered bars. Two rows, not more: a figure fitted to the projector (its text a share of its
+    height, :func:`raykit.io.images.fit_for_projector`) squeezed four rows of panels until their
+    titles ran into each other."""
     import math
 
     import matplotlib
@@ -205,7 +208,7 @@ def bar_plot(
 
     from raykit.io.images import save_figure
 
-    columns = max(1, min(4, len(groups)))
+    columns = max(1, min(len(groups), max(4, math.ceil(len(groups) / 2))))
     rows = max(1, math.ceil(len(groups) / columns))
     figure, axes = plt.subplots(
         rows,
@@ -223,14 +226,19 @@ def bar_plot(
             if values[g] is not None:
                 bars = ax.bar(k, values[g] * 1000, 0.8, color=f"C{k}", label=label)
                 ax.bar_label(bars, fmt="%.0f", fontsize=7, padding=1)
-        ax.set_title(textwrap.fill(groups[g], 18, break_long_words=False), fontsize=8)
+        # a scene's file stem may break after an underscore, as a phrase after a space
+        name = textwrap.fill(groups[g].replace("_", "_ "), 16, break_long_words=False)
+        ax.set_title(name.replace("_ ", "_"), fontsize=8)
         ax.set_xticks([])
+        ax.tick_params(labelsize=7)
         ax.set_xlim(-0.6, len(series) - 0.4)
         if log:
             ax.set_yscale("log")
         ax.margins(y=0.15)  # room for the labels on the tallest bars
-        if g % columns == 0:
-            ax.set_ylabel(textwrap.fill(ylabel, 22), fontsize=8)
+    if log:  # a log scale's margin is a share of its decades: room for a label above instead
+        drawn = [v * 1000 for values in series.values() for v in values if v is not None]
+        axes.flat[0].set_ylim(top=max(drawn) * 10)
+    figure.supylabel(ylabel, fontsize=8)
     if title:
         figure.suptitle(title, fontsize=9)
     figure.legend(

@@ -282,8 +282,9 @@ def _plot(path: Path | None, times: dict, engines: list[str]) -> None:
             path,
             names,
             {engine: [times[n][engine] for n in names] for engine in engines},
-            "render time, median (ms)",
+            "render time, median (ms, log scale)",
             "raykit's numpy and compiled engines, 1 sample per pixel",
+            log=True,  # the two engines' times lie a decade or more apart
         )
 
 

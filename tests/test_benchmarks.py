@@ -348,6 +348,17 @@ def test_shading_cost_plot_draws_flat_shaded_and_unculled_per_scene(tmp_path, mo
     plt.close("all")
 
 
+def test_a_bar_plot_panel_title_breaks_a_long_scene_name_after_an_underscore(tmp_path, monkeypatch):
+    import matplotlib.pyplot as plt
+
+    common = _benchmark_module("common")
+    drawn = {}
+    monkeypatch.setattr(plt, "close", lambda figure: drawn.setdefault("figure", figure))
+    common.bar_plot(tmp_path / "bars.png", ["shadow_on_billboard_far_away"], {"a": [0.002]}, "ms")
+    assert list(_panels(drawn["figure"])) == ["shadow_on_\nbillboard_far_\naway"]
+    plt.close("all")
+
+
 _SCENES = {p.stem: load_scene(p) for p in sorted((REPO / "scenes").glob("*.json"))}
 # the example scenes the compiled engine renders (every one, motion blur included)
 EXAMPLES = [name for name, scene in _SCENES.items() if compiled_refuses(scene) is None]
