@@ -51,6 +51,7 @@ TWINS = (
         "a point light's only: a directional light's l is its direction, read where it is used",
     ),
     Twin("lights.sampled", "raykit.lights.sampled"),
+    Twin("lights.area_intensity", "raykit.lights.area_intensity"),
     Twin("camera.thin_lens_rays", "raykit.camera.thin_lens_rays"),
     Twin("noise.mix64", "raykit.engine.noise.mix64"),
     Twin("noise.counter_hash", "raykit.engine.noise.counter_hash"),
@@ -246,6 +247,7 @@ WITHIN = {
     "raykit.rays.point_at": "surfaces.surface_points",
     "raykit.shadows.in_shadow": "shading.surface_color",
     "raykit.render.illumination": "driver.lit_job",
+    "raykit.shading._rows": "shading.surface_color",
 }
 
 # reference functions every kernel writes out where it needs them, and why no kernel of their own
