@@ -508,34 +508,53 @@ def scene_noise(scene: Scene) -> Noise:
 
 
 @njit(**MAKES_ARRAYS)
-def trace_sampled(arrays, tree, shading, camera, lens, noise, motion, width, jobs, grain, taken,
+def trace_sampled(arrays, tree, shading, camera, lens, noise, bounces, width, jobs, grain, taken,
                   rgb, index, t):  # fmt: skip
     """The lecture's loop for a distributed scene (stage 5, as
-    :class:`raykit.engine.regions.Plan` batches it): for each pixel, each of its
-    ``noise.count`` samples in order, from the sample's uniform numbers
+    :class:`raykit.engine.regions.Plan` batches it) whose spheres stand still: for each pixel,
+    each of its ``noise.count`` samples in order, from the sample's uniform numbers
     (:func:`~raykit.engine.compiled.noise.sample_numbers`), a point in the pixel, a ray through
-    the pinhole or from the lens (``lens``: :func:`lens_tuple`), its nearest hit through the
-    tree, and its colour, flat or shaded (:func:`shade`, its points on the area lights and its
-    glossy perturbations from the same numbers), summed and divided by the count as
-    :class:`raykit.engine.regions.Image` takes the mean; and the object index and t of the
-    pinhole ray through the pixel centre. ``jobs (J,)``: the first pixel of each job of
-    SAMPLED_PIXELS (row-major, P = ``len(t)``); results into ``rgb (P, 3)``, ``index``, ``t
-    (P,)``. Every ray walks the tree: a lens's rays do not start at the eye, so the screen
-    tiles bound nothing (as the reference tests every object then), and the answer is
-    :func:`raykit.render.cast`'s either way. In a scene whose spheres move (``motion``:
-    :class:`Motion`) each sample's ray has its own time (:func:`shutter_times`), and its viewing,
-    shadow and mirror rays and its normals see the moving spheres there (:func:`center_at`):
-    each worker keeps its own copy of the scene's arrays, their centres moved to the time of
-    the ray it traces (:func:`spheres_at`), and the tree is :func:`every_object_tree`, as the
-    reference tests every object then. A job is one sample at a time in such a scene
-    (:func:`sampled_job`), and in any other, its samples in lanes (:func:`sampled_lanes`), the
-    same bits. A call is one worker, taking grains of jobs as :func:`trace_flat`'s does; a
-    pixel's numbers depend on it alone, so the image does not depend on which takes which."""
-    stack = new_stack()
+    the pinhole or from the lens (``lens``: :func:`lens_tuple`), its nearest hit, and its colour,
+    flat or shaded (its points on the area lights and its glossy perturbations from the same
+    numbers), summed and divided by the count as :class:`raykit.engine.regions.Image` takes the
+    mean; and the object index and t of the pinhole ray through the pixel centre. ``jobs
+    (J,)``: the first pixel of each job of SAMPLED_PIXELS (row-major, P = ``len(t)``); results
+    into ``rgb (P, 3)``, ``index``, ``t (P,)``. No screen tile bounds a ray: a lens's rays do not
+    start at the eye (as the reference tests every object then), and the answer is
+    :func:`raykit.render.cast`'s either way. A job's samples go in lanes
+    (:func:`sampled_lanes`); ``bounces``, True in a scene with mirrors, else None (a type of
+    its own to numba, for which no mirror ray is compiled), as :func:`trace_lit` takes it. A
+    scene whose spheres move renders by :func:`trace_moving`, compiled apart, so that a still
+    scene never compiles its kernels. A call is one worker, taking grains of jobs as
+    :func:`trace_flat`'s does; a pixel's numbers depend on it alone, so the image does not
+    depend on which takes which."""
     room, shading_room = new_ray_room(SAMPLED_LANES), new_shading_room(SAMPLED_LANES, shading)
     every_object(tree, shading, shading_room)
     numbers = np.empty((SAMPLED_LANES, noise.dimensions))
     columns = np.empty((noise.dimensions, SAMPLED_LANES))
+    keys = np.zeros((noise.dimensions // 2 + 2, 4), dtype=np.uint64)
+    shifts = np.empty(noise.dimensions)
+    while True:
+        first_job = take(taken, grain)
+        if first_job >= len(jobs):
+            break
+        for j in range(first_job, min(len(jobs), first_job + grain)):
+            sampled_lanes(arrays, tree, shading, camera, lens, noise, width, jobs[j], bounces,
+                          numbers, columns, keys, shifts, room, shading_room, rgb, index,
+                          t)  # fmt: skip
+
+
+@njit(**MAKES_ARRAYS)
+def trace_moving(arrays, tree, shading, camera, lens, noise, motion, width, jobs, grain, taken,
+                 rgb, index, t):  # fmt: skip
+    """:func:`trace_sampled` for a scene whose spheres move (``motion``: :class:`Motion`): each
+    sample's ray has its own time (:func:`shutter_times`), and its viewing, shadow and mirror
+    rays and its normals see the moving spheres there (:func:`center_at`): each worker keeps its
+    own copy of the scene's arrays, their centres moved to the time of the ray it traces
+    (:func:`spheres_at`), and the tree is :func:`every_object_tree`, as the reference tests
+    every object then. A job is one sample at a time (:func:`sampled_job`)."""
+    stack = new_stack()
+    numbers = np.empty(noise.dimensions)
     keys = np.zeros((noise.dimensions // 2 + 2, 4), dtype=np.uint64)
     shifts = np.empty(noise.dimensions)
     at_time = Arrays(arrays.centers.copy(), arrays.radii, arrays.sphere_colors,
@@ -547,14 +566,8 @@ def trace_sampled(arrays, tree, shading, camera, lens, noise, motion, width, job
         if first_job >= len(jobs):
             break
         for j in range(first_job, min(len(jobs), first_job + grain)):
-            if motion.moving:
-                sampled_job(arrays, at_time, tree, shading, camera, lens, noise, motion,
-                            width, jobs[j], stack, numbers[0], keys, shifts, rgb, index,
-                            t)  # fmt: skip
-            else:
-                sampled_lanes(arrays, tree, shading, camera, lens, noise, width, jobs[j],
-                              stack, numbers, columns, keys, shifts, room, shading_room, rgb,
-                              index, t)  # fmt: skip
+            sampled_job(arrays, at_time, tree, shading, camera, lens, noise, motion, width,
+                        jobs[j], stack, numbers, keys, shifts, rgb, index, t)  # fmt: skip
 
 
 @njit(**KERNEL)
@@ -574,11 +587,11 @@ def spheres_at(arrays, motion, centers, T):
 @njit(**KERNEL)
 def sampled_job(arrays, at_time, tree, shading, camera, lens, noise, motion, width, first,
                 stack, numbers, keys, shifts, rgb, index, t):  # fmt: skip
-    """One job of :func:`trace_sampled`: the SAMPLED_PIXELS pixels from pixel ``first``, with
-    the worker's ``stack`` (:func:`new_stack`), room for a sample's uniform numbers,
-    ``numbers (D,)``, and for what its pixel's samples share, ``keys`` and ``shifts``
-    (:func:`pixel_keys`), and the worker's copy of ``arrays``, ``at_time``, whose centres it
-    moves to each ray's time in a scene that moves (:class:`Motion`), and every ray reads."""
+    """One job of :func:`trace_moving`: the SAMPLED_PIXELS pixels from pixel ``first``, with the
+    worker's ``stack`` (:func:`new_stack`), room for a sample's uniform numbers, ``numbers (D,)``,
+    and for what its pixel's samples share, ``keys`` and ``shifts`` (:func:`pixel_keys`), and the
+    worker's copy of ``arrays``, ``at_time``, whose centres it moves to each ray's time in a scene
+    that moves (:class:`Motion`), and every ray reads."""
     count, wanted, reads = noise.count, noise.wanted, noise.reads
     for p in range(first, min(first + SAMPLED_PIXELS, len(t))):
         row, col = p // width, p % width
@@ -686,7 +699,7 @@ def cast_lanes(arrays, tree, rays, count, best, best_t, colors, t):
 
 
 @njit(**KERNEL)
-def sampled_lanes(arrays, tree, shading, camera, lens, noise, width, first, stack, numbers,
+def sampled_lanes(arrays, tree, shading, camera, lens, noise, width, first, bounces, numbers,
                   columns, keys, shifts, room, shading_room, rgb, index, t):  # fmt: skip
     """:func:`sampled_job` for a scene where nothing moves, its samples in lanes: SAMPLED_LANES
     samples at a time, of one pixel, or of as many whole pixels as they hold (each batch calls
@@ -698,13 +711,14 @@ def sampled_lanes(arrays, tree, shading, camera, lens, noise, width, first, stac
     shaded at once as :func:`lit_job` shades a tile's rays (:func:`surface_lanes`,
     :func:`light_lanes`, each area light at each ray's own point of it), the shadow rays against
     every object (:func:`every_object`); then each mirror's rays (:func:`bounce_on`, with the
-    ray's row of numbers), and the samples summed in order. A step the same for every sample
+    ray's row of numbers; only where ``bounces`` is True, not None: :func:`trace_sampled`), and
+    the samples summed in order. A step the same for every sample
     is a loop the compiler turns into vector instructions, where one sample at a time waited on
     its divisions and branches. Each ray's operations are :func:`shade`'s, in its order, so the
     bits are :func:`sampled_job`'s."""
     count, wanted, reads = noise.count, noise.wanted, noise.reads
     xy, rays, best, best_t, colors = room.xy, room.rays, room.best, room.best_t, room.colors
-    lanes, box = shading_room.lanes, shading_room.box
+    lanes, box, stack = shading_room.lanes, shading_room.box, shading_room.stack
     total, point, normal, error = lanes.total, lanes.p, lanes.n, lanes.error
     per = max(1, SAMPLED_LANES // count)  # whole pixels a batch holds
     last = min(first + SAMPLED_PIXELS, len(t))
@@ -756,7 +770,8 @@ def sampled_lanes(arrays, tree, shading, camera, lens, noise, width, first, stac
                     if hit >= 0:
                         c0, c1, c2 = total[0, i], total[1, i], total[2, i]
                     c0, c1, c2 = 0.0 + 1.0 * c0, 0.0 + 1.0 * c1, 0.0 + 1.0 * c2
-                    if hit >= 0:
+                if bounces is not None:  # None in a scene with no mirror: not compiled
+                    if shading.shaded and hit >= 0:
                         c0, c1, c2 = bounce_on(
                             arrays, tree, shading, stack, 0, hit, point[0, i], point[1, i],
                             point[2, i], normal[0, i], normal[1, i], normal[2, i], rays[3, i],
@@ -935,12 +950,17 @@ def _entry(prepared: Prepared) -> tuple:
     :class:`Shading`, and ``bounces``: True for ``trace_mirrors`` (a ray may bounce off a
     mirror), else None, a type of its own to numba, for which :func:`lit_job` compiles no mirror
     code. The two are compiled apart, and named apart for the cache's markers and the progress
-    line."""
+    line. A distributed scene's: :func:`trace_moving` for one whose spheres move, else
+    :func:`trace_sampled` with ``bounces`` as above (``trace_sampled_mirrors``, or
+    ``trace_sampled``)."""
     name = prepared.entry
-    if name == "trace_sampled":
-        return name, trace_sampled, (prepared.arrays, prepared.tree, prepared.shading,
-                                     prepared.camera, prepared.lens, prepared.noise,
-                                     prepared.motion)  # fmt: skip
+    distributed = (prepared.arrays, prepared.tree, prepared.shading, prepared.camera,
+                   prepared.lens, prepared.noise)  # fmt: skip
+    if name == "trace_moving":
+        return name, trace_moving, (*distributed, prepared.motion)
+    if name in ("trace_sampled", "trace_sampled_mirrors"):
+        bounces = True if name == "trace_sampled_mirrors" else None
+        return name, trace_sampled, (*distributed, bounces)
     if name == "trace_flat":
         return name, trace_flat, (prepared.arrays, prepared.tiles, prepared.camera)
     bounces = True if name == "trace_mirrors" else None

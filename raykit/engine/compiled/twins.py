@@ -173,7 +173,12 @@ TWINS = (
     Twin(
         "driver.trace_sampled",
         "raykit.render.render",
-        "render's loop for a distributed scene (stage 5)",
+        "render's loop for a distributed scene (stage 5) whose spheres stand still",
+    ),
+    Twin(
+        "driver.trace_moving",
+        "raykit.render.render",
+        "render's loop for a distributed scene whose spheres move (motion blur)",
     ),
     Twin(
         "driver.sampled_job",
