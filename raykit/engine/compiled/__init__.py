@@ -58,8 +58,8 @@ Distributed scenes (stage 5). A scene with area lights, a thin lens, glossy mirr
 samples per pixel renders in a loop of its own (:func:`.driver.trace_sampled`): each job a few
 pixels, each pixel all its samples in order, every ray (viewing, shadow, mirror) through the
 tree. A sample's uniform numbers are :mod:`raykit.engine.noise`'s, hashed from (seed, pixel,
-sample, dimension) in wrapping uint64 arithmetic (:mod:`.noise`; the Sobol' points come from
-scipy, made in Python), so no number depends on which worker takes which pixel; the sample
+sample, dimension) in wrapping uint64 arithmetic (:mod:`.noise`; the Sobol' points and their
+scrambling too), so no number depends on which worker takes which pixel; the sample
 patterns (:mod:`.sampling`), an area light's point (:func:`.lights.sampled`), the thin lens's
 rays (:func:`.camera.thin_lens_rays`) and a glossy mirror's ray
 (:func:`.mirrors.glossy_reflect`) repeat the reference's operations in its order. Motion

@@ -41,7 +41,14 @@ from raykit.engine.compiled.compiling import (
     finished,
     marked,
 )
-from raykit.engine.compiled.noise import JITTERED, RANDOM, SOBOL, pixel_keys, sample_numbers
+from raykit.engine.compiled.noise import (
+    JITTERED,
+    RANDOM,
+    SOBOL,
+    pixel_keys,
+    sample_numbers,
+    sobol_table,
+)
 from raykit.engine.compiled.sampling import point_in_pixel, shutter_times
 from raykit.engine.compiled.scene import (
     _NO_TREE,
@@ -457,13 +464,14 @@ SAMPLED_LANES = 256  # samples shaded together (sampled_lanes): of one pixel, or
 
 
 class Noise(NamedTuple):
-    """A distributed render's sampling (:mod:`raykit.engine.noise`) as :func:`trace_sampled`
-    takes it: the ``sampler`` (:data:`~raykit.engine.compiled.noise.RANDOM`, ``JITTERED`` or
-    ``SOBOL``), the ``seed``, the samples per pixel ``count`` (``n`` x ``n`` for the jittered
-    sampler), the Sobol' points ``table (count, D)`` (no rows for the others), the ``dimensions``
-    D of a sample, where in them the point in the pixel and on the lens lie (``pixel``,
-    ``lens``: :class:`raykit.engine.noise.Dimensions`), and which of them a ray of the scene
-    may read, ``wanted (D,)`` (:func:`wanted_dimensions`), and their indices, ``reads``."""
+    """A distributed render's sampling (:mod:`raykit.engine.noise`) as :func:`trace_sampled` takes
+    it: the ``sampler`` (:data:`~raykit.engine.compiled.noise.RANDOM`, ``JITTERED`` or ``SOBOL``),
+    the ``seed``, the samples per pixel ``count`` (``n`` x ``n`` for the jittered sampler), the
+    Sobol' points ``table (count, 2)`` (:func:`~raykit.engine.compiled.noise.sobol_table`; no rows
+    for the other samplers), the ``dimensions`` D of a sample, where in them the point in the
+    pixel and on the lens lie (``pixel``, ``lens``: :class:`raykit.engine.noise.Dimensions`), and
+    which of them a ray of the scene may read, ``wanted (D,)`` (:func:`wanted_dimensions`), and
+    their indices, ``reads``."""
 
     sampler: int
     seed: int
@@ -493,18 +501,18 @@ def wanted_dimensions(scene: Scene, dimensions: Dimensions) -> np.ndarray:
 
 
 def scene_noise(scene: Scene) -> Noise:
-    """The scene's :class:`Noise`, the Sobol' points made by the reference's own
+    """The scene's :class:`Noise`, checked by the reference's own
     :class:`raykit.engine.noise.PixelSamples` (which refuses a jittered count that is not n x n,
     and a Sobol' count that is not a power of two, before any work)."""
     sampling = scene.sampling
     dimensions = Dimensions.of(scene)
     samples = PixelSamples(sampling, dimensions.count)
-    table = samples.table if samples.table is not None else np.zeros((0, dimensions.count))
     sampler = {"random": RANDOM, "jittered": JITTERED, "sobol": SOBOL}[sampling.sampler]
     wanted = wanted_dimensions(scene, dimensions)
-    return Noise(sampler, sampling.seed, sampling.samples_per_pixel, samples.n,
-                 np.require(table, float, "CAW"), dimensions.count, Dimensions.pixel,
-                 Dimensions.lens, wanted, np.flatnonzero(wanted))  # fmt: skip
+    count = sampling.samples_per_pixel
+    table = sobol_table(count if sampler == SOBOL else 0)
+    return Noise(sampler, sampling.seed, count, samples.n, table, dimensions.count,
+                 Dimensions.pixel, Dimensions.lens, wanted, np.flatnonzero(wanted))  # fmt: skip
 
 
 @njit(**MAKES_ARRAYS)
@@ -532,16 +540,14 @@ def trace_sampled(arrays, tree, shading, camera, lens, noise, bounces, width, jo
     every_object(tree, shading, shading_room)
     numbers = np.empty((SAMPLED_LANES, noise.dimensions))
     columns = np.empty((noise.dimensions, SAMPLED_LANES))
-    keys = np.zeros((noise.dimensions // 2 + 2, 4), dtype=np.uint64)
-    shifts = np.empty(noise.dimensions)
+    keys = np.zeros((noise.dimensions // 2 + 2, 6), dtype=np.uint64)
     while True:
         first_job = take(taken, grain)
         if first_job >= len(jobs):
             break
         for j in range(first_job, min(len(jobs), first_job + grain)):
             sampled_lanes(arrays, tree, shading, camera, lens, noise, width, jobs[j], bounces,
-                          numbers, columns, keys, shifts, room, shading_room, rgb, index,
-                          t)  # fmt: skip
+                          numbers, columns, keys, room, shading_room, rgb, index, t)  # fmt: skip
 
 
 @njit(**MAKES_ARRAYS)
@@ -555,8 +561,7 @@ def trace_moving(arrays, tree, shading, camera, lens, noise, motion, width, jobs
     every object then. A job is one sample at a time (:func:`sampled_job`)."""
     stack = new_stack()
     numbers = np.empty(noise.dimensions)
-    keys = np.zeros((noise.dimensions // 2 + 2, 4), dtype=np.uint64)
-    shifts = np.empty(noise.dimensions)
+    keys = np.zeros((noise.dimensions // 2 + 2, 6), dtype=np.uint64)
     at_time = Arrays(arrays.centers.copy(), arrays.radii, arrays.sphere_colors,
                      arrays.corners, arrays.n, arrays.alpha_axes, arrays.beta_axes,
                      arrays.board_colors, arrays.texture_start, arrays.texture_width,
@@ -567,7 +572,7 @@ def trace_moving(arrays, tree, shading, camera, lens, noise, motion, width, jobs
             break
         for j in range(first_job, min(len(jobs), first_job + grain)):
             sampled_job(arrays, at_time, tree, shading, camera, lens, noise, motion, width,
-                        jobs[j], stack, numbers, keys, shifts, rgb, index, t)  # fmt: skip
+                        jobs[j], stack, numbers, keys, rgb, index, t)  # fmt: skip
 
 
 @njit(**KERNEL)
@@ -586,20 +591,19 @@ def spheres_at(arrays, motion, centers, T):
 
 @njit(**KERNEL)
 def sampled_job(arrays, at_time, tree, shading, camera, lens, noise, motion, width, first,
-                stack, numbers, keys, shifts, rgb, index, t):  # fmt: skip
+                stack, numbers, keys, rgb, index, t):  # fmt: skip
     """One job of :func:`trace_moving`: the SAMPLED_PIXELS pixels from pixel ``first``, with the
     worker's ``stack`` (:func:`new_stack`), room for a sample's uniform numbers, ``numbers (D,)``,
-    and for what its pixel's samples share, ``keys`` and ``shifts`` (:func:`pixel_keys`), and the
-    worker's copy of ``arrays``, ``at_time``, whose centres it moves to each ray's time in a scene
-    that moves (:class:`Motion`), and every ray reads."""
+    and for what its pixel's samples share, ``keys`` (:func:`pixel_keys`), and the worker's copy of
+    ``arrays``, ``at_time``, whose centres it moves to each ray's time in a scene that moves
+    (:class:`Motion`), and every ray reads."""
     count, wanted, reads = noise.count, noise.wanted, noise.reads
     for p in range(first, min(first + SAMPLED_PIXELS, len(t))):
         row, col = p // width, p % width
         r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
-        pixel_keys(noise.sampler, noise.seed, p, wanted, keys, shifts)
+        pixel_keys(noise.sampler, noise.seed, p, wanted, keys)
         for k in range(count):
-            sample_numbers(noise.sampler, k, noise.n, noise.table, wanted, reads, keys, shifts,
-                           numbers)  # fmt: skip
+            sample_numbers(noise.sampler, k, noise.n, noise.table, wanted, reads, keys, numbers)
             if motion.moving:  # the ray's time: its own, or the shutter's opening
                 T = motion.shutter_open
                 if motion.time >= 0:
@@ -700,7 +704,7 @@ def cast_lanes(arrays, tree, rays, count, best, best_t, colors, t):
 
 @njit(**KERNEL)
 def sampled_lanes(arrays, tree, shading, camera, lens, noise, width, first, bounces, numbers,
-                  columns, keys, shifts, room, shading_room, rgb, index, t):  # fmt: skip
+                  columns, keys, room, shading_room, rgb, index, t):  # fmt: skip
     """:func:`sampled_job` for a scene where nothing moves, its samples in lanes: SAMPLED_LANES
     samples at a time, of one pixel, or of as many whole pixels as they hold (each batch calls
     kernels of its own, whose arguments cost as much as a few rays: a batch of one pixel's few
@@ -731,10 +735,9 @@ def sampled_lanes(arrays, tree, shading, camera, lens, noise, width, first, boun
             for i in range(shaded):  # lane i: sample k of pixel p
                 p, k = p_first + i // samples, k_first + i % samples
                 if k == k_first:
-                    pixel_keys(noise.sampler, noise.seed, p, wanted, keys, shifts)
+                    pixel_keys(noise.sampler, noise.seed, p, wanted, keys)
                 u = numbers[i]
-                sample_numbers(noise.sampler, k, noise.n, noise.table, wanted, reads, keys,
-                               shifts, u)  # fmt: skip
+                sample_numbers(noise.sampler, k, noise.n, noise.table, wanted, reads, keys, u)
                 for d in reads:
                     columns[d, i] = u[d]
                 xy[0, i], xy[1, i] = point_in_pixel(p // width, p % width, u[noise.pixel],

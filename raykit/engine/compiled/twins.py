@@ -65,6 +65,11 @@ TWINS = (
         "raykit.engine.noise.counter_hash",
         "its last two parts, (sample, dimension), folded into the pixel's hash",
     ),
+    Twin(
+        "noise.fold",
+        "raykit.engine.noise.counter_hash",
+        "one of its steps: one part of the counter folded into the hash so far",
+    ),
     Twin("noise.uniforms", "raykit.engine.noise.uniforms"),
     Twin("noise.uniform", "raykit.engine.noise.uniforms", "from a counter's hash made before"),
     Twin("noise.shuffle", "raykit.engine.noise.shuffle"),
@@ -102,6 +107,15 @@ TWINS = (
     Twin("sampling.basis_around", "raykit.sampling.basis_around"),
     Twin("sampling.perturbed_direction", "raykit.sampling.perturbed_direction"),
     Twin("sampling.shutter_times", "raykit.sampling.shutter_times"),
+    Twin("sampling.reverse_bits", "raykit.sampling.reverse_bits"),
+    Twin("sampling.sobol_points", "raykit.sampling.sobol_points"),
+    Twin("sampling.owen_scramble", "raykit.sampling.owen_scramble"),
+    Twin(
+        "sampling.owen_hash",
+        "raykit.sampling.owen_scramble",
+        "its hash alone, on a value whose bits are mirrored already (a Sobol' point's first"
+        " dimension is its index mirrored)",
+    ),
     Twin("surfaces.surface_points", "raykit.surfaces.surface_points"),
     Twin("surfaces.start", "raykit.surfaces.SurfacePoints.start"),
     Twin(
@@ -252,6 +266,7 @@ WITHIN = {
     "raykit.rays.point_at": "surfaces.surface_points",
     "raykit.shadows.in_shadow": "shading.surface_color",
     "raykit.render.illumination": "driver.lit_job",
+    "raykit.sampling.sobol_set": "noise.sample_numbers",
     "raykit.shading._rows": "shading.surface_color",
 }
 
