@@ -39,6 +39,7 @@ from raykit.engine.compiled.compiling import (
     ONE_RAY,
     compile_clock,
     finished,
+    keep_freed_memory,
     marked,
 )
 from raykit.engine.compiled.noise import (
@@ -87,6 +88,7 @@ from raykit.hits import Hits
 from raykit.scene import Scene
 from raykit.surfaces import OFFSET_FACTOR
 
+keep_freed_memory()  # each render's outputs reuse the last one's pages, where glibc allows
 ROWS_PER_CALL = 32  # rows of pixels per kernel call when a progress bar is to move
 CHUNK = 256  # rays or pixels per parallel step: many per worker, and one stack each
 GRAINS_PER_WORKER = 16  # takes of jobs per worker: few enough that taking costs nothing, and
@@ -655,6 +657,19 @@ def every_object(tree, shading, shading_room):
 
 
 @njit(**KERNEL)
+def cast_each(arrays, tree, stack, rays, count, best, best_t, colors):
+    """:func:`nearest_hit` of each of ``count`` rays ``rays (6, N)`` (origins, then directions)
+    through the tree, with a walk's ``stack``: the object index into ``best``, t into ``best_t``
+    and the colour into ``colors (3, N)``. Called once for a batch of rays, its tree walk
+    compiled once, not in each loop that casts them."""
+    for i in range(count):
+        hit = nearest_hit(arrays, tree, stack, rays[0, i], rays[1, i], rays[2, i], rays[3, i],
+                          rays[4, i], rays[5, i], np.inf)  # fmt: skip
+        best[i], best_t[i] = hit.index, hit.t
+        colors[0, i], colors[1, i], colors[2, i] = hit.r, hit.g, hit.b
+
+
+@njit(**KERNEL)
 def cast_lanes(arrays, tree, rays, count, best, best_t, colors, t):
     """:func:`nearest_hit` for each of ``count`` rays ``rays (6, N)`` (origins, then directions)
     in a scene of DIRECT_HITS objects or fewer, each object in turn for all the rays
@@ -753,11 +768,7 @@ def sampled_lanes(arrays, tree, shading, camera, lens, noise, width, first, boun
             if len(tree.order) <= DIRECT_HITS:
                 cast_lanes(arrays, tree, rays, shaded, best, best_t, colors, lanes.t)
             else:
-                for i in range(shaded):
-                    hit = nearest_hit(arrays, tree, stack, rays[0, i], rays[1, i], rays[2, i],
-                                      rays[3, i], rays[4, i], rays[5, i], np.inf)  # fmt: skip
-                    best[i], best_t[i] = hit.index, hit.t
-                    colors[0, i], colors[1, i], colors[2, i] = hit.r, hit.g, hit.b
+                cast_each(arrays, tree, stack, rays, shaded, best, best_t, colors)
             if shading.shaded:
                 surface_lanes(arrays, shading, rays, best, best_t, colors, shaded, lanes, box)
                 if shading.lit:
@@ -784,14 +795,19 @@ def sampled_lanes(arrays, tree, shading, camera, lens, noise, width, first, boun
                 r_sum += c0
                 g_sum += c1
                 b_sum += c2
-                if k == count - 1:  # the pixel's last sample: its mean, and its centre's hit
+                if k == count - 1:  # the pixel's last sample: its mean
                     rgb[p, 0] = r_sum / count
                     rgb[p, 1] = g_sum / count
                     rgb[p, 2] = b_sum / count
-                    ray = rays_through(camera, p % width + 0.5, p // width + 0.5)  # the pinhole's
-                    hit_centre = nearest_hit(arrays, tree, stack, ray.o0, ray.o1, ray.o2, ray.d0,
-                                             ray.d1, ray.d2, np.inf)  # fmt: skip
-                    index[p], t[p] = hit_centre.index, hit_centre.t
+            if k_first + samples == count:  # the batch's pixels are done: their centres' hits
+                for q in range(pixels):  # the pinhole's ray, with a lens too
+                    p = p_first + q
+                    ray = rays_through(camera, p % width + 0.5, p // width + 0.5)
+                    rays[0, q], rays[1, q], rays[2, q] = ray.o0, ray.o1, ray.o2
+                    rays[3, q], rays[4, q], rays[5, q] = ray.d0, ray.d1, ray.d2
+                cast_each(arrays, tree, stack, rays, pixels, best, best_t, colors)
+                for q in range(pixels):
+                    index[p_first + q], t[p_first + q] = best[q], best_t[q]
 
 
 def caster(scene: Scene, arrays: Arrays | None = None) -> Callable[..., Hits]:
@@ -813,13 +829,14 @@ def caster(scene: Scene, arrays: Arrays | None = None) -> Callable[..., Hits]:
 
 class Prepared(NamedTuple):
     """A scene made ready for the kernels (:func:`prepare`): its :class:`Arrays`, screen tiles
-    (:func:`screen_tiles`), BVH (:class:`Tree`, for shadow and mirror rays, and a distributed
-    render's every ray; empty when the scene has none), :class:`Shading` (lights and materials)
-    and camera (:func:`camera_tuple`); and a distributed scene's thin lens (:func:`lens_tuple`)
-    and :class:`Noise` (None for another scene), and its :class:`Motion` (nothing moving but in a
-    scene with a shutter; such a scene's tree is :func:`every_object_tree`); and the ``entry``
-    point that renders it (:func:`raykit.engine.choice.entry_point`, which asks every object's
-    material: asked once here, not at each render)."""
+    (:func:`screen_tiles`; none for a distributed scene, whose rays they do not bound), BVH
+    (:class:`Tree`, for shadow and mirror rays, and a distributed render's every ray; empty when the
+    scene has none), :class:`Shading` (lights and materials) and camera (:func:`camera_tuple`); and
+    a distributed scene's thin lens (:func:`lens_tuple`) and :class:`Noise` (None for another
+    scene), and its :class:`Motion` (nothing moving but in a scene with a shutter; such a scene's
+    tree is :func:`every_object_tree`); and the ``entry`` point that renders it
+    (:func:`raykit.engine.choice.entry_point`, which asks every object's material: asked once here,
+    not at each render)."""
 
     scene: Scene
     arrays: Arrays
@@ -846,8 +863,14 @@ def prepare(scene: Scene) -> Prepared:
     if scene.moving:  # no box of the spheres as they stand bounds them: every object
         tree = every_object_tree(scene)
     noise = scene_noise(scene) if scene.distributed else None
-    return Prepared(scene, arrays, screen_tiles(scene, arrays), tree, shading, camera_tuple(scene),
-                    lens_tuple(scene), noise, scene_motion(scene), entry_point(scene))  # fmt: skip
+    # a distributed scene's rays are not bounded by screen tiles (trace_sampled): it makes none,
+    # and compiles none of their kernels
+    tiles = _NO_TILES if scene.distributed else screen_tiles(scene, arrays)
+    return Prepared(scene, arrays, tiles, tree, shading, camera_tuple(scene), lens_tuple(scene),
+                    noise, scene_motion(scene), entry_point(scene))  # fmt: skip
+
+
+_NO_TILES = Tiles(np.zeros(1, np.int64), np.zeros(0, np.int64), np.zeros((0, 5)), 1, 1, False)
 
 
 def render(scene: Scene | Prepared, samples: int = 1, *, adaptive: bool = False, progress=None):

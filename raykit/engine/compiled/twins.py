@@ -206,6 +206,11 @@ TWINS = (
         "lanes",
     ),
     Twin(
+        "driver.cast_each",
+        "raykit.render.cast",
+        "cast's nearest hits of a batch of rays, each through the tree",
+    ),
+    Twin(
         "driver.cast_lanes",
         "raykit.render.cast",
         "cast's nearest hits of a pixel's samples' viewing rays, each object for all at once",
