@@ -252,7 +252,7 @@ def mitsuba_dict(
     """Mitsuba's scene description of raykit scene data (see the module page): a flat scene for
     the ``depth`` integrator, a lit one for ``direct`` with one shadow ray per light per hit
     (an area light a rectangle emitter, :func:`mitsuba_light`); a camera with an ``aperture``
-    is a ``thinlens`` sensor (``benchmarks/sampling_error.py``'s scenes). For the pictures'
+    is a ``thinlens`` sensor (``benchmarks/race.py``'s scenes). For the pictures'
     check only: ``only_light`` keeps that light alone, ``depth`` renders
     distances whatever the scene, ``centres`` samples each pixel at its centre, as raykit does,
     instead of at a random point."""
