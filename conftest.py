@@ -33,9 +33,41 @@ SLOW_MODULES = {
 }
 
 
+# The suite runs on every core (pytest-xdist: ``-n auto --dist loadgroup`` in pyproject.toml), a
+# test on whichever worker is free, except these groups, each kept on one worker in its order:
+# a notebook's cells (each runs on the kernel the cells before it left); the tests of a module
+# whose costly fixture is made once a module; and the hostile suite one way of grading at a time
+# (its autograder is made once a way), with the module that builds the same image for that way.
+ONE_WORKER_MODULES = {
+    "test_batch_class.py",
+    "test_grading_seeds.py",
+    "test_linescan3d.py",
+    "test_site.py",
+}
+SAME_IMAGE = {
+    "test_grading_containers.py": "container",
+    "test_grading_prairielearn.py": "prairielearn",
+}
+
+
+def _worker_group(item: pytest.Item) -> str | None:
+    name = item.path.name
+    if item.path.suffix == ".ipynb" or name in ONE_WORKER_MODULES:
+        return name
+    if name in SAME_IMAGE:
+        return f"grading-{SAME_IMAGE[name]}"
+    callspec = getattr(item, "callspec", None)
+    way = callspec.params.get("autograder") if callspec else None
+    return f"grading-{way}" if way else None
+
+
+@pytest.hookimpl(tryfirst=True)  # before pytest-xdist reads the groups
 def pytest_collection_modifyitems(config, items):
     slow = pytest.mark.slow
     for item in items:
         compiled = item.path.parent.name == "compiled"  # tests/compiled/: the compiled engine's
         if item.path.suffix == ".ipynb" or item.path.name in SLOW_MODULES or compiled:
             item.add_marker(slow)
+        group = _worker_group(item)
+        if group:
+            item.add_marker(pytest.mark.xdist_group(group))
