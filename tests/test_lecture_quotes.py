@@ -17,13 +17,12 @@ calls or asks something, or gives the slide's words, which must hold a quotation
 one. Whitespace is folded everywhere (the lecture text's line breaks and trailing spaces are
 its extraction's, not the slide's); nothing else is.
 
-The lecture's text is read from ``../shared/lecture/`` beside the repository (CI has it), or
-from the folder ``RAYKIT_LECTURE`` names; where neither exists, the checks against it skip.
+The lecture's text is read from ``../shared/lecture/`` beside the repository (CI has it); where
+it is absent, the checks against it skip, saying so.
 """
 
 import functools
 import json
-import os
 import re
 from pathlib import Path
 
@@ -36,7 +35,7 @@ SLIDES = DATA["slides"]
 NOTEBOOKS = sorted((REPO / "notebooks").glob("*.ipynb"))
 PAGES = ["README.md", "docs/index.md", "docs/lecture-map.md", "docs/lecturers.md"]
 PAGES += ["docs/rendering.md", "docs/gallery.md"]  # pages that quote the slides
-LECTURE = Path(os.environ.get("RAYKIT_LECTURE", REPO.parent / "shared" / "lecture"))
+LECTURE = REPO.parent / "shared" / "lecture"
 TEXT_FILE = LECTURE / Path(DATA["source"]).name
 
 
