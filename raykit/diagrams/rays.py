@@ -21,6 +21,7 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from raykit.camera import image_plane_corners
+from raykit.diagrams.labels import clear_label
 from raykit.diagrams.views import (
     draw_lines,
     draw_outline,
@@ -226,7 +227,4 @@ def _mark(ax: Axes, view, point: np.ndarray, label: str, marker: str | None = "o
     shown = view.project(point)
     if marker:
         ax.plot(*[[c] for c in shown], marker, color="black", ms=5, zorder=7)
-    if view.is_3d:
-        ax.text(*shown, f" {label}", fontsize=10)
-    else:
-        ax.annotate(label, shown, xytext=(4, 4), textcoords="offset points", fontsize=10)
+    clear_label(ax, shown, label, fontsize=10)

@@ -77,6 +77,7 @@ def finish_axes(ax: Axes, view: View, points: np.ndarray, camera: Camera) -> Non
         ax.set_ylim(centre[1] - half, centre[1] + half)
         ax.set_zlim(centre[2] - half, centre[2] + half)
         ax.set_box_aspect((1, 1, 1))
+        fewer_ticks_3d(ax)
         ax.set_xlabel(AXIS_NAMES[view.axes[0]])
         ax.set_ylabel(AXIS_NAMES[view.axes[1]])
         ax.set_zlabel(AXIS_NAMES[view.axes[2]])
@@ -98,6 +99,15 @@ def finish_axes(ax: Axes, view: View, points: np.ndarray, camera: Camera) -> Non
             flip()
         if view.name == "top" and k == 1 and eye[1] > lookat[1]:
             flip()
+
+
+def fewer_ticks_3d(ax: Axes) -> None:
+    """At most five ticks an axis of 3D axes: the depth axis, foreshortened, ran its numbers
+    into each other with more."""
+    from matplotlib.ticker import MaxNLocator
+
+    for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
+        axis.set_major_locator(MaxNLocator(nbins=4))
 
 
 def draw_lines(ax: Axes, view: View, segments: np.ndarray, gid: str | None = None, **style):
