@@ -17,10 +17,14 @@ from raykit.diagrams.camera import camera_diagram, camera_diagrams, coarse  # no
 from raykit.diagrams.rays import chosen_pixels, ray_diagram  # noqa: E402
 from raykit.diagrams.views import view_for  # noqa: E402
 from raykit.engine.noise import Dimensions, PixelSamples  # noqa: E402
+from raykit.io.images import figure_png  # noqa: E402
+from raykit.io.legibility import legibility_problems, read_layout  # noqa: E402
+from raykit.io.linescan_json import load_line_scene  # noqa: E402
 from raykit.io.scene_json import (
     load_scene,  # noqa: E402
     scene_from_dict,  # noqa: E402
 )
+from raykit.linescan.diagrams import ray_diagram as linescan_rays  # noqa: E402
 from raykit.rays import point_at  # noqa: E402
 from raykit.render import cast, cast_pixels, render  # noqa: E402
 from raykit.spheres import sphere_roots  # noqa: E402
@@ -377,3 +381,35 @@ def test_the_moving_diagram_marks_each_hit_of_each_sample_at_its_time():
         assert len(np.unique(times)) == 16  # each ray its own time
         expected += int(np.count_nonzero(cast(scene, origins, directions, times=times).index >= 0))
     assert hits == expected > 0
+
+
+# what docs/make_images.py does not draw (tests/test_reproducible.py measures those): every
+# label clear of the lines, edges, markers and other labels, as measured while the figure is
+# drawn into its PNG (raykit.io.legibility), and text a projector shows
+CLEAR_LABEL_CASES = {
+    "one camera": lambda: camera_diagram(load_scene(SCENES / "classic.json").camera),
+    "rays 3d": lambda: ray_diagram(load_scene(SCENES / "classic.json"), view="3d", every=100),
+    "conveyor rays": lambda: linescan_rays(load_line_scene(SCENES / "linescan/conveyor.json")),
+    "pixel samples": lambda: distributed.pixel_samples_diagram(
+        _v2("soft_shadows.json", samples_per_pixel=9, seed=4), 12, 20
+    ),
+    "shadow rays": lambda: distributed.shadow_rays_diagram(
+        _v2("soft_shadows.json", samples_per_pixel=16), 24, 12
+    ),
+    "lens rays": lambda: distributed.lens_rays_diagram(
+        _v2("depth_of_field.json", samples_per_pixel=16), 15, 20
+    ),
+    "glossy rays": lambda: distributed.glossy_rays_diagram(
+        _v2("glossy.json", samples_per_pixel=16), 15, 12
+    ),
+    "moving rays": lambda: distributed.moving_rays_diagram(
+        _v2("motion_blur.json", samples_per_pixel=16), [(17, 10), (17, 14)]
+    ),
+}
+
+
+@pytest.mark.parametrize("case", sorted(CLEAR_LABEL_CASES))
+def test_diagram_labels_are_clear(case):
+    layout = read_layout(figure_png(CLEAR_LABEL_CASES[case]()))
+    assert not layout.problems, layout.problems
+    assert not legibility_problems(*layout.size, layout.smallest_text_px)
