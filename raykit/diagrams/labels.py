@@ -99,6 +99,7 @@ class _Placer(Artist):
             anchor = self._display(point)
             label.xy = tuple(anchor)
             label.set_position((0.0, 0.0))
+            label.update_positions(renderer)  # its transform follows the new point
             box = _box(label, renderer)
             half = np.array([box[2] - box[0], box[3] - box[1]]) / 2
             size = renderer.points_to_pixels(label.get_fontsize())
@@ -116,6 +117,7 @@ class _Placer(Artist):
                 if cost == 0:
                     break
             label.set_position(best)
+            label.update_positions(renderer)
             label.arrow_patch.set_visible(far)
             taken.append(_box(label, renderer))
 
