@@ -104,7 +104,6 @@ def camera_diagram(camera: Camera, *, ax: Axes | None = None) -> Figure:
     for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), centre, strict=True):
         setter(c - half, c + half)
     ax.set_box_aspect((1, 1, 1))
-    fewer_ticks_3d(ax)
     ax.view_init(elev=18, azim=-62)
     # draw in zorder, not by depth: the labels are placed after the lines and markers are drawn
     ax.computed_zorder = False
@@ -115,6 +114,7 @@ def camera_diagram(camera: Camera, *, ax: Axes | None = None) -> Figure:
     )
     for label, axis in zip((ax.set_xlabel, ax.set_ylabel, ax.set_zlabel), view.axes, strict=True):
         label("xyz"[axis])
+    fewer_ticks_3d(ax)
     return ax.figure
 
 

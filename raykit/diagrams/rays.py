@@ -161,7 +161,6 @@ def ray_diagram(
         ax.scatter(*shown.project(ends[hit]).T, color="black", s=4, depthshade=False)
     else:
         ax.plot(*shown.project(ends[hit]).T, "o", color="black", ms=2, zorder=6)
-    finish_axes(ax, shown, np.vstack([extent, ends[hit]]), camera)
     title = f"{len(rows)} rays through pixel centres ({int(hit.sum())} hit): solid = hit, "
     title += "dashed = miss"
     if not shown.is_3d:
@@ -173,6 +172,8 @@ def ray_diagram(
         mirror = sum(len(p.t) for p in paths if p.kind == "mirror")
         title += f"\n{shadow} shadow rays ({blocked} blocked, x), {mirror} mirror rays"
     ax.set_title(title, fontsize=10)
+    # after the title, which it may add to
+    finish_axes(ax, shown, np.vstack([extent, ends[hit]]), camera)
     return ax.figure
 
 
