@@ -84,6 +84,9 @@ autosummary_generate = True
 autosummary_imported_members = False
 autodoc_default_options = {"members": True, "show-inheritance": True}
 autodoc_member_order = "bysource"
+# "On this page" lists a class's methods under the class, as "progress()", not as
+# "CompileClock.progress()": the column is narrow, and the nesting already names the class
+toc_object_entries_show_parents = "hide"
 autodoc_typehints = "description"
 autodoc_typehints_format = "short"
 # numba is the optional compiled engine's: without it, raykit.engine.compiled is documented from
@@ -250,7 +253,36 @@ def _process_docstring(app, what, name, obj, options, lines: list[str]) -> None:
         lines += [line for twin in twin_lines(name) for line in ("", twin)]
 
 
+# ---- tables ---------------------------------------------------------------------------------
+# A table too wide for the page scrolls sideways in its own block (the theme's); the browser
+# would rather squeeze it into the page's width, breaking every cell wherever it can: a
+# benchmark's "5.9 ms" or "rays per pixel" set one word a line. A cell of a few words keeps them
+# on one line (raykit.css: td.few-words), and a longer one wraps, in a column no narrower than a
+# few words (tests/test_site.py measures both).
+FEW_WORDS = 24  # characters
+
+
+def _mark_few_word_cells(app, doctree, docname: str) -> None:
+    from docutils import nodes
+
+    for entry in doctree.findall(nodes.entry):
+        if len(" ".join(entry.astext().split())) <= FEW_WORDS:
+            entry["classes"].append("few-words")
+
+
+def _autosummary_table_as_written(translator, node) -> None:
+    """autosummary writes its tables' signatures with no-break spaces, to keep each on one line;
+    raykit.css keeps them on one line where there is room for it, and on a phone, where the
+    summary goes under the name, lets a long one wrap at its spaces instead of inside a name."""
+
+
 def setup(app):
+    from sphinx.ext.autosummary import autosummary_noop, autosummary_table
+
     app.connect("source-read", _source_read)
     app.connect("html-page-context", _no_empty_sidebar)
+    app.connect("doctree-resolved", _mark_few_word_cells)
+    app.add_node(
+        autosummary_table, html=(_autosummary_table_as_written, autosummary_noop), override=True
+    )
     app.connect("autodoc-process-docstring", _process_docstring)

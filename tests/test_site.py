@@ -8,7 +8,12 @@ Chromium at a phone's width (400 px) and a laptop's (1280 px).
   the text it holds) lies inside the window and inside each ancestor that hides what overflows
   it, unless a block between them scrolls sideways on its own (a code block, a table's
   scroller, a notebook output). The article's own frame does not count as such a block: a
-  line wider than the text moves the whole text. ``tests/site_measure.html`` measures it.
+  line wider than the text moves the whole text. Nor do the side columns ("Section
+  Navigation", "On this page"): nothing in them is wider than the column.
+* No table is squeezed into the page when it could scroll in its own block instead: no word in
+  a cell is broken across two lines (raykit.line|scan), and no short phrase in a cell ("5.9 ms",
+  a header) is set one word a line.
+* ``tests/site_measure.html`` measures it all, every page at both widths in one Chromium.
 * No page has an empty left column ("Section Navigation" with nothing under it).
 
 The site is built once for the module, with the docs extra (skipped, saying so, without it);
@@ -135,11 +140,16 @@ def served(site):
     server.server_close()
 
 
-def _measure(site: Path, url: str, width: int) -> list[dict]:
+@pytest.fixture(scope="module")
+def measured(site, served) -> dict[int, list[dict]]:
+    """Every page at every width of WIDTHS, measured by ``site_measure.html`` in one Chromium."""
+    if CHROMIUM is None:
+        pytest.skip("needs Chromium (apt-get install chromium)")
     pages = _pages(site)
     page = (HERE / "site_measure.html").read_text()
-    page = page.replace("/*PAGES*/[]", json.dumps(pages)).replace("/*WIDTH*/0", str(width))
-    (site / f"_measure_{width}.html").write_text(page)
+    page = page.replace("/*PAGES*/[]", json.dumps(pages))
+    page = page.replace("/*WIDTHS*/[]", json.dumps(WIDTHS))
+    (site / "_measure.html").write_text(page)
     with tempfile.TemporaryDirectory() as profile:
         dump = subprocess.run(
             [
@@ -157,9 +167,9 @@ def _measure(site: Path, url: str, width: int) -> list[dict]:
                 "--host-resolver-rules=MAP * ~NOTFOUND, EXCLUDE 127.0.0.1",
                 "--hide-scrollbars",
                 "--virtual-time-budget=6000000",
-                f"--window-size={width + 100},1000",
+                f"--window-size={max(WIDTHS) + 100},1000",
                 "--dump-dom",
-                f"{url}/_measure_{width}.html",
+                f"{served}/_measure.html",
             ],
             capture_output=True,
             text=True,
@@ -169,14 +179,13 @@ def _measure(site: Path, url: str, width: int) -> list[dict]:
     found = re.search(r'<pre id="result">(.*?)</pre>', dump, re.S)
     assert found and found.group(1) != "running", "the measuring page did not finish"
     results = json.loads(html.unescape(found.group(1)))
-    assert len(results) == len(pages)
-    return results
+    assert len(results) == len(pages) * len(WIDTHS)
+    return {width: [r for r in results if r["width"] == width] for width in WIDTHS}
 
 
-@pytest.mark.skipif(CHROMIUM is None, reason="needs Chromium (apt-get install chromium)")
 @pytest.mark.parametrize("width", WIDTHS)
-def test_every_page_fits_the_window_with_nothing_cut_and_its_formulas_typeset(site, served, width):
-    results = _measure(site, served, width)
+def test_every_page_fits_the_window_with_nothing_cut_and_its_formulas_typeset(measured, width):
+    results = measured[width]
     errors = {r["page"]: r["error"] for r in results if "error" in r}
     assert not errors
     wide = {r["page"]: r["scrollWidth"] for r in results if r["scrollWidth"] > r["width"]}
@@ -185,3 +194,11 @@ def test_every_page_fits_the_window_with_nothing_cut_and_its_formulas_typeset(si
     assert not cut, f"cut at {width} px: {json.dumps(cut, indent=1, ensure_ascii=False)}"
     raw = {r["page"]: r["math_unrendered"] for r in results if r["math_unrendered"]}
     assert not raw, f"formulas left as TeX source: {raw}"
+
+
+@pytest.mark.parametrize("width", WIDTHS)
+def test_no_table_is_squeezed_into_the_page_breaking_its_words(measured, width):
+    squeezed = {r["page"]: r["tables"][:3] for r in measured[width] if r.get("tables")}
+    assert not squeezed, (
+        f"tables squeezed at {width} px: {json.dumps(squeezed, indent=1, ensure_ascii=False)}"
+    )
