@@ -257,17 +257,21 @@ def _process_docstring(app, what, name, obj, options, lines: list[str]) -> None:
 # A table too wide for the page scrolls sideways in its own block (the theme's); the browser
 # would rather squeeze it into the page's width, breaking every cell wherever it can: a
 # benchmark's "5.9 ms" or "rays per pixel" set one word a line. A cell of a few words keeps them
-# on one line (raykit.css: td.few-words), and a longer one wraps, in a column no narrower than a
-# few words (tests/test_site.py measures both).
+# on one line (raykit.css: td.few-words; on a phone, only a very short one: td.short), and a
+# longer one wraps, in a column no narrower than a few words (tests/test_site.py measures both).
 FEW_WORDS = 24  # characters
+SHORT = 16
 
 
 def _mark_few_word_cells(app, doctree, docname: str) -> None:
     from docutils import nodes
 
     for entry in doctree.findall(nodes.entry):
-        if len(" ".join(entry.astext().split())) <= FEW_WORDS:
+        text = " ".join(entry.astext().split())
+        if len(text) <= FEW_WORDS:
             entry["classes"].append("few-words")
+        if len(text) <= SHORT:
+            entry["classes"].append("short")
 
 
 def _autosummary_table_as_written(translator, node) -> None:
