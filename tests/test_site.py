@@ -22,33 +22,21 @@ the browser tests are skipped, saying so, where Chromium is not installed.
 
 from __future__ import annotations
 
-import functools
-import html
-import http.server
 import importlib.util
 import json
 import re
-import shutil
 import subprocess
 import sys
-import tempfile
-import threading
 from pathlib import Path
 
 import pytest
 
+import headless
 from conftest import REPO
+from headless import CHROMIUM, served
 
 HERE = Path(__file__).resolve().parent
 WIDTHS = (400, 1280)
-CHROMIUM = next(
-    (
-        shutil.which(name)
-        for name in ("chromium", "chromium-browser", "google-chrome")
-        if shutil.which(name)
-    ),
-    None,
-)
 DOCS_EXTRA = ("sphinx", "myst_nb", "pydata_sphinx_theme", "sphinx-mathjax-offline")
 
 
@@ -123,25 +111,8 @@ def test_no_page_has_an_empty_section_navigation_column(site):
     assert not empty
 
 
-class _Quiet(http.server.SimpleHTTPRequestHandler):
-    def log_message(self, *args):
-        pass
-
-
 @pytest.fixture(scope="module")
-def served(site):
-    server = http.server.ThreadingHTTPServer(
-        ("127.0.0.1", 0), functools.partial(_Quiet, directory=str(site))
-    )
-    thread = threading.Thread(target=server.serve_forever, daemon=True)
-    thread.start()
-    yield f"http://127.0.0.1:{server.server_address[1]}"
-    server.shutdown()
-    server.server_close()
-
-
-@pytest.fixture(scope="module")
-def measured(site, served) -> dict[int, list[dict]]:
+def measured(site) -> dict[int, list[dict]]:
     """Every page at every width of WIDTHS, measured by ``site_measure.html`` in one Chromium."""
     if CHROMIUM is None:
         pytest.skip("needs Chromium (apt-get install chromium)")
@@ -150,35 +121,8 @@ def measured(site, served) -> dict[int, list[dict]]:
     page = page.replace("/*PAGES*/[]", json.dumps(pages))
     page = page.replace("/*WIDTHS*/[]", json.dumps(WIDTHS))
     (site / "_measure.html").write_text(page)
-    with tempfile.TemporaryDirectory() as profile:
-        dump = subprocess.run(
-            [
-                CHROMIUM,
-                "--headless",
-                "--no-sandbox",
-                "--disable-gpu",
-                "--disable-quic",
-                "--no-first-run",
-                "--disable-background-networking",
-                "--disable-component-update",
-                "--disable-sync",
-                f"--user-data-dir={profile}",
-                # no network: every name but this machine's is unknown
-                "--host-resolver-rules=MAP * ~NOTFOUND, EXCLUDE 127.0.0.1",
-                "--hide-scrollbars",
-                "--virtual-time-budget=6000000",
-                f"--window-size={max(WIDTHS) + 100},1000",
-                "--dump-dom",
-                f"{served}/_measure.html",
-            ],
-            capture_output=True,
-            text=True,
-            timeout=900,
-            check=False,
-        ).stdout
-    found = re.search(r'<pre id="result">(.*?)</pre>', dump, re.S)
-    assert found and found.group(1) != "running", "the measuring page did not finish"
-    results = json.loads(html.unescape(found.group(1)))
+    with served(site) as address:
+        results = headless.measured(f"{address}/_measure.html", (max(WIDTHS) + 100, 1000))
     assert len(results) == len(pages) * len(WIDTHS)
     return {width: [r for r in results if r["width"] == width] for width in WIDTHS}
 
@@ -202,3 +146,33 @@ def test_no_table_is_squeezed_into_the_page_breaking_its_words(measured, width):
     assert not squeezed, (
         f"tables squeezed at {width} px: {json.dumps(squeezed, indent=1, ensure_ascii=False)}"
     )
+
+
+def test_the_notebooks_sliders_move_through_their_functions_pictures(site, measured):
+    """Every slider cell of the notebooks is on the site as sliders (docs/conf.py); moving each
+    control shows, and loads, the picture docs/make_slider_frames.py drew for that stop."""
+    expected = {}
+    for manifest in sorted((site / "_static" / "sliders").glob("*/*/sliders.json")):
+        data = json.loads(manifest.read_text())
+        folder = f"../_static/sliders/{manifest.parent.parent.name}/{manifest.parent.name}/"
+        page = f"notebooks/{manifest.parent.parent.name}.html"
+        for control in data["controls"]:
+            last = len(control["labels"]) - 1
+            stop = 0 if control["first"] == last else last
+            expected.setdefault(page, []).append(
+                (control["name"], stop, folder + control["frames"][stop])
+            )
+    assert {"notebooks/01_rays_and_cameras.html", "notebooks/02_linescan_camera.html"} <= set(
+        expected
+    )
+    shown = {
+        r["page"]: [(m["control"], m["stop"], m["after"]) for m in r["sliders"]]
+        for r in measured[WIDTHS[-1]]
+        if r.get("sliders")
+    }
+    assert shown == expected
+    unloaded = [(r["page"], m) for r in measured[WIDTHS[-1]] for m in r.get("sliders", [])]
+    assert not [u for u in unloaded if not u[1]["loaded"]]
+    # each control really changes the picture (a slider whose every stop draws the same
+    # figure would show nothing moving)
+    assert all(m["after"] != m["before"] for _, m in unloaded)
