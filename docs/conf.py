@@ -368,12 +368,28 @@ def _autosummary_table_as_written(translator, node) -> None:
     summary goes under the name, lets a long one wrap at its spaces instead of inside a name."""
 
 
+# ---- the lecture's slide deck -------------------------------------------------------------------
+def _deck(app, exception) -> None:
+    """The deck (docs/make_deck.py) as deck/ beside the site's pages, linked from the lecturer
+    guide; its slides link to the notebooks' pages at ../notebooks/."""
+    if exception is not None or app.builder.format != "html":
+        return
+    from sphinx.util import logging
+
+    maker = runpy.run_path(str(DOCS / "make_deck.py"))
+    try:
+        maker["build"](Path(app.outdir) / "deck")
+    except maker["DeckError"] as why:
+        logging.getLogger(__name__).warning("the lecture's deck: %s", why)
+
+
 def setup(app):
     from sphinx.ext.autosummary import autosummary_noop, autosummary_table
 
     app.connect("source-read", _source_read)
     app.connect("html-page-context", _no_empty_sidebar)
     app.connect("doctree-resolved", _mark_few_word_cells)
+    app.connect("build-finished", _deck)
     app.add_node(
         autosummary_table, html=(_autosummary_table_as_written, autosummary_noop), override=True
     )

@@ -68,11 +68,18 @@ def site(tmp_path_factory) -> Path:
 
 
 def _pages(site: Path) -> list[str]:
+    """The site's pages, and the deck's (docs/make_deck.py, deck/index.html)."""
     return sorted(
         str(path.relative_to(site))
         for path in site.rglob("*.html")
         if not path.relative_to(site).parts[0].startswith(("_", "."))
     )
+
+
+def _measured_pages(site: Path) -> list[str]:
+    """The pages measured at a phone's and a laptop's width: not the deck, which is a
+    projector's 1920 x 1080 (tests/test_deck.py measures it)."""
+    return [page for page in _pages(site) if not page.startswith("deck/")]
 
 
 ASSET = re.compile(
@@ -116,7 +123,7 @@ def measured(site) -> dict[int, list[dict]]:
     """Every page at every width of WIDTHS, measured by ``site_measure.html`` in one Chromium."""
     if CHROMIUM is None:
         pytest.skip("needs Chromium (apt-get install chromium)")
-    pages = _pages(site)
+    pages = _measured_pages(site)
     page = (HERE / "site_measure.html").read_text()
     page = page.replace("/*PAGES*/[]", json.dumps(pages))
     page = page.replace("/*WIDTHS*/[]", json.dumps(WIDTHS))
