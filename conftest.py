@@ -10,7 +10,8 @@ CI runs: it adds what takes seconds a test, marked ``slow`` here in one place:
 * commands run whole: the benchmarks, the committed pictures remade, outputs under other machines'
   settings;
 * the documentation site, built and measured page by page in headless Chromium (test_site.py,
-  skipped without the docs extra or Chromium).
+  skipped without the docs extra or Chromium), and the lecture's slide deck, made and shown
+  slide by slide at 1920 x 1080 (test_deck.py, the same).
 """
 
 from __future__ import annotations
@@ -30,6 +31,7 @@ SLOW_MODULES = {
     "test_gallery.py",
     "test_machine_independent.py",
     "test_site.py",
+    "test_deck.py",
 }
 
 

@@ -2,11 +2,13 @@
 
 ``notebooks/lecture.json`` lists every slide of the lecture in its order: its title, the words
 the kit quotes from it (``quotes``), the lecture map's item that teaches it, the notebook cell
-where it is taught and the code cell that draws its figure. Its quotations are the only text the
-kit presents as the slides': these tests check that each is in its notebook's Markdown, that
-each (and each title) is on its slide in the lecture's own text, that the quotations together
-hold every word of that text, and that whatever the notebooks and the pages that quote the
-slides present as the slides' is one of them.
+where it is taught and its figure: the code cell that draws it (``figure``, words of that cell),
+or the stored picture that a Markdown cell of the item's section shows (``image``, its path from
+notebooks/). Its quotations are the only text the kit presents as the slides': these tests check
+that each is in its notebook's Markdown, that each (and each title) is on its slide in the
+lecture's own text, that the quotations together hold every word of that text, and that
+whatever the notebooks and the pages that quote the slides present as the slides' is one of
+them; and that each figure is drawn, or shown, inside its item's section.
 
 Presented as the slides' means: a span in quotation marks (“…” or "…") in prose; a block quote
 (``> ``), whose paragraphs and list items are the slide's lines (a paragraph that is only a
@@ -73,12 +75,15 @@ def test_every_slide_has_a_title_quotes_and_a_place_or_a_note_saying_why_not():
     assert DATA["lecture"] and DATA["source"]
     keys = {"title", "item", "notebook", "cell", "quotes", "figure"}
     for k, slide in enumerate(SLIDES):
-        assert keys <= set(slide) <= keys | {"note"}, _slide_id(k)
+        assert keys <= set(slide) <= keys | {"image", "note"}, _slide_id(k)
         assert isinstance(slide["title"], str) and slide["title"], _slide_id(k)
         assert isinstance(slide["quotes"], list), _slide_id(k)
         assert all(isinstance(q, str) and q.strip() for q in slide["quotes"]), _slide_id(k)
         assert slide["item"] is None or isinstance(slide["item"], int), _slide_id(k)
         assert slide["figure"] is None or isinstance(slide["figure"], str), _slide_id(k)
+        image = slide.get("image")
+        assert image is None or isinstance(image, str) and image, _slide_id(k)
+        assert not (image and slide["figure"]), f"{_slide_id(k)}: figure drawn or stored, not both"
         if slide["notebook"] is None or slide["cell"] is None:
             assert slide.get("note"), f"{_slide_id(k)}: taught nowhere, and no note says why"
         else:
@@ -107,16 +112,7 @@ def test_each_slides_cell_starts_one_markdown_cell(slide):
     assert len(starts) == 1, f"{slide['notebook']}: {len(starts)} cells start {slide['cell']!r}"
 
 
-@pytest.mark.parametrize("slide", [s for s in SLIDES if s["figure"]], ids=_id)
-def test_each_figure_is_drawn_by_one_code_cell(slide):
-    cells = _cells(REPO / "notebooks" / slide["notebook"])
-    code = [
-        c for c in cells if c["cell_type"] == "code" and slide["figure"] in "".join(c["source"])
-    ]
-    assert len(code) == 1, f"{slide['notebook']}: {len(code)} code cells hold {slide['figure']!r}"
-    assert any("image/png" in out.get("data", {}) for out in code[0]["outputs"]), slide["figure"]
-
-
+@functools.cache
 def _map_items() -> dict[int, tuple[str, str, str | None]]:
     """Map item -> (notebook, its cell's words, the next item's cell words in that notebook)."""
     rows = []
@@ -131,21 +127,61 @@ def _map_items() -> dict[int, tuple[str, str, str | None]]:
     }
 
 
+def _section(item: int) -> tuple[int, int]:
+    """(first cell, cell after the last) of map item ``item``'s section of its notebook."""
+    path, start, end = _map_items()[item]
+    sources = ["".join(c["source"]) for c in _cells(REPO / "notebooks" / path)]
+    first = next(i for i, s in enumerate(sources) if start in s)
+    last = next((i for i, s in enumerate(sources) if end in s), None) if end else None
+    return first, last or len(sources)
+
+
 def test_each_slide_is_taught_in_its_map_items_section():
     items = _map_items()
     assert {s["item"] for s in SLIDES} - {None} == set(items), "every map item has its slides"
     for k, slide in enumerate(SLIDES):
         if slide["item"] is None:
             continue
-        path, start, end = items[slide["item"]]
+        path = items[slide["item"]][0]
         assert slide["notebook"] == path, f"{_slide_id(k)}: item {slide['item']} is in {path}"
         sources = ["".join(c["source"]) for c in _cells(REPO / "notebooks" / path)]
-        first = next(i for i, s in enumerate(sources) if start in s)
-        last = next((i for i, s in enumerate(sources) if end in s), len(sources)) if end else None
         here = next(i for i, s in enumerate(sources) if s.startswith(slide["cell"]))
-        assert first <= here < (last or len(sources)), (
+        first, end = _section(slide["item"])
+        assert first <= here < end, (
             f"{_slide_id(k)}: its cell is outside item {slide['item']}'s section of {path}"
         )
+
+
+@pytest.mark.parametrize("slide", [s for s in SLIDES if s["figure"]], ids=_id)
+def test_each_figure_is_drawn_by_one_code_cell_of_its_items_section(slide):
+    cells = _cells(REPO / "notebooks" / slide["notebook"])
+    code = [
+        k
+        for k, c in enumerate(cells)
+        if c["cell_type"] == "code" and slide["figure"] in "".join(c["source"])
+    ]
+    assert len(code) == 1, f"{slide['notebook']}: {len(code)} code cells hold {slide['figure']!r}"
+    outputs = cells[code[0]]["outputs"]
+    assert any("image/png" in out.get("data", {}) for out in outputs), slide["figure"]
+    if slide["item"] is not None:
+        first, end = _section(slide["item"])
+        assert first <= code[0] < end, f"cell {code[0]} is outside item {slide['item']}'s section"
+
+
+@pytest.mark.parametrize("slide", [s for s in SLIDES if s.get("image")], ids=_id)
+def test_each_stored_image_is_shown_by_one_markdown_cell_of_its_items_section(slide):
+    path = REPO / "notebooks" / slide["notebook"]
+    assert (path.parent / slide["image"]).is_file(), f"no such picture: {slide['image']}"
+    shown = re.compile(r"!\[[^\]]*\]\(" + re.escape(slide["image"]) + r"\)")
+    cells = _cells(path)
+    showing = [
+        k
+        for k, c in enumerate(cells)
+        if c["cell_type"] == "markdown" and shown.search("".join(c["source"]))
+    ]
+    assert len(showing) == 1, f"{slide['notebook']}: {len(showing)} cells show {slide['image']}"
+    first, end = _section(slide["item"])
+    assert first <= showing[0] < end, f"cell {showing[0]} is outside item {slide['item']}'s section"
 
 
 # ---- the lecture's text ------------------------------------------------------------------
