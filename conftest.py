@@ -42,6 +42,7 @@ SLOW_MODULES = {
 # (its autograder is made once a way), with the module that builds the same image for that way.
 ONE_WORKER_MODULES = {
     "test_batch_class.py",
+    "test_deck.py",
     "test_grading_seeds.py",
     "test_linescan3d.py",
     "test_site.py",
