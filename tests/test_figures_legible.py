@@ -62,7 +62,6 @@ TOO_SMALL_RENDERS = {
 PLOTTED_BEFORE_THE_RECORD = {
     "docs/benchmarks/engines.png",
     "docs/benchmarks/mitsuba_compare.png",
-    "docs/benchmarks/sampling_error.png",
 }
 
 
