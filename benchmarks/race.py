@@ -2,7 +2,8 @@
 distributed ray tracing both renderers model alike, how long each takes to reach each RMS error.
 
     python benchmarks/race.py [--quick] [--repeats N] [--sizes 80x60 640x480] [--threads 1 2]
-        [--cache FOLDER] [--plot docs/benchmarks/race.png] [--page docs/benchmarks/race.md]
+        [--reference SPP] [--most SPP] [--cache FOLDER] [--plot docs/benchmarks/race.png]
+        [--page docs/benchmarks/race.md]
 
 The effects, each a scene made from an example scene, in raykit's format and converted for
 Mitsuba (:func:`mitsuba_compare.mitsuba_dict`, :func:`sampling_error.mitsuba_scene`):
@@ -102,6 +103,7 @@ TOLERANCE = 0.005  # the converged pictures' mean absolute difference, at most
 REFERENCE_SEED = 1_000_000  # no measured render's seed (they count from 1)
 MITSUBA_CHUNK = 1024  # samples per pixel of one of Mitsuba's reference renders
 MOST_SPP = 4096
+REPEATS = 3  # renders a point of a curve, by default (their median)
 # antialiasing's billboards, each a colour of its own in place of its texture
 BOARD_COLOURS = ([0.8, 0.3, 0.2], [0.2, 0.5, 0.8], [0.9, 0.8, 0.3], FLAT_GROUND)
 
@@ -370,6 +372,14 @@ def race(effect: Effect, args, child_of, folder: Path, version: str) -> dict | N
     if not agree:
         return None
     truth = (ours + theirs) / 2
+    # the two references' noise is independent: the RMS of their difference is twice the
+    # common reference's own noise, which every error below holds (in quadrature); an error
+    # level below it is not measured, and gets no ratio
+    floor = float(np.sqrt(np.mean((ours - theirs) ** 2)))
+    print(
+        f"The common reference's own noise, estimated as half the RMS difference of the two:"
+        f" {floor / 2:.1e}; error levels below {floor:.1e} get no ratio.\n"
+    )
     curves, timers = [], {}
     counts = {}  # per renderer and sampler: one calibration serves every thread count
     lowest, most_threads = min(LEVELS), max(args.threads)
@@ -418,8 +428,8 @@ def race(effect: Effect, args, child_of, folder: Path, version: str) -> dict | N
         curve.seconds = {n: medians[curve.label, curve.threads, n] for n in curve.spp}
         curve.load = medians[curve.label, curve.threads, "load"]
     print_errors(curves, args.repeats)
-    print_times(curves, args.threads)
-    return {"effect": effect, "curves": curves}
+    print_times(curves, args.threads, floor)
+    return {"effect": effect, "curves": curves, "floor": floor}
 
 
 def print_errors(curves: list[Curve], repeats: int) -> None:
@@ -447,9 +457,10 @@ def print_errors(curves: list[Curve], repeats: int) -> None:
     print(f"\nLoad (from the file to ready), medians: {loads}.\n")
 
 
-def print_times(curves: list[Curve], threads_list: list[int]) -> list[float]:
+def print_times(curves: list[Curve], threads_list: list[int], floor: float = 0.0) -> list[float]:
     """The time to each level, per curve, and the ratio of the fastest of each renderer, render
-    alone and load + render, for each thread count; the ratios."""
+    alone and load + render, for each thread count (none at a level below ``floor``, the
+    reference's own noise doubled); the ratios."""
     ratios = []
     labels = list(dict.fromkeys(c.label for c in curves))
     print(
@@ -472,8 +483,9 @@ def print_times(curves: list[Curve], threads_list: list[int]) -> list[float]:
             both = []
             for load in (False, True):
                 r, m = (fastest(mine, who, level, load) for who in ("raykit", "Mitsuba"))
-                both.append("-" if r is None or m is None else f"{r / m:.2f}")
-                if load and r is not None and m is not None:
+                unmeasured = r is None or m is None or level < floor
+                both.append("-" if unmeasured else f"{r / m:.2f}")
+                if load and not unmeasured:
                     ratios.append(r / m)
             print(f"| {level} | {threads} | {' | '.join(cells)} | {both[0]} | {both[1]} |")
     print()
@@ -509,13 +521,15 @@ def plot(path: Path, raced: list[dict], threads_list: list[int]) -> None:
                 (line,) = ax.loglog(curve.times(load=True), curve.rmse(), styles[curve.sampler],
                                     color=colour, label=curve.label)  # fmt: skip
                 legend.setdefault(curve.label, line)
-            effect = result["effect"]
-            ax.set_title(f"{effect.name}, {effect.size}, {threads} thread(s)", fontsize=11)
+            threads_text = "1 thread" if threads == 1 else f"{threads} threads"
+            ax.set_title(f"{result['effect'].name}, {threads_text}", fontsize=11)
             ax.set_xlabel("seconds, load + render")
             ax.set_ylabel("RMS error")
             for axis in (ax.xaxis, ax.yaxis):
                 axis.set_major_formatter(FormatStrFormatter("%g"))
                 axis.set_minor_formatter(NullFormatter())
+    size = raced[0]["effect"].size
+    figure.suptitle(f"{size}: RMS error against seconds, load + render", fontsize=12)
     figure.legend(legend.values(), legend.keys(), loc="outside lower center", ncol=3)
     save_figure(figure, path)
     plt.close(figure)
@@ -603,7 +617,7 @@ def print_goal(raced: list[dict], threads_list: list[int]) -> None:
             continue
         for threads in threads_list:
             mine = [c for c in result["curves"] if c.threads == threads]
-            for level in LEVELS:
+            for level in (x for x in LEVELS if x >= result["floor"]):
                 r, m = (fastest(mine, who, level, True) for who in ("raykit", "Mitsuba"))
                 if r is not None and m is not None:
                     ratios.append(r / m)
@@ -631,7 +645,7 @@ def machine_line(threads_list: list[int]) -> str:
 
 def main() -> None:
     parser = arguments(
-        __doc__, "32x24 pictures, references of 256 samples per pixel, at most 64", repeats=3
+        __doc__, "32x24 pictures, references of 256 samples per pixel, at most 64", REPEATS
     )
     parser.add_argument("--sizes", nargs="+", default=["80x60", "640x480"],
                         help="picture sizes, WIDTHxHEIGHT")  # fmt: skip
@@ -639,6 +653,8 @@ def main() -> None:
                         help="thread counts (default: 1 and every core)")  # fmt: skip
     parser.add_argument("--reference", type=int, default=MOST_SPP,
                         help="samples per pixel of each converged picture")  # fmt: skip
+    parser.add_argument("--most", type=int, default=MOST_SPP,
+                        help="samples per pixel a curve stops at, at most")  # fmt: skip
     parser.add_argument("--plot", type=Path, help="write the curves here (PNG)")
     parser.add_argument(
         "--cache",
@@ -656,7 +672,6 @@ def main() -> None:
     args = parse(parser)
     if args.threads is None:
         args.threads = sorted({1, os.cpu_count() or 1})
-    args.most = MOST_SPP
     if args.quick:
         args.sizes, args.reference, args.most = ["32x24"], min(args.reference, 256), 64
     with page_of_output(args.page or (None if args.quick else PAGE)):
@@ -666,6 +681,15 @@ def main() -> None:
 def run(args: argparse.Namespace) -> None:
     """Race every effect at every size (see the module page)."""
     print(machine_line(args.threads) + "\n")
+    reduced = args.reference < MOST_SPP or args.most < MOST_SPP or args.repeats < REPEATS
+    if reduced and not args.quick:
+        print(
+            f"A reduced run (the full race: --reference {MOST_SPP} --most {MOST_SPP} --repeats"
+            f" {REPEATS}): converged pictures of {args.reference} samples per pixel, curves"
+            f" stopped at {args.most}, {args.repeats} render(s) a point; a level below the"
+            " references' own noise, or below the error a curve reaches at its last count, gets"
+            " no ratio.\n"
+        )
     version = mitsuba_version()
     if version is None:
         print("Mitsuba 3 is not installed (pip install mitsuba): nothing to race.")
@@ -683,6 +707,7 @@ def run(args: argparse.Namespace) -> None:
                 if result is not None:
                     raced.append(result)
     print_goal(raced, args.threads)
+    print(f"\nLoad average as this run ended: {os.getloadavg()[0]:.1f} (1 minute).")
     if args.plot and raced:
         plot(args.plot, raced, args.threads)
 

@@ -500,6 +500,23 @@ def test_race_reads_times_to_error_off_log_log_curves():
     assert module.fastest([steep, flat], "Mitsuba", 0.1, False) is None
 
 
+def test_race_prints_no_ratio_at_a_level_below_the_references_noise(capsys):
+    module = _benchmark_module("race")
+    spp = [1, 4, 16, 64]
+    curves = []
+    for renderer, seconds in (("raykit", 0.01), ("Mitsuba", 0.02)):
+        curve = module.Curve(renderer, "jittered", 1, spp, {n: [n**-3.0] for n in spp})
+        curve.seconds = {n: seconds * n for n in spp}  # RMS error n^-1.5: 0.002 at 64 spp
+        curves.append(curve)
+    measured = module.print_times(curves, [1], floor=0.0)
+    capsys.readouterr()
+    above_noise = module.print_times(curves, [1], floor=0.004)
+    rows = {row.split(" | ")[0]: row for row in capsys.readouterr().out.splitlines()}
+    assert len(measured) == 6 and all(r == pytest.approx(0.5) for r in measured)
+    assert len(above_noise) == 4  # 0.003 and 0.002 lie below the noise
+    assert rows["| 0.003"].endswith("| - | - |") and rows["| 0.005"].endswith("| 0.50 | 0.50 |")
+
+
 def test_race_without_mitsuba_says_so_and_races_nothing(tmp_path):
     try:
         import mitsuba  # noqa: F401
