@@ -60,7 +60,6 @@ TOO_SMALL_RENDERS = {
 # benchmark plots drawn before figure_png measured them (their text, fitted then, is unmeasured):
 # a rerun of the command at the top of the plot's page stores the record
 PLOTTED_BEFORE_THE_RECORD = {
-    "docs/benchmarks/engines.png",
     "docs/benchmarks/mitsuba_compare.png",
 }
 
