@@ -8,13 +8,15 @@ What it prints is its page, docs/benchmarks/compile_time.md (--page; not with --
 
 1. The first use from an empty cache: whole processes of `raykit render SCENE -o OUT.png
    --engine compiled` on scenes/classic.json (flat), scenes/classic_lit.json (lit),
-   scenes/mirror_balls.json (lit, with mirrors) and scenes/soft_shadows.json (distributed:
-   stage 5's sampled loop), each with a new empty cache folder
+   scenes/mirror_balls.json (lit, with mirrors), and stage 5's distributed entry points:
+   scenes/soft_shadows.json (still), scenes/glossy.json (still, with mirrors) and
+   scenes/motion_blur.json (moving), each with a new empty cache folder
    (RAYKIT_CACHE_DIR), taken in turns: wall time, CPU time (the
    process's user + system seconds: what the compile costs where no neighbour takes a core)
    and peak memory (its largest resident set, from os.wait4). Then the same render again from
-   the cache it left; --compiles rounds of each (median). Each kernel's own compile seconds in
-   those runs (its callees' not counted; numba's compile events) go to
+   the cache it left; --compiles rounds of each (median). Each entry point's kernels, each
+   with its own compile seconds in those runs (its callees' not counted; numba's compile
+   events), are listed, and go to
    raykit/engine/compiled/compile_seconds.json, which the progress line reads while it
    compiles (not with --quick).
 2. With --before REV: the compiled engine as it was at git revision REV, whatever its layout:
@@ -83,8 +85,9 @@ from raykit.engine import choice  # noqa: E402
 
 REPO = HERE.parent
 SCENES = REPO / "scenes"
-# part 1's scenes, one per entry point: flat, lit, lit with mirrors, distributed (stage 5)
-FIRST_USE = ["classic", "classic_lit", "mirror_balls", "soft_shadows"]
+# part 1's scenes, one per entry point: flat, lit, lit with mirrors, and stage 5's distributed
+# ones: still, still with mirrors, moving
+FIRST_USE = ["classic", "classic_lit", "mirror_balls", "soft_shadows", "glossy", "motion_blur"]
 PAGE = REPO / "docs/benchmarks/compile_time.md"
 
 # a child's render, with each kernel's own compile seconds and (if LOOK_FOR_CALLS: only from
@@ -504,16 +507,19 @@ def main() -> None:
 
 def all_parts(args) -> None:
     """Part 1, then 2 and 3 as ``args`` ask."""
+    from raykit.io.scene_json import load_scene
+
     with tempfile.TemporaryDirectory() as folder:
         rounds = 1 if args.quick else args.compiles
         revision = args.before if args.before_compile else None
         medians, table, left = first_use(rounds, Path(folder), revision)
     print(f"1. raykit render SCENE --engine compiled, whole processes, median of {rounds}\n")
-    print("| scene | cache | wall time | CPU time | peak memory |")
-    print("|---|---|---|---|---|")
+    print("| scene | entry point | cache | wall time | CPU time | peak memory |")
+    print("|---|---|---|---|---|---|")
     for (name, when), figures in medians.items():
+        entry = choice.entry_point(load_scene(SCENES / f"{name}.json"))
         print(
-            f"| {name} | {when} | {figures['wall']:.1f} s | {figures['cpu']:.1f} s "
+            f"| {name} | {entry} | {when} | {figures['wall']:.1f} s | {figures['cpu']:.1f} s "
             f"| {figures['peak_mb']:.0f} MB |"
         )
     if revision:
@@ -524,13 +530,14 @@ def all_parts(args) -> None:
                 f"{name} {now['wall'] / then['wall']:.2f} (CPU time {now['cpu'] / then['cpu']:.2f})"
             )
         print(f"\nFirst use from an empty cache, now / at {revision}: {', '.join(ratios)}.")
+    print(
+        "\nWhat each entry point compiles from an empty cache: its kernels, each with its own"
+        " compile seconds (median), slowest first."
+    )
     for entry, kernels in table.items():
-        slowest = sorted(kernels.items(), key=lambda item: -item[1])[:5]
-        listed = ", ".join(f"{kernel} {took:.1f} s" for kernel, took in slowest)
-        print(
-            f"\n{entry}: {len(kernels)} kernels, {sum(kernels.values()):.1f} s of compile; "
-            f"the slowest: {listed}."
-        )
+        every = sorted(kernels.items(), key=lambda item: -item[1])
+        listed = ", ".join(f"{kernel} {took:.1f} s" for kernel, took in every)
+        print(f"\n{entry}: {len(kernels)} kernels, {sum(kernels.values()):.1f} s: {listed}.")
     print(
         "\nCalls of per-ray kernels (ONE_RAY, which LLVM is to inline) left in the code compiled: "
         + (", ".join(left) if left else "none")

@@ -252,7 +252,7 @@ def mitsuba_dict(
     """Mitsuba's scene description of raykit scene data (see the module page): a flat scene for
     the ``depth`` integrator, a lit one for ``direct`` with one shadow ray per light per hit
     (an area light a rectangle emitter, :func:`mitsuba_light`); a camera with an ``aperture``
-    is a ``thinlens`` sensor (``benchmarks/sampling_error.py``'s scenes). For the pictures'
+    is a ``thinlens`` sensor (``benchmarks/race.py``'s scenes). For the pictures'
     check only: ``only_light`` keeps that light alone, ``depth`` renders
     distances whatever the scene, ``centres`` samples each pixel at its centre, as raykit does,
     instead of at a random point."""
@@ -332,9 +332,11 @@ def rectangle(corner: np.ndarray, a: np.ndarray, b: np.ndarray, mi, facing=None)
 
 def mitsuba_light(light: dict, camera: dict, mi) -> dict:
     """Mitsuba's light for raykit's ``light`` (data): a point light of intensity
-    :func:`mitsuba_intensity`, or for an area light a ``rectangle`` with an ``area`` emitter
-    lighting the side the camera's lookat point is on, of radiance
-    :func:`mitsuba_radiance`."""
+    :func:`mitsuba_intensity`; for a physically based area light (its ``radiance``), a
+    ``rectangle`` with an ``area`` emitter of that radiance lighting the side a × b points to,
+    the same light (:func:`raykit.lights.area_intensity`); for FOCG's area light, such an
+    emitter lighting the side the camera's lookat point is on, of radiance
+    :func:`mitsuba_radiance`, a light that matches raykit's at lookat only."""
     if light["type"] == "point":
         intensity = mitsuba_intensity(light, camera)
         return {
@@ -343,9 +345,13 @@ def mitsuba_light(light: dict, camera: dict, mi) -> dict:
             "intensity": {"type": "rgb", "value": intensity.tolist()},
         }
     c, a, b = (np.asarray(light[k], float) for k in ("corner", "edge1", "edge2"))
-    radiance = mitsuba_radiance(light, camera)
+    if "radiance" in light:
+        shape, radiance = rectangle(c, a, b, mi), np.asarray(light["radiance"], float)
+    else:
+        shape = rectangle(c, a, b, mi, facing=camera["lookat"])
+        radiance = mitsuba_radiance(light, camera)
     return {
-        **rectangle(c, a, b, mi, facing=camera["lookat"]),
+        **shape,
         "emitter": {"type": "area", "radiance": {"type": "rgb", "value": radiance.tolist()}},
     }
 

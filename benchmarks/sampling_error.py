@@ -1,6 +1,7 @@
-"""Time against error for distributed ray tracing (FOCG 13.4): for each effect, the RMS error
-against a converged reference versus samples per pixel and versus time, for the random, jittered
-and Sobol' samplers, beside Mitsuba 3 on the scenes where it models the same thing.
+"""Error against samples for distributed ray tracing (FOCG 13.4): for each effect, the RMS
+error against a converged reference versus samples per pixel and versus render time, for the
+random, jittered and Sobol' samplers, and the slopes of the lines; the lecture's side of the
+samplers. (The race against Mitsuba 3, on the same pictures, is benchmarks/race.py's.)
 
     python benchmarks/sampling_error.py [--quick] [--repeats N] [--engine auto]
         [--plot docs/benchmarks/sampling_error.png] [--cache FOLDER]
@@ -10,7 +11,7 @@ The effects, each a small scene (80x60; 32x24 with ``--quick``) made from an exa
 
 * antialiasing: ``scenes/classic.json`` (flat colours: only the point in the pixel varies);
 * soft shadows: ``scenes/soft_shadows.json`` made diffuse (no highlight, no ambient light), the
-  panel its one area light;
+  panel its one area light (FOCG's);
 * depth of field: ``scenes/depth_of_field.json`` in flat colours (no lights; the ground's
   checker texture a plain colour), through its thin lens;
 * glossy reflection and motion blur: the first ``scenes/*glossy*.json`` and
@@ -19,17 +20,14 @@ The effects, each a small scene (80x60; 32x24 with ``--quick``) made from an exa
 For each sampler and samples per pixel spp = 1, 4, 16, 64, 256 (4^k, which jittered, n x n,
 and Sobol', 2^m, both take; 1, 4, 16 with ``--quick``), ``--repeats`` renders, each with its
 own seed: the RMS error against the reference (the root of the mean squared error over every
-pixel, channel and seed) and the median render time, like for like with Mitsuba's, whose
-timed call, ``mi.render``, renders a scene ``load_dict`` has loaded and built its BVH for: the
-compiled engine's scene is made ready once, untimed, by ``raykit.engine.compiled.prepare``
-(arrays, BVH, camera; the convention of ``benchmarks/mitsuba_compare.py``), and its time is
-that of making the render's sampling (:func:`raykit.engine.compiled.scene_noise`: the seed's
-numbers, the Sobol' table) and rendering the prepared scene, the image's assembly included;
-the numpy engine prepares nothing apart, and its time is its whole ``raykit.render.render``
-(``--engine auto`` by default). Every renderer, sampler and count of an effect
-is rendered in turns (:func:`common.medians_in_turns`), so that the machine's other work falls
-on all alike. At 1 sample per pixel the antialiasing scene, which has neither area light nor
-lens, takes each pixel's centre whatever the sampler (:mod:`raykit.render`).
+pixel, channel and seed) and the median render time: the compiled engine's scene is made ready
+once, untimed, by ``raykit.engine.compiled.prepare`` (arrays, BVH, camera), and its time is that
+of making the render's sampling (:func:`raykit.engine.compiled.scene_noise`) and rendering the
+prepared scene, the image's assembly included; the numpy engine prepares nothing apart, and its
+time is its whole ``raykit.render.render`` (``--engine auto`` by default). Every sampler and
+count of an effect is rendered in turns (:func:`common.medians_in_turns`), so that the machine's
+other work falls on all alike. At 1 sample per pixel the antialiasing scene, which has neither
+area light nor lens, takes each pixel's centre whatever the sampler (:mod:`raykit.render`).
 
 The reference is raykit's own render at 4,096 samples per pixel (256 with ``--quick``) with the
 Sobol' sampler and a seed no measured render uses, cached in ``--cache`` (by default
@@ -37,29 +35,6 @@ Sobol' sampler and a seed no measured render uses, cached in ``--cache`` (by def
 sources, so an edit of the renderer makes a new one. The slope of log RMSE against log spp is
 fitted by least squares over spp >= 4 (the first count is the pixel centre for antialiasing,
 and the asymptotic rate is what theory predicts), printed beside the theory's.
-
-Mitsuba 3 (an optional benchmark dependency, never a runtime one: ``pip install mitsuba``; its
-``llvm_ad_rgb`` variant in a child process, as ``benchmarks/mitsuba_compare.py`` runs it, which
-says what LLVM it needs) renders the two effects it models the same way, converted from the
-same scene data (:func:`mitsuba_compare.mitsuba_dict`): soft shadows with its ``direct``
-integrator (one emitter sample, no BSDF sample, per sample) and the panel as a ``rectangle``
-with an ``area`` emitter; depth of field through its ``thinlens`` sensor (aperture_radius =
-raykit's aperture / 2, the same focus distance), each object an area emitter of its flat colour
-seen directly (``path`` integrator, ``max_depth`` 1) and the background a ``constant``
-emitter. Each with its ``independent`` and ``stratified`` samplers and a box filter. Each
-renderer's error is against its own converged reference (Mitsuba's: ``stratified`` at the
-reference's count), and the time each takes to reach the same RMS error is read off its
-log-log curve of error against time (interpolated between measured counts, never beyond).
-
-The converged pictures are compared where both model the same thing. Depth of field: raykit's
-reference and Mitsuba's, directly. Soft shadows: the radiometry differs (raykit's area light is
-FOCG's simple model, no fall-off and no cosine at the light; Mitsuba's is physically based), so
-Mitsuba renders raykit's model instead: the panel as a grid of point lights (16 x 16; 2 x 2
-with ``--quick``) at the centres of its cells, each of a cell's share of its intensity, each
-light alone at the pixel centres and multiplied per pixel by (r/r0)² to undo Mitsuba's
-fall-off (:func:`mitsuba_compare.agreement`), summed, and compared with raykit's reference
-over the pixels that see one object across their whole 3x3 neighbourhood (at a silhouette
-raykit's pixel is an area mean, the grid's its centre).
 """
 
 from __future__ import annotations
@@ -71,7 +46,6 @@ import json
 import math
 import os
 import sys
-import tempfile
 import time
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -89,16 +63,7 @@ from common import (  # noqa: E402
     processor,
     seconds,
 )
-from mitsuba_compare import (  # noqa: E402
-    MitsubaChild,
-    agreement,
-    answer_stream,
-    check_pictures,
-    mitsuba_dict,
-    rectangle,
-)
 
-from raykit.engine.adaptive import edge_pixels  # noqa: E402
 from raykit.engine.choice import ENGINES, choose, compiled_refuses  # noqa: E402
 from raykit.io.errors import SceneError  # noqa: E402
 from raykit.io.scene_json import scene_from_dict  # noqa: E402
@@ -108,8 +73,6 @@ from raykit.scene import Scene  # noqa: E402
 
 SCENES = HERE.parent / "scenes"
 PAGE = HERE.parent / "docs" / "benchmarks" / "sampling_error.md"
-VARIANT = "llvm_ad_rgb"
-MITSUBA_SAMPLERS = ("independent", "stratified")
 REFERENCE_SEED = 1_000_000  # no measured render's seed (they count from 1)
 FIT_FROM = 4  # the slope is fitted over spp >= this
 FLAT_GROUND = [0.6, 0.6, 0.58]  # depth of field's ground, in place of its checker texture
@@ -123,9 +86,6 @@ THEORY = {
     "jittered": "-0.75 (edges) to -1.00 (smooth)",
     "sobol": "-0.75 (edges) to about -1.50 (smooth)",
 }
-# the agreement of the converged pictures: the mean absolute difference of linear colours, over
-# the pixels compared, within this
-TOLERANCE = 0.005
 
 
 @dataclass(frozen=True)
@@ -136,13 +96,12 @@ class Effect:
     source: str
     data: dict
     scene: Scene
-    mitsuba: bool  # whether Mitsuba renders it too
 
 
 @dataclass
 class Curve:
-    """One renderer and sampler's measurements: per count of samples per pixel ``spp``, the
-    squared errors of each seed's render, and the median seconds."""
+    """One sampler's measurements: per count of samples per pixel ``spp``, the squared errors
+    of each seed's render, and the median seconds."""
 
     renderer: str
     sampler: str
@@ -177,9 +136,9 @@ def effects(width: int, height: int) -> tuple[list[Effect], list[str]]:
     for board in focus["billboards"]:
         board.pop("image"), board.setdefault("color", FLAT_GROUND)
     made = [
-        ("antialiasing", "scenes/classic.json", classic, False),
-        ("soft shadows", "scenes/soft_shadows.json, diffuse, no ambient light", soft, True),
-        ("depth of field", "scenes/depth_of_field.json, flat colours", focus, True),
+        ("antialiasing", "scenes/classic.json", classic),
+        ("soft shadows", "scenes/soft_shadows.json, diffuse, no ambient light", soft),
+        ("depth of field", "scenes/depth_of_field.json, flat colours", focus),
     ]
     missing = []
     for name, pattern in (("glossy reflection", "*glossy*.json"), ("motion blur", "*motion*.json")):
@@ -187,9 +146,9 @@ def effects(width: int, height: int) -> tuple[list[Effect], list[str]]:
         if not found:
             missing.append(f"{name}: raykit has no scene for it (scenes/{pattern}); not measured.")
             continue
-        made.append((name, f"scenes/{found[0].name}", _json(found[0].name), False))
+        made.append((name, f"scenes/{found[0].name}", _json(found[0].name)))
     out = []
-    for name, source, data, mitsuba in made:
+    for name, source, data in made:
         data = {**data, "camera": {**data["camera"], "width": width, "height": height}}
         # the samples are the benchmark's; the shutter stays the scene's (motion blur's own)
         shutter = data.get("render", {}).get("shutter")
@@ -201,7 +160,7 @@ def effects(width: int, height: int) -> tuple[list[Effect], list[str]]:
         except SceneError as error:  # a format this raykit does not read yet
             missing.append(f"{name}: {error}; not measured.")
             continue
-        out.append(Effect(name, source, data, scene, mitsuba))
+        out.append(Effect(name, source, data, scene))
     return out, missing
 
 
@@ -244,7 +203,7 @@ def raykit_timer(effect: Effect, curve: Curve, spp: int, engine: str, converged:
         engine, replace(effect.scene, sampling=sampled(effect, spp, curve.sampler, 1))
     )
     prepared = None
-    if renders_by == "compiled":  # as Mitsuba's load_dict builds its BVH before its timed render
+    if renders_by == "compiled":  # made ready once, as a renderer loads a scene once
         from raykit.engine import compiled
 
         prepared = compiled.prepare(
@@ -268,61 +227,21 @@ def raykit_timer(effect: Effect, curve: Curve, spp: int, engine: str, converged:
     return timed
 
 
-def mitsuba_timer(child: MitsubaChild, curve: Curve, spp: int, converged, folder: Path):
-    """As :func:`raykit_timer`, for a render in the Mitsuba ``child``, timed by its own clock."""
-    seeds = itertools.count(1)
-
-    def timed() -> float:
-        path = folder / "image.npy"
-        took = child.ask(f"render {curve.sampler} {spp} {next(seeds)} {path}", float)
-        if took is None:
-            return float("nan")
-        curve.squared[spp].append(float(np.mean((np.load(path) - converged) ** 2)))
-        return took
-
-    return timed
-
-
-def mitsuba_render(child: MitsubaChild, sampler: str, spp: int, seed: int, folder: Path):
-    """One render in the Mitsuba ``child`` ``(H, W, 3)``, or None once it has failed."""
-    path = folder / "image.npy"
-    if child.ask(f"render {sampler} {spp} {seed} {path}", float) is None:
-        return None
-    return np.load(path).astype(np.float64)
-
-
-def measure(effect: Effect, args, counts: list[int], child, folder: Path) -> tuple[list, dict]:
-    """Every curve of the effect (raykit's samplers, then Mitsuba's when ``child``), and the
-    converged pictures by renderer."""
-    converged = {"raykit": reference(effect, args.reference, args.engine, args.cache)}
+def measure(effect: Effect, args, counts: list[int]) -> list[Curve]:
+    """Every sampler's curve of the effect, against raykit's converged picture."""
+    converged = reference(effect, args.reference, args.engine, args.cache)
     curves, timers = [], {}
     for sampler in SAMPLERS:
         curve = Curve("raykit", sampler, counts, {n: [] for n in counts}, {})
         # a first render, untimed: the compiled engine, if it renders, loads its kernels
         render(replace(effect.scene, sampling=sampled(effect, 1, sampler, 0)), engine=args.engine)
         for n in counts:
-            timers[curve.label, n] = raykit_timer(
-                effect, curve, n, args.engine, converged["raykit"]
-            )
+            timers[curve.label, n] = raykit_timer(effect, curve, n, args.engine, converged)
         curves.append(curve)
-    if child is not None:
-        mitsuba = mitsuba_render(child, "stratified", args.reference, REFERENCE_SEED, folder)
-        if mitsuba is not None:
-            converged["Mitsuba"] = mitsuba
-            for sampler in MITSUBA_SAMPLERS:
-                curve = Curve("Mitsuba", sampler, counts, {n: [] for n in counts}, {})
-                for n in counts:  # untimed first renders: Dr.Jit compiles its kernels
-                    mitsuba_render(child, sampler, n, 0, folder)
-                    timers[curve.label, n] = mitsuba_timer(child, curve, n, mitsuba, folder)
-                curves.append(curve)
     medians = medians_in_turns(timers, args.repeats)
-    if child is not None and child.failure:  # it died, or hung, during the renders in turns
-        print(f"Mitsuba {VARIANT} {child.failure}\n")
-        curves = [c for c in curves if c.renderer == "raykit"]
-        converged.pop("Mitsuba", None)
     for curve in curves:
         curve.seconds = {n: medians[curve.label, n] for n in counts}
-    return curves, converged
+    return curves
 
 
 def slope(curve: Curve) -> float:
@@ -334,38 +253,14 @@ def slope(curve: Curve) -> float:
     return float(np.polyfit(x, y, 1)[0])
 
 
-def time_to(curve: Curve, level: float) -> float | None:
-    """The seconds ``curve`` takes to reach RMS error ``level``, interpolated linearly in log
-    error against log time between its two measured counts either side of it; None when no
-    measured count reaches it or the level lies above its first (no extrapolation)."""
-    errors, times = curve.rmse(), curve.times()
-    for (e0, t0), (e1, t1) in itertools.pairwise(zip(errors, times, strict=True)):
-        if e1 <= level <= e0:
-            if e0 == e1:
-                return t0
-            share = (np.log(e0) - np.log(level)) / (np.log(e0) - np.log(e1))
-            return float(np.exp(np.log(t0) + share * (np.log(t1) - np.log(t0))))
-    return None
-
-
-def levels(curves: list[Curve], count: int = 4) -> list[float]:
-    """``count`` RMS errors, evenly spaced in log, that every curve reaches within its
-    measured range (empty when their ranges do not overlap)."""
-    high = min(max(c.rmse()) for c in curves)
-    low = max(min(c.rmse()) for c in curves)
-    if low >= high:
-        return []
-    return [float(x) for x in np.geomspace(high, low, count + 2)[1:-1]]
-
-
 def print_curves(effect: Effect, curves: list[Curve], engine: str, repeats: int) -> None:
     camera = effect.scene.camera
     print(f"## {effect.name}\n")
     print(
         f"{effect.source}, {camera.width}x{camera.height}; raykit's engine: {engine}; RMS "
-        f"error over {repeats} seeds against each renderer's converged reference; render time "
-        f"the median of those {repeats} renders: Mitsuba's mi.render of a scene loaded (its BVH"
-        f" built) before; raykit's compiled engine's render of a scene prepared before"
+        f"error over {repeats} seeds against the converged reference; render time "
+        f"the median of those {repeats} renders: the compiled engine's render of a scene"
+        f" prepared before"
         f" (raykit.engine.compiled.prepare: arrays, BVH, camera), its time that of the seed's"
         f" sampling and the render, the image's assembly included; raykit's numpy engine's whole"
         f" render\n"
@@ -389,98 +284,13 @@ def print_slopes(slopes: list[tuple[str, Curve]]) -> None:
         " Pilleboue et al. 2015, up to about -3/2 where smooth, Owen 1997). Soft shadows and"
         " depth of field integrate over four dimensions, the pixel and the light or the lens:"
         " raykit's jittered sampler stratifies each pair on its own, its cells shuffled against"
-        " the pixel's (raykit.engine.noise). Mitsuba's independent and stratified samplers are"
-        " held to the random and jittered lines.\n"
+        " the pixel's, and its Sobol' sampler scrambles a net of each pair for each pixel, its"
+        " points shuffled in the same way (raykit.engine.noise).\n"
     )
-    theory = {**THEORY, "independent": THEORY["random"], "stratified": THEORY["jittered"]}
-    print("| effect | renderer | sampler | measured slope | theory |")
-    print("|---|---|---|---|---|")
+    print("| effect | sampler | measured slope | theory |")
+    print("|---|---|---|---|")
     for name, curve in slopes:
-        print(
-            f"| {name} | {curve.renderer} | {curve.sampler} | {slope(curve):.2f} "
-            f"| {theory[curve.sampler]} |"
-        )
-    print()
-
-
-def print_times_to_error(name: str, curves: list[Curve]) -> list[bool]:
-    """The time each curve takes to each common error level, and whether raykit's fastest
-    sampler takes no longer than Mitsuba's fastest there; those verdicts."""
-    steps = levels(curves)
-    print(f"### {name}: time to reach the same RMS error\n")
-    if not steps:
-        print("The curves' errors do not overlap: no common level.\n")
-        return []
-    print("| RMS error | " + " | ".join(c.label for c in curves) + " | raykit / Mitsuba |")
-    print("|---|" + "---|" * len(curves) + "---|")
-    verdicts = []
-    for level in steps:
-        taken = [time_to(c, level) for c in curves]
-        best = {
-            who: min((t for c, t in zip(curves, taken, strict=True)
-                      if c.renderer == who and t is not None), default=None)
-            for who in ("raykit", "Mitsuba")
-        }  # fmt: skip
-        ratio = "-"
-        if None not in best.values():
-            ratio = f"{best['raykit'] / best['Mitsuba']:.1f}"
-            verdicts.append(best["raykit"] <= best["Mitsuba"])
-        cells = " | ".join(seconds(t, 1) if t is not None else "not reached" for t in taken)
-        print(f"| {level:.5f} | {cells} | {ratio} |")
-    print()
-    return verdicts
-
-
-def grid_of_points(data: dict, n: int) -> dict:
-    """``data`` with its area light as n x n point lights at the centres of the light's cells,
-    each of 1/n² of its colour: raykit's model of the light, as a sum Mitsuba can render."""
-    light = data["lights"][0]
-    c, a, b = (np.asarray(light[k], float) for k in ("corner", "edge1", "edge2"))
-    share = (np.asarray(light["color"], float) / (n * n)).tolist()
-    points = [
-        {"type": "point", "position": (c + (i + 0.5) / n * a + (j + 0.5) / n * b).tolist(),
-         "color": share}
-        for j in range(n) for i in range(n)
-    ]  # fmt: skip
-    return {**data, "lights": points}
-
-
-def soft_shadow_agreement(effect: Effect, converged: np.ndarray, child, n: int, folder: Path):
-    """(pixels compared, mean absolute difference, share of pixels within 0.01) between raykit's
-    converged soft shadows and Mitsuba's grid of n x n point lights; None once the child failed."""
-    path = folder / "check.npz"
-    if child.ask(f"check {n} {path}", int) != 1:
-        return None
-    with np.load(path) as pictures:
-        check = dict(pictures)
-    centre = render(
-        replace(effect.scene, sampling=sampled(effect, 1, "jittered", 0)), engine="numpy"
-    )
-    index = centre.object_index.copy()
-    index[edge_pixels(np.zeros_like(converged), index)] = -1  # silhouettes: not compared
-    grid = scene_from_dict(grid_of_points(effect.data, n), effect.source, SCENES)
-    _, mean, off, _ = agreement(grid, (converged, index, centre.t), check)
-    compared = float(np.mean((index >= 0) & (check["depth"] > 0)))
-    return compared, mean, 1.0 - off
-
-
-def print_agreement(rows: list[tuple[str, str, tuple | None]]) -> None:
-    print(
-        "## The converged pictures\n\nraykit's reference against Mitsuba's rendering of the"
-        " same model (see the script's docstring): the mean absolute difference of linear"
-        f" colours over the pixels compared, which must be within {TOLERANCE}, and the share"
-        " of those pixels whose every channel is within 0.01.\n"
-    )
-    print("| effect | Mitsuba renders | pixels compared | mean abs. difference | within 0.01 "
-          f"| within {TOLERANCE} |")  # fmt: skip
-    print("|---|---|---|---|---|---|")
-    for name, how, result in rows:
-        if result is None:
-            print(f"| {name} | {how} | Mitsuba failed | | | |")
-            continue
-        compared, mean, within = result
-        verdict = "yes" if mean <= TOLERANCE else "no"
-        print(f"| {name} | {how} | {compared:.0%} | {mean:.1e} | {within:.1%} | {verdict} |")
+        print(f"| {name} | {curve.sampler} | {slope(curve):.2f} | {THEORY[curve.sampler]} |")
     print()
 
 
@@ -540,81 +350,12 @@ def plot(path: Path, panels: list[tuple[str, list[Curve]]]) -> None:
     print(f"\nwrote {path}")
 
 
-def mitsuba_scene(data: dict, mi, sampler: str) -> dict:
-    """Mitsuba's scene for an effect's ``data`` (see the module page) with its ``sampler``: lit
-    scenes as :func:`mitsuba_compare.mitsuba_dict` makes them (the ``direct`` integrator, one
-    emitter sample per sample); scenes without lights as emitters of their flat colours, seen
-    directly."""
-    scene = mitsuba_dict(data, mi)
-    scene["sensor"]["sampler"] = {"type": sampler}
-    if data.get("lights"):
-        return scene
-    scene["integrator"] = {"type": "path", "max_depth": 1}
-    eye = data["camera"]["eye"]
-    for i, b in enumerate(data["billboards"]):
-        ul, ll, ur = (np.array(b[k], float) for k in ("upper_left", "lower_left", "upper_right"))
-        scene[f"billboard{i}"] = rectangle(ul, ur - ul, ll - ul, mi, facing=eye)
-    shapes = [(f"sphere{i}", s) for i, s in enumerate(data["spheres"])]
-    shapes += [(f"billboard{i}", b) for i, b in enumerate(data["billboards"])]
-    for key, shape in shapes:
-        scene[key]["emitter"] = {
-            "type": "area",
-            "radiance": {"type": "rgb", "value": shape["color"]},
-        }
-    scene["background"] = {
-        "type": "constant",
-        "radiance": {"type": "rgb", "value": data["background"]},
-    }
-    return scene
-
-
-def mitsuba_child(variant: str) -> None:
-    """In a child process (:class:`mitsuba_compare.MitsubaChild`): load an effect's scene (its
-    raykit data, the first line of standard input) for each of :data:`MITSUBA_SAMPLERS` and
-    print ``{"load"}`` (the seconds of one load) as a line of JSON; then for each line
-    ``render SAMPLER SPP SEED PATH``, render, save the picture ``(H, W, 3)`` to PATH (.npy) and
-    print the seconds the render took; for ``check N PATH``, save
-    :func:`mitsuba_compare.check_pictures` of the scene's area light as N x N point lights
-    (:func:`grid_of_points`) to PATH (.npz) and print 1."""
-    answers = answer_stream()
-    import mitsuba as mi
-
-    mi.set_variant(variant)
-    data = json.loads(sys.stdin.readline())
-    start = time.perf_counter()
-    scenes = {s: mi.load_dict(mitsuba_scene(data, mi, s)) for s in MITSUBA_SAMPLERS}
-    print(
-        json.dumps({"load": (time.perf_counter() - start) / len(scenes)}), file=answers, flush=True
-    )
-    for line in sys.stdin:
-        request = line.split()
-        if request[0] == "render":
-            sampler, spp, seed, path = request[1:]
-            start = time.perf_counter()
-            image = np.array(mi.render(scenes[sampler], spp=int(spp), seed=int(seed)))
-            took = time.perf_counter() - start
-            np.save(path, image[..., :3])
-            print(took, file=answers, flush=True)
-        elif request[0] == "check":
-            pictures = check_pictures(grid_of_points(data, int(request[1])), mi)
-            np.savez(request[2], **pictures)
-            print(1, file=answers, flush=True)
-
-
-def mitsuba_version() -> str | None:
-    try:
-        import mitsuba
-    except ImportError:
-        return None
-    return mitsuba.__version__
-
-
 def machine_line() -> str:
     model, widest = processor()
     return (
         f"Machine: {model or 'an unnamed processor'}, {os.cpu_count()} cores"
         f"{', ' + widest if widest else ''}. raykit's numpy engine renders in one thread (numpy's"
-        " own), its compiled engine and Mitsuba's llvm_ad_rgb in as many as there are cores."
+        " own), its compiled engine in as many as there are cores."
     )
 
 
@@ -631,11 +372,6 @@ def main() -> None:
         help="where the converged references are kept",
     )
     parser.add_argument("--page", type=Path, help=f"default (not with --quick): {PAGE}")
-    parser.add_argument("--child", help=argparse.SUPPRESS)
-    parser.add_argument("--cpu", default="native", help=argparse.SUPPRESS)
-    if "--child" in sys.argv:  # Mitsuba in a child process, for the parent (MitsubaChild)
-        mitsuba_child(parser.parse_args().child)
-        return
     args = parse(parser)
     with page_of_output(args.page or (None if args.quick else PAGE)):
         run(args)
@@ -646,63 +382,25 @@ def run(args: argparse.Namespace) -> None:
     width, height = (32, 24) if args.quick else (80, 60)
     counts = [1, 4, 16] if args.quick else [1, 4, 16, 64, 256]
     args.reference = 256 if args.quick else 4096
-    grid = 2 if args.quick else 16
     print(machine_line() + "\n")
-    version = mitsuba_version()
-    if version is None:
-        print("Mitsuba 3 is not installed (pip install mitsuba): raykit alone is measured.\n")
     made, missing = effects(width, height)
     for line in missing:
         print(line)
     print()
-    panels, slopes, verdicts, agree = [], [], [], []
-    with tempfile.TemporaryDirectory() as folder:
-        folder = Path(folder)
-        for effect in made:
-            child = None
-            if effect.mitsuba and version is not None:
-                child = MitsubaChild(VARIANT, effect.data, script=__file__)
-                if child.failure:
-                    print(f"Mitsuba {version} {VARIANT} {child.failure}\n")
-                    child = None
-            refused = args.engine == "compiled" and compiled_refuses(effect.scene)
-            if refused:  # measured all the same, by the engine that renders it
-                print(f"{effect.name}: the compiled engine does not render {refused}: numpy does\n")
-            effect_args = (
-                argparse.Namespace(**{**vars(args), "engine": "numpy"}) if refused else args
-            )
-            # the engine of the renders with many samples (a distributed scene)
-            many = sampled(effect, counts[-1], "jittered", 1)
-            engine = choose(effect_args.engine, replace(effect.scene, sampling=many))
-            curves, converged = measure(effect, effect_args, counts, child, folder)
-            print_curves(effect, curves, engine, args.repeats)
-            panels.append((effect.name, curves))
-            slopes += [(effect.name, c) for c in curves]
-            if child is None or child.failure:
-                continue
-            if len(curves) > len(SAMPLERS):
-                verdicts += print_times_to_error(effect.name, curves)
-            if "Mitsuba" not in converged:
-                agree.append((effect.name, "", None))
-            elif effect.scene.area_lights:
-                how = f"raykit's model, the light as {grid} x {grid} point lights"
-                result = soft_shadow_agreement(effect, converged["raykit"], child, grid, folder)
-                agree.append((effect.name, how, result))
-            else:
-                difference = np.abs(converged["raykit"] - converged["Mitsuba"])
-                within = float(np.mean(difference.max(axis=-1) <= 0.01))
-                how = f"the same scene, {args.reference} stratified samples per pixel"
-                agree.append((effect.name, how, (1.0, float(difference.mean()), within)))
-            child.close()
+    panels, slopes = [], []
+    for effect in made:
+        refused = args.engine == "compiled" and compiled_refuses(effect.scene)
+        if refused:  # measured all the same, by the engine that renders it
+            print(f"{effect.name}: the compiled engine does not render {refused}: numpy does\n")
+        effect_args = argparse.Namespace(**{**vars(args), "engine": "numpy"}) if refused else args
+        # the engine of the renders with many samples (a distributed scene)
+        many = sampled(effect, counts[-1], "jittered", 1)
+        engine = choose(effect_args.engine, replace(effect.scene, sampling=many))
+        curves = measure(effect, effect_args, counts)
+        print_curves(effect, curves, engine, args.repeats)
+        panels.append((effect.name, curves))
+        slopes += [(effect.name, c) for c in curves]
     print_slopes(slopes)
-    if agree:
-        print_agreement(agree)
-    if verdicts:
-        print(
-            f"Goal (raykit reaches every error level in no more time than Mitsuba): met at "
-            f"{sum(verdicts)} of {len(verdicts)} levels, raykit's fastest sampler against "
-            f"Mitsuba {version} {VARIANT}'s fastest, side by side in this run."
-        )
     if args.plot:
         plot(args.plot, panels)
 

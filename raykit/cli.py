@@ -1,6 +1,6 @@
 """The ``raykit`` command.
 
-    raykit render SCENE.json -o OUT.png [--samples N] [--engine auto|numpy|compiled]
+    raykit render SCENE.json -o OUT.png [--samples N | --spp N] [--engine auto|numpy|compiled]
     raykit scan SCENE2D.json -o strip.png [--diagram rays.png]   one line-scan
     raykit sweep SCENE2D.json -o sweep.png [--scans M]           M line-scans stacked
     raykit sweep SCENE.json -o sweep.png --scans M               the same, a 3D camera 1 pixel high
@@ -21,6 +21,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 MAX_SAMPLES = 32
+MOST_SPP = 4096  # a distributed render's samples per pixel, as the scene format allows
 
 
 def _samples(text: str) -> int:
@@ -81,6 +82,14 @@ def build_parser() -> argparse.ArgumentParser:
         "--adaptive",
         action="store_true",
         help="take the N x N samples only at edges, where neighbouring pixels differ",
+    )
+    render.add_argument(
+        "--spp",
+        type=_spp,
+        metavar="N",
+        help="distributed ray tracing with N samples per pixel in place of the scene's "
+        "render.samples_per_pixel, by its sampler (a square for jittered, a power of two for "
+        f"sobol; 1..{MOST_SPP}): a quick preview of a stage 5 scene, or a converged picture",
     )
     _engine_option(render, "which engine renders")
     render.set_defaults(run=_run_render)
@@ -249,6 +258,41 @@ def _positive(text: str) -> int:
     return value
 
 
+def _spp(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a whole number, got {text!r}") from None
+    if not 1 <= value <= MOST_SPP:
+        raise argparse.ArgumentTypeError(f"must be between 1 and {MOST_SPP}, got {value}")
+    return value
+
+
+def _with_spp(scene, spp: int, samples: int):
+    """``scene`` rendered with ``spp`` samples per pixel of its own sampler (``--spp``), or a
+    one-line ValueError where its sampler cannot take that many, or with ``--samples``."""
+    from dataclasses import replace
+    from math import isqrt
+
+    if samples != 1:
+        raise ValueError(
+            f"--spp {spp} and --samples {samples}: --spp samples each pixel at random points "
+            "(distributed ray tracing), --samples on an n x n grid; give one of them"
+        )
+    sampler = scene.sampling.sampler
+    if sampler == "jittered" and isqrt(spp) ** 2 != spp:
+        raise ValueError(
+            f"--spp {spp}: {scene.source}'s sampler, jittered, takes n x n samples per pixel (a "
+            f"square: 1, 4, 9, 16, ...), got {spp}"
+        )
+    if sampler == "sobol" and spp & (spp - 1):
+        raise ValueError(
+            f"--spp {spp}: {scene.source}'s sampler, sobol, takes a power of two samples per "
+            f"pixel (1, 2, 4, 8, ...), got {spp}"
+        )
+    return replace(scene, sampling=replace(scene.sampling, samples_per_pixel=spp))
+
+
 def _load_3d(path: str):
     """A 3D scene from JSON (format v1) or, for a .nff file, from NFF (raykit.io.nff)."""
     if path.lower().endswith(".nff"):
@@ -276,6 +320,13 @@ def _run_render(args: argparse.Namespace) -> None:
 
         height = max(1, round(args.width * scene.camera.height / scene.camera.width))
         scene = replace(scene, camera=replace(scene.camera, width=args.width, height=height))
+    if args.spp is not None:
+        scene = _with_spp(scene, args.spp, args.samples)
+    elif scene.distributed and args.samples != 1:
+        raise ValueError(
+            f"{scene.source}: a distributed scene takes its samples from "
+            f"render.samples_per_pixel, not --samples {args.samples}: --spp N renders it with N"
+        )
     camera = scene.camera
     engine = choose(args.engine, scene, args.samples)
     # on a terminal, a bar of pixels done, tile by tile, once the render has taken a second

@@ -16,8 +16,8 @@ Conventions (owned here; the renderer's noise, :mod:`raykit.engine.noise`, refer
   numbers as they are (:func:`random_set`); ``jittered`` (stratified, FOCG 13.4.1) puts sample
   k = i + n·j of n x n into cell (i, j), column i, row j, at ((i + ξ1)/n, (j + ξ2)/n)
   (:func:`jittered_set`, a sample at a time :func:`jittered_point`): exactly one sample in
-  each cell. The low-discrepancy set is
-  :func:`sobol_set` (below).
+  each cell. The low-discrepancy set is :func:`sobol_set` (below), as integers
+  :func:`sobol_points` scrambled by :func:`owen_scramble`.
 * A point in a pixel: x = c + ξ1, y = r + ξ2, the continuous image coordinates of
   :mod:`raykit.camera` (row r from the top, so ξ2 runs *down* the pixel).
 * An area light is a parallelogram, like a billboard: corner c, edges a and b, its points
@@ -42,15 +42,27 @@ Conventions (owned here; the renderer's noise, :mod:`raykit.engine.noise`, refer
   shared by its samples, shows each pixel the moving object at one instant: the mean over the
   samples no longer blurs it, and the streak is noise (each pixel all object or all background).
 
-Which low-discrepancy sequence. :func:`sobol_set` takes scipy's scrambled Sobol' sequence
-(``scipy.stats.qmc.Sobol``): every power-of-two prefix of it is a (t, m, s)-net, so 2^m points
-are stratified in every elementary interval of every dimension pair at once (jittered in the
-pixel *and* on the lens and the light, with no shuffling between them), and its scrambling (a
-linear matrix scramble with a digital shift, seeded) breaks the correlation between dimensions
-that plain Sobol' shows and makes it an unbiased estimator. Halton's sequence would accept any
-count, but its higher dimensions (larger primes) are stratified only after many points, where a
-pixel has 16 to 256. The price: a Sobol' set is balanced only at a power of two, so the sampler
-takes ``samples_per_pixel`` = 2^m (the scene loader says so).
+Which low-discrepancy sequence, and why made here. The Sobol' sampler takes, for each pair of
+dimensions (the point in the pixel, on the lens, on a light...), the first count = 2^m points of
+the two-dimensional Sobol' sequence (:func:`sobol_points`): its first dimension is van der
+Corput's, the bits of the index mirrored about the binary point, its second the XOR of the
+direction numbers of the polynomial x + 1 for the index's set bits. Every power-of-two prefix of
+it is a (0, m, 2)-net: each of the 2^m points lies alone in every box of area 2^-m whose sides
+are powers of two, 2^m x 1, 2^(m-1) x 2, ..., 1 x 2^m (jittered sampling keeps one point per
+cell of the n x n boxes only). Each pixel scrambles its own copy (Owen's nested uniform
+scrambling, :func:`owen_scramble`: each bit flipped by a choice that depends on the bits above
+it alone, so that the scrambled points are still a net, and each point is uniform), and each
+pair of dimensions but the pixel's takes the points in an order of its own (the same shuffle as
+the jittered sampler's: Kollig and Keller's padding, 2002), so that the pairs are independent of
+one another. Two things that were tried before and lost: one scrambled net for the whole image,
+each pixel's copy shifted modulo 1 (a Cranley-Patterson rotation), which is no longer a net and
+fell behind jittered sampling past 16 samples a pixel; and scipy's scrambled Sobol' sequence,
+whose bytes no scipy release promises to keep (its scrambling draws from numpy's generator, in
+an order that is its implementation's), where a render must give the same bytes on any machine
+and with any version of its libraries. Integers of 32 bits, in uint64 arithmetic that neither
+engine can round; a number is the integer times 2^-32. The price of a net: a Sobol' set is
+balanced only at a power of two, so the sampler takes ``samples_per_pixel`` = 2^m (the scene
+loader says so).
 """
 
 from __future__ import annotations
@@ -240,14 +252,68 @@ def shutter_times(shutter_open: float, shutter_close: float, uniforms: np.ndarra
     # END SOLUTION
 
 
-def sobol_set(count: int, dimensions: int, seed: int) -> np.ndarray:
-    """The first ``count`` (a power of two) points ``(count, dimensions)`` in [0, 1) of the
-    Sobol' sequence scrambled with ``seed`` (``scipy.stats.qmc.Sobol``, see the module page for
-    why this sequence). Machinery, not a student function: the renderer gives every pixel the
-    same points, each pixel shifted by its own uniform numbers (:mod:`raykit.engine.noise`)."""
-    if count < 1 or count & (count - 1):
-        raise ValueError(f"a Sobol' set is balanced at a power of two points, got {count}")
-    from scipy.stats import qmc  # imported only by a render that asks for it
+SOBOL_BITS = 32  # the bits of a Sobol' point's integer: the number is it times 2^-32
+_MASK = np.uint64(2**SOBOL_BITS - 1)
 
-    engine = qmc.Sobol(dimensions, scramble=True, rng=np.random.default_rng(seed))
-    return engine.random_base2(int(math.log2(count)))
+
+def reverse_bits(values: np.ndarray) -> np.ndarray:
+    """The 32 bits of each of ``values (N,)`` (non-negative integers below 2^32) in reverse
+    order, as uint64: bit i becomes bit 31 - i. Swaps of ever larger blocks: neighbouring bits,
+    then pairs, nibbles, bytes and halves."""
+    v = np.asarray(values).astype(np.uint64)
+    for shift, mask in ((1, 0x55555555), (2, 0x33333333), (4, 0x0F0F0F0F), (8, 0x00FF00FF)):
+        shift, mask = np.uint64(shift), np.uint64(mask)
+        v = ((v >> shift) & mask) | ((v & mask) << shift)
+    return ((v >> np.uint64(16)) | (v << np.uint64(16))) & _MASK
+
+
+def sobol_points(index: np.ndarray) -> np.ndarray:
+    """Points ``index (N,)`` (non-negative integers below 2^32) of the two-dimensional Sobol'
+    sequence, as integers ``(N, 2)`` (uint64, below 2^32; the point is them times 2^-32).
+    Dimension 0 is van der Corput's: the index's bits mirrored (:func:`reverse_bits`).
+    Dimension 1 XORs, for each bit i = 1, 2, ... of the index that is set, the direction number
+    v_i = m_i·2^(32-i), with m_1 = 1 and m_i = 2·m_(i-1) XOR m_(i-1): the recurrence of the
+    primitive polynomial x + 1 (Sobol' 1967; Bratley and Fox 1988). Points 1 to 4 are (0.5,
+    0.5), (0.25, 0.75), (0.75, 0.25), (0.125, 0.625): the index's own order, not the Gray code's
+    (each power-of-two prefix is the same set either way)."""
+    index = np.asarray(index).astype(np.uint64)
+    second = np.zeros_like(index)
+    m = 1
+    for i in range(1, SOBOL_BITS + 1):
+        if not (index >> np.uint64(i - 1)).any():  # no higher bit set anywhere
+            break
+        bit = (index >> np.uint64(i - 1)) & np.uint64(1)
+        second = second ^ (bit * np.uint64(m << (SOBOL_BITS - i)))
+        m = (m << 1) ^ m
+    return np.column_stack([reverse_bits(index), second])
+
+
+def owen_scramble(values: np.ndarray, seeds: np.ndarray) -> np.ndarray:
+    """Owen's nested uniform scrambling of 32-bit ``values (N,)``, each by its ``seeds (N,)``
+    (32-bit), as a hash (Laine and Karras 2011; these constants Vegdahl's, as Burley 2020 uses
+    them): with the bits mirrored (:func:`reverse_bits`), a hash in which each bit depends on the
+    bits below it and the seed only (a multiply by an even number, an add and a multiply by an
+    odd one carry upward, never down), mirrored back: each bit of the value is flipped or not by
+    a choice that depends on the bits above it alone. So a set of 2^m points in 2^m strata (of
+    any power-of-two sides) keeps one in each, each moved to a uniform place in its own."""
+    seeds = np.asarray(seeds).astype(np.uint64)
+    v = reverse_bits(values)
+    v = v ^ ((v * np.uint64(0x3D20ADEA)) & _MASK)
+    v = (v + seeds) & _MASK
+    v = (v * ((seeds >> np.uint64(16)) | np.uint64(1))) & _MASK
+    v = v ^ ((v * np.uint64(0x05526C56)) & _MASK)
+    v = v ^ ((v * np.uint64(0x53A22864)) & _MASK)
+    return reverse_bits(v)
+
+
+def sobol_set(index: np.ndarray, seeds: np.ndarray) -> np.ndarray:
+    """Points ``(N, 2)`` in [0, 1)² of the scrambled two-dimensional Sobol' sequence: its points
+    ``index (N,)`` (:func:`sobol_points`), each dimension scrambled by its column of ``seeds (N,
+    2)`` (32-bit integers, :func:`owen_scramble`), times 2^-32. Indices 0 .. 2^m - 1 with one
+    pair of seeds are a (0, m, 2)-net (the module page); the renderer gives every pixel and
+    pair of dimensions seeds of their own (:mod:`raykit.engine.noise`)."""
+    points = sobol_points(index)
+    seeds = np.asarray(seeds).astype(np.uint64).reshape(-1, 2)
+    x = owen_scramble(points[:, 0], seeds[:, 0])
+    y = owen_scramble(points[:, 1], seeds[:, 1])
+    return np.column_stack([x, y]).astype(np.float64) * 2.0**-SOBOL_BITS

@@ -14,7 +14,10 @@ surface point (the conventions of :mod:`raykit.lights`):
 * an area light (stage 5, FOCG 13.4.2) is, for each ray, a point light at its own sampled
   point of the light (:func:`raykit.lights.sampled`): one shadow ray per ray and light, the
   penumbra the mean over a pixel's samples. The uniform numbers come with the rays
-  (``light_uniforms``); without them each area light is sampled at its centre;
+  (``light_uniforms``); without them each area light is sampled at its centre. Its I is its
+  colour (FOCG's), or for a physically based light, each point's own, which falls off with
+  the distance and the cosine at the light (:func:`raykit.lights.area_intensity`, which
+  derives the estimator);
 * km·L(r): what the mirror reflects (:mod:`raykit.mirrors`); a glossy mirror (stage 5, FOCG
   13.4.4) reflects along r', r perturbed by the ray's own uniform numbers (``gloss_uniforms``),
   and an r' below the surface is absorbed: that ray's mirror term is black;
@@ -41,7 +44,7 @@ from functools import partial
 import numpy as np
 
 from raykit.hits import Hits
-from raykit.lights import AreaLight, sampled, toward_light
+from raykit.lights import AreaLight, area_intensity, sampled, toward_light
 from raykit.mirrors import glossy_reflect, reflect
 from raykit.rays import dot, normalize
 from raykit.scene import Scene
@@ -51,7 +54,8 @@ from raykit.surfaces import SurfacePoints, surface_points
 
 def lambert(kd: np.ndarray, intensity: np.ndarray, n: np.ndarray, l: np.ndarray) -> np.ndarray:
     """Lambert's diffuse term kd·I·max(0, n·l) ``(N, 3)``: ``kd (N, 3)``, light intensity I
-    ``(3,)``, unit normals ``n`` and unit vectors toward the light ``l``, both ``(N, 3)``."""
+    ``(3,)`` (or each point's, ``(N, 3)``), unit normals ``n`` and unit vectors toward the light
+    ``l``, both ``(N, 3)``."""
     # BEGIN SOLUTION
     # hint: kd · I · max(0, n·l), with n·l per row (raykit.rays.dot) made a column to scale the
     #       colours
@@ -68,8 +72,8 @@ def blinn_phong(
     p: np.ndarray | float,
 ) -> np.ndarray:
     """Blinn-Phong's highlight ks·I·max(0, n·h)^p ``(N, 3)`` with the half vector
-    h = (l + v)/|l + v|: ``ks (N, 3)``, I ``(3,)``, unit ``n``, ``l`` and ``v`` (toward the
-    viewer) ``(N, 3)``, shininess ``p`` a number or ``(N,)``."""
+    h = (l + v)/|l + v|: ``ks (N, 3)``, I ``(3,)`` (or ``(N, 3)``), unit ``n``, ``l`` and ``v``
+    (toward the viewer) ``(N, 3)``, shininess ``p`` a number or ``(N,)``."""
     # BEGIN SOLUTION
     # hint: h = normalize(l + v) (raykit.rays.normalize); then ks · I · max(0, n·h)^p, the power
     #       taken per row
@@ -180,8 +184,11 @@ def surface_color(
                 on_light = np.full((len(surface.points), 2), 0.5)
             else:
                 on_light = light_uniforms[:, areas]
-            light, areas = sampled(light, on_light), areas + 1
-        l, _ = toward_light(light, surface.points)  # the shadow ray's reach: light_reach
+            panel, light, areas = light, sampled(light, on_light), areas + 1
+        l, distance = toward_light(light, surface.points)  # the shadow ray's: light_reach
+        intensity = light.color  # I (3,), or a physically based area light's at each point
+        if area and panel.physical:
+            intensity = area_intensity(panel, l, distance)
         lit = np.flatnonzero(dot(surface.normals, l) > 0)
         if shadows and len(lit):
             facing = surface.take(lit)
@@ -190,7 +197,7 @@ def surface_color(
             blockers = cast if times is None else partial(cast, times=times[lit])  # that instant
             lit = lit[~in_shadow(blockers, facing, l[lit], reach)]
         n = surface.normals
-        total[lit] += lambert(kd[lit], light.color, n[lit], l[lit])
+        total[lit] += lambert(kd[lit], _rows(intensity, lit), n[lit], l[lit])
         highlight = lit[shiny[lit]]
         # h = (l + v)/|l + v| is undefined where l + v = 0 (seen from inside a sphere, a light
         # straight behind the point): no highlight there, rather than NaN
@@ -199,10 +206,16 @@ def surface_color(
             which = index[highlight]
             total[highlight] += blinn_phong(
                 table.specular[which],
-                light.color,
+                _rows(intensity, highlight),
                 n[highlight],
                 l[highlight],
                 v[highlight],
                 table.shininess[which],
             )
     return total
+
+
+def _rows(intensity: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """A light's I for the points ``rows``: its one I ``(3,)``, or those rows of each point's
+    ``(N, 3)`` (a physically based area light's)."""
+    return intensity if intensity.ndim == 1 else intensity[rows]

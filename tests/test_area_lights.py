@@ -16,7 +16,7 @@ from raykit.engine.choice import choose, compiled_available
 from raykit.engine.noise import PixelSamples
 from raykit.io.errors import SceneError
 from raykit.io.scene_json import load_scene, scene_from_dict
-from raykit.lights import AreaLight, PointLight, sampled
+from raykit.lights import AreaLight, PointLight, area_intensity, sampled, toward_light
 from raykit.render import cast, cast_pixels, render, secondary_caster
 from raykit.sampling import Sampling
 from raykit.scene import Scene
@@ -69,6 +69,50 @@ def test_soft_shadow_fully_lit_fully_shadowed_and_half_in_the_penumbra():
     assert _lit_fraction(3.0) == 1.0
     assert _lit_fraction(-3.0) == 0.0
     assert abs(_lit_fraction(0.0) - 0.5) < 0.02
+
+
+def _corner_form_factor(a: float, b: float, h: float) -> float:
+    """The form factor from a small patch to the parallel a x b rectangle h above it, the patch
+    under one of its corners (the closed form of radiometry's tables): the share of the light a
+    diffuse patch receives that an emitter covering its whole sky would send."""
+    x, y = a / h, b / h
+    sx, sy = np.sqrt(1 + x * x), np.sqrt(1 + y * y)
+    return (x / sx * np.arctan(y / sx) + y / sy * np.arctan(x / sy)) / (2 * np.pi)
+
+
+@pytest.mark.parametrize(("a", "b", "h"), [(2.0, 3.0, 1.5), (0.5, 0.5, 4.0), (6.0, 1.0, 0.5)])
+def test_a_physically_based_area_light_gives_a_diffuse_point_its_form_factor(a, b, h):
+    """Under a physically based light of radiance L, a diffuse point of reflectance kd reflects
+    kd·L·F (F the form factor to the light, radiometry's closed form): the mean of the shading
+    over the light's points converges to it."""
+    samples = 4096
+    floor = Billboard(np.array([-20.0, 0, -20]), np.array([-20.0, 0, 20]),
+                      np.array([20.0, 0, -20]), np.full(3, 0.5))  # fmt: skip
+    corner, edge1, edge2 = np.array([0.0, h, 0]), np.array([a, 0, 0]), np.array([0.0, 0, b])
+    radiance = np.array([2.0, 1.0, 0.5])
+    origins = np.tile([[0.0, 1e-3, 0.0]], (samples, 1))  # the floor point below the corner
+    directions = np.tile([[0.0, -1.0, 0.0]], (samples, 1))
+    numbers = PixelSamples(Sampling(samples, "jittered", 57), 4)
+    on_light = np.stack([numbers.of(np.array([0]), k)[0, 2:4] for k in range(samples)])
+    light = AreaLight(corner, edge1, edge2, radiance, physical=True)
+    camera = Camera(np.array([0.0, 10, 10]), np.zeros(3), np.array([0.0, 1, 0]), 40, 8, 8)
+    scene = Scene(camera, (), (floor,), lights=(light,))
+    hits = cast(scene, origins, directions)
+    colors = shade(scene, secondary_caster(scene), origins, directions, hits,
+                   on_light[:, None, None, :])  # fmt: skip
+    expected = 0.5 * radiance * _corner_form_factor(a, b, h)
+    np.testing.assert_allclose(colors.mean(axis=0), expected, rtol=2e-3)
+
+
+def test_a_physically_based_area_light_lights_only_its_front():
+    """a × b points down: a point above the light gets nothing, one below it gets light."""
+    light = AreaLight(np.array([-1.0, 4, -1]), np.array([2.0, 0, 0]), np.array([0.0, 0, 2]),
+                      np.ones(3), physical=True)  # fmt: skip
+    assert np.cross(light.edge1, light.edge2)[1] < 0
+    points = np.array([[0.0, 6, 0], [0.0, 0, 0]])
+    l, distance = toward_light(sampled(light, np.full((2, 2), 0.5)), points)
+    below = area_intensity(light, l, distance)
+    assert below[0].tolist() == [0, 0, 0] and (below[1] == 4 * 1 / (np.pi * 16)).all()
 
 
 def test_a_sampled_area_light_is_a_point_light_at_its_points():
@@ -184,6 +228,27 @@ V2_CASES = [
         {"version": 2, "lights": [{**PANEL, "position": [0, 1, 0]}]},
         "lights[0].position",
         "unknown field",
+        True,
+    ),
+    (
+        "area light given both a colour and a radiance",
+        {"version": 2, "lights": [{**PANEL, "color": [1, 1, 1], "radiance": [2, 2, 2]}]},
+        "lights[0].radiance",
+        "give one of them",
+        True,
+    ),
+    (
+        "negative radiance",
+        {"version": 2, "lights": [{**PANEL, "radiance": [1, -2, 1]}]},
+        "lights[0].radiance[1]",
+        "must be >= 0",
+        True,
+    ),
+    (
+        "point light given a radiance",
+        {"version": 2, "lights": [{"type": "point", "position": [0, 4, 0], "radiance": [1, 1, 1]}]},
+        "lights[0].radiance",
+        "is an area light's",
         True,
     ),
     (

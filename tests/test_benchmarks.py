@@ -387,14 +387,15 @@ def test_tile_sides_benchmark_marks_the_side_the_compiled_engine_chooses():
         assert sum(cell.endswith("*") for cell in cells) == 1  # tile_side's choice, once
 
 
-def test_compile_time_times_a_flat_a_lit_and_a_mirror_first_use_from_an_empty_cache():
+def test_compile_time_times_each_entry_points_first_use_from_an_empty_cache():
     pytest.importorskip("numba")
     rows = _table_rows("compile_time.py")
-    assert [row.split(" | ")[:2] for row in rows] == [
-        ["| classic", "empty"], ["| classic", "cached"],
-        ["| classic_lit", "empty"], ["| classic_lit", "cached"],
-        ["| mirror_balls", "empty"], ["| mirror_balls", "cached"],
-    ]  # fmt: skip
+    entries = [("classic", "trace_flat"), ("classic_lit", "trace_lit"),
+               ("mirror_balls", "trace_mirrors"), ("soft_shadows", "trace_sampled"),
+               ("glossy", "trace_sampled_mirrors"), ("motion_blur", "trace_moving")]  # fmt: skip
+    assert [row.split(" | ")[:3] for row in rows] == [
+        [f"| {name}", entry, when] for name, entry in entries for when in ("empty", "cached")
+    ]
     assert all(row.endswith(" MB |") for row in rows)  # each with its peak memory
 
 
@@ -466,59 +467,97 @@ def test_sampling_error_quick_prints_each_effect_every_sampler_and_their_slopes(
         timeout=TIMEOUT,
     )
     assert run.returncode == 0, run.stderr
-    try:
-        import mitsuba  # noqa: F401
-
-        mitsuba_rows = ["| Mitsuba | independent", "| Mitsuba | stratified"]
-    except ImportError:  # an optional benchmark dependency: raykit alone is measured, saying so
-        assert "Mitsuba 3 is not installed (pip install mitsuba)" in run.stdout
-        mitsuba_rows = []
-    effects = {
-        "antialiasing": [],
-        "soft shadows": mitsuba_rows,
-        "depth of field": mitsuba_rows,
-        "glossy reflection": [],
-        "motion blur": [],
-    }
+    effects = ["antialiasing", "soft shadows", "depth of field", "glossy reflection", "motion blur"]
     raykit_rows = [f"| raykit | {sampler}" for sampler in ("random", "jittered", "sobol")]
-    for effect, others in effects.items():
+    for effect in effects:
         table = run.stdout.split(f"## {effect}\n")[1].split("\n\n")[1].splitlines()
         assert table[0] == "| renderer | sampler | 1 spp | 4 spp | 16 spp |"
-        assert [" | ".join(row.split(" | ")[:2]) for row in table[2:]] == raykit_rows + others
+        assert [" | ".join(row.split(" | ")[:2]) for row in table[2:]] == raykit_rows
         assert all(row.count(", ") == 3 for row in table[2:])  # an error and a time per count
-    slopes = run.stdout.split("| effect | renderer | sampler | measured slope | theory |")[1]
+    slopes = run.stdout.split("| effect | sampler | measured slope | theory |")[1]
     rows = [row.split(" | ") for row in slopes.split("\n\n")[0].splitlines()[2:]]
-    assert len(rows) == 3 * len(effects) + 2 * len(mitsuba_rows)
-    assert all(-2.0 < float(row[3]) < 0.0 for row in rows)  # error falls as samples grow
-    if mitsuba_rows:
-        assert run.stdout.count("time to reach the same RMS error") == 2
-        agreement = run.stdout.split("| effect | Mitsuba renders |")[1].split("\n\n")[0]
-        focus = next(row for row in agreement.splitlines() if row.startswith("| depth of field"))
-        assert focus.endswith("| yes |")  # the same scene, converged, in both renderers
+    assert len(rows) == 3 * len(effects)
+    assert all(-2.0 < float(row[2]) < 0.0 for row in rows)  # error falls as samples grow
+    assert "Mitsuba" not in run.stdout.split("\n\n", 1)[1]  # the race is race.py's
     assert (tmp_path / "error.png").stat().st_size > 1000
     assert len(list((tmp_path / "cache").glob("*.npy"))) == len(effects)  # a reference each
 
 
-def test_sampling_error_reads_times_to_error_off_log_log_curves():
-    module = _benchmark_module("sampling_error")
+def test_race_reads_times_to_error_off_log_log_curves():
+    module = _benchmark_module("race")
     spp = [1, 4, 16, 64]
-    steep = module.Curve("raykit", "jittered", spp, {n: [n**-1.5] for n in spp}, {})
-    steep.seconds = {n: 0.01 * n for n in spp}  # time proportional to the samples
-    assert module.slope(steep) == pytest.approx(-0.75)
+    steep = module.Curve("raykit", "jittered", 1, spp, {n: [n**-1.5] for n in spp})
+    steep.seconds, steep.load = {n: 0.01 * n for n in spp}, 0.5  # time proportional to samples
     # between 4 and 16 spp, error 4^-0.75 .. 16^-0.75: the level halfway in log is 8 spp's
-    assert module.time_to(steep, 8**-0.75) == pytest.approx(0.08)
-    assert module.time_to(steep, 2.0) is None  # above the first count's error
+    assert module.time_to(steep, 8**-0.75) == (pytest.approx(0.08), False)
+    with_load = module.time_to(steep, 8**-0.75, load=True)[0]  # halfway in log between 0.54, 0.66
+    assert with_load == pytest.approx((0.54 * 0.66) ** 0.5)
+    assert module.time_to(steep, 2.0) == (0.01, True)  # reached at 1 spp already: its time
     assert module.time_to(steep, 1e-6) is None  # below the last: never extrapolated
-    flat = module.Curve("Mitsuba", "independent", spp, {n: [1.0] for n in spp}, {})
-    flat.seconds = steep.seconds
-    assert module.levels([steep, flat]) == []  # ranges that do not overlap: no common level
-    levels = module.levels([steep, module.Curve("x", "random", spp, steep.squared, {})])
-    assert len(levels) == 4 and 64**-0.75 < min(levels) and max(levels) < 1.0
+    flat = module.Curve("Mitsuba", "independent", 1, spp, {n: [0.25**2] for n in spp})
+    flat.seconds = {n: 0.002 * n for n in spp}
+    assert module.fastest([steep, flat], "Mitsuba", 0.3, False) == 0.002
+    assert module.fastest([steep, flat], "Mitsuba", 0.1, False) is None
 
 
-def test_sampling_error_area_light_faces_the_scene_and_its_grid_keeps_its_intensity():
+def test_race_prints_no_ratio_at_a_level_below_the_references_noise(capsys):
+    module = _benchmark_module("race")
+    spp = [1, 4, 16, 64]
+    curves = []
+    for renderer, seconds in (("raykit", 0.01), ("Mitsuba", 0.02)):
+        curve = module.Curve(renderer, "jittered", 1, spp, {n: [n**-3.0] for n in spp})
+        curve.seconds = {n: seconds * n for n in spp}  # RMS error n^-1.5: 0.002 at 64 spp
+        curves.append(curve)
+    measured = module.print_times(curves, [1], floor=0.0)
+    capsys.readouterr()
+    above_noise = module.print_times(curves, [1], floor=0.004)
+    rows = {row.split(" | ")[0]: row for row in capsys.readouterr().out.splitlines()}
+    assert len(measured) == 6 and all(r == pytest.approx(0.5) for r in measured)
+    assert len(above_noise) == 4  # 0.003 and 0.002 lie below the noise
+    assert rows["| 0.003"].endswith("| - | - |") and rows["| 0.005"].endswith("| 0.50 | 0.50 |")
+
+
+def test_race_without_mitsuba_says_so_and_races_nothing(tmp_path):
+    try:
+        import mitsuba  # noqa: F401
+
+        pytest.skip("Mitsuba is installed: the race runs (benchmarks/race.py)")
+    except ImportError:
+        pass
+    run = subprocess.run(
+        [sys.executable, str(REPO / "benchmarks/race.py"), "--quick", "--repeats", "1",
+         "--cache", str(tmp_path)],
+        capture_output=True, text=True, timeout=TIMEOUT,
+    )  # fmt: skip
+    assert run.returncode == 0, run.stderr
+    assert "Mitsuba 3 is not installed (pip install mitsuba): nothing to race." in run.stdout
+
+
+def test_race_converts_each_effect_to_the_same_picture_in_mitsuba():
+    """Each raced effect in Mitsuba: the physically based panel as a rectangle emitter of its
+    radiance lighting the side a × b points to, the flat scenes' objects as emitters of their
+    colours; the converged pictures are compared by race.py itself."""
     mi = pytest.importorskip("mitsuba")
-    module = _benchmark_module("sampling_error")
+    module = _benchmark_module("race")
+    mi.set_variant("scalar_rgb")
+    made = {effect.name: effect for effect in module.effects(32, 24)}
+    assert list(made) == ["antialiasing", "soft shadows", "depth of field"]
+    soft = made["soft shadows"].data
+    (light,) = soft["lights"]
+    assert "radiance" in light and "color" not in light and "ambient" not in soft
+    assert module.scene_from_dict(soft).lights[0].physical
+    converted = module.mitsuba_scene(soft, mi, "stratified")
+    emitter = converted["light0"]
+    normal = np.array(emitter["to_world"] @ mi.ScalarNormal3f(0, 0, 1))
+    assert normal[1] < 0  # a × b of the panel points down, to the scene
+    assert emitter["emitter"]["radiance"]["value"] == light["radiance"]
+    flat = module.mitsuba_scene(made["antialiasing"].data, mi, "independent")
+    assert flat["integrator"] == {"type": "path", "max_depth": 1}
+    assert all("emitter" in flat[f"sphere{i}"] for i in range(10))
+
+
+def test_mitsuba_compare_turns_an_area_light_to_face_the_scene_or_keeps_a_physical_ones_side():
+    mi = pytest.importorskip("mitsuba")
     from mitsuba_compare import mitsuba_light
 
     mi.set_variant("scalar_rgb")
@@ -528,17 +567,16 @@ def test_sampling_error_area_light_faces_the_scene_and_its_grid_keeps_its_intens
     camera = {"eye": [0, 2, 8], "lookat": [0, 0, 0], "up": [0, 1, 0], "fov_angle": 40}
     made = mitsuba_light(light, camera, mi)
     normal = np.array(made["to_world"] @ mi.ScalarNormal3f(0, 0, 1))
-    assert normal[1] < 0  # flipped to light the side the lookat point is on
+    assert normal[1] < 0  # FOCG's light, two-sided: flipped to light the lookat point's side
     # at lookat, 4.0 below the light's centre and straight under it, Mitsuba's (kd/π)·L·A/r²
     # is raykit's kd·I: L = π·I·r²/A
     radiance = np.array(made["emitter"]["radiance"]["value"])
     np.testing.assert_allclose(radiance, np.pi * np.array(light["color"]) * 4.0**2 / 2.0)
-    grid = module.grid_of_points({"lights": [light]}, 3)["lights"]
-    assert len(grid) == 9
-    np.testing.assert_allclose(np.sum([p["color"] for p in grid], axis=0), light["color"])
-    np.testing.assert_allclose(
-        np.mean([p["position"] for p in grid], axis=0), [0, 4, 0], atol=1e-12
-    )
+    physical = {key: value for key, value in light.items() if key != "color"}
+    physical["radiance"] = [3.0, 2.0, 1.0]
+    made = mitsuba_light(physical, camera, mi)  # one-sided: the side a × b points to, as raykit's
+    assert np.array(made["to_world"] @ mi.ScalarNormal3f(0, 0, 1))[1] > 0
+    assert made["emitter"]["radiance"]["value"] == [3.0, 2.0, 1.0]
 
 
 NUMPY_CONSTANTS = ["BVH_FROM", "TILE", "CROWDED", "POINTS_PER_CALL"]

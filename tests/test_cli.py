@@ -248,3 +248,57 @@ def test_ctrl_c_says_so_in_one_line_exits_130_and_leaves_no_file_half_written(
     assert main(["render", str(SCENES / "cutouts.json"), "-o", str(out)]) == 130
     assert capsys.readouterr().err == "raykit: interrupted\n"
     assert list(tmp_path.iterdir()) == []
+
+
+def _small_scene(tmp_path, name: str, saved: str = "scene.json", **render_fields) -> str:
+    """An example scene made 24 x 18 pixels (and its render fields changed), as the file
+    ``saved`` in ``tmp_path``."""
+    data = json.loads((SCENES / name).read_text())
+    data.pop("$schema", None)
+    data["camera"] |= {"width": 24, "height": 18}
+    if render_fields:
+        data["render"] = data.get("render", {}) | render_fields
+    for board in data.get("billboards", []):
+        if "image" in board:
+            board["image"] = str(SCENES / board["image"])
+    path = tmp_path / saved
+    path.write_text(json.dumps(data))
+    return str(path)
+
+
+def test_spp_renders_the_scene_with_that_many_samples_per_pixel(tmp_path, capsys):
+    """A preview: --spp N renders exactly what the scene with render.samples_per_pixel N
+    renders, and says so; on a format v1 scene it samples each pixel as a distributed one."""
+    preview = tmp_path / "preview.png"
+    scene = _small_scene(tmp_path, "soft_shadows.json")
+    args = ["render", scene, "-o", str(preview), "--spp", "4", "--engine", "numpy"]
+    assert main(args) == 0
+    assert "(24x18, 4 jittered samples per pixel, seed 1, numpy engine)" in capsys.readouterr().out
+    same = tmp_path / "same.png"
+    written = _small_scene(tmp_path, "soft_shadows.json", "four.json", samples_per_pixel=4)
+    assert main(["render", written, "-o", str(same), "--engine", "numpy"]) == 0
+    assert preview.read_bytes() == same.read_bytes()
+    flat = _small_scene(tmp_path, "classic.json")
+    assert main(["render", flat, "-o", str(tmp_path / "flat.png"), "--spp", "9"]) == 0
+    assert "9 jittered samples per pixel, seed 0" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(
+    ("args", "words"),
+    [
+        (["--spp", "10"], "--spp 10: "),  # jittered takes a square
+        (["--spp", "2", "--samples", "2"], "give one of them"),
+        (["--samples", "2"], "--spp N renders it with N"),
+        (["--spp", "5000"], "must be between 1 and 4096"),
+    ],
+)
+def test_a_bad_spp_is_one_line_and_writes_nothing(tmp_path, args, words):
+    out = tmp_path / "o.png"
+    scene = _small_scene(tmp_path, "soft_shadows.json")
+    run = subprocess.run(
+        [sys.executable, "-m", "raykit", "render", scene, "-o", str(out), *args],
+        capture_output=True,
+        text=True,
+    )
+    assert run.returncode == 2 and words in run.stderr and not out.exists()
+    assert run.stderr.count("\n") == 1 or "usage:" in run.stderr  # argparse's range check

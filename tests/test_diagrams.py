@@ -8,6 +8,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 from matplotlib.collections import PathCollection  # noqa: E402
+from matplotlib.patches import Circle  # noqa: E402
 
 from conftest import SCENES  # noqa: E402
 from raykit.camera import image_plane_points, pixel_points, rays_through  # noqa: E402
@@ -105,8 +106,9 @@ def test_top_and_side_views_follow_the_camera_up_and_view_direction():
     assert view_for(camera, "top").axes == (0, 2)
     assert view_for(camera, "side").axes == (2, 1)
     assert view_for(camera, "3d").axes == (0, 2, 1)
+    assert view_for(camera, "front").axes == (0, 1)  # across and up, as the eye sees them
     with pytest.raises(ValueError):
-        view_for(camera, "front")
+        view_for(camera, "back")
 
 
 def test_camera_diagram_draws_the_cameras_own_pixel_centres():
@@ -341,7 +343,7 @@ def test_a_pixels_sample_diagram_draws_the_renderers_own_numbers_for_that_pixel(
 
 def test_the_shadow_ray_diagram_draws_one_shadow_ray_per_sample_to_the_light():
     scene = _v2("soft_shadows.json", samples_per_pixel=16)
-    figure = distributed.shadow_rays_diagram(scene, 24, 12)
+    figure = distributed.shadow_rays_diagram(scene, 24, 12, view="side")
     assert len(_segments(figure, "rays-centre")) == 1
     reaching, blocked = (
         _segments(figure, f"rays-shadow-{kind}") for kind in ("reaching", "blocked")
@@ -349,6 +351,31 @@ def test_the_shadow_ray_diagram_draws_one_shadow_ray_per_sample_to_the_light():
     assert sum(0 if s is None else len(s) for s in (reaching, blocked)) == 16
     light = scene.lights[0]  # the reaching rays end on the light's plane, y = 4.5
     assert reaching is not None and np.allclose(reaching[:, 1, 1], light.corner[1])
+
+
+def test_the_penumbra_pixels_shadow_rays_cross_no_ball_where_they_are_drawn():
+    """The notebook's shadow-ray diagram (notebook 07): a pixel of the penumbra, some rays
+    blocked, some not, and none of those that reach the light drawn across a ball (a ray that
+    passes beside one in space, drawn over it, looks as if it went through)."""
+    data = json.loads((SCENES / "soft_shadows.json").read_text())
+    data["camera"].update(width=160, height=120)  # as the notebook renders it
+    scene = scene_from_dict(data, folder=SCENES)
+    row, col = distributed.penumbra_pixel(scene)
+    figure = distributed.shadow_rays_diagram(scene, row, col)
+    reaching, blocked = (
+        _segments(figure, f"rays-shadow-{kind}") for kind in ("reaching", "blocked")
+    )
+    assert reaching is not None and blocked is not None  # the penumbra: some of each
+    balls = [p for p in figure.axes[0].patches if isinstance(p, Circle)]
+    assert len(balls) == len(scene.spheres)
+    for ball in balls:
+        a, b = reaching[:, 0], reaching[:, 1]
+        d = b - a
+        along = np.clip(np.sum((ball.center - a) * d, axis=1) / np.sum(d * d, axis=1), 0, 1)
+        nearest = a + along[:, None] * d
+        assert (np.linalg.norm(nearest - ball.center, axis=1) > ball.radius).all()
+    side = distributed.shadow_rays_diagram(scene, row, col, view="side")
+    assert side is not None  # another view of the same pixel draws too
 
 
 def test_the_moving_diagram_marks_each_hit_of_each_sample_at_its_time():

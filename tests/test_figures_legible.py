@@ -25,9 +25,8 @@ What is measured, and by whom:
   agree with the committed one.
 
 A render has no text: it is held to the size rule only. Renders not yet stored at the rule's
-size are listed in ``TOO_SMALL_RENDERS``, and the benchmark plots drawn before their draw was
-measured in ``PLOTTED_BEFORE_THE_RECORD``, each expected to fail (strictly: one mended must
-leave its list).
+size are listed in ``TOO_SMALL_RENDERS``, each expected to fail (strictly: one mended must
+leave the list).
 """
 
 from __future__ import annotations
@@ -56,13 +55,6 @@ TOO_SMALL_RENDERS = {
     "docs/images/passing_car_sweep.png",
     "docs/gallery/passing_car_sweep.png",
     "docs/images/passing_car_2d_sweep.png",
-}
-# benchmark plots drawn before figure_png measured them (their text, fitted then, is unmeasured):
-# a rerun of the command at the top of the plot's page stores the record
-PLOTTED_BEFORE_THE_RECORD = {
-    "docs/benchmarks/engines.png",
-    "docs/benchmarks/mitsuba_compare.png",
-    "docs/benchmarks/sampling_error.png",
 }
 
 
@@ -107,7 +99,7 @@ def test_the_pictures_shown_are_all_checked():
         for path in (REPO / folder).glob("*.png"):
             assert f"{folder}/{path.name}" in PICTURES
     assert len(_figures()) > 60 and len(NAMES) - len(_figures()) > 15
-    assert TOO_SMALL_RENDERS | PLOTTED_BEFORE_THE_RECORD <= set(NAMES)
+    assert TOO_SMALL_RENDERS <= set(NAMES)
 
 
 @pytest.mark.parametrize("name", NAMES)
@@ -119,9 +111,7 @@ def test_picture_is_large_enough_to_project(name, request):
 
 
 @pytest.mark.parametrize("name", _figures())
-def test_figure_text_is_measured_readable_and_clear(name, request):
-    if name in PLOTTED_BEFORE_THE_RECORD:
-        request.applymarker(pytest.mark.xfail(strict=True, reason="plotted before the record"))
+def test_figure_text_is_measured_readable_and_clear(name):
     png = PICTURES[name]
     layout = read_layout(png)
     assert layout is not None, f"{name}: stored without raykit.io.images.figure_png's record"

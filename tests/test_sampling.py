@@ -3,11 +3,14 @@ noise (raykit.engine.noise): repeatable from its counter, whatever the order it 
 and uniform (seeded tests)."""
 
 import math
+import subprocess
+import sys
 
 import numpy as np
 import pytest
 from scipy import stats
 
+from conftest import REPO
 from raykit.engine.noise import Dimensions, PixelSamples, counter_hash, shuffle, uniforms
 from raykit.rays import dot, length
 from raykit.sampling import (
@@ -15,13 +18,16 @@ from raykit.sampling import (
     basis_around,
     jittered_point,
     jittered_set,
+    owen_scramble,
     perturbed_direction,
     point_in_pixel,
     point_on_disk,
     point_on_lens,
     point_on_parallelogram,
     random_set,
+    reverse_bits,
     shutter_times,
+    sobol_points,
     sobol_set,
 )
 
@@ -115,17 +121,86 @@ def test_the_perturbed_direction_moves_r_within_the_square_of_side_a():
     assert perturbed_direction(r, 0.0, np.array([[0.9, 0.1], [0.3, 0.7]])).tolist() == r.tolist()
 
 
-def test_the_sobol_set_is_stratified_at_every_power_of_two():
-    points = sobol_set(64, 4, seed=5)
-    assert points.shape == (64, 4) and ((points >= 0) & (points < 1)).all()
-    for d in range(4):  # 64 points, one in each 1/64 of every dimension
-        assert sorted(np.floor(points[:, d] * 64).astype(int)) == list(range(64))
-    cells = np.floor(points[:, :2] * 8).astype(int)  # and one in each 1/8 x 1/8 cell
-    assert len(set(map(tuple, cells))) == 64
-    assert np.array_equal(points, sobol_set(64, 4, seed=5))
-    assert not np.array_equal(points, sobol_set(64, 4, seed=6))
+def _elementary_cells(points: np.ndarray, m: int) -> list[int]:
+    """For each split of 2^m into 2^a columns by 2^(m-a) rows, how many of those cells hold a
+    point of ``points (N, 2)``: 2^m for every a, where they are a (0, m, 2)-net."""
+    found = []
+    for a in range(m + 1):
+        column = np.floor(points[:, 0] * 2**a).astype(int)
+        row = np.floor(points[:, 1] * 2 ** (m - a)).astype(int)
+        found.append(len(set(zip(column.tolist(), row.tolist(), strict=True))))
+    return found
+
+
+def test_the_sobol_points_are_van_der_corput_and_the_direction_numbers_of_x_plus_1():
+    index = np.arange(8)
+    points = sobol_points(index) * 2.0**-32
+    assert points[:, 0].tolist() == [0, 0.5, 0.25, 0.75, 0.125, 0.625, 0.375, 0.875]
+    assert points[:, 1].tolist() == [0, 0.5, 0.75, 0.25, 0.625, 0.125, 0.375, 0.875]
+    # the direction numbers m_i of the second dimension (Joe and Kuo's table, its dimension 2)
+    m = [int(sobol_points([2 ** (i - 1)])[0, 1]) >> (32 - i) for i in range(1, 11)]
+    assert m == [1, 3, 5, 15, 17, 51, 85, 255, 257, 771]
+    assert reverse_bits(np.array([1, 2**31, 0x12345678])).tolist() == [2**31, 1, 0x1E6A2C48]
+
+
+@pytest.mark.parametrize("m", [2, 4, 6, 8])
+def test_a_scrambled_sobol_set_is_a_net_at_every_power_of_two(m):
+    rng = np.random.default_rng(m)
+    for _ in range(5):
+        seeds = np.tile(rng.integers(0, 2**32, 2), (2**m, 1))
+        points = sobol_set(np.arange(2**m), seeds)
+        assert ((points >= 0) & (points < 1)).all()
+        assert _elementary_cells(points, m) == [2**m] * (m + 1)
+
+
+def test_owen_scrambling_moves_a_point_anywhere_with_equal_chance():
+    seeds = np.arange(20000, dtype=np.uint64) * np.uint64(2654435761) % np.uint64(2**32)
+    for value in (0, 2**31, 12345):
+        moved = owen_scramble(np.full(20000, value), seeds) * 2.0**-32
+        assert stats.kstest(moved, "uniform").pvalue > 0.01
+
+
+def test_sobol_pixel_samples_are_a_net_of_their_own_in_every_pair():
+    samples = PixelSamples(Sampling(64, "sobol", 9), 7)
+    every = np.stack([samples.of(np.arange(30), k) for k in range(64)], axis=1)  # (30, 64, 7)
+    for pixel in range(30):
+        for pair in range(3):
+            assert _elementary_cells(every[pixel, :, 2 * pair : 2 * pair + 2], 6) == [64] * 7
+        assert sorted(np.floor(every[pixel, :, 6] * 64).astype(int)) == list(range(64))
+    assert not np.array_equal(every[0], every[1])  # each pixel scrambled its own way
+
+
+def test_the_sobol_numbers_are_the_same_bytes_on_every_machine_and_version():
+    """Known numbers (times 2^32, integers: the sampler's are exactly that): no library's
+    release, processor or vector width may change them, where scipy's scrambling could."""
+    samples = PixelSamples(Sampling(16, "sobol", 2024), 5)
+    got = np.stack([samples.of(np.array([0, 12345]), k) for k in (0, 1, 15)]) * 2.0**32
+    assert got.astype(np.int64).tolist() == [
+        [[1088985256, 2964804412, 1099055601, 3070563061, 4121425556],
+         [3867171161, 2380059322, 3747437350, 3031037012, 3673283422]],
+        [[2786415949, 1903155704, 1382378228, 346146686, 326532251],
+         [1759918614, 1208787328, 609299868, 4204956811, 4011985535]],
+        [[3921908173, 2852226968, 2218378325, 2157910125, 552419293],
+         [880090447, 2465874617, 2637662162, 3651660792, 2871661851]],
+    ]  # fmt: skip
     with pytest.raises(ValueError, match="power of two"):
-        sobol_set(48, 2, seed=0)
+        PixelSamples(Sampling(48, "sobol", 0), 2)
+
+
+def test_a_sobol_render_imports_no_library_beyond_numpy():
+    run = subprocess.run(
+        [sys.executable, "-c",
+         "import sys; from dataclasses import replace\n"
+         "from raykit.io.scene_json import load_scene\nfrom raykit.render import render\n"
+         "from raykit.sampling import Sampling\n"
+         "scene = load_scene('scenes/soft_shadows.json')\n"
+         "scene = replace(scene, camera=replace(scene.camera, width=8, height=6),\n"
+         "                sampling=Sampling(4, 'sobol', 1))\n"
+         "render(scene, engine='numpy')\n"
+         "assert 'scipy' not in sys.modules, 'scipy was imported'\n"],
+        capture_output=True, text=True, cwd=REPO,
+    )  # fmt: skip
+    assert run.returncode == 0, run.stderr
 
 
 # the noise: counter-based, repeatable

@@ -10,7 +10,8 @@ the scene's objects in a top or side view (:mod:`raykit.diagrams.views`):
   sample's point in it coloured by what its ray hits; the pixel's colour is their mean;
 * :func:`shadow_rays_diagram` (soft shadows, 13.4.2): from where the pixel's centre ray meets
   the scene, each sample's shadow ray to its own point of the area light, gold where it reaches
-  the light, dark red up to an x where something blocks it;
+  the light, dark red up to an x where something blocks it, seen from the front; a pixel of the
+  penumbra whose rays cross no ball in that view: :func:`penumbra_pixel`;
 * :func:`lens_rays_diagram` (depth of field, 13.4.3): each sample's ray from its own point of
   the lens, all of them through one point of the focal plane (dashed);
 * :func:`glossy_rays_diagram` (glossy reflection, 13.4.4): where the pixel's centre ray meets a
@@ -106,38 +107,102 @@ def pixel_samples_diagram(scene: Scene, row: int, col: int, *, ax: Axes | None =
     return ax.figure
 
 
+def _shadow_rays(scene: Scene, rows: np.ndarray, cols: np.ndarray) -> dict:
+    """For pixels (``rows``, ``cols``) ``(P,)``, from where each centre ray meets the scene, the
+    S samples' shadow rays to their own points of the first area light, as the renderer makes
+    them: ``origins``, ``ends`` ``(P, 3)`` of the centre rays, the shadow rays' ``starts``,
+    ``targets``, unit ``l`` ``(P, S, 3)``, the ``blockers`` (:class:`raykit.hits.Hits` of the
+    P·S rays) and whether each is ``blocked`` ``(P, S)`` (a hit nearer than its point of the
+    light)."""
+    light = next(x for x in scene.lights if isinstance(x, AreaLight))
+    origins, directions, hits = cast_pixels(scene, rows, cols)
+    surface = surface_points(scene, origins, directions, hits.t, hits.index)
+    dimensions = Dimensions.of(scene)
+    samples = PixelSamples(scene.sampling, dimensions.count)
+    pixels = np.asarray(rows) * scene.camera.width + np.asarray(cols)
+    first = dimensions.light(0, 0)
+    count = scene.sampling.samples_per_pixel
+    numbers = np.stack([samples.of(pixels, k) for k in range(count)], axis=1)  # (P, S, D)
+    on_light = numbers[..., first : first + 2].reshape(-1, 2)
+    targets = point_on_parallelogram(light.corner, light.edge1, light.edge2, on_light)
+    which = np.repeat(np.arange(len(pixels)), count)
+    l = normalize(targets - surface.points[which])  # noqa: E741 (the slides' l)
+    starts = surface.take(which).start(l)
+    blockers = cast(scene, starts, l)
+    blocked = blockers.t < length(targets - starts)
+    shape = (len(pixels), count)
+    return {
+        "origins": origins,
+        "ends": point_at(origins, directions, hits.t),
+        "starts": starts.reshape(*shape, 3),
+        "targets": targets.reshape(*shape, 3),
+        "l": l.reshape(*shape, 3),
+        "blockers": blockers,
+        "blocked": blocked.reshape(shape),
+    }
+
+
 def shadow_rays_diagram(
-    scene: Scene, row: int, col: int, *, view: str = "side", ax: Axes | None = None
+    scene: Scene, row: int, col: int, *, view: str = "front", ax: Axes | None = None
 ) -> Figure:
     """From where the centre ray of pixel (``row``, ``col``) meets the scene, each sample's
-    shadow ray to its own point of the first area light (soft shadows, FOCG 13.4.2)."""
+    shadow ray to its own point of the first area light (soft shadows, FOCG 13.4.2), seen from
+    the front (across and up, as the eye sees the scene; the centre ray, along the line of
+    sight, a dot where it meets the scene) by default."""
     light = next(x for x in scene.lights if isinstance(x, AreaLight))
-    origins, directions, hits = cast_pixels(scene, np.array([row]), np.array([col]))
-    surface = surface_points(scene, origins, directions, hits.t, hits.index)
-    numbers, _ = pixel_numbers(scene, row, col)
-    first = Dimensions.of(scene).light(0, 0)
-    targets = point_on_parallelogram(light.corner, light.edge1, light.edge2,
-                                     numbers[:, first : first + 2])  # fmt: skip
-    count = len(targets)
-    p = np.repeat(surface.points, count, axis=0)
-    l = normalize(targets - p)
-    starts = surface.take(np.zeros(count, dtype=int)).start(l)
-    reach = length(targets - starts)
-    blockers = cast(scene, starts, l)
-    blocked = blockers.t < reach
+    rays = _shadow_rays(scene, np.array([row]), np.array([col]))
+    starts, targets, l = rays["starts"][0], rays["targets"][0], rays["l"][0]
+    blocked, count = rays["blocked"][0], len(targets)
     shown, ax = _axes(scene, view, ax)
     corners = light.corner + np.array([np.zeros(3), light.edge1, light.edge1 + light.edge2,
                                        light.edge2])  # fmt: skip
     draw_outline(ax, shown, corners, colors="goldenrod", linewidths=3, zorder=5)
-    _rays(ax, shown, origins, point_at(origins, directions, hits.t), "0.3", "rays-centre")
+    if view == "front":  # the centre ray runs along the line of sight: its point, not its line
+        ax.scatter(*shown.project(rays["ends"]).T, color="0.2", s=30, zorder=6)
+    else:
+        _rays(ax, shown, rays["origins"], rays["ends"], "0.3", "rays-centre")
     _rays(ax, shown, starts[~blocked], targets[~blocked], "goldenrod", "rays-shadow-reaching")
-    stops = point_at(starts[blocked], l[blocked], blockers.t[blocked])
+    stops = point_at(starts[blocked], l[blocked], rays["blockers"].t[blocked])
     _rays(ax, shown, starts[blocked], stops, "darkred", "rays-shadow-blocked")
     if blocked.any():
         ax.scatter(*shown.project(stops).T, marker="x", color="darkred", s=40, zorder=6)
     ax.set_title(f"{np.count_nonzero(~blocked)} of {count} shadow rays reach the light")
-    finish_axes(ax, shown, np.vstack([origins, targets, p, _spheres(scene)]), scene.camera)
+    drawn = [targets, starts, _spheres(scene)] + ([] if view == "front" else [rays["origins"]])
+    finish_axes(ax, shown, np.vstack(drawn), scene.camera)
     return ax.figure
+
+
+def penumbra_pixel(scene: Scene, view: str = "front") -> tuple[int, int]:
+    """A pixel (row, column) in the penumbra of the scene's first area light, for
+    :func:`shadow_rays_diagram`: its centre ray meets a surface from which some of its shadow
+    rays reach the light and some are blocked, as near half as can be, and none of those that
+    reach it crosses a sphere where ``view`` draws them (a ray passing beside a ball in space can
+    be drawn across it, and would look as if it went through). Raises ValueError where no pixel
+    is such."""
+    height, width = scene.camera.height, scene.camera.width
+    rows, cols = (grid.ravel() for grid in np.mgrid[0:height, 0:width])
+    hit = cast_pixels(scene, rows, cols)[2].index >= 0
+    rays = _shadow_rays(scene, rows[hit], cols[hit])
+    share = rays["blocked"].mean(axis=1)
+    shown = view_for(scene.camera, view)
+    centres = shown.project(np.array([s.center for s in scene.spheres], float).reshape(-1, 3))
+    radii = np.array([s.radius for s in scene.spheres], float)
+    best = None
+    for k in np.argsort(np.abs(share - 0.5), kind="stable"):
+        if not 0 < share[k] < 1:
+            break
+        reaching = ~rays["blocked"][k]
+        a = shown.project(rays["starts"][k][reaching])[:, None, :]  # (R, 1, 2)
+        b = shown.project(rays["targets"][k][reaching])[:, None, :]
+        d = b - a
+        along = np.clip(np.sum((centres - a) * d, axis=-1) / np.sum(d * d, axis=-1), 0, 1)
+        nearest = a + along[..., None] * d
+        if (np.sqrt(np.sum((nearest - centres) ** 2, axis=-1)) > radii).all():
+            best = k
+            break
+    if best is None:
+        raise ValueError("no pixel of the penumbra has its shadow rays clear of the spheres")
+    return int(rows[hit][best]), int(cols[hit][best])
 
 
 def lens_rays_diagram(
@@ -226,10 +291,10 @@ def moving_rays_diagram(
 
 
 def _axes(scene: Scene, view: str, ax: Axes | None) -> tuple[View, Axes]:
-    """A top or side view of ``scene`` with its objects drawn."""
+    """A top, side or front view of ``scene`` with its objects drawn."""
     shown = view_for(scene.camera, view)
     if shown.is_3d:
-        raise ValueError("the sampled rays are drawn in a top or side view, not in 3D")
+        raise ValueError("the sampled rays are drawn in a top, side or front view, not in 3D")
     ax = new_axes(shown, ax, size=(7, 5))
     draw_scene_objects(ax, shown, scene)
     return shown, ax

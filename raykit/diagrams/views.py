@@ -1,12 +1,14 @@
-"""Views for 3D diagrams: drawing scene objects on 3D axes or on a top or side projection.
+"""Views for 3D diagrams: drawing scene objects on 3D axes or on a top, side or front projection.
 
 A *view* maps world points ``(N, 3)`` to what an axes plots, by picking and ordering world axes.
 The world axis closest to the camera's ``up`` is "up"; of the other two, the one closest to the
 view direction is "depth", the last "across". The 3D view plots (across, depth, up), so that up
 is matplotlib's vertical axis; the top view plots (across, depth), looking down the up axis;
-the side view plots (depth, up). In the example scenes (y up, looking along -z) that is
-(x, z) and (z, y). The depth axis is flipped where needed so that the eye is at the bottom of
-the top view and on the left of the side view, looking into the picture; axes are labelled.
+the side view plots (depth, up); the front view plots (across, up), looking along the depth
+axis as the eye does. In the example scenes (y up, looking along -z) that is (x, z), (z, y) and
+(x, y). The depth axis is flipped where needed so that the eye is at the bottom of the top view
+and on the left of the side view, looking into the picture, and the across axis so that the
+front view's right is the eye's; axes are labelled.
 """
 
 from __future__ import annotations
@@ -26,7 +28,7 @@ from raykit.camera import Camera
 from raykit.rays import length
 from raykit.scene import Scene
 
-VIEWS = ("3d", "top", "side")
+VIEWS = ("3d", "top", "side", "front")
 AXIS_NAMES = "xyz"
 
 
@@ -47,7 +49,7 @@ class View:
 
 
 def view_for(camera: Camera, name: str) -> View:
-    """The view ``name`` ("3d", "top" or "side") of a scene seen by ``camera``."""
+    """The view ``name`` ("3d", "top", "side" or "front") of a scene seen by ``camera``."""
     if name not in VIEWS:
         raise ValueError(f"view must be one of {', '.join(VIEWS)}, got {name!r}")
     up = int(np.argmax(np.abs(camera.up)))
@@ -55,7 +57,8 @@ def view_for(camera: Camera, name: str) -> View:
     view_direction[up] = -1
     depth = int(np.argmax(view_direction))
     across = 3 - up - depth
-    axes = {"3d": (across, depth, up), "top": (across, depth), "side": (depth, up)}[name]
+    axes = {"3d": (across, depth, up), "top": (across, depth), "side": (depth, up),
+            "front": (across, up)}[name]  # fmt: skip
     return View(name, axes)
 
 
@@ -99,6 +102,13 @@ def finish_axes(ax: Axes, view: View, points: np.ndarray, camera: Camera) -> Non
             flip()
         if view.name == "top" and k == 1 and eye[1] > lookat[1]:
             flip()
+        if view.name == "front" and k == 0 and _right(camera)[view.axes[0]] < 0:
+            flip()
+
+
+def _right(camera: Camera) -> np.ndarray:
+    """The eye's right ``(3,)``: the direction of view crossed with up (the camera's u)."""
+    return np.cross(np.asarray(camera.lookat, float) - camera.eye, np.asarray(camera.up, float))
 
 
 def fewer_ticks_3d(ax: Axes) -> None:

@@ -13,7 +13,8 @@ A distributed scene (stage 5) is judged by the same rule, with its own estimate 
 engine's time: its sample rays (width x height x ``render.samples_per_pixel``) at the numpy
 engine's time per sample ray of a distributed render (``NUMPY_SECONDS_PER_RAY["distributed"]``,
 more than a lit pinhole ray's: each sample draws its uniform numbers, and its batches are a
-tile's pixels at one sample), and its own kernels (``trace_sampled``) compiled and cached.
+tile's pixels at one sample), and its own kernels (``trace_sampled``, ``trace_sampled_mirrors``
+or ``trace_moving``: :func:`entry_point`) compiled and cached.
 Loading those costs a process about what a lit scene's kernels cost, and the compiled engine
 saves about the same share of the numpy engine's time (``python benchmarks/engines.py``
 prints both), so the one threshold ``AUTO_FROM`` serves.
@@ -250,13 +251,17 @@ def marker(entry: str, folder: Path | None = None) -> Path | None:
 
 def entry_point(scene: Scene) -> str:
     """The compiled engine's entry point that renders ``scene``: a scene with mirror rays'
-    kernels, a lit scene's, or a flat one's only; a distributed scene's (stage 5) are its own,
-    flat or lit, with mirrors or not."""
+    kernels, a lit scene's, or a flat one's only; a distributed scene's (stage 5) are its own:
+    a moving scene's (motion blur), or a still one's, with mirror rays' kernels or without.
+    Each compiles only what it renders."""
+    mirrors = scene.max_depth > 0 and scene.materials.any_mirror
     if scene.distributed:
-        return "trace_sampled"
+        if scene.moving:
+            return "trace_moving"
+        return "trace_sampled_mirrors" if mirrors else "trace_sampled"
     if not needs_shading(scene):
         return "trace_flat"
-    return "trace_mirrors" if scene.max_depth > 0 and scene.materials.any_mirror else "trace_lit"
+    return "trace_mirrors" if mirrors else "trace_lit"
 
 
 def compiled_once(entry: str) -> bool:

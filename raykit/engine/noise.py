@@ -31,9 +31,13 @@ The three samplers (:data:`raykit.sampling.SAMPLERS`) make sample k of a pixel f
   takes stratum π(k) of the n·n strata of [0, 1), (π(k) + ξ)/(n·n), π again a permutation
   drawn per pixel (:meth:`PixelSamples.stratum`). So a pixel's n·n rays see n·n different
   slices of the shutter interval, exactly one in each, as its pixel points are one per cell;
-* ``sobol``: point k of one scrambled Sobol' set (:func:`raykit.sampling.sobol_set`) for the
-  whole image, each pixel's copy shifted modulo 1 by its own numbers (a Cranley-Patterson
-  rotation), so that neighbouring pixels' errors do not line up.
+* ``sobol``: as ``jittered``, each pair of dimensions from cell k (the pixel's pair) or π(k) (the
+  others), but the cell is point k or π(k) of the two-dimensional Sobol' sequence's first
+  samples_per_pixel points, a net, scrambled for each pixel and dimension by a seed of its own
+  (the top 32 bits of the counter (seed, pixel, SCRAMBLE_SAMPLE, dimension)'s hash:
+  :func:`raykit.sampling.sobol_set`); the time takes point π(k) of the first dimension, van der
+  Corput's, scrambled the same way. So each pixel's points are a scrambled net of their own,
+  and neighbouring pixels' errors do not line up; no number depends on any other library.
 """
 
 from __future__ import annotations
@@ -43,7 +47,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from raykit.sampling import Sampling, jittered_point, sobol_set
+from raykit.sampling import (
+    SOBOL_BITS,
+    Sampling,
+    jittered_point,
+    owen_scramble,
+    sobol_points,
+    sobol_set,
+)
 from raykit.scene import Scene
 
 GAMMA = np.uint64(0x9E3779B97F4A7C15)  # splitmix64's increment: 2^64 / the golden ratio
@@ -51,9 +62,9 @@ MIX1 = np.uint64(0xBF58476D1CE4E5B9)
 MIX2 = np.uint64(0x94D049BB133111EB)
 UNIT = 2.0**-53
 # samples no pixel ever takes (counters of sample k are k < 2^32): the keys of a pixel's shuffles
-# and of its Sobol' shift
+# and of its Sobol' scrambles
 SHUFFLE_SAMPLE = np.uint64(0xFFFFFFFFFFFFFFFF)
-SHIFT_SAMPLE = np.uint64(0xFFFFFFFFFFFFFFFE)
+SCRAMBLE_SAMPLE = np.uint64(0xFFFFFFFFFFFFFFFE)
 STRATUM_SAMPLE = np.uint64(0xFFFFFFFFFFFFFFFD)  # the key of a 1-D dimension's shuffle
 
 
@@ -156,34 +167,36 @@ class PixelSamples:
         self.n = math.isqrt(spp)
         if sampling.sampler == "jittered" and self.n * self.n != spp:
             raise ValueError(f"the jittered sampler takes n x n samples per pixel, got {spp}")
-        self.table = (
-            sobol_set(spp, dimensions, sampling.seed) if sampling.sampler == "sobol" else None
-        )
+        if sampling.sampler == "sobol" and spp & (spp - 1):
+            raise ValueError(f"a Sobol' set is balanced at a power of two points, got {spp}")
 
     def of(self, pixels: np.ndarray, k: int) -> np.ndarray:
         """Sample k's uniform numbers ``(P, dimensions)`` in pixels ``(P,)`` (r·width + c)."""
         seed, dims = self.sampling.seed, np.arange(self.dimensions)
         pixels = np.asarray(pixels, dtype=np.int64)[:, None]
-        if self.sampling.sampler == "random":
+        sampler = self.sampling.sampler
+        if sampler == "random":
             return uniforms(seed, pixels, k, dims)
-        if self.sampling.sampler == "sobol":
-            shifted = self.table[k] + uniforms(seed, pixels, SHIFT_SAMPLE, dims)
-            return np.where(shifted >= 1.0, shifted - 1.0, shifted)
-        jitter = uniforms(seed, pixels, k, dims)
-        out = np.empty_like(jitter)
+        jitter = uniforms(seed, pixels, k, dims) if sampler == "jittered" else None
+        out = np.empty((len(pixels), self.dimensions))
         spp = self.sampling.samples_per_pixel
         for pair in range(self.dimensions // 2):
             cells = np.full(len(pixels), k, dtype=np.int64)
             if pair:  # the pixel's own pair keeps cell k; the others are shuffled against it
                 key = counter_hash(seed, pixels[:, 0], SHUFFLE_SAMPLE, pair)
                 cells = shuffle(cells, spp, key)
-            out[:, 2 * pair : 2 * pair + 2] = jittered_point(
-                cells, self.n, jitter[:, 2 * pair : 2 * pair + 2]
-            )
+            two = slice(2 * pair, 2 * pair + 2)
+            if sampler == "sobol":  # point π(k) of the pixel's own scrambled net
+                out[:, two] = sobol_set(cells, self._scrambles(pixels, dims[two]))
+            else:
+                out[:, two] = jittered_point(cells, self.n, jitter[:, two])
         if self.dimensions % 2:  # the last dimension is a single number: stratified in 1-D
             last = self.dimensions - 1
             out[:, last] = self._strata(
-                pixels[:, 0], np.full(len(pixels), k), last, jitter[:, last]
+                pixels[:, 0],
+                np.full(len(pixels), k),
+                last,
+                None if jitter is None else jitter[:, last],
             )
         return out
 
@@ -197,22 +210,39 @@ class PixelSamples:
         seed = self.sampling.seed
         if self.sampling.sampler == "random":
             return uniforms(seed, pixels[:, None], samples[None, :], dimension)
-        if self.sampling.sampler == "sobol":
-            shift = uniforms(seed, pixels, SHIFT_SAMPLE, dimension)[:, None]
-            shifted = self.table[:, dimension][None, :] + shift
-            return np.where(shifted >= 1.0, shifted - 1.0, shifted)
         if dimension != self.dimensions - 1 or self.dimensions % 2 == 0:
             raise ValueError(f"dimension {dimension} is one of a pair, not a 1-D stratum")
-        jitter = uniforms(seed, pixels[:, None], samples[None, :], dimension)
+        jitter = None
+        if self.sampling.sampler == "jittered":
+            jitter = uniforms(seed, pixels[:, None], samples[None, :], dimension).ravel()
         every = np.repeat(pixels, spp)
-        strata = self._strata(every, np.tile(samples, len(pixels)), dimension, jitter.ravel())
+        strata = self._strata(every, np.tile(samples, len(pixels)), dimension, jitter)
         return strata.reshape(len(pixels), spp)
 
+    def _scrambles(self, pixels: np.ndarray, dims: np.ndarray) -> np.ndarray:
+        """The Sobol' sampler's seeds ``(P, len(dims))`` (32 bits) of pixels ``(P, 1)`` in
+        dimensions ``dims``: the top half of the hash of (seed, pixel, SCRAMBLE_SAMPLE,
+        dimension), each pixel's net scrambled its own way
+        (:func:`raykit.sampling.owen_scramble`)."""
+        return counter_hash(self.sampling.seed, pixels, SCRAMBLE_SAMPLE, dims) >> np.uint64(32)
+
     def _strata(
-        self, pixels: np.ndarray, samples: np.ndarray, dimension: int, jitter: np.ndarray
+        self,
+        pixels: np.ndarray,
+        samples: np.ndarray,
+        dimension: int,
+        jitter: np.ndarray | None,
     ) -> np.ndarray:
-        """(π(k) + ξ)/S ``(N,)`` for pixels ``(N,)``, samples k ``(N,)`` and their numbers ξ
-        ``(N,)``: sample k in stratum π(k) of S, π a permutation per pixel and dimension."""
+        """Sample k's number ``(N,)`` in stratum π(k) of S for pixels ``(N,)``, samples k
+        ``(N,)``, π a permutation per pixel and dimension: (π(k) + ξ)/S by their numbers ξ
+        ``jitter (N,)`` (jittered); or (Sobol', ``jitter`` None) point π(k) of van der Corput's
+        sequence, the first dimension of the Sobol' points, scrambled by the pixel's own seed:
+        one number in each of the S strata, as the jittered sampler puts them."""
         spp = self.sampling.samples_per_pixel
         key = counter_hash(self.sampling.seed, pixels, STRATUM_SAMPLE, dimension)
-        return (shuffle(samples, spp, key) + jitter) / spp
+        strata = shuffle(samples, spp, key)
+        if jitter is not None:
+            return (strata + jitter) / spp
+        seeds = self._scrambles(pixels[:, None], np.array([dimension]))[:, 0]
+        scrambled = owen_scramble(sobol_points(strata)[:, 0], seeds)
+        return scrambled.astype(np.float64) * 2.0**-SOBOL_BITS

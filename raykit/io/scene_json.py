@@ -6,11 +6,12 @@ as it is read (:mod:`raykit.io.fields`); a bad one is a :class:`raykit.io.errors
 naming the file and the field, before any rendering starts.
 
 Format v2 (stage 5, distributed ray tracing) is v1 with ``"version": 2`` at the top, and adds
-area lights, the camera's ``aperture`` and ``focus_distance``, a mirror's ``glossiness``, and a
-``render`` object (``samples_per_pixel``, ``sampler``, ``seed``, ``shutter``). A file without
-``version`` is v1, read as it always was; a v2 field in it is refused, naming the field and the
-fix. A scene with a ``shutter`` moves its spheres by their ``velocity`` (motion blur); a
-billboard's velocity is refused there.
+area lights (FOCG's, of a ``color``, or physically based, of a ``radiance``), the camera's
+``aperture`` and ``focus_distance``, a mirror's ``glossiness``, and a ``render`` object
+(``samples_per_pixel``, ``sampler``, ``seed``, ``shutter``). A file without ``version`` is v1,
+read as it always was; a v2 field in it is refused, naming the field and the fix. A scene with a
+``shutter`` moves its spheres by their ``velocity`` (motion blur); a billboard's velocity is
+refused there.
 """
 
 from __future__ import annotations
@@ -181,21 +182,33 @@ def _read_shutter(f: Field) -> tuple[float, float]:
 
 
 def _read_area_light(node: Field) -> AreaLight:
-    f = node.object(required=("type", "corner", "edge1", "edge2"), optional=("color", "name"))
+    f = node.object(
+        required=("type", "corner", "edge1", "edge2"), optional=("color", "radiance", "name")
+    )
     corner, edge1, edge2 = (f[key].vector(3) for key in ("corner", "edge1", "edge2"))
     for key, edge in (("edge1", edge1), ("edge2", edge2)):
         if not np.any(edge):
             raise f[key].error("is the zero vector, so the light has no area")
     if is_degenerate(edge1, edge2):
         raise f["edge1"].error("must not be parallel to edge2, or the light has no area")
+    if "radiance" in f:  # the physically based light (raykit.lights.area_intensity)
+        if "color" in f:
+            raise f["radiance"].error(
+                "is the physically based light's radiance L, \"color\" FOCG's intensity I: "
+                "give one of them"
+            )
+        return AreaLight(corner, edge1, edge2, f["radiance"].intensity(), physical=True)
     color = f["color"].intensity() if "color" in f else np.ones(3)
     return AreaLight(corner, edge1, edge2, color)
+
+
+LIGHT_FIELDS = ("direction", "position", "color", "radiance", "name", "corner", "edge1", "edge2")
 
 
 def _read_light(node: Field, v2: bool = False) -> Light:
     kind = node.object(
         required=("type",),
-        optional=("direction", "position", "color", "name", "corner", "edge1", "edge2"),
+        optional=LIGHT_FIELDS,
     )
     light_type = kind["type"].string(LIGHT_TYPES)
     if light_type == "area":
@@ -206,6 +219,8 @@ def _read_light(node: Field, v2: bool = False) -> Light:
         place, other = other, place
     if other in kind:
         raise kind[other].error(f'a {light_type} light takes "{place}", not "{other}"')
+    if "radiance" in kind:
+        raise kind["radiance"].error(f'is an area light\'s: a {light_type} light takes "color"')
     f = node.object(required=("type", place), optional=("color", "name"))
     color = f["color"].intensity() if "color" in f else np.ones(3)
     if light_type == "point":

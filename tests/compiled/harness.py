@@ -257,11 +257,11 @@ def distributed_scene(
 ):
     """A seeded random distributed scene (format v2, read as a file is) of 48 x 36 pixels:
     ``spheres`` spheres on a floor, in front of a textured wall, ``samples`` per pixel by
-    ``sampler`` with a random seed; with ``lights``, an area light, a point light and a
-    directional light (and ambient light), else flat colours; a thin lens of random aperture
-    and focus if ``lens``; mirror spheres and max_depth 2 if ``mirrors``, some of them glossy if
-    ``glossy``; with ``moving``, a shutter [T0, T1] and every other sphere moving (motion blur),
-    fast enough to cross the others."""
+    ``sampler`` with a random seed; with ``lights``, an area light, a point light, a
+    directional light and a physically based area light (and ambient light), else flat colours;
+    a thin lens of random aperture and focus if ``lens``; mirror spheres and max_depth 2 if
+    ``mirrors``, some of them glossy if ``glossy``; with ``moving``, a shutter [T0, T1] and
+    every other sphere moving (motion blur), fast enough to cross the others."""
     balls = []
     for k in range(spheres):
         center = rng.uniform([-3, 0.3, -3], [3, 1.5, 2]).tolist()
@@ -298,6 +298,8 @@ def distributed_scene(
              "edge2": [0, 0, float(rng.uniform(1, 2))], "color": [0.7, 0.7, 0.65]},
             {"type": "point", "position": [3.0, 4.0, 4.0], "color": [0.3, 0.3, 0.35]},
             {"type": "directional", "direction": [-0.3, -1.0, -0.4], "color": [0.2, 0.2, 0.2]},
+            {"type": "area", "corner": [-4.0, 0.5, -2.0], "edge1": [0, 2.0, 0],
+             "edge2": [0, 0, 3.0], "radiance": [3.0, 2.6, 2.2]},  # lights +x; its back -x
         ]  # fmt: skip
         data["ambient"] = [0.1, 0.1, 0.1]
     if lens:

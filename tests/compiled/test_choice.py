@@ -79,7 +79,7 @@ def test_small_renders_never_import_numba():
 def test_auto_judges_a_distributed_scene_by_its_sample_rays_and_its_own_kernels(monkeypatch):
     scene = load_scene(SCENES / "soft_shadows.json")  # 320 x 240, 16 samples per pixel
     small = replace(scene, camera=replace(scene.camera, width=32, height=24))
-    monkeypatch.setattr(choice, "compiled_once", lambda entry: entry == "trace_sampled")
+    monkeypatch.setattr(choice, "compiled_once", lambda entry: entry.startswith("trace_"))
     assert choice.entry_point(scene) == "trace_sampled"
     rays = 320 * 240 * 16
     assert choice.numpy_seconds(scene, 1) == rays * choice.NUMPY_SECONDS_PER_RAY["distributed"]
@@ -88,5 +88,6 @@ def test_auto_judges_a_distributed_scene_by_its_sample_rays_and_its_own_kernels(
     moving = load_scene(SCENES / "motion_blur.json")
     assert choice.numpy_seconds(moving, 1) >= choice.AUTO_FROM
     assert choice.choose("auto", moving) == "compiled"  # a distributed scene like any other
+    assert choice.entry_point(moving) == "trace_moving"
     monkeypatch.setattr(choice, "compiled_once", lambda entry: entry != "trace_sampled")
     assert choice.choose("auto", scene) == "numpy"  # its kernels are not compiled yet

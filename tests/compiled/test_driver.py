@@ -29,6 +29,7 @@ from .harness import (
     distributed_scene,
     exactly,
     packet_scenes,
+    run_python,
     same_render,
     twin_test,
 )
@@ -378,6 +379,69 @@ def test_a_lit_scene_without_mirrors_never_types_the_mirror_rays():
     assert seen == [("trace_flat", None), ("trace_lit", False), ("trace_mirrors", True)]
 
 
+def test_a_still_distributed_scene_never_types_the_moving_scenes_or_mirrors_kernels():
+    """As above, for stage 5: a scene whose spheres stand still renders by trace_sampled, which
+    calls no sampled_job (the moving scene's, trace_moving's), and without mirrors passes
+    sampled_lanes ``bounces`` None, whose pruning drops bounce_on; glossy.json keeps it. Each
+    kind is an entry point of its own (its marker, its progress line)."""
+    import inspect
+
+    from numba.core import ir, types
+    from numba.core.analysis import dead_branch_prune
+    from numba.core.compiler import run_frontend
+
+    from raykit.engine.compiled import driver
+    from raykit.engine.compiled import shading as kernels
+
+    def globals_called(kernel, bounces) -> set:
+        parameters = list(inspect.signature(kernel.py_func).parameters)
+        kind = types.none if bounces is None else types.boolean
+        code = run_frontend(kernel.py_func)
+        dead_branch_prune(code, tuple(kind if p == "bounces" else types.pyobject
+                                      for p in parameters))  # fmt: skip
+        return {
+            statement.value.value
+            for block in code.blocks.values()
+            for statement in block.find_insts(ir.Assign)
+            if isinstance(statement.value, ir.Global)
+        }
+
+    seen = []
+    for name in ("soft_shadows", "glossy", "motion_blur"):
+        entry, trace, leading = driver._entry(compiled.prepare(load_scene(SCENES / f"{name}.json")))
+        called = globals_called(trace, leading[-1] if trace is driver.trace_sampled else None)
+        lanes = driver.sampled_lanes in called
+        bounces = lanes and kernels.bounce_on in globals_called(driver.sampled_lanes, leading[-1])
+        seen.append((entry, driver.sampled_job in called, lanes, bounces))
+    assert seen == [
+        ("trace_sampled", False, True, False),
+        ("trace_sampled_mirrors", False, True, True),
+        ("trace_moving", True, False, False),
+    ]
+
+
+def test_a_second_render_reuses_the_first_ones_memory():
+    """A render's outputs (a 1080p picture's are 83 MB) come from the memory the last one's
+    left, not from new pages of the system, each a fault and zeroed (glibc's malloc keeps
+    what is freed: compiling.keep_freed_memory). Counted by the process's page faults."""
+    run = run_python(
+        "import resource\n"
+        "from dataclasses import replace\n"
+        "from raykit.engine import compiled\n"
+        "from raykit.io.scene_json import load_scene\n"
+        "scene = load_scene('scenes/classic.json')\n"
+        "scene = replace(scene, camera=replace(scene.camera, width=1920, height=1080))\n"
+        "prepared = compiled.prepare(scene)\n"
+        "for _ in range(3):\n"
+        "    before = resource.getrusage(resource.RUSAGE_SELF).ru_minflt\n"
+        "    image = compiled.render(prepared)\n"
+        "    del image\n"
+        "print(resource.getrusage(resource.RUSAGE_SELF).ru_minflt - before)\n"
+    )
+    assert run.returncode == 0, run.stderr
+    assert int(run.stdout) < 100  # new pages for the outputs: 20,000 of 4 KB, or 40 of 2 MB
+
+
 # the kinds of scene the example scenes and the crowds above never render, and the first eight
 # scenes random_scene makes from seed 26 all have between them (with an adaptive render): one
 # image 1 pixel wide or so, a 1 or 179 degree view, the camera in a sphere, a billboard edge-on
@@ -432,9 +496,11 @@ def _in_lanes(rng):
 
 CHECKS = {
     "driver.trace_sampled": _distributed("jittered", lens=True, mirrors=True),
+    "driver.trace_moving": _distributed("jittered", lights=False, moving=True),
     "driver.sampled_job": _distributed("sobol", mirrors=True, glossy=True, moving=True),
     "driver.sampled_lanes": _in_lanes,
     "driver.cast_lanes": _distributed("jittered", lens=True, lights=False),
+    "driver.cast_each": _in_lanes,
     "driver.cast_rays": caster_answers_what_cast_answers,
     "driver.trace_flat": _small("classic"),
     "driver.flat_job": _small("cutouts"),

@@ -23,7 +23,7 @@ def _counters(rng, count=COUNTERS):
     pixel = rng.integers(0, 2**40, count)
     sample = rng.integers(0, 2**32, count).astype(np.uint64)
     sample[::7] = noise.SHUFFLE_SAMPLE
-    sample[1::7] = noise.SHIFT_SAMPLE
+    sample[1::7] = noise.SCRAMBLE_SAMPLE
     dimension = rng.integers(0, 64, count)
     return seed, pixel, sample, dimension
 
@@ -93,12 +93,11 @@ def _shuffle(rng):
 @numba.njit
 def _samples(sampler, seed, pixels, k, n, table, wanted):
     out = np.full((len(pixels), len(wanted)), np.nan)
-    keys = np.zeros((len(wanted) // 2 + 2, 4), dtype=np.uint64)
-    shifts = np.empty(len(wanted))
+    keys = np.zeros((len(wanted) // 2 + 2, 6), dtype=np.uint64)
     reads = np.flatnonzero(wanted)
     for i in range(len(pixels)):
-        kernels.pixel_keys(sampler, seed, pixels[i], wanted, keys, shifts)
-        kernels.sample_numbers(sampler, k, n, table, wanted, reads, keys, shifts, out[i])
+        kernels.pixel_keys(sampler, seed, pixels[i], wanted, keys)
+        kernels.sample_numbers(sampler, k, n, table, wanted, reads, keys, out[i])
     return out
 
 
@@ -107,11 +106,11 @@ def _pixel_sample(rng):
     last single number left out, as :func:`~raykit.engine.compiled.driver.wanted_dimensions`
     leaves what a scene does not read): the wanted ones the reference's, the others not
     written."""
-    for name, count in (("random", 5), ("jittered", 16), ("jittered", 9), ("sobol", 8)):
+    for name, count in (("random", 5), ("jittered", 16), ("jittered", 9), ("sobol", 8),
+                        ("sobol", 64)):  # fmt: skip
         for dimensions in (2, 4, 10, 11):  # 11: a last single number (a time), in strata
             seed = int(rng.integers(0, 2**32))
             samples = noise.PixelSamples(Sampling(count, name, seed), dimensions)
-            table = samples.table if samples.table is not None else np.zeros((0, dimensions))
             sampler = {"random": kernels.RANDOM, "jittered": kernels.JITTERED,
                        "sobol": kernels.SOBOL}[name]  # fmt: skip
             pixels = rng.integers(0, 2**24, 2000)
@@ -120,6 +119,7 @@ def _pixel_sample(rng):
             some[2 : min(4, dimensions)] = False  # a pinhole's lens
             some[6:8] = False  # a light's point at a mirror depth past 0
             some[dimensions - 1 :] = dimensions % 2 == 0  # (11) the time
+            table = kernels.sobol_table(count if name == "sobol" else 0)
             for k in range(count):
                 expected = samples.of(pixels, k)
                 exactly(_samples(sampler, seed, pixels, k, samples.n, table, every), expected)
@@ -167,6 +167,7 @@ CHECKS = {
     "noise.shuffle": _shuffle,
     "noise.pixel_hash": _hash_in_parts,
     "noise.hash_on": _hash_in_parts,
+    "noise.fold": _hash_in_parts,
     "noise.uniform": _hash_in_parts,
     "noise.round_keys": _shuffle,
     "noise.shuffle_by": _shuffle,

@@ -180,7 +180,39 @@ def _shutter_times(rng):
         exactly(run(*shutter, xi), sampling.shutter_times(*shutter, xi))
 
 
+@numba.njit
+def _sobol_kernels(index, seeds):
+    out = np.empty((len(index), 6), dtype=np.uint64)
+    for i in range(len(index)):
+        out[i, 0] = kernels.reverse_bits(index[i])
+        out[i, 1], out[i, 2] = kernels.sobol_points(index[i])
+        out[i, 3] = kernels.owen_scramble(out[i, 1], seeds[i, 0])
+        out[i, 4] = kernels.owen_scramble(out[i, 2], seeds[i, 1])
+        # the hash alone, on the first dimension mirrored (the index itself), mirrored back
+        out[i, 5] = kernels.reverse_bits(kernels.owen_hash(index[i], seeds[i, 0]))
+    return out
+
+
+def _sobol(rng):
+    """Every bit of 32 reversed, the Sobol' points of small and large indices, and their
+    scrambles."""
+    index = np.concatenate([np.arange(4096), rng.integers(0, 2**32, 20_000),
+                            2 ** np.arange(32), [2**32 - 1]]).astype(np.uint64)  # fmt: skip
+    seeds = rng.integers(0, 2**32, (len(index), 2)).astype(np.uint64)
+    got = _sobol_kernels(index, seeds)
+    points = sampling.sobol_points(index)
+    exactly(got[:, 0], sampling.reverse_bits(index))
+    exactly(got[:, 1:3], points)
+    exactly(got[:, 3], sampling.owen_scramble(points[:, 0], seeds[:, 0]))
+    exactly(got[:, 4], sampling.owen_scramble(points[:, 1], seeds[:, 1]))
+    exactly(got[:, 5], got[:, 3])
+
+
 CHECKS = {
+    "sampling.reverse_bits": _sobol,
+    "sampling.sobol_points": _sobol,
+    "sampling.owen_scramble": _sobol,
+    "sampling.owen_hash": _sobol,
     "sampling.basis_around": _basis_around,
     "sampling.perturbed_direction": _perturbed_direction,
     "sampling.point_in_pixel": _point_in_pixel,

@@ -219,13 +219,17 @@ def _shade_checked(rng, max_depth):
 
 
 def _with_area_lights(rng, scene):
-    """``scene`` with two area lights among its lights (one large, one small and far)."""
+    """``scene`` with three area lights among its lights (one large, one small and far, both
+    FOCG's, and a physically based one lighting the crowd from one side, its back the
+    other's)."""
     lights = (
         AreaLight(np.array([-2.0, 7.0, 6.0]), np.array([4.0, 0, 0]), np.array([0, 0.5, 3.0]),
                   np.array([0.6, 0.6, 0.5])),
         *scene.lights,
         AreaLight(rng.normal(size=3) * 3 + [0, 0, 12], rng.normal(size=3) * 0.1,
                   rng.normal(size=3) * 0.1, np.array([0.3, 0.2, 0.4])),
+        AreaLight(np.array([-3.0, 1.0, 0.0]), np.array([0, 2.0, 0]), np.array([0, 0, 2.0]),
+                  np.array([2.0, 1.8, 1.5]), physical=True),
     )  # fmt: skip
     return replace(scene, lights=lights)
 

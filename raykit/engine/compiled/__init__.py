@@ -58,8 +58,8 @@ Distributed scenes (stage 5). A scene with area lights, a thin lens, glossy mirr
 samples per pixel renders in a loop of its own (:func:`.driver.trace_sampled`): each job a few
 pixels, each pixel all its samples in order, every ray (viewing, shadow, mirror) through the
 tree. A sample's uniform numbers are :mod:`raykit.engine.noise`'s, hashed from (seed, pixel,
-sample, dimension) in wrapping uint64 arithmetic (:mod:`.noise`; the Sobol' points come from
-scipy, made in Python), so no number depends on which worker takes which pixel; the sample
+sample, dimension) in wrapping uint64 arithmetic (:mod:`.noise`; the Sobol' points and their
+scrambling too), so no number depends on which worker takes which pixel; the sample
 patterns (:mod:`.sampling`), an area light's point (:func:`.lights.sampled`), the thin lens's
 rays (:func:`.camera.thin_lens_rays`) and a glossy mirror's ray
 (:func:`.mirrors.glossy_reflect`) repeat the reference's operations in its order. Motion
@@ -67,10 +67,12 @@ blur: each sample's ray has its own time in the shutter interval (:func:`.sampli
 and each worker moves its copy of the sphere centres there (:func:`.spheres.center_at`,
 :func:`.driver.spheres_at`) before the ray, its shadow and mirror rays and its normals read
 them; the tree is then one leaf of every object (:func:`.scene.every_object_tree`), as the
-reference tests every object of a scene that moves. One corner differs: the reference takes a
-still sphere's normal from c + T·0, which turns a centre coordinate of -0.0 into +0.0 where its
-hit test keeps -0.0; the engine keeps c for both, so a normal's component can differ in the
-sign of a zero where a hit point's coordinate is exactly -0.0 too.
+reference tests every object of a scene that moves. Such a scene renders by an entry point of
+its own (:func:`.driver.trace_moving`), and a still scene's compiles its mirror rays only where
+it has mirrors, so that no scene compiles the kernels of another kind. One corner differs: the
+reference takes a still sphere's normal from c + T·0, which turns a centre coordinate of -0.0
+into +0.0 where its hit test keeps -0.0; the engine keeps c for both, so a normal's component
+can differ in the sign of a zero where a hit point's coordinate is exactly -0.0 too.
 
 Compiling. Each kernel is compiled on first use, with the kernels it calls, and cached on disk,
 kernel by kernel, in a folder keyed on the sources they are made from (the reference modules
@@ -106,6 +108,7 @@ from raykit.engine.compiled.driver import (
     take,
     trace_flat,
     trace_lit,
+    trace_moving,
     trace_sampled,
 )
 from raykit.engine.compiled.hits import NearestHit, keep_nearer
@@ -157,5 +160,6 @@ __all__ = [
     "prepare", "primary_ray", "primary_rays", "rays_through", "reflect", "render",
     "scene_arrays", "scene_noise", "scene_shading", "scene_tree", "screen_tiles", "shade",
     "shadow_lists", "start", "surface_color", "surface_lanes", "surface_points", "take",
-    "thin_lens_rays", "tile_side", "trace_flat", "trace_lit", "trace_sampled",
+    "thin_lens_rays", "tile_side", "trace_flat", "trace_lit", "trace_moving",
+    "trace_sampled",
 ]  # fmt: skip

@@ -311,6 +311,31 @@ def compile_clock(entry: str, show: bool = True):
         clock.close()
 
 
+M_TRIM_THRESHOLD, M_MMAP_THRESHOLD = -1, -3  # glibc's malloc.h
+
+
+def keep_freed_memory() -> None:
+    """Have the C library's malloc keep large blocks it frees for the next ones, where it is
+    glibc's: a render's outputs (a 1080p picture's colours, objects and distances are 83 MB of
+    float64) are otherwise each time new pages from the system, every page a fault and zeroed
+    before the kernel writes it, a measurable share of a render. Dr.Jit keeps its own memory for
+    the same reason. Freed memory then stays with the process, for its next render, rather than
+    going back to the system. A no-op where malloc is another library's."""
+    import ctypes
+    import ctypes.util
+
+    name = ctypes.util.find_library("c")
+    try:
+        libc = ctypes.CDLL(name)
+    except (OSError, TypeError):
+        return
+    if not hasattr(libc, "gnu_get_libc_version"):  # glibc's, whose mallopt takes these
+        return
+    largest = 1 << 30  # blocks below this come from the heap, which keeps what is freed
+    for option in (M_MMAP_THRESHOLD, M_TRIM_THRESHOLD):
+        libc.mallopt(option, largest)
+
+
 def finished(entry: str, seconds: float) -> None:
     """Mark ``entry``'s kernels compiled and cached (after its first render)."""
     if CACHE is not None:

@@ -39,9 +39,17 @@ from raykit.engine.compiled.compiling import (
     ONE_RAY,
     compile_clock,
     finished,
+    keep_freed_memory,
     marked,
 )
-from raykit.engine.compiled.noise import JITTERED, RANDOM, SOBOL, pixel_keys, sample_numbers
+from raykit.engine.compiled.noise import (
+    JITTERED,
+    RANDOM,
+    SOBOL,
+    pixel_keys,
+    sample_numbers,
+    sobol_table,
+)
 from raykit.engine.compiled.sampling import point_in_pixel, shutter_times
 from raykit.engine.compiled.scene import (
     _NO_TREE,
@@ -80,6 +88,7 @@ from raykit.hits import Hits
 from raykit.scene import Scene
 from raykit.surfaces import OFFSET_FACTOR
 
+keep_freed_memory()  # each render's outputs reuse the last one's pages, where glibc allows
 ROWS_PER_CALL = 32  # rows of pixels per kernel call when a progress bar is to move
 CHUNK = 256  # rays or pixels per parallel step: many per worker, and one stack each
 GRAINS_PER_WORKER = 16  # takes of jobs per worker: few enough that taking costs nothing, and
@@ -457,13 +466,14 @@ SAMPLED_LANES = 256  # samples shaded together (sampled_lanes): of one pixel, or
 
 
 class Noise(NamedTuple):
-    """A distributed render's sampling (:mod:`raykit.engine.noise`) as :func:`trace_sampled`
-    takes it: the ``sampler`` (:data:`~raykit.engine.compiled.noise.RANDOM`, ``JITTERED`` or
-    ``SOBOL``), the ``seed``, the samples per pixel ``count`` (``n`` x ``n`` for the jittered
-    sampler), the Sobol' points ``table (count, D)`` (no rows for the others), the ``dimensions``
-    D of a sample, where in them the point in the pixel and on the lens lie (``pixel``,
-    ``lens``: :class:`raykit.engine.noise.Dimensions`), and which of them a ray of the scene
-    may read, ``wanted (D,)`` (:func:`wanted_dimensions`), and their indices, ``reads``."""
+    """A distributed render's sampling (:mod:`raykit.engine.noise`) as :func:`trace_sampled` takes
+    it: the ``sampler`` (:data:`~raykit.engine.compiled.noise.RANDOM`, ``JITTERED`` or ``SOBOL``),
+    the ``seed``, the samples per pixel ``count`` (``n`` x ``n`` for the jittered sampler), the
+    Sobol' points ``table (count, 2)`` (:func:`~raykit.engine.compiled.noise.sobol_table`; no rows
+    for the other samplers), the ``dimensions`` D of a sample, where in them the point in the
+    pixel and on the lens lie (``pixel``, ``lens``: :class:`raykit.engine.noise.Dimensions`), and
+    which of them a ray of the scene may read, ``wanted (D,)`` (:func:`wanted_dimensions`), and
+    their indices, ``reads``."""
 
     sampler: int
     seed: int
@@ -493,51 +503,67 @@ def wanted_dimensions(scene: Scene, dimensions: Dimensions) -> np.ndarray:
 
 
 def scene_noise(scene: Scene) -> Noise:
-    """The scene's :class:`Noise`, the Sobol' points made by the reference's own
+    """The scene's :class:`Noise`, checked by the reference's own
     :class:`raykit.engine.noise.PixelSamples` (which refuses a jittered count that is not n x n,
     and a Sobol' count that is not a power of two, before any work)."""
     sampling = scene.sampling
     dimensions = Dimensions.of(scene)
     samples = PixelSamples(sampling, dimensions.count)
-    table = samples.table if samples.table is not None else np.zeros((0, dimensions.count))
     sampler = {"random": RANDOM, "jittered": JITTERED, "sobol": SOBOL}[sampling.sampler]
     wanted = wanted_dimensions(scene, dimensions)
-    return Noise(sampler, sampling.seed, sampling.samples_per_pixel, samples.n,
-                 np.require(table, float, "CAW"), dimensions.count, Dimensions.pixel,
-                 Dimensions.lens, wanted, np.flatnonzero(wanted))  # fmt: skip
+    count = sampling.samples_per_pixel
+    table = sobol_table(count if sampler == SOBOL else 0)
+    return Noise(sampler, sampling.seed, count, samples.n, table, dimensions.count,
+                 Dimensions.pixel, Dimensions.lens, wanted, np.flatnonzero(wanted))  # fmt: skip
 
 
 @njit(**MAKES_ARRAYS)
-def trace_sampled(arrays, tree, shading, camera, lens, noise, motion, width, jobs, grain, taken,
+def trace_sampled(arrays, tree, shading, camera, lens, noise, bounces, width, jobs, grain, taken,
                   rgb, index, t):  # fmt: skip
     """The lecture's loop for a distributed scene (stage 5, as
-    :class:`raykit.engine.regions.Plan` batches it): for each pixel, each of its
-    ``noise.count`` samples in order, from the sample's uniform numbers
+    :class:`raykit.engine.regions.Plan` batches it) whose spheres stand still: for each pixel,
+    each of its ``noise.count`` samples in order, from the sample's uniform numbers
     (:func:`~raykit.engine.compiled.noise.sample_numbers`), a point in the pixel, a ray through
-    the pinhole or from the lens (``lens``: :func:`lens_tuple`), its nearest hit through the
-    tree, and its colour, flat or shaded (:func:`shade`, its points on the area lights and its
-    glossy perturbations from the same numbers), summed and divided by the count as
-    :class:`raykit.engine.regions.Image` takes the mean; and the object index and t of the
-    pinhole ray through the pixel centre. ``jobs (J,)``: the first pixel of each job of
-    SAMPLED_PIXELS (row-major, P = ``len(t)``); results into ``rgb (P, 3)``, ``index``, ``t
-    (P,)``. Every ray walks the tree: a lens's rays do not start at the eye, so the screen
-    tiles bound nothing (as the reference tests every object then), and the answer is
-    :func:`raykit.render.cast`'s either way. In a scene whose spheres move (``motion``:
-    :class:`Motion`) each sample's ray has its own time (:func:`shutter_times`), and its viewing,
-    shadow and mirror rays and its normals see the moving spheres there (:func:`center_at`):
-    each worker keeps its own copy of the scene's arrays, their centres moved to the time of
-    the ray it traces (:func:`spheres_at`), and the tree is :func:`every_object_tree`, as the
-    reference tests every object then. A job is one sample at a time in such a scene
-    (:func:`sampled_job`), and in any other, its samples in lanes (:func:`sampled_lanes`), the
-    same bits. A call is one worker, taking grains of jobs as :func:`trace_flat`'s does; a
-    pixel's numbers depend on it alone, so the image does not depend on which takes which."""
-    stack = new_stack()
+    the pinhole or from the lens (``lens``: :func:`lens_tuple`), its nearest hit, and its colour,
+    flat or shaded (its points on the area lights and its glossy perturbations from the same
+    numbers), summed and divided by the count as :class:`raykit.engine.regions.Image` takes the
+    mean; and the object index and t of the pinhole ray through the pixel centre. ``jobs
+    (J,)``: the first pixel of each job of SAMPLED_PIXELS (row-major, P = ``len(t)``); results
+    into ``rgb (P, 3)``, ``index``, ``t (P,)``. No screen tile bounds a ray: a lens's rays do not
+    start at the eye (as the reference tests every object then), and the answer is
+    :func:`raykit.render.cast`'s either way. A job's samples go in lanes
+    (:func:`sampled_lanes`); ``bounces``, True in a scene with mirrors, else None (a type of
+    its own to numba, for which no mirror ray is compiled), as :func:`trace_lit` takes it. A
+    scene whose spheres move renders by :func:`trace_moving`, compiled apart, so that a still
+    scene never compiles its kernels. A call is one worker, taking grains of jobs as
+    :func:`trace_flat`'s does; a pixel's numbers depend on it alone, so the image does not
+    depend on which takes which."""
     room, shading_room = new_ray_room(SAMPLED_LANES), new_shading_room(SAMPLED_LANES, shading)
     every_object(tree, shading, shading_room)
     numbers = np.empty((SAMPLED_LANES, noise.dimensions))
     columns = np.empty((noise.dimensions, SAMPLED_LANES))
-    keys = np.zeros((noise.dimensions // 2 + 2, 4), dtype=np.uint64)
-    shifts = np.empty(noise.dimensions)
+    keys = np.zeros((noise.dimensions // 2 + 2, 6), dtype=np.uint64)
+    while True:
+        first_job = take(taken, grain)
+        if first_job >= len(jobs):
+            break
+        for j in range(first_job, min(len(jobs), first_job + grain)):
+            sampled_lanes(arrays, tree, shading, camera, lens, noise, width, jobs[j], bounces,
+                          numbers, columns, keys, room, shading_room, rgb, index, t)  # fmt: skip
+
+
+@njit(**MAKES_ARRAYS)
+def trace_moving(arrays, tree, shading, camera, lens, noise, motion, width, jobs, grain, taken,
+                 rgb, index, t):  # fmt: skip
+    """:func:`trace_sampled` for a scene whose spheres move (``motion``: :class:`Motion`): each
+    sample's ray has its own time (:func:`shutter_times`), and its viewing, shadow and mirror
+    rays and its normals see the moving spheres there (:func:`center_at`): each worker keeps its
+    own copy of the scene's arrays, their centres moved to the time of the ray it traces
+    (:func:`spheres_at`), and the tree is :func:`every_object_tree`, as the reference tests
+    every object then. A job is one sample at a time (:func:`sampled_job`)."""
+    stack = new_stack()
+    numbers = np.empty(noise.dimensions)
+    keys = np.zeros((noise.dimensions // 2 + 2, 6), dtype=np.uint64)
     at_time = Arrays(arrays.centers.copy(), arrays.radii, arrays.sphere_colors,
                      arrays.corners, arrays.n, arrays.alpha_axes, arrays.beta_axes,
                      arrays.board_colors, arrays.texture_start, arrays.texture_width,
@@ -547,14 +573,8 @@ def trace_sampled(arrays, tree, shading, camera, lens, noise, motion, width, job
         if first_job >= len(jobs):
             break
         for j in range(first_job, min(len(jobs), first_job + grain)):
-            if motion.moving:
-                sampled_job(arrays, at_time, tree, shading, camera, lens, noise, motion,
-                            width, jobs[j], stack, numbers[0], keys, shifts, rgb, index,
-                            t)  # fmt: skip
-            else:
-                sampled_lanes(arrays, tree, shading, camera, lens, noise, width, jobs[j],
-                              stack, numbers, columns, keys, shifts, room, shading_room, rgb,
-                              index, t)  # fmt: skip
+            sampled_job(arrays, at_time, tree, shading, camera, lens, noise, motion, width,
+                        jobs[j], stack, numbers, keys, rgb, index, t)  # fmt: skip
 
 
 @njit(**KERNEL)
@@ -573,20 +593,19 @@ def spheres_at(arrays, motion, centers, T):
 
 @njit(**KERNEL)
 def sampled_job(arrays, at_time, tree, shading, camera, lens, noise, motion, width, first,
-                stack, numbers, keys, shifts, rgb, index, t):  # fmt: skip
-    """One job of :func:`trace_sampled`: the SAMPLED_PIXELS pixels from pixel ``first``, with
-    the worker's ``stack`` (:func:`new_stack`), room for a sample's uniform numbers,
-    ``numbers (D,)``, and for what its pixel's samples share, ``keys`` and ``shifts``
-    (:func:`pixel_keys`), and the worker's copy of ``arrays``, ``at_time``, whose centres it
-    moves to each ray's time in a scene that moves (:class:`Motion`), and every ray reads."""
+                stack, numbers, keys, rgb, index, t):  # fmt: skip
+    """One job of :func:`trace_moving`: the SAMPLED_PIXELS pixels from pixel ``first``, with the
+    worker's ``stack`` (:func:`new_stack`), room for a sample's uniform numbers, ``numbers (D,)``,
+    and for what its pixel's samples share, ``keys`` (:func:`pixel_keys`), and the worker's copy of
+    ``arrays``, ``at_time``, whose centres it moves to each ray's time in a scene that moves
+    (:class:`Motion`), and every ray reads."""
     count, wanted, reads = noise.count, noise.wanted, noise.reads
     for p in range(first, min(first + SAMPLED_PIXELS, len(t))):
         row, col = p // width, p % width
         r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
-        pixel_keys(noise.sampler, noise.seed, p, wanted, keys, shifts)
+        pixel_keys(noise.sampler, noise.seed, p, wanted, keys)
         for k in range(count):
-            sample_numbers(noise.sampler, k, noise.n, noise.table, wanted, reads, keys, shifts,
-                           numbers)  # fmt: skip
+            sample_numbers(noise.sampler, k, noise.n, noise.table, wanted, reads, keys, numbers)
             if motion.moving:  # the ray's time: its own, or the shutter's opening
                 T = motion.shutter_open
                 if motion.time >= 0:
@@ -638,6 +657,19 @@ def every_object(tree, shading, shading_room):
 
 
 @njit(**KERNEL)
+def cast_each(arrays, tree, stack, rays, count, best, best_t, colors):
+    """:func:`nearest_hit` of each of ``count`` rays ``rays (6, N)`` (origins, then directions)
+    through the tree, with a walk's ``stack``: the object index into ``best``, t into ``best_t``
+    and the colour into ``colors (3, N)``. Called once for a batch of rays, its tree walk
+    compiled once, not in each loop that casts them."""
+    for i in range(count):
+        hit = nearest_hit(arrays, tree, stack, rays[0, i], rays[1, i], rays[2, i], rays[3, i],
+                          rays[4, i], rays[5, i], np.inf)  # fmt: skip
+        best[i], best_t[i] = hit.index, hit.t
+        colors[0, i], colors[1, i], colors[2, i] = hit.r, hit.g, hit.b
+
+
+@njit(**KERNEL)
 def cast_lanes(arrays, tree, rays, count, best, best_t, colors, t):
     """:func:`nearest_hit` for each of ``count`` rays ``rays (6, N)`` (origins, then directions)
     in a scene of DIRECT_HITS objects or fewer, each object in turn for all the rays
@@ -686,8 +718,8 @@ def cast_lanes(arrays, tree, rays, count, best, best_t, colors, t):
 
 
 @njit(**KERNEL)
-def sampled_lanes(arrays, tree, shading, camera, lens, noise, width, first, stack, numbers,
-                  columns, keys, shifts, room, shading_room, rgb, index, t):  # fmt: skip
+def sampled_lanes(arrays, tree, shading, camera, lens, noise, width, first, bounces, numbers,
+                  columns, keys, room, shading_room, rgb, index, t):  # fmt: skip
     """:func:`sampled_job` for a scene where nothing moves, its samples in lanes: SAMPLED_LANES
     samples at a time, of one pixel, or of as many whole pixels as they hold (each batch calls
     kernels of its own, whose arguments cost as much as a few rays: a batch of one pixel's few
@@ -698,13 +730,14 @@ def sampled_lanes(arrays, tree, shading, camera, lens, noise, width, first, stac
     shaded at once as :func:`lit_job` shades a tile's rays (:func:`surface_lanes`,
     :func:`light_lanes`, each area light at each ray's own point of it), the shadow rays against
     every object (:func:`every_object`); then each mirror's rays (:func:`bounce_on`, with the
-    ray's row of numbers), and the samples summed in order. A step the same for every sample
+    ray's row of numbers; only where ``bounces`` is True, not None: :func:`trace_sampled`), and
+    the samples summed in order. A step the same for every sample
     is a loop the compiler turns into vector instructions, where one sample at a time waited on
     its divisions and branches. Each ray's operations are :func:`shade`'s, in its order, so the
     bits are :func:`sampled_job`'s."""
     count, wanted, reads = noise.count, noise.wanted, noise.reads
     xy, rays, best, best_t, colors = room.xy, room.rays, room.best, room.best_t, room.colors
-    lanes, box = shading_room.lanes, shading_room.box
+    lanes, box, stack = shading_room.lanes, shading_room.box, shading_room.stack
     total, point, normal, error = lanes.total, lanes.p, lanes.n, lanes.error
     per = max(1, SAMPLED_LANES // count)  # whole pixels a batch holds
     last = min(first + SAMPLED_PIXELS, len(t))
@@ -717,10 +750,9 @@ def sampled_lanes(arrays, tree, shading, camera, lens, noise, width, first, stac
             for i in range(shaded):  # lane i: sample k of pixel p
                 p, k = p_first + i // samples, k_first + i % samples
                 if k == k_first:
-                    pixel_keys(noise.sampler, noise.seed, p, wanted, keys, shifts)
+                    pixel_keys(noise.sampler, noise.seed, p, wanted, keys)
                 u = numbers[i]
-                sample_numbers(noise.sampler, k, noise.n, noise.table, wanted, reads, keys,
-                               shifts, u)  # fmt: skip
+                sample_numbers(noise.sampler, k, noise.n, noise.table, wanted, reads, keys, u)
                 for d in reads:
                     columns[d, i] = u[d]
                 xy[0, i], xy[1, i] = point_in_pixel(p // width, p % width, u[noise.pixel],
@@ -736,11 +768,7 @@ def sampled_lanes(arrays, tree, shading, camera, lens, noise, width, first, stac
             if len(tree.order) <= DIRECT_HITS:
                 cast_lanes(arrays, tree, rays, shaded, best, best_t, colors, lanes.t)
             else:
-                for i in range(shaded):
-                    hit = nearest_hit(arrays, tree, stack, rays[0, i], rays[1, i], rays[2, i],
-                                      rays[3, i], rays[4, i], rays[5, i], np.inf)  # fmt: skip
-                    best[i], best_t[i] = hit.index, hit.t
-                    colors[0, i], colors[1, i], colors[2, i] = hit.r, hit.g, hit.b
+                cast_each(arrays, tree, stack, rays, shaded, best, best_t, colors)
             if shading.shaded:
                 surface_lanes(arrays, shading, rays, best, best_t, colors, shaded, lanes, box)
                 if shading.lit:
@@ -756,7 +784,8 @@ def sampled_lanes(arrays, tree, shading, camera, lens, noise, width, first, stac
                     if hit >= 0:
                         c0, c1, c2 = total[0, i], total[1, i], total[2, i]
                     c0, c1, c2 = 0.0 + 1.0 * c0, 0.0 + 1.0 * c1, 0.0 + 1.0 * c2
-                    if hit >= 0:
+                if bounces is not None:  # None in a scene with no mirror: not compiled
+                    if shading.shaded and hit >= 0:
                         c0, c1, c2 = bounce_on(
                             arrays, tree, shading, stack, 0, hit, point[0, i], point[1, i],
                             point[2, i], normal[0, i], normal[1, i], normal[2, i], rays[3, i],
@@ -766,14 +795,19 @@ def sampled_lanes(arrays, tree, shading, camera, lens, noise, width, first, stac
                 r_sum += c0
                 g_sum += c1
                 b_sum += c2
-                if k == count - 1:  # the pixel's last sample: its mean, and its centre's hit
+                if k == count - 1:  # the pixel's last sample: its mean
                     rgb[p, 0] = r_sum / count
                     rgb[p, 1] = g_sum / count
                     rgb[p, 2] = b_sum / count
-                    ray = rays_through(camera, p % width + 0.5, p // width + 0.5)  # the pinhole's
-                    hit_centre = nearest_hit(arrays, tree, stack, ray.o0, ray.o1, ray.o2, ray.d0,
-                                             ray.d1, ray.d2, np.inf)  # fmt: skip
-                    index[p], t[p] = hit_centre.index, hit_centre.t
+            if k_first + samples == count:  # the batch's pixels are done: their centres' hits
+                for q in range(pixels):  # the pinhole's ray, with a lens too
+                    p = p_first + q
+                    ray = rays_through(camera, p % width + 0.5, p // width + 0.5)
+                    rays[0, q], rays[1, q], rays[2, q] = ray.o0, ray.o1, ray.o2
+                    rays[3, q], rays[4, q], rays[5, q] = ray.d0, ray.d1, ray.d2
+                cast_each(arrays, tree, stack, rays, pixels, best, best_t, colors)
+                for q in range(pixels):
+                    index[p_first + q], t[p_first + q] = best[q], best_t[q]
 
 
 def caster(scene: Scene, arrays: Arrays | None = None) -> Callable[..., Hits]:
@@ -795,13 +829,14 @@ def caster(scene: Scene, arrays: Arrays | None = None) -> Callable[..., Hits]:
 
 class Prepared(NamedTuple):
     """A scene made ready for the kernels (:func:`prepare`): its :class:`Arrays`, screen tiles
-    (:func:`screen_tiles`), BVH (:class:`Tree`, for shadow and mirror rays, and a distributed
-    render's every ray; empty when the scene has none), :class:`Shading` (lights and materials)
-    and camera (:func:`camera_tuple`); and a distributed scene's thin lens (:func:`lens_tuple`)
-    and :class:`Noise` (None for another scene), and its :class:`Motion` (nothing moving but in a
-    scene with a shutter; such a scene's tree is :func:`every_object_tree`); and the ``entry``
-    point that renders it (:func:`raykit.engine.choice.entry_point`, which asks every object's
-    material: asked once here, not at each render)."""
+    (:func:`screen_tiles`; none for a distributed scene, whose rays they do not bound), BVH
+    (:class:`Tree`, for shadow and mirror rays, and a distributed render's every ray; empty when the
+    scene has none), :class:`Shading` (lights and materials) and camera (:func:`camera_tuple`); and
+    a distributed scene's thin lens (:func:`lens_tuple`) and :class:`Noise` (None for another
+    scene), and its :class:`Motion` (nothing moving but in a scene with a shutter; such a scene's
+    tree is :func:`every_object_tree`); and the ``entry`` point that renders it
+    (:func:`raykit.engine.choice.entry_point`, which asks every object's material: asked once here,
+    not at each render)."""
 
     scene: Scene
     arrays: Arrays
@@ -828,8 +863,14 @@ def prepare(scene: Scene) -> Prepared:
     if scene.moving:  # no box of the spheres as they stand bounds them: every object
         tree = every_object_tree(scene)
     noise = scene_noise(scene) if scene.distributed else None
-    return Prepared(scene, arrays, screen_tiles(scene, arrays), tree, shading, camera_tuple(scene),
-                    lens_tuple(scene), noise, scene_motion(scene), entry_point(scene))  # fmt: skip
+    # a distributed scene's rays are not bounded by screen tiles (trace_sampled): it makes none,
+    # and compiles none of their kernels
+    tiles = _NO_TILES if scene.distributed else screen_tiles(scene, arrays)
+    return Prepared(scene, arrays, tiles, tree, shading, camera_tuple(scene), lens_tuple(scene),
+                    noise, scene_motion(scene), entry_point(scene))  # fmt: skip
+
+
+_NO_TILES = Tiles(np.zeros(1, np.int64), np.zeros(0, np.int64), np.zeros((0, 5)), 1, 1, False)
 
 
 def render(scene: Scene | Prepared, samples: int = 1, *, adaptive: bool = False, progress=None):
@@ -935,12 +976,17 @@ def _entry(prepared: Prepared) -> tuple:
     :class:`Shading`, and ``bounces``: True for ``trace_mirrors`` (a ray may bounce off a
     mirror), else None, a type of its own to numba, for which :func:`lit_job` compiles no mirror
     code. The two are compiled apart, and named apart for the cache's markers and the progress
-    line."""
+    line. A distributed scene's: :func:`trace_moving` for one whose spheres move, else
+    :func:`trace_sampled` with ``bounces`` as above (``trace_sampled_mirrors``, or
+    ``trace_sampled``)."""
     name = prepared.entry
-    if name == "trace_sampled":
-        return name, trace_sampled, (prepared.arrays, prepared.tree, prepared.shading,
-                                     prepared.camera, prepared.lens, prepared.noise,
-                                     prepared.motion)  # fmt: skip
+    distributed = (prepared.arrays, prepared.tree, prepared.shading, prepared.camera,
+                   prepared.lens, prepared.noise)  # fmt: skip
+    if name == "trace_moving":
+        return name, trace_moving, (*distributed, prepared.motion)
+    if name in ("trace_sampled", "trace_sampled_mirrors"):
+        bounces = True if name == "trace_sampled_mirrors" else None
+        return name, trace_sampled, (*distributed, bounces)
     if name == "trace_flat":
         return name, trace_flat, (prepared.arrays, prepared.tiles, prepared.camera)
     bounces = True if name == "trace_mirrors" else None

@@ -1,5 +1,5 @@
-"""Repeats :mod:`raykit.lights` for one point: the unit vector l toward a point light, and
-where on an area light a shadow ray aims."""
+"""Repeats :mod:`raykit.lights` for one point: the unit vector l toward a point light, where on
+an area light a shadow ray aims, and the intensity it sends from there."""
 
 from __future__ import annotations
 
@@ -13,10 +13,26 @@ from raykit.engine.compiled.sampling import point_on_parallelogram
 
 @njit(**ONE_RAY)
 def toward_point_light(v0, v1, v2, p0, p1, p2):
-    """Repeats :func:`raykit.lights.toward_light` for a point light at v: the unit l from p."""
+    """Repeats :func:`raykit.lights.toward_light` for a point light at v: the unit l from p,
+    and the distance."""
     to0, to1, to2 = v0 - p0, v1 - p1, v2 - p2
     distance = math.sqrt(to0 * to0 + to1 * to1 + to2 * to2)
-    return to0 / distance, to1 / distance, to2 / distance
+    return to0 / distance, to1 / distance, to2 / distance, distance
+
+
+@njit(**ONE_RAY)
+def area_intensity(shading, j, l0, l1, l2, distance):
+    """Repeats :func:`raykit.lights.area_intensity` for one point: the intensity I of area light
+    j (of ``shading``) toward it, l the unit vector to its sampled point and ``distance`` the
+    distance: the light's colour (FOCG's), or a physically based light's L·A·cos θ_L/(π·r²)."""
+    color = shading.light_colors
+    if not shading.physical[j]:
+        return color[j, 0], color[j, 1], color[j, 2]
+    normal = shading.light_normals
+    cos_light = -(l0 * normal[j, 0] + l1 * normal[j, 1] + l2 * normal[j, 2])
+    facing = cos_light if cos_light > 0 else 0.0  # the back of the light: none (NaN too)
+    share = shading.light_area[j] * facing / (math.pi * distance * distance)
+    return color[j, 0] * share, color[j, 1] * share, color[j, 2] * share
 
 
 @njit(**ONE_RAY)

@@ -1,17 +1,16 @@
 """Repeats :mod:`raykit.engine.noise` for one number at a time: the counter's hash, its uniform
 number, the jittered sampler's shuffle, and sample k of a pixel from each sampler.
 
-A pixel's samples share what depends on the pixel alone: its counters' hash as far as (seed,
-pixel), its shuffles' round keys and its Sobol' shifts. :func:`pixel_keys` makes those once per
+A pixel's samples share what depends on the pixel alone: its counters' hash as far as (seed, pixel),
+its shuffles' round keys and its Sobol' scrambling seeds. :func:`pixel_keys` makes those once per
 pixel, and :func:`sample_numbers` each sample's numbers from them, and only the numbers the scene
-reads (a pinhole camera reads no point on the lens, a scene without mirrors no light's point
-past the first surface): the same operations on the same integers as the reference's, fewer of
-them per sample.
+reads (a pinhole camera reads no point on the lens, a scene without mirrors no light's point past
+the first surface): the same operations on the same integers as the reference's, fewer of them per
+sample.
 
 Every integer here is uint64 and every constant is made one (``np.uint64(...)``): numba, like
 numpy, wraps uint64 arithmetic, but it turns uint64 mixed with a signed integer into float64,
-which would round the hash. The Sobol' points are not computed here: scipy's, made in Python
-(:func:`raykit.sampling.sobol_set`), come in as a table."""
+which would round the hash."""
 
 from __future__ import annotations
 
@@ -19,19 +18,22 @@ import numpy as np
 from numba import njit
 
 from raykit.engine.compiled.compiling import INLINED, ONE_RAY
-from raykit.engine.compiled.sampling import jittered_point
+from raykit.engine.compiled.sampling import jittered_point, owen_hash, reverse_bits
 from raykit.engine.noise import (
     GAMMA,
     MIX1,
     MIX2,
-    SHIFT_SAMPLE,
+    SCRAMBLE_SAMPLE,
     SHUFFLE_SAMPLE,
     STRATUM_SAMPLE,
     UNIT,
 )
+from raykit.sampling import SOBOL_BITS, sobol_points
+from raykit.sampling import reverse_bits as mirrored
 
 # the samplers' numbers, as the kernels take them (raykit.sampling.SAMPLERS' order)
 RANDOM, JITTERED, SOBOL = 0, 1, 2
+SOBOL_UNIT = 2.0**-SOBOL_BITS  # a Sobol' point's integer times it: its number in [0, 1)
 
 
 @njit(**ONE_RAY)
@@ -55,8 +57,15 @@ def pixel_hash(seed, pixel):
 def hash_on(h, sample, dimension):
     """Repeats the rest of :func:`raykit.engine.noise.counter_hash`: the counter's hash from its
     pixel's, ``h`` (:func:`pixel_hash`), its sample and its dimension folded in."""
-    h = mix64((np.uint64(h) ^ np.uint64(sample)) + GAMMA)
-    return mix64((h ^ np.uint64(dimension)) + GAMMA)
+    return fold(fold(h, sample), dimension)
+
+
+@njit(**ONE_RAY)
+def fold(h, part):
+    """Repeats one step of :func:`raykit.engine.noise.counter_hash`: ``part`` folded into the
+    hash ``h`` so far, mix64((h ^ part) + GAMMA). A sample's dimensions share their hash as far
+    as (seed, pixel, sample), folded once for all of them (:func:`sample_numbers`)."""
+    return mix64((np.uint64(h) ^ np.uint64(part)) + GAMMA)
 
 
 @njit(**ONE_RAY)
@@ -70,7 +79,8 @@ def counter_hash(seed, pixel, sample, dimension):
 def uniform(h):
     """Repeats :func:`raykit.engine.noise.uniforms` from a counter's hash ``h``: its top 53
     bits, times 2^-53, in [0, 1)."""
-    return np.float64(np.uint64(h) >> np.uint64(11)) * UNIT
+    # below 2^53: the same number as a signed integer, whose conversion is one instruction
+    return np.float64(np.int64(np.uint64(h) >> np.uint64(11))) * UNIT
 
 
 @njit(**ONE_RAY)
@@ -120,63 +130,86 @@ def shuffle_by(index, count, k0, k1, k2, k3):
 
 
 @njit(**ONE_RAY)
-def pixel_keys(sampler, seed, pixel, wanted, keys, shifts):
+def pixel_keys(sampler, seed, pixel, wanted, keys):
     """What sample k of ``pixel`` (r·width + c) takes from the pixel alone, for
-    :func:`sample_numbers`: into ``keys (D // 2 + 2, 4)`` (uint64), at [0, 0] the hash of (seed,
-    pixel) (:func:`pixel_hash`), in row 1 + pair the round keys (:func:`round_keys`) of the
-    jittered sampler's shuffle of each pair after the first, in the last row those of a last
-    single number's strata; into ``shifts (D,)`` the Sobol' sampler's shift of each dimension.
-    Only for the dimensions ``wanted (D,)`` says the scene reads."""
+    :func:`sample_numbers`: into ``keys (D // 2 + 2, 6)`` (uint64), at [0, 0] the hash of (seed,
+    pixel) (:func:`pixel_hash`); in row 1 + pair, the round keys (:func:`round_keys`) of the
+    shuffle of each pair after the first (columns 0 to 3), and for the Sobol' sampler its two
+    dimensions' scrambling seeds (columns 4 and 5); in the last row, those of a last single
+    number's strata (columns 0 to 3) and its seed (column 4). Only for the dimensions ``wanted
+    (D,)`` says the scene reads."""
     dimensions = len(wanted)
     h = pixel_hash(seed, pixel)
     keys[0, 0] = h
-    if sampler == SOBOL:
-        for d in range(dimensions):
-            if wanted[d]:
-                shifts[d] = uniform(hash_on(h, SHIFT_SAMPLE, d))
+    if sampler == RANDOM:
         return
-    if sampler != JITTERED:
-        return
-    for pair in range(1, dimensions // 2):
+    top = np.uint64(32)
+    for pair in range(dimensions // 2):
         if wanted[2 * pair] or wanted[2 * pair + 1]:
             row = keys[1 + pair]
-            row[0], row[1], row[2], row[3] = round_keys(hash_on(h, SHUFFLE_SAMPLE, pair))
+            if pair:
+                row[0], row[1], row[2], row[3] = round_keys(hash_on(h, SHUFFLE_SAMPLE, pair))
+            if sampler == SOBOL:
+                row[4] = hash_on(h, SCRAMBLE_SAMPLE, 2 * pair) >> top
+                row[5] = hash_on(h, SCRAMBLE_SAMPLE, 2 * pair + 1) >> top
     if dimensions % 2 and wanted[dimensions - 1]:
         row = keys[len(keys) - 1]
         row[0], row[1], row[2], row[3] = round_keys(hash_on(h, STRATUM_SAMPLE, dimensions - 1))
+        if sampler == SOBOL:
+            row[4] = hash_on(h, SCRAMBLE_SAMPLE, dimensions - 1) >> top
 
 
 @njit(**INLINED)
-def sample_numbers(sampler, k, n, table, wanted, reads, keys, shifts, out):
+def sample_numbers(sampler, k, n, table, wanted, reads, keys, out):
     """Repeats :meth:`raykit.engine.noise.PixelSamples.of` for one pixel, from its
-    :func:`pixel_keys`, and its sample k: the sample's uniform numbers into ``out (D,)``, by
-    the ``sampler`` (:data:`RANDOM`, :data:`JITTERED` with n x n samples, or :data:`SOBOL` with
-    its points ``table (spp, D)``; an empty table for the others), each dimension ``wanted
-    (D,)``, and nothing written to the others (numbers no ray of the scene reads). ``reads``:
-    the dimensions wanted, in order (``np.flatnonzero(wanted)``): the loops of one number each
-    go through them alone, since a loop over every dimension, made into vector instructions,
-    hashes the unwanted ones too and throws them away."""
+    :func:`pixel_keys`, and its sample k of ``count`` = n x n (jittered) or ``len(table)`` (Sobol'):
+    the sample's uniform numbers into ``out (D,)``, by the ``sampler`` (:data:`RANDOM`,
+    :data:`JITTERED`, or :data:`SOBOL` with ``table (count, 2)``, the Sobol' points of indices 0 ..
+    count - 1 with their bits mirrored, :func:`sobol_table`), each dimension ``wanted (D,)``, and
+    nothing written to the others (numbers no ray of the scene reads). ``reads``: the dimensions
+    wanted, in order (``np.flatnonzero(wanted)``): the loops of one number each go through them
+    alone, since a loop over every dimension, made into vector instructions, hashes the unwanted
+    ones too and throws them away."""
     h = keys[0, 0]
-    if sampler == SOBOL:  # the image's point k, shifted modulo 1 by the pixel's own numbers
-        for d in reads:
-            shifted = table[k, d] + shifts[d]
-            out[d] = shifted - 1.0 if shifted >= 1.0 else shifted
-        return
-    for d in reads:
-        out[d] = uniform(hash_on(h, k, d))
     dimensions = len(out)
-    if sampler != JITTERED:
-        return
+    count = len(table) if sampler == SOBOL else n * n
+    if sampler != SOBOL:
+        sample_hash = fold(h, k)  # (seed, pixel, sample): what the dimensions' hashes share
+        for d in reads:
+            out[d] = uniform(fold(sample_hash, d))
+        if sampler != JITTERED:
+            return
     for pair in range(dimensions // 2):  # the pixel's own pair keeps cell k; the others are
         if not (wanted[2 * pair] or wanted[2 * pair + 1]):  # shuffled against it
             continue
         cell = k
+        row = keys[1 + pair]
         if pair:
-            row = keys[1 + pair]
-            cell = shuffle_by(k, n * n, row[0], row[1], row[2], row[3])
-        out[2 * pair], out[2 * pair + 1] = jittered_point(cell, n, out[2 * pair], out[2 * pair + 1])
+            cell = shuffle_by(k, count, row[0], row[1], row[2], row[3])
+        if sampler == SOBOL:  # point π(k) of the pixel's own scrambled net
+            if wanted[2 * pair]:
+                x = reverse_bits(owen_hash(table[cell, 0], row[4]))
+                out[2 * pair] = np.float64(x) * SOBOL_UNIT
+            if wanted[2 * pair + 1]:
+                y = reverse_bits(owen_hash(table[cell, 1], row[5]))
+                out[2 * pair + 1] = np.float64(y) * SOBOL_UNIT
+        else:
+            out[2 * pair], out[2 * pair + 1] = jittered_point(
+                cell, n, out[2 * pair], out[2 * pair + 1]
+            )
     if dimensions % 2 and wanted[dimensions - 1]:  # a last single number (a time): sample k in
-        last = dimensions - 1  # stratum π(k) of the n·n
+        last = dimensions - 1  # stratum π(k) of the count
         row = keys[len(keys) - 1]
-        stratum = shuffle_by(k, n * n, row[0], row[1], row[2], row[3])
-        out[last] = (stratum + out[last]) / (n * n)
+        stratum = shuffle_by(k, count, row[0], row[1], row[2], row[3])
+        if sampler == SOBOL:  # van der Corput's point π(k), scrambled: π(k) is it mirrored
+            out[last] = np.float64(reverse_bits(owen_hash(stratum, row[4]))) * SOBOL_UNIT
+        else:
+            out[last] = (stratum + out[last]) / count
+
+
+def sobol_table(count: int) -> np.ndarray:
+    """The Sobol' points of indices 0 .. ``count`` - 1 ``(count, 2)`` (uint64), each with its
+    bits mirrored, as :func:`sample_numbers` reads them: made once a render by the reference's
+    own :func:`raykit.sampling.sobol_points` and :func:`raykit.sampling.reverse_bits`, the same
+    for every pixel (each scrambles its own copy)."""
+    return np.require(mirrored(sobol_points(np.arange(count))), np.uint64, "CAW")

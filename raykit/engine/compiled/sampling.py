@@ -1,5 +1,7 @@
 """Repeats :mod:`raykit.sampling` for one sample: the patterns of distributed ray tracing from
-its uniform numbers (ξ1, ξ2), the same float64 operations in the same order, so the same bits.
+its uniform numbers (ξ1, ξ2), the same float64 operations in the same order, so the same bits;
+and the Sobol' points and their scrambling, on the same integers (uint64 throughout: numba turns
+uint64 mixed with a signed integer into float64, which would round them).
 The cosine and sine of the lens's concentric map are :func:`raykit.sampling._cos_sin`'s series,
 never the C library's, which differs from numpy's from one processor to the next."""
 
@@ -7,6 +9,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit
 
 from raykit.engine.compiled.compiling import ONE_RAY
@@ -124,3 +127,64 @@ def shutter_times(shutter_open, shutter_close, u):
     """Repeats :func:`raykit.sampling.shutter_times` for one ray: its time T = T0 + ξ·(T1 - T0)
     in the shutter interval [T0, T1] from its own number ξ."""
     return shutter_open + u * (shutter_close - shutter_open)
+
+
+_MASK = np.uint64(0xFFFFFFFF)
+
+
+@njit(**ONE_RAY)
+def reverse_bits(value):
+    """Repeats :func:`raykit.sampling.reverse_bits` for one uint64 below 2^32: its 32 bits in
+    reverse order."""
+    v = np.uint64(value)
+    v = ((v >> np.uint64(1)) & np.uint64(0x55555555)) | (
+        (v & np.uint64(0x55555555)) << np.uint64(1)
+    )
+    v = ((v >> np.uint64(2)) & np.uint64(0x33333333)) | (
+        (v & np.uint64(0x33333333)) << np.uint64(2)
+    )
+    v = ((v >> np.uint64(4)) & np.uint64(0x0F0F0F0F)) | (
+        (v & np.uint64(0x0F0F0F0F)) << np.uint64(4)
+    )
+    v = ((v >> np.uint64(8)) & np.uint64(0x00FF00FF)) | (
+        (v & np.uint64(0x00FF00FF)) << np.uint64(8)
+    )
+    return ((v >> np.uint64(16)) | (v << np.uint64(16))) & _MASK
+
+
+@njit(**ONE_RAY)
+def sobol_points(index):
+    """Repeats :func:`raykit.sampling.sobol_points` for one index below 2^32: its point of the
+    two-dimensional Sobol' sequence, as two uint64 integers below 2^32."""
+    index = np.uint64(index)
+    second = np.uint64(0)
+    m = np.uint64(1)
+    one = np.uint64(1)
+    i = np.uint64(1)
+    while (index >> (i - one)) != np.uint64(0):  # the direction numbers of the bits set
+        if (index >> (i - one)) & one:
+            second = second ^ (m << (np.uint64(32) - i))
+        m = (m << one) ^ m
+        i += one
+    return reverse_bits(index), second
+
+
+@njit(**ONE_RAY)
+def owen_scramble(value, seed):
+    """Repeats :func:`raykit.sampling.owen_scramble` for one 32-bit value and its 32-bit seed
+    (both uint64)."""
+    return reverse_bits(owen_hash(reverse_bits(value), seed))
+
+
+@njit(**ONE_RAY)
+def owen_hash(mirrored, seed):
+    """The hash of :func:`raykit.sampling.owen_scramble` alone, on a 32-bit value whose bits are
+    mirrored already, and its 32-bit seed (both uint64): the scrambled value, still mirrored. (A
+    Sobol' point's first dimension is its index mirrored: its scramble needs no mirroring in.)"""
+    seed = np.uint64(seed)
+    v = np.uint64(mirrored)
+    v = v ^ ((v * np.uint64(0x3D20ADEA)) & _MASK)
+    v = (v + seed) & _MASK
+    v = (v * ((seed >> np.uint64(16)) | np.uint64(1))) & _MASK
+    v = v ^ ((v * np.uint64(0x05526C56)) & _MASK)
+    return v ^ ((v * np.uint64(0x53A22864)) & _MASK)

@@ -124,7 +124,10 @@ class Shading(NamedTuple):
     (:func:`raykit.engine.compiled.lights.sampled`): its ``light_vectors`` row is its corner,
     ``light_edges (L, 6)`` its edges a and b, ``area (L,)`` which area light it is (-1: none),
     and ``light_dims (max_depth + 1, A)`` where each area light's uniform numbers lie at each
-    mirror depth (:meth:`raykit.engine.noise.Dimensions.light`); each object's ``glossiness
+    mirror depth (:meth:`raykit.engine.noise.Dimensions.light`), and whether each light is a
+    physically based one, ``physical (L,)``, with its area ``light_area (L,)`` and unit normal
+    ``light_normals (L, 3)`` (:attr:`raykit.lights.AreaLight.frame`,
+    :func:`raykit.lights.area_intensity`); each object's ``glossiness
     (K,)``, and where the glossy perturbation of the mirror bounce at each depth lies,
     ``gloss_dims (max_depth,)`` (:meth:`raykit.engine.noise.Dimensions.gloss`; empty in a scene
     whose samples take none: its mirrors reflect as ideal ones)."""
@@ -150,6 +153,9 @@ class Shading(NamedTuple):
     light_dims: np.ndarray
     glossiness: np.ndarray
     gloss_dims: np.ndarray
+    physical: np.ndarray
+    light_area: np.ndarray
+    light_normals: np.ndarray
 
 
 def scene_shading(scene: Scene) -> Shading:
@@ -173,6 +179,10 @@ def scene_shading(scene: Scene) -> Shading:
         else np.zeros(6)
         for light in lights
     ]  # fmt: skip
+    physical = [isinstance(light, AreaLight) and light.physical for light in lights]
+    frames = [
+        light.frame if isinstance(light, AreaLight) else (0.0, np.zeros(3)) for light in lights
+    ]
     dimensions = Dimensions.of(scene)
     dims = [[dimensions.light(depth, a) for a in range(scene.area_lights)]
             for depth in range(scene.max_depth + 1)]  # fmt: skip
@@ -200,6 +210,9 @@ def scene_shading(scene: Scene) -> Shading:
             np.array(dims, dtype=np.int64).reshape(scene.max_depth + 1, scene.area_lights),
             table.glossiness.astype(float),
             np.array(gloss if dimensions.glossy else [], dtype=np.int64),
+            np.array(physical, dtype=np.bool_),
+            np.array([area for area, _ in frames], dtype=float),
+            np.array([normal for _, normal in frames], dtype=float).reshape(-1, 3),
         )
     )
 

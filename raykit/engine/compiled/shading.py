@@ -15,7 +15,7 @@ from numba import njit
 from raykit.engine.compiled.billboards import billboard_color_at, hit_billboard
 from raykit.engine.compiled.bvh import nearest_hit
 from raykit.engine.compiled.compiling import INLINED, KERNEL, MAKES_ARRAYS, ONE_RAY
-from raykit.engine.compiled.lights import sampled, toward_point_light
+from raykit.engine.compiled.lights import area_intensity, sampled, toward_point_light
 from raykit.engine.compiled.mirrors import glossy_reflect, reflect
 from raykit.engine.compiled.sampling import point_on_parallelogram
 from raykit.engine.compiled.shadows import point_light_reach
@@ -74,8 +74,9 @@ def surface_color(arrays, tree, shading, stack, hit, p0, p1, p2, n0, n1, n2, d0,
                 first = shading.light_dims[depth, area]
                 u1, u2 = uniforms[first], uniforms[first + 1]
             v0, v1, v2 = sampled(shading, j, u1, u2)
+        distance = np.inf
         if shading.point_light[j]:  # raykit.lights.toward_light
-            l0, l1, l2 = toward_point_light(v0, v1, v2, p0, p1, p2)
+            l0, l1, l2, distance = toward_point_light(v0, v1, v2, p0, p1, p2)
         else:
             l0, l1, l2 = v0, v1, v2
         n_dot_l = n0 * l0 + n1 * l1 + n2 * l2
@@ -88,6 +89,8 @@ def surface_color(arrays, tree, shading, stack, hit, p0, p1, p2, n0, n1, n2, d0,
             if blocker.t < reach:
                 continue
         I0, I1, I2 = intensity[j, 0], intensity[j, 1], intensity[j, 2]
+        if area >= 0:  # raykit.lights.area_intensity: a physically based light's falls off
+            I0, I1, I2 = area_intensity(shading, j, l0, l1, l2, distance)
         a0, a1, a2 = lambert(k0, k1, k2, I0, I1, I2, n_dot_l)
         total0, total1, total2 = total0 + a0, total1 + a1, total2 + a2
         v0, v1, v2 = -d0, -d1, -d2
@@ -105,7 +108,9 @@ class Lanes(NamedTuple):
     N)`` and rounding bound ``error (N,)`` (:func:`surface_points`), the colour k that light
     scales ``k (3, N)`` and the colour so far ``total (3, N)``; toward the light at hand, ``l
     (3, N)``, ``n_dot_l (N,)``, the shadow ray's start ``s (3, N)`` and ``reach (N,)``, room
-    ``t (N,)``, and whether the light reaches the point, ``lit (N,)``. Each worker makes its
+    ``t (N,)``, whether the light reaches the point, ``lit (N,)``, and the intensity it sends
+    there, ``intensity (3, N)`` (a physically based area light's, each point's own). Each worker
+    makes its
     own as its call starts (:func:`new_lanes`; :func:`~raykit.engine.compiled.driver.trace_lit`)."""
 
     p: np.ndarray
@@ -119,6 +124,7 @@ class Lanes(NamedTuple):
     reach: np.ndarray
     t: np.ndarray
     lit: np.ndarray
+    intensity: np.ndarray
 
 
 @njit(**MAKES_ARRAYS)
@@ -127,7 +133,7 @@ def new_lanes(count):
     return Lanes(np.empty((3, count)), np.empty((3, count)), np.empty(count),
                  np.empty((3, count)), np.empty((3, count)), np.empty((3, count)),
                  np.empty(count), np.empty((3, count)), np.empty(count), np.empty(count),
-                 np.empty(count, dtype=np.bool_))  # fmt: skip
+                 np.empty(count, dtype=np.bool_), np.empty((3, count)))  # fmt: skip
 
 
 @njit(**KERNEL)
@@ -182,7 +188,8 @@ def light_lanes(arrays, tree, shading, stack, rays, best, count, lanes, candidat
     (:func:`surface_lanes`; those of ``best`` >= 0), seen along the directions in ``rays (6,
     N)``, light by light, each step for all points at once: l and n·l (toward an area light,
     which only a distributed render has, each ray's own point of it, :func:`sampled`, by its
-    uniform numbers, a column of ``uniforms (D, N)``; none elsewhere); whether the light
+    uniform numbers, a column of ``uniforms (D, N)``; none elsewhere), and a physically based
+    area light's intensity at each point (:func:`area_intensity`); whether the light
     reaches the point (its shadow ray, against light j's ``candidates[j, :counts[j]]``
     (:func:`shadow_lists`), or walking the tree where counts[j] is -1); the Lambert term; the
     highlight. Each point's operations are :func:`surface_color`'s, in its order, so its bits are
@@ -194,7 +201,7 @@ def light_lanes(arrays, tree, shading, stack, rays, best, count, lanes, candidat
     centers, radii, corners, planes = arrays.centers, arrays.radii, arrays.corners, arrays.n
     p, n, error, k, total = lanes.p, lanes.n, lanes.error, lanes.k, lanes.total
     l, n_dot_l, s, reach, t, lit = lanes.l, lanes.n_dot_l, lanes.s, lanes.reach, lanes.t, lanes.lit
-    vectors, intensity = shading.light_vectors, shading.light_colors
+    vectors, intensity, each = shading.light_vectors, shading.light_colors, lanes.intensity
     for j in range(len(shading.point_light)):
         v0, v1, v2 = vectors[j, 0], vectors[j, 1], vectors[j, 2]
         area = shading.area[j]
@@ -207,8 +214,10 @@ def light_lanes(arrays, tree, shading, stack, rays, best, count, lanes, candidat
             for i in range(count):
                 u1, u2 = uniforms[first, i], uniforms[first + 1, i]
                 a0, a1, a2 = point_on_parallelogram(v0, v1, v2, e0, e1, e2, e3, e4, e5, u1, u2)
-                l[0, i], l[1, i], l[2, i] = toward_point_light(a0, a1, a2, p[0, i], p[1, i],
-                                                               p[2, i])  # fmt: skip
+                l0, l1, l2, distance = toward_point_light(a0, a1, a2, p[0, i], p[1, i], p[2, i])
+                l[0, i], l[1, i], l[2, i] = l0, l1, l2
+                each[0, i], each[1, i], each[2, i] = area_intensity(shading, j, l0, l1, l2,
+                                                                    distance)  # fmt: skip
                 s[0, i], s[1, i], s[2, i] = start(
                     p[0, i], p[1, i], p[2, i], n[0, i], n[1, i], n[2, i], error[i], l[0, i],
                     l[1, i], l[2, i],
@@ -216,8 +225,8 @@ def light_lanes(arrays, tree, shading, stack, rays, best, count, lanes, candidat
                 reach[i] = point_light_reach(a0, a1, a2, s[0, i], s[1, i], s[2, i])
         elif shading.point_light[j]:  # raykit.lights.toward_light; the shadow rays' start, reach
             for i in range(count):
-                l[0, i], l[1, i], l[2, i] = toward_point_light(v0, v1, v2, p[0, i], p[1, i],
-                                                               p[2, i])  # fmt: skip
+                l[0, i], l[1, i], l[2, i], _ = toward_point_light(v0, v1, v2, p[0, i], p[1, i],
+                                                                  p[2, i])  # fmt: skip
                 s[0, i], s[1, i], s[2, i] = start(
                     p[0, i], p[1, i], p[2, i], n[0, i], n[1, i], n[2, i], error[i], l[0, i],
                     l[1, i], l[2, i],
@@ -271,8 +280,12 @@ def light_lanes(arrays, tree, shading, stack, rays, best, count, lanes, candidat
                         if t_hit < reach[i] and billboard_color_at(arrays, board, alpha, beta)[3]:
                             lit[i] = False
         I0, I1, I2 = intensity[j, 0], intensity[j, 1], intensity[j, 2]
+        falls_off = area >= 0 and shading.physical[j]  # each point its own I
         for i in range(count):  # where the light reaches
-            a0, a1, a2 = lambert(k[0, i], k[1, i], k[2, i], I0, I1, I2, n_dot_l[i])
+            J0 = each[0, i] if falls_off else I0
+            J1 = each[1, i] if falls_off else I1
+            J2 = each[2, i] if falls_off else I2
+            a0, a1, a2 = lambert(k[0, i], k[1, i], k[2, i], J0, J1, J2, n_dot_l[i])
             sum0, sum1, sum2 = total[0, i] + a0, total[1, i] + a1, total[2, i] + a2
             total[0, i] = sum0 if lit[i] else total[0, i]
             total[1, i] = sum1 if lit[i] else total[1, i]
@@ -284,8 +297,11 @@ def light_lanes(arrays, tree, shading, stack, rays, best, count, lanes, candidat
             v0, v1, v2 = -rays[3, i], -rays[4, i], -rays[5, i]
             if l[0, i] + v0 != 0 or l[1, i] + v1 != 0 or l[2, i] + v2 != 0:
                 ks = shading.specular
+                J0, J1, J2 = I0, I1, I2
+                if falls_off:
+                    J0, J1, J2 = each[0, i], each[1, i], each[2, i]
                 s0, s1, s2 = blinn_phong(
-                    ks[hit, 0], ks[hit, 1], ks[hit, 2], I0, I1, I2, n[0, i], n[1, i], n[2, i],
+                    ks[hit, 0], ks[hit, 1], ks[hit, 2], J0, J1, J2, n[0, i], n[1, i], n[2, i],
                     l[0, i], l[1, i], l[2, i], v0, v1, v2, shading.shininess[hit],
                 )  # fmt: skip
                 total[0, i] += s0

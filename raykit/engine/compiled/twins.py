@@ -51,6 +51,7 @@ TWINS = (
         "a point light's only: a directional light's l is its direction, read where it is used",
     ),
     Twin("lights.sampled", "raykit.lights.sampled"),
+    Twin("lights.area_intensity", "raykit.lights.area_intensity"),
     Twin("camera.thin_lens_rays", "raykit.camera.thin_lens_rays"),
     Twin("noise.mix64", "raykit.engine.noise.mix64"),
     Twin("noise.counter_hash", "raykit.engine.noise.counter_hash"),
@@ -63,6 +64,11 @@ TWINS = (
         "noise.hash_on",
         "raykit.engine.noise.counter_hash",
         "its last two parts, (sample, dimension), folded into the pixel's hash",
+    ),
+    Twin(
+        "noise.fold",
+        "raykit.engine.noise.counter_hash",
+        "one of its steps: one part of the counter folded into the hash so far",
     ),
     Twin("noise.uniforms", "raykit.engine.noise.uniforms"),
     Twin("noise.uniform", "raykit.engine.noise.uniforms", "from a counter's hash made before"),
@@ -101,6 +107,15 @@ TWINS = (
     Twin("sampling.basis_around", "raykit.sampling.basis_around"),
     Twin("sampling.perturbed_direction", "raykit.sampling.perturbed_direction"),
     Twin("sampling.shutter_times", "raykit.sampling.shutter_times"),
+    Twin("sampling.reverse_bits", "raykit.sampling.reverse_bits"),
+    Twin("sampling.sobol_points", "raykit.sampling.sobol_points"),
+    Twin("sampling.owen_scramble", "raykit.sampling.owen_scramble"),
+    Twin(
+        "sampling.owen_hash",
+        "raykit.sampling.owen_scramble",
+        "its hash alone, on a value whose bits are mirrored already (a Sobol' point's first"
+        " dimension is its index mirrored)",
+    ),
     Twin("surfaces.surface_points", "raykit.surfaces.surface_points"),
     Twin("surfaces.start", "raykit.surfaces.SurfacePoints.start"),
     Twin(
@@ -172,7 +187,12 @@ TWINS = (
     Twin(
         "driver.trace_sampled",
         "raykit.render.render",
-        "render's loop for a distributed scene (stage 5)",
+        "render's loop for a distributed scene (stage 5) whose spheres stand still",
+    ),
+    Twin(
+        "driver.trace_moving",
+        "raykit.render.render",
+        "render's loop for a distributed scene whose spheres move (motion blur)",
     ),
     Twin(
         "driver.sampled_job",
@@ -184,6 +204,11 @@ TWINS = (
         "raykit.render.render",
         "render's loop over one job's pixels, distributed, where nothing moves: their samples in "
         "lanes",
+    ),
+    Twin(
+        "driver.cast_each",
+        "raykit.render.cast",
+        "cast's nearest hits of a batch of rays, each through the tree",
     ),
     Twin(
         "driver.cast_lanes",
@@ -246,6 +271,8 @@ WITHIN = {
     "raykit.rays.point_at": "surfaces.surface_points",
     "raykit.shadows.in_shadow": "shading.surface_color",
     "raykit.render.illumination": "driver.lit_job",
+    "raykit.sampling.sobol_set": "noise.sample_numbers",
+    "raykit.shading._rows": "shading.surface_color",
 }
 
 # reference functions every kernel writes out where it needs them, and why no kernel of their own
