@@ -4,11 +4,11 @@ what it cannot render yet. Seeded throughout."""
 
 import json
 
-import jsonschema
 import numpy as np
 import pytest
+from schemas import schema_validator
 
-from conftest import REPO, SCENES, scene_dict
+from conftest import SCENES, scene_dict
 from raykit.billboards import Billboard
 from raykit.camera import Camera
 from raykit.cli import main
@@ -22,7 +22,7 @@ from raykit.sampling import Sampling
 from raykit.scene import Scene
 from raykit.shading import shade
 
-SCHEMA_V2 = json.loads((REPO / "raykit/io/schemas/scene-v2.schema.json").read_text())
+SCHEMA_V2 = schema_validator("scene-v2.schema.json")
 PANEL = {"type": "area", "corner": [-1, 4, -1], "edge1": [2, 0, 0], "edge2": [0, 0, 2]}
 SPHERE = {"center": [0, 0, 0], "radius": 1, "color": [1, 0, 0]}
 BOARD = {"upper_left": [-1, 1, -2], "lower_left": [-1, -1, -2], "upper_right": [1, 1, -2],
@@ -393,9 +393,9 @@ def test_the_v2_schema_rejects_exactly_the_structural_errors(overrides, schema_r
     scene = _v2_scene(overrides)
     if "version" not in scene:  # a v1 scene's v2 field: the v2 schema accepts the field itself
         scene["version"] = 2
-        assert not list(jsonschema.Draft202012Validator(SCHEMA_V2).iter_errors(scene))
+        assert not list(SCHEMA_V2.iter_errors(scene))
         return
-    errors = list(jsonschema.Draft202012Validator(SCHEMA_V2).iter_errors(scene))
+    errors = list(SCHEMA_V2.iter_errors(scene))
     assert bool(errors) == schema_rejects
 
 
@@ -404,7 +404,7 @@ def test_the_v2_schema_accepts_the_v2_example_scenes_and_they_load():
     for path in sorted(SCENES.glob("*.json")):
         data = json.loads(path.read_text())
         if data.get("$schema", "").endswith("scene-v2.schema.json"):
-            jsonschema.validate(data, SCHEMA_V2)
+            SCHEMA_V2.validate(data)
             assert load_scene(path).distributed
             found += 1
     assert found >= 2

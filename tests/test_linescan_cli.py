@@ -4,19 +4,19 @@ no output file; the JSON Schema rejects exactly the structural errors."""
 import copy
 import json
 
-import jsonschema
 import numpy as np
 import pytest
 from PIL import Image
+from schemas import schema_validator
 
-from conftest import REPO, SCENES, delete_field, set_field
+from conftest import SCENES, delete_field, set_field
 from raykit.cli import main
 from raykit.io.errors import SceneError
 from raykit.io.images import quantize
 from raykit.io.linescan_json import load_line_scene
 from raykit.linescan.scan import scan, sweep
 
-SCHEMA = json.loads((REPO / "raykit/io/schemas/linescan-v1.schema.json").read_text())
+SCHEMA = schema_validator("linescan-v1.schema.json")
 SCENE = {
     "camera": {"e": [0, 0], "w": [1, 0], "fov_angle": 60, "pixels": 16},
     "balls": [{"center": [5, 0], "radius": 1, "color": [1, 0, 0]}],
@@ -137,13 +137,13 @@ def test_bad_2d_scene_gets_one_line_exit_2_and_no_output(
 def test_json_schema_rejects_exactly_the_structural_errors(mutate, schema_rejects):
     scene = copy.deepcopy(SCENE)
     mutate(scene)
-    errors = list(jsonschema.Draft202012Validator(SCHEMA).iter_errors(scene))
+    errors = list(SCHEMA.iter_errors(scene))
     assert bool(errors) == schema_rejects
 
 
 def test_schema_accepts_every_example_line_scan_scene():
     for path in sorted((SCENES / "linescan").glob("*.json")):
-        jsonschema.validate(json.loads(path.read_text()), SCHEMA)
+        SCHEMA.validate(json.loads(path.read_text()))
         load_line_scene(path)
 
 

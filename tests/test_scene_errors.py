@@ -9,15 +9,15 @@ import subprocess
 import sys
 import zlib
 
-import jsonschema
 import pytest
+from schemas import schema_validator
 
 from conftest import REPO, delete_field, scene_dict, set_field
 from raykit.cli import main
 from raykit.io.errors import SceneError
 from raykit.io.scene_json import load_scene
 
-SCHEMA = json.loads((REPO / "raykit/io/schemas/scene-v1.schema.json").read_text())
+SCHEMA = schema_validator("scene-v1.schema.json")
 
 
 BOARD = {"upper_left": [-1, 1, 0], "lower_left": [-1, -1, 0], "upper_right": [1, 1, 0]}
@@ -335,7 +335,7 @@ def test_bad_scene_gets_one_line_naming_file_and_field_exit_2_and_no_output(
 def test_json_schema_rejects_exactly_the_structural_errors(mutate, schema_rejects):
     scene = scene_dict()
     mutate(scene)
-    errors = list(jsonschema.Draft202012Validator(SCHEMA).iter_errors(scene))
+    errors = list(SCHEMA.iter_errors(scene))
     if schema_rejects:
         assert errors, "the schema accepts what the loader rejects"
     else:
@@ -347,7 +347,7 @@ def test_schema_accepts_every_example_scene():
         REPO / "scenes/linescan3d/passing_car.json"
     ]:
         if json.loads(path.read_text()).get("$schema", "").endswith("scene-v1.schema.json"):
-            jsonschema.validate(json.loads(path.read_text()), SCHEMA)
+            SCHEMA.validate(json.loads(path.read_text()))
 
 
 @pytest.mark.parametrize(
