@@ -23,6 +23,7 @@ import pytest
 import headless
 from conftest import REPO
 from headless import CHROMIUM, served
+from raykit.io.legibility import SMALLEST_SCREEN_TEXT
 
 HERE = Path(__file__).resolve().parent
 LECTURE = REPO / "notebooks" / "lecture.json"
@@ -69,6 +70,12 @@ def test_one_slide_per_lecture_slide_in_order_with_its_words_figure_and_code(dec
             assert len(pictures) == 1 and (deck / pictures[0]).is_file(), slide["title"]
             assert "<details>" in section
             assert re.sub(r"\s", "", slide["figure"]) in text
+        elif slide.get("image"):  # the stored picture a Markdown cell shows, and its path
+            stored = (REPO / "notebooks" / slide["image"]).resolve()
+            assert len(pictures) == 1, slide["title"]
+            assert (deck / pictures[0]).read_bytes() == stored.read_bytes(), slide["title"]
+            assert "<details>" not in section
+            assert str(stored.relative_to(REPO)) in text
         else:
             assert not pictures
         assert re.search(r'<a href="\.\./notebooks/' + re.escape(slide["notebook"][:-6]), section)
@@ -99,6 +106,8 @@ def test_every_link_to_a_notebook_names_a_section_the_notebook_opens(deck):
         (lambda d: d["slides"][0].pop("title"), r"slides\[0\]\.title: must be a str"),
         (lambda d: d["slides"][2].update(cell="## not a heading here"), r"slides\[2\].*\.cell"),
         (lambda d: d["slides"][1].update(notebook="99_none.ipynb"), r"slides\[1\].*notebook"),
+        (lambda d: d["slides"][5].update(image="../none.png"), r"slides\[5\].*\.image: no such"),
+        (lambda d: d["slides"][5].update(figure="x"), r"slides\[5\]\.image: a slide has a figure"),
     ],
 )
 def test_a_bad_lecture_json_is_one_line_naming_the_field_and_writes_nothing(
@@ -133,10 +142,26 @@ def test_every_slide_fits_a_1920_by_1080_screen_offline(deck):
     assert [s["title"] for s in result["slides"]] == [s["title"] for s in slides]
     cut = {f"{s['index']} {s['title']}": s["cut"][:3] for s in result["slides"] if s["cut"]}
     assert not cut, json.dumps(cut, indent=1, ensure_ascii=False)
+    # every text at least 1/40 of the screen's height (the projector rule), the folded code
+    # opened too, on the screen
+    smallest = SMALLEST_SCREEN_TEXT - 0.05
+    small = {
+        f"{s['index']} {s['title']}": [t for t in s["smallest"] if t["px"] < smallest]
+        for s in result["slides"]
+    }
+    small = {slide: texts for slide, texts in small.items() if texts}
+    assert not small, json.dumps(small, indent=1, ensure_ascii=False)
+    assert all(s["texts"] >= 2 for s in result["slides"])  # a title and a link, at least
+    folded = [s for s in result["slides"] if s["code"] is not None]
+    assert [s["index"] for s in folded] == [k for k, s in enumerate(slides) if s.get("figure")]
+    for slide in folded:
+        assert slide["code"]["texts"] >= 2 and not slide["code"]["cut"], slide
+        assert all(t["px"] >= smallest for t in slide["code"]["smallest"]), slide
     # the formulas are typeset, the pictures and the pseudo-code are there
     formulas = sum(len(MAKER.MATH.findall(q)) for s in slides for q in s["quotes"])
     assert sum(s["formulas"] for s in result["slides"]) >= formulas > 0
-    assert [s["pictures"] for s in result["slides"]] == [int(bool(s.get("figure"))) for s in slides]
+    shown = [int(bool(s.get("figure") or s.get("image"))) for s in slides]
+    assert [s["pictures"] for s in result["slides"]] == shown
     assert sum(s["code_blocks"] for s in result["slides"]) >= 5
     # everything came from the deck's own folder, and came
     away = [r for r in result["requests"] if not r["url"].startswith(origin + "/")]
