@@ -6,7 +6,9 @@ Reads ``notebooks/lecture.json`` (the lecture's slides in order, each with the w
 quotes from it, the notebook section that teaches it and its figure: the code cell that draws
 it, or the stored picture a Markdown cell shows) and writes OUT_FOLDER/index.html (default:
 docs/_build/deck), a reveal.js deck that needs no network: each slide's title and its text word
-for word (formulas typeset by MathJax, pseudo-code as code), the figure that cell of the
+for word, each quote as its notebook sets it (a fenced block, such as the pseudo-code or a
+slide whose TeX the lecture's text writes outside dollar signs, as written; otherwise its
+formulas typeset by MathJax), the figure that cell of the
 notebook stores with the cell's code folded under it (which, opened, covers the slide) or the
 stored picture with its path, and a link to the notebook's section (``--notebooks``: where the
 site's notebook pages are, relative to the deck; default ``../notebooks/``, as the site places
@@ -163,35 +165,42 @@ def _plain(text: str) -> str:
 
 BOLD = re.compile(r"\*\*(.+?)\*\*", re.S)
 MATH = re.compile(r"(?<!\\)(\$\$.+?\$\$|\$.+?(?<!\\)\$)", re.S)
-BARE_TEX = re.compile(r"\\[a-zA-Z]+(?:\{[^{}]*\})*")
+FENCE = re.compile(r"^```[^\n]*\n(.*?)^```", re.S | re.M)
 
 
-def _bare_tex(text: str) -> str:
-    """The slide's TeX outside $...$ (\\mathbf{u}, as the lecture's text writes some of its
-    vectors) set between \\( \\) for MathJax to typeset: the same letters, as formulas."""
-    parts = MATH.split(text)
-    return "".join(
-        part if k % 2 else BARE_TEX.sub(lambda m: f"\\({m.group(0)}\\)", part)
-        for k, part in enumerate(parts)
-    )
+def fenced_blocks(cells: list[dict]) -> list[str]:
+    """The text of every fenced block (```) of the notebook's Markdown, whitespace folded."""
+    markdown = "\n\n".join("".join(c["source"]) for c in cells if c["cell_type"] == "markdown")
+    return [" ".join(block.split()) for block in FENCE.findall(markdown)]
 
 
-def _quote_html(quote: str) -> str:
-    """A quote as the slide sets it, its words as they are: pseudo-code (lines that open and
-    close braces) as a code block, tab-separated lines (a data sheet) as a table, a "- " item
-    as a bullet, the text's **bold** as bold and its line breaks kept; $...$ is left for
-    MathJax."""
+def set_as_written(quote: str, fenced: list[str]) -> bool:
+    """Whether the notebook sets ``quote`` in a fenced block (``fenced``: its blocks), as the
+    lecture's text writes it: the pseudo-code, and the slides whose TeX the text writes outside
+    dollar signs, which only a block shows as written (the site shows it so)."""
+    folded = " ".join(quote.split())
+    return any(folded in block for block in fenced)
+
+
+def _quote_html(quote: str, as_written: bool = False) -> str:
+    """A quote as its notebook sets it, its words as they are: tab-separated lines (a data
+    sheet) as a table; a quote set in a fenced block (``as_written``) as a block of its text,
+    TeX and all; otherwise a "- " item as a bullet, the text's **bold** as bold and its line
+    breaks kept, $...$ left for MathJax."""
     text = quote.strip("\n")
     lines = text.split("\n")
-    if len(lines) > 1 and any(line.rstrip().endswith("{") for line in lines):
-        return f'<pre class="pseudo-code"><code>{html.escape(text)}</code></pre>'
     if len(lines) > 1 and all("\t" in line for line in lines):
         rows = "".join(
             "<tr>" + "".join(f"<td>{html.escape(cell)}</td>" for cell in line.split("\t")) + "</tr>"
             for line in lines
         )
         return f'<table class="quote">{rows}</table>'
-    words = BOLD.sub(r"<strong>\1</strong>", _bare_tex(html.escape(text))).replace("\n", "<br>")
+    if as_written:  # pseudo-code (lines that open braces) kept to its lines, prose wrapped
+        kind = (
+            "as-written pseudo-code" if any(line.endswith("{") for line in lines) else "as-written"
+        )
+        return f'<pre class="{kind}"><code>{html.escape(text)}</code></pre>'
+    words = BOLD.sub(r"<strong>\1</strong>", html.escape(text)).replace("\n", "<br>")
     if text.startswith("- "):
         return f'<ul class="quote"><li>{words[2:]}</li></ul>'
     return f'<p class="quote">{words}</p>'
@@ -206,12 +215,18 @@ def _code_html(source: str) -> str:
 
 
 def slide_html(
-    slide: dict, picture: str | None, code: str | None, link: str, stored: str | None = None
+    slide: dict,
+    picture: str | None,
+    code: str | None,
+    link: str,
+    stored: str | None = None,
+    fenced: tuple[str, ...] = (),
 ) -> str:
-    """One slide: its title, its quotes, its ``picture`` (a file in figures/) with ``code``,
-    the code that draws it, folded under it, or, for a picture a Markdown cell shows, ``stored``,
-    where the repository keeps it; and the link to its notebook's section."""
-    quotes = "".join(_quote_html(q) for q in slide["quotes"])
+    """One slide: its title, its quotes (``fenced``: the notebook's fenced blocks, which set
+    some of them), its ``picture`` (a file in figures/) with ``code``, the code that draws it,
+    folded under it, or, for a picture a Markdown cell shows, ``stored``, where the repository
+    keeps it; and the link to its notebook's section."""
+    quotes = "".join(_quote_html(q, set_as_written(q, list(fenced))) for q in slide["quotes"])
     parts = [f"<h2>{html.escape(slide['title'])}</h2>"]
     kind = "text" if quotes else "title-only"
     if picture:
@@ -248,7 +263,7 @@ def slide_html(
 
 # every text on a slide at least 1/40 of the 1920 x 1080 screen's height, 27 px (the projector
 # rule, raykit.io.legibility): the slide's words at 34 px, the smallest (the source link, the
-# fold, the code, pseudo-code) at --smallest; tests/test_deck.py measures every text
+# fold, the code, the quotes set as written) at --smallest; tests/test_deck.py measures every text
 STYLE = """
 .reveal { font-size: 34px; --smallest: 28px; }
 .reveal .slides { text-align: left; }
@@ -266,10 +281,14 @@ STYLE = """
 .reveal section.dense .words { flex-basis: 62%; font-size: 0.9em; }
 .reveal .words:has(pre.pseudo-code) { flex: 0 0 auto; }
 .reveal p.quote { margin: 0 0 0.5em; line-height: 1.3; }
-.reveal pre.pseudo-code { width: auto; margin: 0 0 0.5em; box-shadow: none;
+.reveal pre.as-written { width: auto; margin: 0 0 0.5em; box-shadow: none;
   font-size: var(--smallest); }
-.reveal pre.pseudo-code code { max-height: none; padding: 0.4em 0.6em; background: #f4f4f4;
-  line-height: 1.25; }
+.reveal pre.as-written code { white-space: pre-wrap; max-height: none; padding: 0.4em 0.6em;
+  background: #f4f4f4; line-height: 1.25; }
+.reveal pre.pseudo-code code { white-space: pre; }
+/* a slide's text as written (its TeX as the lecture's text writes it): in the slide's type */
+.reveal pre.as-written:not(.pseudo-code), .reveal pre.as-written:not(.pseudo-code) code {
+  font-family: inherit; }
 .reveal ul.quote { margin: 0 0 0.5em 1.2em; line-height: 1.3; }
 .reveal table.quote { margin: 0 0 0.5em; font-size: 0.9em; }
 .reveal table.quote td { padding: 0.1em 0.6em 0.1em 0; border: none; }
@@ -349,7 +368,7 @@ def build(
         if slide.get("figure") or slide.get("image"):
             picture = hashlib.sha256(png).hexdigest()[:16] + ".png"
             pictures[picture] = png
-        sections.append(slide_html(slide, picture, code, link, stored))
+        sections.append(slide_html(slide, picture, code, link, stored, tuple(fenced_blocks(cells))))
     staging = out.with_name(f".{out.name}.part")
     shutil.rmtree(staging, ignore_errors=True)
     (staging / "figures").mkdir(parents=True)
