@@ -5,6 +5,9 @@ patches and markers and before their texts: at the size the figure is drawn at, 
 first place round its point, nearest first and its preferred side first, whose box crosses none
 of them (as :mod:`raykit.io.legibility` measures them) and lies inside the axes. So a diagram's
 labels stay clear whatever the scene, and wherever the figure is shrunk or stored at more dpi.
+
+A log axis's tick labels keep apart by :func:`decade_ticks`: powers of ten only, at least two
+of them in view, whatever range measured data (timings, errors) gives the axis.
 """
 
 from __future__ import annotations
@@ -16,6 +19,7 @@ from matplotlib.artist import Artist
 from matplotlib.axes import Axes
 from matplotlib.patches import FancyArrowPatch
 from matplotlib.text import Annotation, Text
+from matplotlib.ticker import LogLocator, NullFormatter
 from matplotlib.transforms import IdentityTransform
 
 from raykit.io.legibility import drawing_of, segments_cross
@@ -58,6 +62,35 @@ def arrow(ax: Axes, start, end, **style) -> FancyArrowPatch:
     )
     ax.add_patch(patch)
     return patch
+
+
+def decade_ticks(ax: Axes) -> None:
+    """Label ``ax``'s log axes at powers of ten only, at least two in view, so that their tick
+    labels keep apart whatever range the data gives them. Where the view holds fewer than two
+    powers of ten, matplotlib labels the minor ticks too (2 x 10^-2, 3 x 10^-2, ...), which ran
+    into each other on a figure fitted to a projector; here such a view, when the axes
+    autoscale, is widened out to whole decades, and no minor tick is labelled. The powers of
+    ten are thinned as matplotlib thins them, to as many as the axis has room for. Call it after
+    the axes are made log (``loglog``, ``set_xscale("log")`` reset the ticks)."""
+    for axis in (ax.xaxis, ax.yaxis):
+        if axis.get_scale() == "log":
+            axis.set_major_locator(_Decades())
+            axis.set_minor_formatter(NullFormatter())
+
+
+class _Decades(LogLocator):
+    """Ticks at the powers of ten; an autoscaled view with fewer than two of them in it widened
+    out to whole decades."""
+
+    def __init__(self) -> None:
+        super().__init__(base=10.0, subs=(1.0,), numticks="auto")
+
+    def view_limits(self, vmin: float, vmax: float) -> tuple[float, float]:
+        vmin, vmax = super().view_limits(vmin, vmax)
+        low, high = math.log10(vmin), math.log10(vmax)
+        if math.floor(high) - math.ceil(low) + 1 >= 2:
+            return vmin, vmax
+        return 10.0 ** math.floor(low), 10.0 ** max(math.ceil(high), math.floor(low) + 1)
 
 
 def _placer(ax: Axes) -> _Placer:
