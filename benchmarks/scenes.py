@@ -4,6 +4,8 @@ sphereflake(level)   Eric Haines' recursive flake: a sphere with 9 spheres a thi
                      around it, each with 9 around it, ... (level 4: 7,381 spheres), on a
                      ground billboard.
 many_spheres(n)      n small spheres scattered in front of the camera.
+lit_spheres(n)       n objects lit by a sun and a lamp: n - 1 spheres above a ground billboard
+                     (mirrors=True: every other sphere a mirror).
 classic_with_large_textures(folder)
                      scenes/classic.json (10 spheres, 4 textured billboards) with each
                      texture made 256 x 256 RGBA, written as a scene file and PNGs in folder.
@@ -50,6 +52,12 @@ def _rotated(directions: np.ndarray, rotation: np.ndarray) -> np.ndarray:
     return np.stack([dot(directions, row) for row in rotation], axis=-1)
 
 
+def _camera(eye: list, lookat: list, fov_angle: float, width: int, height: int) -> dict:
+    """A scene file's camera, y up."""
+    return {"eye": eye, "lookat": lookat, "up": [0, 1, 0], "fov_angle": fov_angle,
+            "width": width, "height": height}  # fmt: skip
+
+
 def sphereflake(level: int, width: int = 512, height: int = 512) -> Scene:
     return scene_from_dict(sphereflake_dict(level, width, height))
 
@@ -76,14 +84,7 @@ def sphereflake_dict(level: int, width: int = 512, height: int = 512) -> dict:
             grow(center + direction * (radius + radius / 3), radius / 3, direction, depth + 1)
 
     grow(np.array([0.0, 1.0, 0.0]), 1.0, np.array([0.0, 1.0, 0.0]), 0)
-    camera = {
-        "eye": [2.1, 3.3, 4.6],
-        "lookat": [0, 1.1, 0],
-        "up": [0, 1, 0],
-        "fov_angle": 45,
-        "width": width,
-        "height": height,
-    }
+    camera = _camera([2.1, 3.3, 4.6], [0, 1.1, 0], 45, width, height)
     ground = {
         "upper_left": [-6, -0.6, -6],
         "upper_right": [6, -0.6, -6],
@@ -108,15 +109,52 @@ def many_spheres(count: int, width: int = 1920, height: int = 1080, seed: int = 
         }
         for _ in range(count)
     ]
-    camera = {
-        "eye": [0, 0, 5],
-        "lookat": [0, 0, 0],
-        "up": [0, 1, 0],
-        "fov_angle": 50,
-        "width": width,
-        "height": height,
-    }
+    camera = _camera([0, 0, 5], [0, 0, 0], 50, width, height)
     return scene_from_dict({"camera": camera, "background": [0.05, 0.05, 0.1], "spheres": spheres})
+
+
+def lit_spheres(
+    count: int, mirrors: bool = False, width: int = 320, height: int = 240, seed: int = 0
+) -> Scene:
+    """``count`` objects, lit: ``count - 1`` spheres scattered above a ground billboard, their
+    radii shrinking as their number grows (as the cube root), so that they crowd the picture
+    alike; with ``mirrors``, every other sphere a mirror (max_depth 4)."""
+    rng = np.random.default_rng(seed)
+    scale = 2.0 / max(1, count - 1) ** (1 / 3)
+    spheres = []
+    for k in range(count - 1):
+        sphere = {
+            "center": rng.uniform([-3, 0.3, -3], [3, 2.5, 1.5]).tolist(),
+            "radius": float(rng.uniform(0.4, 0.8) * scale),
+            "color": rng.uniform(0.2, 0.9, 3).tolist(),
+            "specular": [0.4, 0.4, 0.4],
+            "shininess": 40,
+        }
+        if mirrors and k % 2 == 0:
+            sphere["mirror"] = [0.8, 0.8, 0.8]
+        spheres.append(sphere)
+    ground = {
+        "upper_left": [-6, 0, -6],
+        "upper_right": [6, 0, -6],
+        "lower_left": [-6, 0, 6],
+        "color": [0.6, 0.6, 0.55],
+    }
+    camera = _camera([0, 3, 7], [0, 1, 0], 45, width, height)
+    lights = [
+        {"type": "directional", "direction": [-0.4, -1.0, -0.6], "color": [0.7, 0.7, 0.65]},
+        {"type": "point", "position": [3.0, 5.0, 4.0], "color": [0.45, 0.45, 0.5]},
+    ]
+    data = {
+        "camera": camera,
+        "background": [0.55, 0.7, 0.9],
+        "ambient": [0.2, 0.2, 0.22],
+        "lights": lights,
+        "spheres": spheres,
+        "billboards": [ground],
+    }
+    if mirrors:
+        data["max_depth"] = 4
+    return scene_from_dict(data)
 
 
 TEXTURE_SIDE = 256

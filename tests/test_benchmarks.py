@@ -539,3 +539,52 @@ def test_sampling_error_area_light_faces_the_scene_and_its_grid_keeps_its_intens
     np.testing.assert_allclose(
         np.mean([p["position"] for p in grid], axis=0), [0, 4, 0], atol=1e-12
     )
+
+
+NUMPY_CONSTANTS = ["BVH_FROM", "TILE", "CROWDED", "POINTS_PER_CALL"]
+
+
+@pytest.mark.slow
+def test_thresholds_prints_each_constant_with_the_code_value_and_times_the_numpy_engines():
+    """The compiled engine's constants compile a child per value (minutes): --only leaves them
+    out, and the summary still names each with its value in the code."""
+    thresholds = _benchmark_module("thresholds")
+    tables = _tables("thresholds.py", "--only", ",".join(NUMPY_CONSTANTS))
+    summary = next(t for t in tables if t[0] == "| constant | module | in the code | measured | |")
+    rows = [row.strip("| ").split(" | ") for row in summary[2:]]
+    assert [row[0] for row in rows] == [c.name for c in thresholds.CONSTANTS]
+    for row, constant in zip(rows, thresholds.CONSTANTS, strict=True):
+        assert row[2] == str(thresholds.code_value(constant))
+        if constant.name in NUMPY_CONSTANTS:
+            assert row[3] != "not run" and row[4].startswith(("agrees", "disagrees"))
+        else:
+            assert row[3] == "not run"
+    for constant in thresholds.CONSTANTS[: len(NUMPY_CONSTANTS)]:  # the code's choice, once a row
+        heading = tables.index([f"## {constant.name} ({constant.module})"])
+        rows = [row for row in tables[heading + 2][2:] if not row.startswith("| time / ")]
+        assert rows and all(row.count("*") == 1 for row in rows)
+
+
+def test_thresholds_sets_a_compiled_constant_in_every_module_that_holds_it_before_compiling():
+    pytest.importorskip("numba")
+    code = """
+import sys
+sys.path.insert(0, {benchmarks!r})
+import thresholds
+thresholds.set_constants({{"raykit.engine.compiled.bvh.DIRECT_HITS": 0,
+                          "raykit.engine.compiled.tiles.HOLDING_CHUNK": 3, "_nrt": True}})
+from raykit.engine import compiled
+from raykit.engine.compiled import bvh, compiling, driver, shadows, tiles
+assert bvh.DIRECT_HITS == driver.DIRECT_HITS == compiled.DIRECT_HITS == 0
+assert tiles.HOLDING_CHUNK == driver.HOLDING_CHUNK == compiled.HOLDING_CHUNK == 3
+assert shadows.shadow_lists.targetoptions["_nrt"] is True
+assert "_nrt" not in driver.trace_flat.targetoptions  # one that makes arrays: left alone
+assert compiling.KERNEL["_nrt"] is thresholds.code_value(thresholds.CONSTANTS[-1])
+"""
+    run = subprocess.run(
+        [sys.executable, "-c", code.format(benchmarks=str(REPO / "benchmarks"))],
+        capture_output=True,
+        text=True,
+        timeout=TIMEOUT,
+    )
+    assert run.returncode == 0, run.stderr

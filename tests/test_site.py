@@ -18,14 +18,16 @@ Chromium at a phone's width (400 px) and a laptop's (1280 px).
 * ``tests/site_measure.html`` measures it all, every page at both widths in one Chromium.
 * No page has an empty left column ("Section Navigation" with nothing under it).
 
-The site is built once for the module, with the docs extra (skipped, saying so, without it);
-the browser tests are skipped, saying so, where Chromium is not installed.
+The site is built once for the module, with the docs extra (skipped, saying so, without it),
+or taken from the folder ``RAYKIT_SITE`` names, where .ci/run has just built it with the same
+command; the browser tests are skipped, saying so, where Chromium is not installed.
 """
 
 from __future__ import annotations
 
 import importlib.util
 import json
+import os
 import re
 import subprocess
 import sys
@@ -49,6 +51,9 @@ def site(tmp_path_factory) -> Path:
         pytest.skip(
             f'the site needs the docs extra ({", ".join(missing)}): pip install -e ".[docs]"'
         )
+    built = os.environ.get("RAYKIT_SITE")
+    if built:  # .ci/run has just built it, with the command below
+        return Path(built).resolve()
     out = tmp_path_factory.mktemp("site")
     subprocess.run(
         [

@@ -22,7 +22,7 @@ from raykit.camera import sample_offsets
 
 POINTS_PER_CALL = 1 << 14  # image points per call of ``colors``: one call pays the renderer's
 # fixed cost once for many samples, and a bounded batch keeps its arrays small enough to stay
-# in cache (measured on cutouts and sphereflake 4)
+# in cache (chosen by python benchmarks/thresholds.py, docs/benchmarks/thresholds.md)
 
 
 def edge_pixels(rgb: np.ndarray, object_index: np.ndarray) -> np.ndarray:

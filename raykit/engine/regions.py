@@ -59,7 +59,9 @@ from raykit.scene import Scene
 from raykit.shading import needs_shading
 from raykit.shadows import Caster
 
-BVH_FROM = 24  # objects: below this, brute force was faster for secondary rays (measured)
+BVH_FROM = 24  # objects from which shadow and mirror rays walk a BVH, not every object they
+# can reach: timed on either side by python benchmarks/thresholds.py
+# (docs/benchmarks/thresholds.md)
 TIMES_PER_BAND = 1 << 20  # a motion-blurred band's ray times (pixels x samples): bounds memory
 
 # cast(scene, origins (N, 3), directions (N, 3)) -> Hits: the lecture's nearest hit over every

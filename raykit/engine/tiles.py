@@ -32,11 +32,11 @@ from raykit.engine.arrays import SceneArrays
 from raykit.engine.screen_bounds import scene_bounds
 from raykit.scene import Scene
 
-TILE = 128  # pixels a side: among 64, 96, 128, 192 and 256, the best or within 10% of it on
-# every example and benchmark scene (measured); bigger tiles pay less per-tile overhead, and
-# rays are made only where some object may be seen, so their extra area costs little
+TILE = 128  # pixels a side: bigger tiles pay less per-tile overhead, and rays are made only
+# where some object may be seen, so their extra area costs little
 CROWDED = 8  # objects in a tile from which its rays are paired with objects by screen rectangle
-# (measured best among 4, 8, 16, 24, 48 on the benchmark scenes)
+# (both chosen among candidates by python benchmarks/thresholds.py,
+# docs/benchmarks/thresholds.md)
 RAYS_PER_BAND = 1 << 16  # without skipping: bounds memory, big enough to keep numpy busy
 
 

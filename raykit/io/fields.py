@@ -17,12 +17,15 @@ from __future__ import annotations
 import difflib
 import json
 import math
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 
 from raykit.io.errors import SceneError
+
+SceneT = TypeVar("SceneT")
 
 
 def _shown(value: Any) -> str:
@@ -238,3 +241,23 @@ def refuse_other_format(data: Any, source: str, expected: str) -> None:
     kind = scene_kind(data)
     if kind is not None and kind != expected:
         raise SceneError(source, "", _OTHER_FORMAT[kind])
+
+
+# the one way a scene format's file is opened and its top level read; each format's loader
+# (raykit.io.scene_json, raykit.io.linescan_json) says only what its fields are
+
+
+def read_scene_file(path: str | Path, from_dict: Callable[..., SceneT]) -> SceneT:
+    """The scene ``from_dict(data, source=, folder=)`` builds from the JSON file at ``path``:
+    the file named in every error, the images it names found beside it."""
+    data, source = read_json_file(path)
+    return from_dict(data, source=source, folder=Path(path).parent)
+
+
+def top_fields(
+    data: Any, source: str, kind: str, required: tuple[str, ...], optional: tuple[str, ...]
+) -> dict[str, Field]:
+    """The top-level fields of a ``kind`` ("3d" or "linescan") scene: the other format refused
+    naming its command, then the keys checked as :meth:`Field.object` checks them."""
+    refuse_other_format(data, source, kind)
+    return Field(data, source).object(required=required, optional=optional)

@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-from raykit.io.fields import Field, read_json_file, refuse_other_format
+from raykit.io.fields import Field, read_scene_file, top_fields
 from raykit.io.textures import Texture
 from raykit.linescan.camera import PROJECTIONS, LineCamera
 from raykit.linescan.objects import Ball, Billboard
@@ -24,15 +24,16 @@ MAX_SCANS = 16384
 
 def load_line_scene(path: str | Path) -> LineScene:
     """Read and validate a line-scan scene file; raises :class:`raykit.io.errors.SceneError`."""
-    data, source = read_json_file(path)
-    return line_scene_from_dict(data, source=source, folder=Path(path).parent)
+    return read_scene_file(path, line_scene_from_dict)
 
 
 def line_scene_from_dict(data: Any, source: str = "<scene>", folder: str | Path = ".") -> LineScene:
     """Validate parsed JSON ``data`` as a line-scan scene; image paths are relative to
     ``folder``."""
-    refuse_other_format(data, source, "linescan")
-    top = Field(data, source).object(
+    top = top_fields(
+        data,
+        source,
+        "linescan",
         required=("camera",),
         optional=("$schema", "background", "balls", "billboards", "scans"),
     )

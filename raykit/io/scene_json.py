@@ -26,7 +26,7 @@ import numpy as np
 
 from raykit.billboards import Billboard, is_degenerate
 from raykit.camera import PROJECTIONS, Camera, DegenerateFrameError, camera_frame
-from raykit.io.fields import Field, read_json_file, refuse_other_format
+from raykit.io.fields import Field, read_scene_file, top_fields
 from raykit.io.textures import Texture
 from raykit.lights import LIGHT_TYPES, AreaLight, DirectionalLight, Light, PointLight
 from raykit.materials import DEFAULT_SHININESS, PLAIN, Material
@@ -44,15 +44,16 @@ MAX_SEED = 2**32 - 1
 
 def load_scene(path: str | Path) -> Scene:
     """Read and validate a v1 or v2 scene file; raises :class:`raykit.io.errors.SceneError`."""
-    data, source = read_json_file(path)
-    return scene_from_dict(data, source=source, folder=Path(path).parent)
+    return read_scene_file(path, scene_from_dict)
 
 
 def scene_from_dict(data: Any, source: str = "<scene>", folder: str | Path = ".") -> Scene:
     """Validate parsed JSON ``data`` as a v1 or v2 scene; texture paths are relative to
     ``folder``."""
-    refuse_other_format(data, source, "3d")
-    top = Field(data, source).object(
+    top = top_fields(
+        data,
+        source,
+        "3d",
         required=("camera",),
         optional=(
             "$schema",

@@ -20,15 +20,13 @@ from libm_power import libm_power
 from conftest import REPO, SCENES, shifted_scene
 from raykit.billboards import Billboard
 from raykit.camera import Camera
+from raykit.engine import compiled
 from raykit.io.scene_json import load_scene, scene_from_dict
 from raykit.lights import DirectionalLight, PointLight
 from raykit.materials import Material
 from raykit.render import render
 from raykit.scene import Scene
 from raykit.spheres import Sphere
-
-numba = pytest.importorskip("numba")
-compiled = pytest.importorskip("raykit.engine.compiled")
 
 RAYS = 100_000
 

@@ -5,10 +5,12 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+import numba
 import numpy as np
 import pytest
 
 from raykit.billboards import billboard_color_at, hit_billboard
+from raykit.engine import compiled
 
 from .harness import (
     RAYS,
@@ -18,9 +20,6 @@ from .harness import (
     random_rays,
     twin_test,
 )
-
-numba = pytest.importorskip("numba")
-compiled = pytest.importorskip("raykit.engine.compiled")
 
 
 @numba.njit

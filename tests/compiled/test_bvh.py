@@ -4,10 +4,12 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+import numba
 import numpy as np
 import pytest
 
-from raykit.engine import bvh
+from raykit.engine import bvh, compiled
+from raykit.engine.compiled import bvh as kernels
 from raykit.render import cast
 
 from .harness import (
@@ -19,10 +21,6 @@ from .harness import (
     rays_into_crowd,
     twin_test,
 )
-
-numba = pytest.importorskip("numba")
-compiled = pytest.importorskip("raykit.engine.compiled")
-kernels = pytest.importorskip("raykit.engine.compiled.bvh")
 
 
 @pytest.mark.parametrize("objects", [3, 40, 300])

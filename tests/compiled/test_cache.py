@@ -26,9 +26,6 @@ from .harness import (
     run_python,
 )
 
-numba = pytest.importorskip("numba")
-compiled = pytest.importorskip("raykit.engine.compiled")
-
 
 def _kernels():
     """Every numba kernel of the compiled engine's modules, by ``module.name``."""

@@ -3,10 +3,12 @@ and thin_lens_rays."""
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 import pytest
 
 from raykit.camera import Camera, rays_through, thin_lens_rays
+from raykit.engine import compiled
 from raykit.scene import Scene
 
 from .harness import (
@@ -14,9 +16,6 @@ from .harness import (
     exactly,
     twin_test,
 )
-
-numba = pytest.importorskip("numba")
-compiled = pytest.importorskip("raykit.engine.compiled")
 
 
 @numba.njit

@@ -17,9 +17,6 @@ from .harness import (
     run_python,
 )
 
-numba = pytest.importorskip("numba")
-compiled = pytest.importorskip("raykit.engine.compiled")
-
 
 def test_auto_keeps_small_renders_on_numpy_and_an_unknown_engine_is_refused():
     scene = load_scene(SCENES / "classic.json")

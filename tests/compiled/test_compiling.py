@@ -5,10 +5,8 @@ from __future__ import annotations
 import io
 import sys
 
+import numba
 import pytest
-
-numba = pytest.importorskip("numba")
-compiled = pytest.importorskip("raykit.engine.compiled")
 
 
 @pytest.fixture

@@ -10,11 +10,14 @@ import signal
 import time
 from dataclasses import replace
 
+import numba
 import numpy as np
 import pytest
 
 from conftest import SCENES, shifted_scene
+from raykit.engine import compiled
 from raykit.engine.choice import compiled_refuses
+from raykit.engine.compiled import driver
 from raykit.io.scene_json import load_scene, scene_from_dict
 from raykit.lights import AreaLight
 from raykit.render import render
@@ -29,11 +32,6 @@ from .harness import (
     same_render,
     twin_test,
 )
-
-numba = pytest.importorskip("numba")
-compiled = pytest.importorskip("raykit.engine.compiled")
-driver = pytest.importorskip("raykit.engine.compiled.driver")
-
 
 EXAMPLES = sorted(SCENES.glob("*.json"))  # motion_blur.json among them
 

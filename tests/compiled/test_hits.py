@@ -3,19 +3,15 @@ raykit.hits.Hits.keep_nearer, as raykit.render.cast offers every object in index
 
 from __future__ import annotations
 
+import numba
 import numpy as np
-import pytest
 
-from .harness import exactly, twin_test
+from raykit.engine import compiled
+from raykit.engine.compiled import hits as kernels
+from raykit.engine.compiled.rays import Ray
+from raykit.render import cast
 
-numba = pytest.importorskip("numba")
-compiled = pytest.importorskip("raykit.engine.compiled")
-
-from raykit.engine.compiled import hits as kernels  # noqa: E402
-from raykit.engine.compiled.rays import Ray  # noqa: E402
-from raykit.render import cast  # noqa: E402
-
-from .harness import crowd, rays_into_crowd  # noqa: E402
+from .harness import crowd, exactly, rays_into_crowd, twin_test
 
 
 @numba.njit

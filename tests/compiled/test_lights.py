@@ -3,19 +3,16 @@
 
 from __future__ import annotations
 
+import numba
 import numpy as np
-import pytest
+
+from raykit.engine import compiled
+from raykit.engine.compiled import lights as kernels
+from raykit.lights import AreaLight, PointLight, sampled, toward_light
+from raykit.scene import Scene
 
 from .harness import exactly, twin_test
-
-numba = pytest.importorskip("numba")
-compiled = pytest.importorskip("raykit.engine.compiled")
-
-from raykit.engine.compiled import lights as kernels  # noqa: E402
-from raykit.lights import AreaLight, PointLight, sampled, toward_light  # noqa: E402
-from raykit.scene import Scene  # noqa: E402
-
-from .test_camera import _pinhole  # noqa: E402
+from .test_camera import _pinhole
 
 
 def _toward_point_light(rng):

@@ -3,18 +3,14 @@ raykit.mirrors.reflect and glossy_reflect."""
 
 from __future__ import annotations
 
-import pytest
+import numba
+import numpy as np
+
+from raykit.engine.compiled import mirrors as kernels
+from raykit.mirrors import glossy_reflect, reflect
+from raykit.rays import normalize
 
 from .harness import exactly, twin_test
-
-numba = pytest.importorskip("numba")
-compiled = pytest.importorskip("raykit.engine.compiled")
-
-import numpy as np  # noqa: E402
-
-from raykit.engine.compiled import mirrors as kernels  # noqa: E402
-from raykit.mirrors import glossy_reflect, reflect  # noqa: E402
-from raykit.rays import normalize  # noqa: E402
 
 
 def _reflect(rng):

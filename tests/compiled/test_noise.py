@@ -3,18 +3,14 @@ hash on many random counters, its uniform numbers, the shuffle, and each sampler
 
 from __future__ import annotations
 
+import numba
 import numpy as np
-import pytest
 
 from raykit.engine import noise
+from raykit.engine.compiled import noise as kernels
 from raykit.sampling import Sampling
 
 from .harness import exactly, twin_test
-
-numba = pytest.importorskip("numba")
-compiled = pytest.importorskip("raykit.engine.compiled")
-
-from raykit.engine.compiled import noise as kernels  # noqa: E402
 
 COUNTERS = 100_000
 

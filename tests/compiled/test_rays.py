@@ -3,15 +3,11 @@
 from __future__ import annotations
 
 import numpy as np
-import pytest
+
+from raykit.engine.compiled import rays as kernels
+from raykit.rays import nearest_positive
 
 from .harness import exactly, twin_test
-
-numba = pytest.importorskip("numba")
-compiled = pytest.importorskip("raykit.engine.compiled")
-
-from raykit.engine.compiled import rays as kernels  # noqa: E402
-from raykit.rays import nearest_positive  # noqa: E402
 
 
 def _nearest_positive(rng):

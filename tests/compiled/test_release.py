@@ -3,11 +3,6 @@ student's functions, and is never shipped."""
 
 from __future__ import annotations
 
-import pytest
-
-numba = pytest.importorskip("numba")
-compiled = pytest.importorskip("raykit.engine.compiled")
-
 
 def test_a_wrong_submission_still_renders_wrong_with_numba_installed(tmp_path, child_python):
     """The grader runs the student's own numpy functions: the compiled engine never stands in."""

@@ -3,18 +3,14 @@ random uniform numbers and the corners of the square (0 and the largest double b
 
 from __future__ import annotations
 
+import numba
 import numpy as np
-import pytest
 
 from raykit import sampling
+from raykit.engine.compiled import sampling as kernels
 from raykit.rays import normalize
 
 from .harness import exactly, twin_test
-
-numba = pytest.importorskip("numba")
-compiled = pytest.importorskip("raykit.engine.compiled")
-
-from raykit.engine.compiled import sampling as kernels  # noqa: E402
 
 COUNT = 20_000
 BELOW_ONE = np.nextafter(1.0, 0.0)

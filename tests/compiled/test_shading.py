@@ -5,12 +5,15 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+import numba
 import numpy as np
 import pytest
 from libm_power import libm_power
 
 from conftest import shifted_scene
 from raykit import shading
+from raykit.engine import compiled
+from raykit.engine.compiled import shading as kernels
 from raykit.engine.noise import Dimensions
 from raykit.lights import AreaLight, DirectionalLight, PointLight
 from raykit.rays import dot, normalize
@@ -25,10 +28,6 @@ from .harness import (
     same_render,
     twin_test,
 )
-
-numba = pytest.importorskip("numba")
-compiled = pytest.importorskip("raykit.engine.compiled")
-kernels = pytest.importorskip("raykit.engine.compiled.shading")
 
 
 @numba.njit

@@ -5,18 +5,14 @@ checked through whole renders, tests/compiled/test_shading.py.)"""
 from __future__ import annotations
 
 import numpy as np
-import pytest
+
+from raykit.engine.compiled import shadows as kernels
+from raykit.lights import PointLight
+from raykit.rays import normalize
+from raykit.shadows import light_reach
+from raykit.surfaces import SurfacePoints
 
 from .harness import exactly, twin_test
-
-numba = pytest.importorskip("numba")
-compiled = pytest.importorskip("raykit.engine.compiled")
-
-from raykit.engine.compiled import shadows as kernels  # noqa: E402
-from raykit.lights import PointLight  # noqa: E402
-from raykit.rays import normalize  # noqa: E402
-from raykit.shadows import light_reach  # noqa: E402
-from raykit.surfaces import SurfacePoints  # noqa: E402
 
 
 def _point_light_reach(rng):

@@ -3,9 +3,11 @@ rays and the stability cases."""
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 import pytest
 
+from raykit.engine import compiled
 from raykit.spheres import center_at, hit_sphere
 
 from .harness import (
@@ -14,9 +16,6 @@ from .harness import (
     random_rays,
     twin_test,
 )
-
-numba = pytest.importorskip("numba")
-compiled = pytest.importorskip("raykit.engine.compiled")
 
 
 @numba.njit

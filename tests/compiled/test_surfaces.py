@@ -4,18 +4,13 @@ against raykit.surfaces."""
 from __future__ import annotations
 
 import numpy as np
-import pytest
 
-from .harness import exactly, twin_test
+from raykit.engine import compiled
+from raykit.engine.compiled import surfaces as kernels
+from raykit.render import cast
+from raykit.surfaces import SurfacePoints, surface_points
 
-numba = pytest.importorskip("numba")
-compiled = pytest.importorskip("raykit.engine.compiled")
-
-from raykit.engine.compiled import surfaces as kernels  # noqa: E402
-from raykit.render import cast  # noqa: E402
-from raykit.surfaces import SurfacePoints, surface_points  # noqa: E402
-
-from .harness import lit_crowd, rays_into_crowd  # noqa: E402
+from .harness import exactly, lit_crowd, rays_into_crowd, twin_test
 
 
 def _surface_points(rng):

@@ -3,11 +3,16 @@ against the numpy engine, and the choice of tile side."""
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 import pytest
 from libm_power import libm_power
 
 from conftest import SCENES
+from raykit.engine import compiled
+from raykit.engine.compiled.billboards import billboard_color_at, hit_billboard
+from raykit.engine.compiled.spheres import hit_sphere
+from raykit.engine.compiled.tiles import lane_offer, lanes_under
 from raykit.io.scene_json import load_scene
 from raykit.render import render
 
@@ -19,13 +24,6 @@ from .harness import (
     ties_reversed,
     twin_test,
 )
-
-numba = pytest.importorskip("numba")
-compiled = pytest.importorskip("raykit.engine.compiled")
-
-from raykit.engine.compiled.billboards import billboard_color_at, hit_billboard  # noqa: E402
-from raykit.engine.compiled.spheres import hit_sphere  # noqa: E402
-from raykit.engine.compiled.tiles import lane_offer, lanes_under  # noqa: E402
 
 # every way of casting the viewing rays: tiles of each side, their rays in packets or one at a
 # time (raykit.engine.compiled.tile_side picks one per scene); 4-pixel packets are too small to

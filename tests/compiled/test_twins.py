@@ -13,14 +13,12 @@ from dataclasses import replace
 import pytest
 
 from conftest import REPO, SCENES
+from raykit.engine import compiled
+from raykit.engine.compiled import twins
 from raykit.io.scene_json import load_scene
 from raykit.render import render
 
 from .harness import kernels, resolve
-
-numba = pytest.importorskip("numba")
-compiled = pytest.importorskip("raykit.engine.compiled")
-from raykit.engine.compiled import twins  # noqa: E402  (after numba is known to be there)
 
 # the lecture's modules: the reference functions a student writes and the renderer's loop
 LECTURE = {

@@ -16,7 +16,7 @@ STACK = 128  # nodes a ray may have still to visit: a median-split tree of 2^63 
 
 
 # objects in a scene up to which a shadow or mirror ray tests each object, not the tree's
-# boxes: mirror_balls's 5 render faster so (measured, prepared, in turns)
+# boxes: timed on either side by python benchmarks/thresholds.py (docs/benchmarks/thresholds.md)
 DIRECT_HITS = 8
 
 
@@ -101,8 +101,8 @@ def nearest_hit(arrays, tree, stack, o0, o1, o2, d0, d1, d2, t_max, any_blocker=
                     top += 1
                 continue
             first, count = tree.first[node], tree.count[node]
-        # one call site for keep_nearer: a second loop for DIRECT_HITS rendered mirror_balls a
-        # little faster, but cost more to compile than it saved
+        # one call site for keep_nearer: numba inlines it at each (INLINED), so a second loop
+        # for DIRECT_HITS would compile it twice
         for k in range(first, first + count):
             hit = keep_nearer(arrays, tree.order[k], ray, hit)
             if any_blocker and hit.t < t_max:

@@ -47,8 +47,8 @@ numba.config.CACHE_DIR = str(CACHE) if CACHE is not None else ""  # read as kern
 MAKES_ARRAYS = dict(cache=CACHE is not None, error_model="numpy", nogil=True)
 # every other kernel: the same, without reference counts (numba's _nrt=False). It only reads
 # and writes arrays its caller holds, and counting each array in and out of every call, on
-# counters that every worker shares, cost more than most kernels' arithmetic (measured, with
-# benchmarks/compile_time.py's renders against the engine of one inlined loop)
+# counters that every worker shares, costs more than most kernels' arithmetic (python
+# benchmarks/thresholds.py times the kernels with them on: docs/benchmarks/thresholds.md)
 KERNEL = dict(MAKES_ARRAYS, _nrt=False)
 # a kernel run once per ray, or per object a ray meets, must not stay a call in the loops: a
 # call passes the scene's arrays as a hundred numbers or more, more work than such a kernel

@@ -77,7 +77,8 @@ class Tiles(NamedTuple):
     packets: bool
 
 
-HOLDING_CHUNK = 8  # entries of a tile's list that primary_ray checks at a time
+HOLDING_CHUNK = 8  # entries of a tile's list that primary_ray checks at a time (chosen by
+# python benchmarks/thresholds.py, docs/benchmarks/thresholds.md)
 
 
 class ViewingHit(NamedTuple):
@@ -104,12 +105,12 @@ def primary_ray(arrays, tiles, camera, x, y, tile, holding):
     The list is read HOLDING_CHUNK entries at a time: first which of them hold the point, into
     ``holding (HOLDING_CHUNK,)``, with no branch, then those in order. In a crowded picture an
     entry holds the point one time in two or three, and a branch per entry, guessed wrong that
-    often, cost more than the checks (measured on sphereflake 6). The
-    objects offered are the same, in the same order: the lists are sorted by closest t, which
-    is not NaN where the scene's numbers are finite (as :mod:`raykit.io` checks every scene
-    file's), and the nearest hit only comes nearer, so an entry checked past the one a scan
-    entry by entry stops at can only be farther than the hit, and is not offered either
-    (tests/compiled/test_tiles.py compares the two scans)."""
+    often, costs more than the checks (``python benchmarks/thresholds.py`` times a chunk of 1, a
+    branch per entry, against larger ones). The objects offered are the same, in the same order:
+    the lists are sorted by closest t, which is not NaN where the scene's numbers are finite (as
+    :mod:`raykit.io` checks every scene file's), and the nearest hit only comes nearer, so an
+    entry checked past the one a scan entry by entry stops at can only be farther than the hit,
+    and is not offered either (tests/compiled/test_tiles.py compares the two scans)."""
     size, entries, objects = tiles.size, tiles.entries, tiles.objects
     background = arrays.background
     hit = NearestHit(index=np.int64(-1), t=np.inf, r=background[0], g=background[1],
