@@ -160,12 +160,15 @@ def loglog_plot(
     ylabel: str,
 ) -> None:
     """One log-log line per ``label: (xs, ys, style)``, written to ``path``, the legend under
-    the axes: inside them, wherever it went, it lay on some run's line or markers."""
+    the axes: inside them, wherever it went, it lay on some run's line or markers. The ticks
+    are labelled at powers of ten only (:func:`raykit.diagrams.labels.decade_ticks`), apart
+    whatever range the run's figures span."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    from raykit.diagrams.labels import decade_ticks
     from raykit.io.images import save_figure
 
     figure, ax = plt.subplots(
@@ -173,6 +176,7 @@ def loglog_plot(
     )
     for label, (xs, ys, style) in series.items():
         ax.loglog(xs, ys, style, label=label)
+    decade_ticks(ax)
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     figure.legend(loc="outside lower center", ncol=2)
@@ -204,6 +208,7 @@ def bar_plot(
     import matplotlib.pyplot as plt
     from matplotlib.patches import Patch
 
+    from raykit.diagrams.labels import decade_ticks
     from raykit.io.images import save_figure
 
     columns = max(1, min(len(groups), max(4, math.ceil(len(groups) / 2))))
@@ -232,10 +237,13 @@ def bar_plot(
         ax.set_xlim(-0.6, len(series) - 0.4)
         if log:
             ax.set_yscale("log")
+            decade_ticks(ax)
         ax.margins(y=0.15)  # room for the labels on the tallest bars
-    if log:  # a log scale's margin is a share of its decades: room for a label above instead
+    if log:  # a log scale's margin is a share of its decades: room for a label above instead,
+        # from a whole decade to one (two powers of ten labelled at least, decade_ticks)
         drawn = [v * 1000 for values in series.values() for v in values if v is not None]
-        axes.flat[0].set_ylim(top=max(drawn) * 10)
+        low, high = math.log10(min(drawn)), math.log10(max(drawn) * 10)
+        axes.flat[0].set_ylim(10.0 ** math.floor(low), 10.0 ** math.ceil(high))
     figure.supylabel(ylabel, fontsize=8)
     if title:
         figure.suptitle(title, fontsize=9)

@@ -148,6 +148,23 @@ def _no_empty_sidebar(app, pagename: str, templatename, context: dict, doctree) 
         context["sidebars"] = []
 
 
+# the footer's "previous" and "next" links name pages; an API page's name is one long word of
+# dotted parts (raykit.engine.compiled.billboards), which the browser, with no other place to
+# break it, broke inside a part ("billboa|rds"). A break is offered after each dot instead.
+TAG = re.compile(r"(<[^>]*>)")
+
+
+def _footer_names_break_at_dots(app, pagename, templatename, context: dict, doctree) -> None:
+    for key in ("prev", "next"):
+        link = context.get(key)
+        if link and link.get("title"):
+            parts = TAG.split(link["title"])  # the title is HTML: only its text is touched
+            link["title"] = "".join(
+                part if TAG.fullmatch(part) else re.sub(r"(?<=\w)\.(?=\w)", ".<wbr>", part)
+                for part in parts
+            )
+
+
 # ---- pages written for a repository host, read by Sphinx -------------------------------------
 BENCHMARK_TITLE = re.compile(r"\A\s*#\s")
 
@@ -388,6 +405,7 @@ def setup(app):
 
     app.connect("source-read", _source_read)
     app.connect("html-page-context", _no_empty_sidebar)
+    app.connect("html-page-context", _footer_names_break_at_dots)
     app.connect("doctree-resolved", _mark_few_word_cells)
     app.connect("build-finished", _deck)
     app.add_node(

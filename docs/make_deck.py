@@ -3,13 +3,17 @@
     python docs/make_deck.py [-o OUT_FOLDER] [--notebooks URL]
 
 Reads ``notebooks/lecture.json`` (the lecture's slides in order, each with the words the kit
-quotes from it, the notebook section that teaches it and the code cell that draws its figure)
-and writes OUT_FOLDER/index.html (default: docs/_build/deck), a reveal.js deck that needs no
-network: each slide's title and its text word for word (formulas typeset by MathJax,
-pseudo-code as code), the figure that cell of the notebook stores, the cell's code folded under
-it, and a link to the notebook's section (``--notebooks``: where the site's notebook pages are,
-relative to the deck; default ``../notebooks/``, as the site places the deck). Press S for the
-speaker notes (lecture.json's "note").
+quotes from it, the notebook section that teaches it and its figure: the code cell that draws
+it, or the stored picture a Markdown cell shows) and writes OUT_FOLDER/index.html (default:
+docs/_build/deck), a reveal.js deck that needs no network: each slide's title and its text word
+for word, each quote as its notebook sets it (a fenced block, such as the pseudo-code or a
+slide whose TeX the lecture's text writes outside dollar signs, as written; otherwise its
+formulas typeset by MathJax), the figure that cell of the
+notebook stores with the cell's code folded under it (which, opened, covers the slide) or the
+stored picture with its path, and a link to the notebook's section (``--notebooks``: where the
+site's notebook pages are, relative to the deck; default ``../notebooks/``, as the site places
+the deck). Every text on a slide is at least 1/40 of the screen's height, the projector rule of
+raykit.io.legibility. Press S for the speaker notes (lecture.json's "note").
 
 reveal.js is the one the ``sphinx-revealjs`` package (docs extra) ships, MathJax the site's
 (``sphinx-mathjax-offline``); both are copied into OUT_FOLDER with the figures, so the folder
@@ -87,8 +91,13 @@ def load_lecture(path: Path = LECTURE) -> dict:
         for field, kind in (("title", str), ("notebook", str), ("cell", str), ("quotes", list)):
             if not isinstance(slide.get(field), kind):
                 raise DeckError(f"{path}: slides[{k}].{field}: must be a {kind.__name__}")
-        if slide.get("figure") is not None and not isinstance(slide["figure"], str):
-            raise DeckError(f"{path}: slides[{k}].figure: must be a string or null")
+        for field in ("figure", "image"):
+            if slide.get(field) is not None and not isinstance(slide[field], str):
+                raise DeckError(f"{path}: slides[{k}].{field}: must be a string or null")
+        if slide.get("figure") and slide.get("image"):
+            raise DeckError(
+                f"{path}: slides[{k}].image: a slide has a figure or an image, not both"
+            )
     return lecture
 
 
@@ -112,6 +121,19 @@ def stored_figure(cell: dict, where: str) -> bytes:
     if not pictures:
         raise DeckError(f"{where}: its cell stores no picture (run python notebooks/execute.py)")
     return base64.b64decode(pictures[-1])
+
+
+def stored_image(notebooks: Path, image: str, where: str) -> tuple[bytes, str]:
+    """The picture at ``image`` (a path from the notebooks' folder, as a Markdown cell links
+    it), and its path as the repository names it."""
+    path = (notebooks / image).resolve()
+    if path.suffix.lower() != ".png" or not path.is_file():
+        raise DeckError(f"{where}: no such PNG picture {image}")
+    try:
+        name = path.relative_to(notebooks.resolve().parent).as_posix()
+    except ValueError:
+        name = image
+    return path.read_bytes(), name
 
 
 HEADING = re.compile(r"^(#{1,6})\s+(.*)$")
@@ -143,35 +165,42 @@ def _plain(text: str) -> str:
 
 BOLD = re.compile(r"\*\*(.+?)\*\*", re.S)
 MATH = re.compile(r"(?<!\\)(\$\$.+?\$\$|\$.+?(?<!\\)\$)", re.S)
-BARE_TEX = re.compile(r"\\[a-zA-Z]+(?:\{[^{}]*\})*")
+FENCE = re.compile(r"^```[^\n]*\n(.*?)^```", re.S | re.M)
 
 
-def _bare_tex(text: str) -> str:
-    """The slide's TeX outside $...$ (\\mathbf{u}, as the lecture's text writes some of its
-    vectors) set between \\( \\) for MathJax to typeset: the same letters, as formulas."""
-    parts = MATH.split(text)
-    return "".join(
-        part if k % 2 else BARE_TEX.sub(lambda m: f"\\({m.group(0)}\\)", part)
-        for k, part in enumerate(parts)
-    )
+def fenced_blocks(cells: list[dict]) -> list[str]:
+    """The text of every fenced block (```) of the notebook's Markdown, whitespace folded."""
+    markdown = "\n\n".join("".join(c["source"]) for c in cells if c["cell_type"] == "markdown")
+    return [" ".join(block.split()) for block in FENCE.findall(markdown)]
 
 
-def _quote_html(quote: str) -> str:
-    """A quote as the slide sets it, its words as they are: pseudo-code (lines that open and
-    close braces) as a code block, tab-separated lines (a data sheet) as a table, a "- " item
-    as a bullet, the text's **bold** as bold and its line breaks kept; $...$ is left for
-    MathJax."""
+def set_as_written(quote: str, fenced: list[str]) -> bool:
+    """Whether the notebook sets ``quote`` in a fenced block (``fenced``: its blocks), as the
+    lecture's text writes it: the pseudo-code, and the slides whose TeX the text writes outside
+    dollar signs, which only a block shows as written (the site shows it so)."""
+    folded = " ".join(quote.split())
+    return any(folded in block for block in fenced)
+
+
+def _quote_html(quote: str, as_written: bool = False) -> str:
+    """A quote as its notebook sets it, its words as they are: tab-separated lines (a data
+    sheet) as a table; a quote set in a fenced block (``as_written``) as a block of its text,
+    TeX and all; otherwise a "- " item as a bullet, the text's **bold** as bold and its line
+    breaks kept, $...$ left for MathJax."""
     text = quote.strip("\n")
     lines = text.split("\n")
-    if len(lines) > 1 and any(line.rstrip().endswith("{") for line in lines):
-        return f'<pre class="pseudo-code"><code>{html.escape(text)}</code></pre>'
     if len(lines) > 1 and all("\t" in line for line in lines):
         rows = "".join(
             "<tr>" + "".join(f"<td>{html.escape(cell)}</td>" for cell in line.split("\t")) + "</tr>"
             for line in lines
         )
         return f'<table class="quote">{rows}</table>'
-    words = BOLD.sub(r"<strong>\1</strong>", _bare_tex(html.escape(text))).replace("\n", "<br>")
+    if as_written:  # pseudo-code (lines that open braces) kept to its lines, prose wrapped
+        kind = (
+            "as-written pseudo-code" if any(line.endswith("{") for line in lines) else "as-written"
+        )
+        return f'<pre class="{kind}"><code>{html.escape(text)}</code></pre>'
+    words = BOLD.sub(r"<strong>\1</strong>", html.escape(text)).replace("\n", "<br>")
     if text.startswith("- "):
         return f'<ul class="quote"><li>{words[2:]}</li></ul>'
     return f'<p class="quote">{words}</p>'
@@ -185,16 +214,35 @@ def _code_html(source: str) -> str:
     return highlight(source, PythonLexer(), HtmlFormatter(noclasses=True, nowrap=False))
 
 
-def slide_html(slide: dict, picture: str | None, code: str | None, link: str) -> str:
-    quotes = "".join(_quote_html(q) for q in slide["quotes"])
+def slide_html(
+    slide: dict,
+    picture: str | None,
+    code: str | None,
+    link: str,
+    stored: str | None = None,
+    fenced: tuple[str, ...] = (),
+) -> str:
+    """One slide: its title, its quotes (``fenced``: the notebook's fenced blocks, which set
+    some of them), its ``picture`` (a file in figures/) with ``code``, the code that draws it,
+    folded under it, or, for a picture a Markdown cell shows, ``stored``, where the repository
+    keeps it; and the link to its notebook's section."""
+    quotes = "".join(_quote_html(q, set_as_written(q, list(fenced))) for q in slide["quotes"])
     parts = [f"<h2>{html.escape(slide['title'])}</h2>"]
     kind = "text" if quotes else "title-only"
     if picture:
         kind = "figure" if quotes else "picture"
+        if stored is not None:
+            below = (
+                f"<figcaption>the stored picture <code>{html.escape(stored)}</code></figcaption>"
+            )
+        else:
+            below = (
+                "<details><summary>the code that draws it</summary>"
+                f"{_code_html(code or '')}</details>"
+            )
         figure = (
             f'<figure><img src="figures/{picture}" alt="{html.escape(slide["title"])}">'
-            f"<details><summary>the code that draws it</summary>{_code_html(code or '')}</details>"
-            "</figure>"
+            f"{below}</figure>"
         )
         words = f'<div class="words">{quotes}</div>' if quotes else ""
         parts.append(f'<div class="body">{words}{figure}</div>')
@@ -213,8 +261,11 @@ def slide_html(slide: dict, picture: str | None, code: str | None, link: str) ->
     return f'<section class="{kind}{density}">{"".join(parts)}</section>'
 
 
+# every text on a slide at least 1/40 of the 1920 x 1080 screen's height, 27 px (the projector
+# rule, raykit.io.legibility): the slide's words at 34 px, the smallest (the source link, the
+# fold, the code, the quotes set as written) at --smallest; tests/test_deck.py measures every text
 STYLE = """
-.reveal { font-size: 34px; }
+.reveal { font-size: 34px; --smallest: 28px; }
 .reveal .slides { text-align: left; }
 .reveal .slides section { height: 100%; display: flex !important; flex-direction: column; }
 .reveal h2 { font-size: 1.6em; margin: 0 0 0.4em; line-height: 1.3; text-transform: none; }
@@ -230,15 +281,28 @@ STYLE = """
 .reveal section.dense .words { flex-basis: 62%; font-size: 0.9em; }
 .reveal .words:has(pre.pseudo-code) { flex: 0 0 auto; }
 .reveal p.quote { margin: 0 0 0.5em; line-height: 1.3; }
-.reveal pre.pseudo-code { width: auto; margin: 0 0 0.5em; box-shadow: none; font-size: 0.8em; }
-.reveal pre.pseudo-code code { max-height: none; padding: 0.4em 0.6em; background: #f4f4f4;
-  line-height: 1.25; }
+.reveal pre.as-written { width: auto; margin: 0 0 0.5em; box-shadow: none;
+  font-size: var(--smallest); }
+.reveal pre.as-written code { white-space: pre-wrap; max-height: none; padding: 0.4em 0.6em;
+  background: #f4f4f4; line-height: 1.25; }
+.reveal pre.pseudo-code code { white-space: pre; }
+/* a slide's text as written (its TeX as the lecture's text writes it): in the slide's type */
+.reveal pre.as-written:not(.pseudo-code), .reveal pre.as-written:not(.pseudo-code) code {
+  font-family: inherit; }
 .reveal ul.quote { margin: 0 0 0.5em 1.2em; line-height: 1.3; }
 .reveal table.quote { margin: 0 0 0.5em; font-size: 0.9em; }
 .reveal table.quote td { padding: 0.1em 0.6em 0.1em 0; border: none; }
-.reveal details { font-size: 0.7em; align-self: stretch; margin-top: 0.3em; }
-.reveal details pre { margin: 0; max-height: 480px; overflow: auto; font-size: 0.75em; }
-.reveal p.source { font-size: 0.55em; margin: 0.3em 0 0; flex: 0 0 auto; }
+.reveal details, .reveal figcaption { font-size: var(--smallest); align-self: stretch;
+  margin-top: 0.3em; }
+.reveal figcaption { text-align: center; }
+/* the code, opened, covers the slide under its title: read at the slide's smallest size, it
+   scrolls in its own box where it is longer than the screen */
+.reveal details[open] { position: absolute; top: 96px; left: 0; right: 0; bottom: 0;
+  margin: 0; z-index: 10; background: #fff; display: flex; flex-direction: column; }
+.reveal details[open] > .highlight { flex: 1 1 auto; min-height: 0; overflow: auto; }
+.reveal details pre { margin: 0; width: auto; box-shadow: none; font-size: var(--smallest);
+  line-height: 1.25; }
+.reveal p.source { font-size: var(--smallest); margin: 0.3em 0 0; flex: 0 0 auto; }
 """
 
 PAGE = """<!doctype html>
@@ -294,14 +358,17 @@ def build(
         cells = _cells(notebook)
         anchor = section_anchor(cells, slide["cell"], f"{where}.cell")
         link = f"{notebooks_url}{notebook.stem}.html#{anchor}"
-        picture = code = None
+        picture = code = stored = None
         if slide.get("figure"):
             cell = figure_cell(cells, slide["figure"], f"{where}.figure")
             png = stored_figure(cell, f"{where}.figure")
+            code = "".join(cell["source"])
+        elif slide.get("image"):
+            png, stored = stored_image(notebooks, slide["image"], f"{where}.image")
+        if slide.get("figure") or slide.get("image"):
             picture = hashlib.sha256(png).hexdigest()[:16] + ".png"
             pictures[picture] = png
-            code = "".join(cell["source"])
-        sections.append(slide_html(slide, picture, code, link))
+        sections.append(slide_html(slide, picture, code, link, stored, tuple(fenced_blocks(cells))))
     staging = out.with_name(f".{out.name}.part")
     shutil.rmtree(staging, ignore_errors=True)
     (staging / "figures").mkdir(parents=True)

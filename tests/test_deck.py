@@ -23,6 +23,7 @@ import pytest
 import headless
 from conftest import REPO
 from headless import CHROMIUM, served
+from raykit.io.legibility import SMALLEST_SCREEN_TEXT
 
 HERE = Path(__file__).resolve().parent
 LECTURE = REPO / "notebooks" / "lecture.json"
@@ -61,17 +62,51 @@ def test_one_slide_per_lecture_slide_in_order_with_its_words_figure_and_code(dec
         assert html.unescape(title) == slide["title"]
         # the words as the slide shows them, spaces aside (a data sheet's tabs are a table's cells)
         text = re.sub(r"\s", "", html.unescape(re.sub(r"<[^>]+>|\\\(|\\\)", "", section)))
-        for quote in slide["quotes"]:
+        for quote in slide["quotes"]:  # **bold** as bold, but not where set as written
             words = re.sub(r"\s", "", quote.replace("**", "").removeprefix("- "))
-            assert words in text, (slide["title"], quote)
+            assert words in text or re.sub(r"\s", "", quote) in text, (slide["title"], quote)
         pictures = re.findall(r'<img src="(figures/[^"]+)"', section)
         if slide.get("figure"):
             assert len(pictures) == 1 and (deck / pictures[0]).is_file(), slide["title"]
             assert "<details>" in section
             assert re.sub(r"\s", "", slide["figure"]) in text
+        elif slide.get("image"):  # the stored picture a Markdown cell shows, and its path
+            stored = (REPO / "notebooks" / slide["image"]).resolve()
+            assert len(pictures) == 1, slide["title"]
+            assert (deck / pictures[0]).read_bytes() == stored.read_bytes(), slide["title"]
+            assert "<details>" not in section
+            assert str(stored.relative_to(REPO)) in text
         else:
             assert not pictures
         assert re.search(r'<a href="\.\./notebooks/' + re.escape(slide["notebook"][:-6]), section)
+
+
+def _as_written(slide: dict) -> list[str]:
+    """The slide's quotes its notebook sets in a fenced block (a data sheet's table aside)."""
+    cells = json.loads((REPO / "notebooks" / slide["notebook"]).read_text())["cells"]
+    fenced = MAKER.fenced_blocks(cells)
+    return [q for q in slide["quotes"] if MAKER.set_as_written(q, fenced) and "\t" not in q]
+
+
+def test_a_quote_its_notebook_sets_as_written_is_shown_as_written_as_on_the_site(deck):
+    """The pseudo-code, and the slides whose TeX the lecture's text writes outside dollar
+    signs ("Let \\mathbf{u}, \\mathbf{v} be orthonormal ..."): the notebooks set them in fenced
+    blocks, which the site shows as written, TeX and all; the deck shows the same."""
+    slides = json.loads(LECTURE.read_text(encoding="utf-8"))["slides"]
+    sections = _sections(deck / "index.html")
+    kept = {k: _as_written(slide) for k, slide in enumerate(slides)}
+    assert sum(q.startswith("Let \\mathbf{u}") for quotes in kept.values() for q in quotes) == 1
+    assert sum(len(quotes) for quotes in kept.values()) >= 8  # six loops, three slides of TeX
+    for k, quotes in kept.items():
+        for quote in quotes:
+            block = f"<code>{html.escape(quote.strip(chr(10)))}</code></pre>"
+            shown = re.search(r'<pre class="as-written[ \w-]*">' + re.escape(block), sections[k])
+            assert shown, (slides[k]["title"], quote[:60])
+    # TeX outside dollar signs appears in no quote shown as prose: MathJax would leave it raw
+    for k, slide in enumerate(slides):
+        for quote in slide["quotes"]:
+            prose = "".join(MAKER.MATH.split(quote)[::2])
+            assert quote in kept[k] or not re.search(r"\\[a-zA-Z]+\{", prose), quote[:60]
 
 
 def test_every_link_to_a_notebook_names_a_section_the_notebook_opens(deck):
@@ -99,6 +134,8 @@ def test_every_link_to_a_notebook_names_a_section_the_notebook_opens(deck):
         (lambda d: d["slides"][0].pop("title"), r"slides\[0\]\.title: must be a str"),
         (lambda d: d["slides"][2].update(cell="## not a heading here"), r"slides\[2\].*\.cell"),
         (lambda d: d["slides"][1].update(notebook="99_none.ipynb"), r"slides\[1\].*notebook"),
+        (lambda d: d["slides"][5].update(image="../none.png"), r"slides\[5\].*\.image: no such"),
+        (lambda d: d["slides"][5].update(figure="x"), r"slides\[5\]\.image: a slide has a figure"),
     ],
 )
 def test_a_bad_lecture_json_is_one_line_naming_the_field_and_writes_nothing(
@@ -133,11 +170,33 @@ def test_every_slide_fits_a_1920_by_1080_screen_offline(deck):
     assert [s["title"] for s in result["slides"]] == [s["title"] for s in slides]
     cut = {f"{s['index']} {s['title']}": s["cut"][:3] for s in result["slides"] if s["cut"]}
     assert not cut, json.dumps(cut, indent=1, ensure_ascii=False)
-    # the formulas are typeset, the pictures and the pseudo-code are there
-    formulas = sum(len(MAKER.MATH.findall(q)) for s in slides for q in s["quotes"])
+    # every text at least 1/40 of the screen's height (the projector rule), the folded code
+    # opened too, on the screen
+    smallest = SMALLEST_SCREEN_TEXT - 0.05
+    small = {
+        f"{s['index']} {s['title']}": [t for t in s["smallest"] if t["px"] < smallest]
+        for s in result["slides"]
+    }
+    small = {slide: texts for slide, texts in small.items() if texts}
+    assert not small, json.dumps(small, indent=1, ensure_ascii=False)
+    assert all(s["texts"] >= 2 for s in result["slides"])  # a title and a link, at least
+    folded = [s for s in result["slides"] if s["code"] is not None]
+    assert [s["index"] for s in folded] == [k for k, s in enumerate(slides) if s.get("figure")]
+    for slide in folded:
+        assert slide["code"]["texts"] >= 2 and not slide["code"]["cut"], slide
+        assert all(t["px"] >= smallest for t in slide["code"]["smallest"]), slide
+    # the formulas are typeset, the pictures and the quotes set as written are there
+    written = [_as_written(s) for s in slides]
+    formulas = sum(
+        len(MAKER.MATH.findall(q))
+        for s, kept in zip(slides, written, strict=True)
+        for q in s["quotes"]
+        if q not in kept
+    )
     assert sum(s["formulas"] for s in result["slides"]) >= formulas > 0
-    assert [s["pictures"] for s in result["slides"]] == [int(bool(s.get("figure"))) for s in slides]
-    assert sum(s["code_blocks"] for s in result["slides"]) >= 5
+    shown = [int(bool(s.get("figure") or s.get("image"))) for s in slides]
+    assert [s["pictures"] for s in result["slides"]] == shown
+    assert [s["code_blocks"] for s in result["slides"]] == [len(kept) for kept in written]
     # everything came from the deck's own folder, and came
     away = [r for r in result["requests"] if not r["url"].startswith(origin + "/")]
     assert not away, away

@@ -1,3 +1,4 @@
+import io
 import json
 
 import matplotlib
@@ -421,3 +422,34 @@ def test_diagram_labels_are_clear(case):
     layout = read_layout(figure_png(CLEAR_LABEL_CASES[case]()))
     assert not layout.problems, layout.problems
     assert not legibility_problems(*layout.size, layout.smallest_text_px)
+
+
+# log axes over measured ranges: a fraction of a decade to a few, at a few offsets (notebook 05's
+# time against error spans about 1.7 decades of time and 0.9 of error, run to run more or less)
+LOG_RANGES = [(0.0125, 0.7, 0.042, 0.0048), (0.3, 0.45, 2.0, 30.0), (0.002, 0.9, 0.06, 0.011)]
+LOG_RANGES += [(3e-4, 2e-3, 0.5, 0.7), (0.05, 90.0, 1.5, 1.9)]
+
+
+@pytest.mark.parametrize("ranges", LOG_RANGES, ids=lambda r: f"{r[0]:g}-{r[1]:g}")
+def test_log_axes_tick_labels_keep_apart_whatever_the_range(ranges):
+    from raykit.diagrams.labels import decade_ticks
+
+    x0, x1, y0, y1 = ranges
+    # as small as a figure fitted to the projector gets (its text a fortieth of its height)
+    fig, ax = plt.subplots(figsize=(3.4, 2.8), layout="constrained")
+    ax.loglog(np.geomspace(x0, x1, 4), np.geomspace(y0, y1, 4), "o-", label="a run")
+    ax.set_xlabel("render time (s)")
+    ax.set_ylabel("RMS error")
+    fig.legend(loc="outside lower center")
+    decade_ticks(ax)
+    with measuring(fig) as layout:
+        fig.savefig(io.BytesIO(), format="rgba", dpi=100)
+    assert not layout.problems, layout.problems
+    for axis, (low, high) in ((ax.xaxis, ax.get_xlim()), (ax.yaxis, ax.get_ylim())):
+        shown = [
+            t.get_text()
+            for t, value in zip(axis.get_ticklabels(), axis.get_ticklocs(), strict=True)
+            if t.get_text() and low <= value <= high
+        ]
+        assert len(shown) >= 2, shown
+        assert all(t.endswith("}}$") and "times" not in t for t in shown), shown  # 10^k only

@@ -98,3 +98,23 @@ def test_sweep_diagram_panels_share_one_frame(name):
     assert len({ax.get_xlim() for ax in worlds}) == 1
     assert len({ax.get_ylim() for ax in worlds}) == 1
     plt.close(figure)
+
+
+@pytest.mark.parametrize("fov_angle", [120, 170])
+def test_a_wide_fov_angle_frames_what_the_camera_looks_at_with_clear_labels(fov_angle):
+    # at 170° the few rays drawn all missed, the frame shrank to the eye, and the fov_angle
+    # label lay on the rays (notebook 02's fov_angle slider)
+    from dataclasses import replace
+
+    from raykit.io.images import figure_png
+    from raykit.io.legibility import read_layout
+
+    slide = load_line_scene(SCENES / "linescan/slide.json")
+    scene = replace(slide, camera=replace(slide.camera, fov_angle=fov_angle))
+    figure = ray_diagram(scene)
+    (x0, x1), (y0, y1) = figure.axes[0].get_xlim(), figure.axes[0].get_ylim()
+    for ball in scene.balls:  # the slide's balls are all in front of the eye, in view
+        (cx, cy), r = ball.center, ball.radius
+        assert x0 <= cx - r and cx + r <= x1 and y0 <= cy - r and cy + r <= y1, ball.center
+    layout = read_layout(figure_png(figure))
+    assert not layout.problems, layout.problems

@@ -5,6 +5,9 @@ patches and markers and before their texts: at the size the figure is drawn at, 
 first place round its point, nearest first and its preferred side first, whose box crosses none
 of them (as :mod:`raykit.io.legibility` measures them) and lies inside the axes. So a diagram's
 labels stay clear whatever the scene, and wherever the figure is shrunk or stored at more dpi.
+
+A log axis's tick labels keep apart by :func:`decade_ticks`: powers of ten only, at least two
+of them in view, whatever range measured data (timings, errors) gives the axis.
 """
 
 from __future__ import annotations
@@ -16,6 +19,7 @@ from matplotlib.artist import Artist
 from matplotlib.axes import Axes
 from matplotlib.patches import FancyArrowPatch
 from matplotlib.text import Annotation, Text
+from matplotlib.ticker import LogLocator, NullFormatter
 from matplotlib.transforms import IdentityTransform
 
 from raykit.io.legibility import drawing_of, segments_cross
@@ -24,13 +28,22 @@ from raykit.io.legibility import drawing_of, segments_cross
 DISTANCES = (0.3, 0.7, 1.2, 1.9, 2.8, 4.0, 5.5, 7.5)
 DIRECTIONS = 16  # tried round the point at each distance, the preferred one first
 CLEARANCE_PX = 3.0  # room kept between a label and the lines and markers round it
+UNDER = 3.0  # _cost's least for something under a label's box (a line in the room round it: 1)
 LEADER_FROM = 1.5  # a label further from its point than this (font sizes) gets a leader line
 
 
-def clear_label(ax: Axes, point, text: str, toward: float = 45.0, **style) -> Annotation:
+def clear_label(
+    ax: Axes,
+    point,
+    text: str,
+    toward: float = 45.0,
+    distances: tuple[float, ...] = DISTANCES,
+    **style,
+) -> Annotation:
     """Label ``point`` (its data coordinates: 2 numbers, or 3 in 3D axes) with ``text``, placed
     at each draw where nothing of ``ax`` is under it, ``toward`` (degrees, counterclockwise
-    from the right) preferred. ``style``: Text properties (fontsize, color, ...)."""
+    from the right) preferred, ``distances`` from the point tried (in font sizes, nearest
+    first). ``style``: Text properties (fontsize, color, ...)."""
     label = ax.annotate(
         text,
         (0.0, 0.0),
@@ -45,7 +58,7 @@ def clear_label(ax: Axes, point, text: str, toward: float = 45.0, **style) -> An
         **style,
     )
     label.set_in_layout(False)  # inside the axes by placement: no part of the layout's room
-    _placer(ax).labels.append((label, np.asarray(point, float), toward))
+    _placer(ax).labels.append((label, np.asarray(point, float), toward, distances))
     return label
 
 
@@ -58,6 +71,35 @@ def arrow(ax: Axes, start, end, **style) -> FancyArrowPatch:
     )
     ax.add_patch(patch)
     return patch
+
+
+def decade_ticks(ax: Axes) -> None:
+    """Label ``ax``'s log axes at powers of ten only, at least two in view, so that their tick
+    labels keep apart whatever range the data gives them. Where the view holds fewer than two
+    powers of ten, matplotlib labels the minor ticks too (2 x 10^-2, 3 x 10^-2, ...), which ran
+    into each other on a figure fitted to a projector; here such a view, when the axes
+    autoscale, is widened out to whole decades, and no minor tick is labelled. The powers of
+    ten are thinned as matplotlib thins them, to as many as the axis has room for. Call it after
+    the axes are made log (``loglog``, ``set_xscale("log")`` reset the ticks)."""
+    for axis in (ax.xaxis, ax.yaxis):
+        if axis.get_scale() == "log":
+            axis.set_major_locator(_Decades())
+            axis.set_minor_formatter(NullFormatter())
+
+
+class _Decades(LogLocator):
+    """Ticks at the powers of ten; an autoscaled view with fewer than two of them in it widened
+    out to whole decades."""
+
+    def __init__(self) -> None:
+        super().__init__(base=10.0, subs=(1.0,), numticks="auto")
+
+    def view_limits(self, vmin: float, vmax: float) -> tuple[float, float]:
+        vmin, vmax = super().view_limits(vmin, vmax)
+        low, high = math.log10(vmin), math.log10(vmax)
+        if math.floor(high) - math.ceil(low) + 1 >= 2:
+            return vmin, vmax
+        return 10.0 ** math.floor(low), 10.0 ** max(math.ceil(high), math.floor(low) + 1)
 
 
 def _placer(ax: Axes) -> _Placer:
@@ -76,7 +118,7 @@ class _Placer(Artist):
     def __init__(self, ax: Axes) -> None:
         super().__init__()
         self.ax = ax
-        self.labels: list[tuple[Annotation, np.ndarray, float]] = []
+        self.labels: list[tuple[Annotation, np.ndarray, float, tuple[float, ...]]] = []
         self.set_zorder(2.99)
 
     def draw(self, renderer) -> None:
@@ -88,14 +130,14 @@ class _Placer(Artist):
             [np.full(len(d.points), d.marker_px + CLEARANCE_PX) for d in drawings] + [np.zeros(0)]
         )
         areas = [d.area for d in drawings if d.area is not None]
-        ours = {id(label) for label, _, _ in self.labels}
+        ours = {id(label) for label, *_ in self.labels}
         taken = [
             _box(t, renderer)
             for t in self.ax.texts
             if id(t) not in ours and t.get_visible() and t.get_text().strip()
         ]
         inside = self.ax.bbox
-        for label, point, toward in self.labels:
+        for label, point, toward, distances in self.labels:
             anchor = self._display(point)
             label.xy = tuple(anchor)
             label.set_position((0.0, 0.0))
@@ -103,19 +145,29 @@ class _Placer(Artist):
             box = _box(label, renderer)
             half = np.array([box[2] - box[0], box[3] - box[1]]) / 2
             size = renderer.points_to_pixels(label.get_fontsize())
-            best, best_cost, far = None, math.inf, False
-            for (dx, dy), distance in _candidates(toward, size, half):
+            # the best place at DISTANCES; where something lies under its box there (a line
+            # across it, another label, the axes' edge), the best clear one further off, if
+            # the label may go there (``distances`` beyond DISTANCES) and its leader crosses less
+            best, best_cost, best_under, far = None, math.inf, math.inf, False
+            further, further_cost = None, math.inf
+            for (dx, dy), distance in _candidates(toward, size, half, distances):
                 centre = anchor + (dx, dy)
                 rect = (*(centre - half), *(centre + half))
-                cost = _cost(rect, segments, points, reach, areas, taken, inside)
+                cost = under = _cost(rect, segments, points, reach, areas, taken, inside)
                 if distance > LEADER_FROM:  # its leader: over no other label, few lines
                     leader = np.array([[anchor, centre]])
                     cost += 10 * sum(bool(segments_cross(leader, box)[0]) for box in taken)
                     cost += 0.2 * float(np.count_nonzero(_crossings(leader[0], segments)))
-                if cost < best_cost:
-                    best, best_cost, far = (dx, dy), cost, distance > LEADER_FROM
+                if distance > DISTANCES[-1]:
+                    if under == 0 and cost < further_cost:
+                        further, further_cost = (dx, dy), cost
+                elif cost < best_cost:
+                    best, best_cost, best_under = (dx, dy), cost, under
+                    far = distance > LEADER_FROM
                 if cost == 0:
                     break
+            if best_under >= UNDER and further_cost < best_cost:
+                best, far = further, True
             label.set_position(best)
             label.update_positions(renderer)
             label.arrow_patch.set_visible(far)
@@ -135,11 +187,11 @@ def _box(text: Text, renderer) -> tuple[float, float, float, float]:
     return (box.x0, box.y0, box.x1, box.y1)
 
 
-def _candidates(toward: float, size: float, half: np.ndarray):
+def _candidates(toward: float, size: float, half: np.ndarray, distances=DISTANCES):
     """Offsets (display pixels) of a label's centre from its point: round it at each of
-    :data:`DISTANCES`, ``toward`` first, then alternately either side of it."""
+    ``distances`` (font sizes), ``toward`` first, then alternately either side of it."""
     turns = [0] + [s * k for k in range(1, DIRECTIONS // 2 + 1) for s in (1, -1)][: DIRECTIONS - 1]
-    for distance in DISTANCES:
+    for distance in distances:
         for turn in turns:
             angle = math.radians(toward + turn * 360 / DIRECTIONS)
             u = np.array([math.cos(angle), math.sin(angle)])

@@ -26,13 +26,16 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Arc, Circle
 
 from raykit.billboards import OPAQUE_FROM
-from raykit.diagrams.labels import arrow, clear_label
+from raykit.diagrams.labels import DISTANCES, arrow, clear_label
 from raykit.linescan.camera import pixel_positions, pixel_x, slide_pixel_positions
 from raykit.linescan.scan import Scan, scan, sweep, trace
 from raykit.linescan.scene import LineScene
 from raykit.rays import dot, length
 
 MAX_RAYS_DRAWN = 24
+# where the fov_angle label may go: a wide fov_angle's rays fill the frame in front of the eye,
+# and its label, the longest, may find room only further off, behind the eye
+FAR = (*DISTANCES, 10.0, 13.0, 17.0, 22.0)
 
 
 def _frame_limits(scene: LineScene, hits: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -40,12 +43,16 @@ def _frame_limits(scene: LineScene, hits: np.ndarray) -> tuple[np.ndarray, np.nd
     hit points, with room for the objects near them (a long wall is cut at the frame)."""
     cam = scene.camera
     u, w = cam.frame
+    e = np.asarray(cam.e, float)
     half = 1.0 if cam.projection == "perspective" else cam.width / 2
-    line_centre = cam.e + (cam.D * w if cam.projection == "perspective" else 0)
-    core = [np.asarray(cam.e, float)[None], line_centre + np.outer([-half, half], u)]
+    line_centre = e + (cam.D * w if cam.projection == "perspective" else 0)
+    # the eye, its u and w arrows (a wide fov_angle puts the image line nearer than w's tip)
+    core = [np.stack([e, e + w, e + u, e - u]), line_centre + np.outer([-half, half], u)]
     found = hits[np.isfinite(hits).all(axis=1)]
     if len(found):
         core.append(found)
+    # what the camera looks at, hit or not (a wide fov_angle's few rays may miss it all)
+    core += [p[None] for p in _object_points(scene) if _in_view(cam, e, u, w, p)]
     core = np.concatenate(core)
     lower, upper = core.min(axis=0), core.max(axis=0)
     reach = max(upper - lower) * 0.6 + 1.0  # objects this far outside still show in full
@@ -60,6 +67,26 @@ def _frame_limits(scene: LineScene, hits: np.ndarray) -> tuple[np.ndarray, np.nd
             lower, upper = np.minimum(lower, near.min(axis=0)), np.maximum(upper, near.max(axis=0))
     pad = 0.08 * max(upper - lower) + 0.2
     return lower - pad, upper + pad
+
+
+def _object_points(scene: LineScene) -> list[np.ndarray]:
+    """Each ball's centre, each billboard's ends and middle, ``(2,)`` each."""
+    points = [np.asarray(ball.center, float) for ball in scene.balls]
+    for billboard in scene.billboards:
+        start, end = np.asarray(billboard.start, float), np.asarray(billboard.end, float)
+        points += [start, end, (start + end) / 2]
+    return points
+
+
+def _in_view(cam, e: np.ndarray, u: np.ndarray, w: np.ndarray, point: np.ndarray) -> bool:
+    """Whether ``point`` is in front of the camera, inside its fov_angle (perspective) or its
+    width (orthographic)."""
+    ahead, across = dot(point - e, w), dot(point - e, u)
+    if ahead <= 0:
+        return False
+    if cam.projection == "perspective":
+        return abs(across) <= ahead * math.tan(math.radians(cam.fov_angle) / 2)
+    return abs(across) <= cam.width / 2
 
 
 def _exit_points(origins: np.ndarray, directions: np.ndarray, lower, upper) -> np.ndarray:
@@ -157,12 +184,14 @@ def _draw_camera(ax: Axes, scene: LineScene, taken: Scan, annotate: bool) -> Non
                 zorder=6,
             )
         )
+        # off the rays, or further off where a wide fov_angle's rays leave no room near
         edge = math.radians(heading + cam.fov_angle / 2)
         clear_label(
             ax,
             e + radius * np.array([math.cos(edge), math.sin(edge)]),
             f"fov_angle = {cam.fov_angle:g}°",
             toward=_degrees(u),
+            distances=FAR,
             fontsize=10,
         )
 
