@@ -33,6 +33,7 @@ from __future__ import annotations
 import functools
 import json
 import os
+import re
 import sys
 import tempfile
 import time
@@ -137,6 +138,7 @@ def grade(
     sandbox, visible_done = None, None  # visible_done: when the last visible test was graded
     sandbox_kind = "none: nothing of the submission was run"
     broken = ""  # why the submission's raykit does not import ("" if it does)
+    unimported: list[str] = []  # which of its modules do not import, and why
     with Workspace() as workspace:
         try:
             staged = stage(Path(submission), workspace / "submission")
@@ -202,6 +204,7 @@ def grade(
             "not_graded": failures,
             "sandbox": sandbox_kind,
             **({"does_not_import": broken} if broken else {}),
+            **({"modules_not_imported": unimported[0]} if unimported else {}),
         },
         "tests": results,
     }
@@ -291,9 +294,11 @@ def _import_error(sandbox: Sandbox, options: Options, deadline: float) -> tuple[
         if not failing:
             return "", []
         one = len(failing) == 1
+        causes = list(dict.fromkeys(re.findall(r"^import failed: (.*)$", ran.output, re.M)))
+        why = f" ({'; '.join(causes[:3])})" if causes else ""
         return "", [
-            f"{', '.join(failing)}: {'does' if one else 'do'} not import; the tests that use "
-            f"{'it' if one else 'them'} fail"
+            f"{', '.join(failing)}: {'does' if one else 'do'} not import{why}; the tests that "
+            f"use {'it' if one else 'them'} fail"
         ]
     if not ran.problem.startswith(IMPORT_FAILURES):
         return "", []
