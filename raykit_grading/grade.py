@@ -220,8 +220,9 @@ def _say_what_it_cost(sandbox) -> None:
         f"raykit_grading: the grader's peak memory: {grader_peak() // 2**20} MB of the "
         f"{GRADER_MEMORY // 2**20} MB it keeps"
     )
-    if sandbox is not None and sandbox.memory is not None:
-        line += f"; the container's OOM killer fired {sandbox.oom_kills} times"
+    now = sandbox.oom_count() if sandbox is not None else None
+    if now is not None and sandbox.oom_before is not None:
+        line += f"; the container's OOM killer fired {now - sandbox.oom_before} times"
     print(line, file=sys.stderr)
 
 

@@ -133,7 +133,7 @@ class Sandbox:
             if self.container.memory_cgroup is not None
             else None
         )
-        self.oom_kills = 0  # how often the container's OOM killer fired during this grading
+        self.oom_before = self.oom_count()  # how often the container's OOM killer had fired
         self.python = probe_python(child_python or sys.executable)
         self.as_root = os.geteuid() == 0
         self.uids = UidPool() if self.as_root else None
@@ -225,7 +225,8 @@ class Sandbox:
                 self._fill(work, order, arrays, files or {})
                 _writable_tmp(work / "tmp", lease.uid if lease else None)
                 wall = wall_seconds or self.limits.wall_seconds
-                start, deadline, kills = time.perf_counter(), time.monotonic() + wall, self._kills()
+                kills = self.oom_count()
+                start, deadline = time.perf_counter(), time.monotonic() + wall
                 child, printed_read = self._start(work, returned_write)
             finally:
                 os.close(returned_write)  # the child holds the only writing end now
@@ -290,7 +291,8 @@ class Sandbox:
                 command = [self.python.executable, "-I", "-S", "-B", f"{inside}/child.py", inside]
                 printed_read, printed_write = os.pipe()
                 wall = wall_seconds or self.limits.wall_seconds
-                start, deadline, kills = time.perf_counter(), time.monotonic() + wall, self._kills()
+                kills = self.oom_count()
+                start, deadline = time.perf_counter(), time.monotonic() + wall
                 try:
                     child = subprocess.Popen(
                         command,
@@ -332,16 +334,15 @@ class Sandbox:
         return _result(returned, printed, status, why, time.perf_counter() - start, self.limits,
                        removal, deadline)  # fmt: skip
 
-    def _kills(self) -> int | None:
+    def oom_count(self) -> int | None:
+        """How often the container's OOM killer has fired (None: no cgroup says)."""
         return self.memory.oom_kills() if self.memory is not None else None
 
     def _killed_by_oom(self, before: int | None) -> str:
-        """Why the test failed if the container's OOM killer fired while it ran ("" if not;
-        it is counted in :attr:`oom_kills`)."""
-        after = self._kills()
+        """Why the test failed if the container's OOM killer fired while it ran ("" if not)."""
+        after = self.oom_count()
         if before is None or after is None or after <= before:
             return ""
-        self.oom_kills += after - before
         return "your code was killed: the container's memory ran out while it ran"
 
     def _rlimits(self) -> tuple[tuple[int, int], ...]:
