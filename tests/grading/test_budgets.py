@@ -113,9 +113,9 @@ def test_the_test_process_is_found_below_the_one_the_sandbox_started():
         [sys.executable, "-c", "import subprocess, sys; subprocess.run(['sleep', '30'])"]
     )
     try:
-        for _ in range(100):
+        for _ in range(200):  # until the child has started sleep (forked, then exec'd)
             child = descendant(parent.pid, 1)
-            if child is not None:
+            if child is not None and Path(f"/proc/{child}/cmdline").read_bytes()[:6] == b"sleep\0":
                 break
             time.sleep(0.02)
         assert Path(f"/proc/{child}/cmdline").read_bytes().startswith(b"sleep\0")
