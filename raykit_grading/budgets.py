@@ -87,7 +87,8 @@ GRADER_MEMORY = 320 * 2**20  # G: what the grader itself may need beside one tes
 CHILD_MEMORY_FLOOR = 256 * 2**20  # below this a test cannot render; the grader says so
 MOST_MEMORY = 2 * 2**30  # M where no container limit is found
 CONTAINER_MARGIN = 24 * 2**20  # what the container must keep free at every look
-WATCH_SECONDS = 0.05  # how often a running test's holdings are counted
+WATCH_SECONDS = 0.05  # how often a running test's memory is counted
+DISK_EVERY = 2  # and its disk, every so many looks
 MAPPING_RECORD = 300  # bytes the kernel keeps per mapping (vm_area_struct, its tree, a name)
 PIPE_PAGES = 16  # a pipe's buffer, which F_SETPIPE_SZ (refused) would enlarge
 THREAD_BYTES = 24 * 2**10  # a thread's kernel stack and record
@@ -221,34 +222,35 @@ def descendant(pid: int, depth: int) -> int | None:
     return pid
 
 
-def live_task(pid: int) -> str | None:
-    """``/proc/PID/task/TID`` of a thread of process ``pid`` that still has the process's
-    memory and descriptors (not the leader, if it alone has exited), or None once the
-    process has ended or is ending."""
-    try:
-        threads = os.listdir(f"/proc/{pid}/task")
-    except OSError:
-        return None
-    for tid in [str(pid), *threads]:
+def live_task(pid: int) -> tuple[str, str] | None:
+    """(``/proc/PID/task/TID``, its status) of a thread of process ``pid`` that still has the
+    process's memory and descriptors (the leader's, unless it alone has exited), or None once
+    the process has ended or is ending."""
+    for tid in _threads(pid):
         base = f"/proc/{pid}/task/{tid}"
         try:
             status = Path(f"{base}/status").read_text()
         except OSError:
             continue
         if "VmRSS:" in status and not re.search(r"^State:\s+[ZX]", status, re.M):
-            return base
+            return base, status
     return None
+
+
+def _threads(pid: int):
+    """The process's leader first, then (only if need be) its other threads."""
+    yield str(pid)
+    try:
+        yield from (tid for tid in os.listdir(f"/proc/{pid}/task") if tid != str(pid))
+    except OSError:
+        return
 
 
 def process_memory(pid: int) -> int | None:
     """``VmRSS + VmPTE`` of process ``pid`` in bytes (its memory and page tables), None once
     it is gone."""
-    base = live_task(pid)
-    try:
-        text = Path(f"{base}/status").read_text() if base else ""
-    except OSError:
-        return None
-    found = dict(re.findall(r"^(VmRSS|VmPTE):\s+(\d+) kB", text, re.M))
+    task = live_task(pid)
+    found = dict(re.findall(r"^(VmRSS|VmPTE):\s+(\d+) kB", task[1] if task else "", re.M))
     return (int(found["VmRSS"]) + int(found["VmPTE"])) * 1024 if len(found) == 2 else None
 
 
@@ -266,9 +268,10 @@ def nameless_bytes(pid: int, device: int, file_bytes: int, ids=None) -> int:
     largest a file may be (``file_bytes``: the grader cannot measure it). Raises
     :class:`Hidden` if the process keeps the grader from looking, :class:`Gone` if it has
     ended (an ending process's descriptors are closed to all but root)."""
-    base = live_task(pid)
-    if base is None:
+    task = live_task(pid)
+    if task is None:
         raise Gone
+    base = task[0]
     held: dict[int, int] = {}
 
     def refused() -> Exception:
@@ -325,16 +328,19 @@ class Watch:
         self.root, self.depth, self.tmp, self.ids = root, depth, Path(tmp), ids
         self.pid: int | None = None
         self.looked_as: tuple[int, int] | None | str = ""  # as which ids /proc let it look
+        self.looks = 0
         try:
             self.device = os.stat(tmp).st_dev
         except OSError:
             self.device = -1
 
     def __call__(self) -> str:
+        """One look: memory every time, disk every :data:`DISK_EVERY` looks (a walk of its
+        ``tmp/`` and of its open files and mappings costs more, and disk fills slower)."""
         limits = self.limits
+        self.looks += 1
         if self.pid is None:
             self.pid = descendant(self.root, self.depth)
-        nameless = 0
         if self.pid is not None:
             memory = process_memory(self.pid)
             if memory is not None and memory > limits.memory_bytes:
@@ -342,6 +348,20 @@ class Watch:
                     f"your code used more memory than allowed: its memory and page tables "
                     f"came to more than {limits.memory_bytes // 2**20} MB, and it was stopped"
                 )
+        if self.container is not None:
+            held = self.container.held()
+            if held is not None and held > self.container.limit - CONTAINER_MARGIN:
+                return (
+                    f"your code used more memory than allowed: the container's memory ran short "
+                    f"({held // 2**20} MB of {self.container.limit // 2**20} MB held), and it "
+                    "was stopped"
+                )
+        return self.disk() if (self.looks - 1) % DISK_EVERY == 0 else ""
+
+    def disk(self) -> str:
+        """The disk budget: the files its ``tmp/`` names and those with no name it holds."""
+        limits, nameless = self.limits, 0
+        if self.pid is not None:
             for ids in [self.looked_as] if self.looked_as != "" else [None, self.ids]:
                 try:
                     nameless = nameless_bytes(self.pid, self.device, limits.file_bytes, ids)
@@ -353,14 +373,6 @@ class Watch:
                     continue
             else:
                 return "your code kept the grader from looking at its open files, and was stopped"
-        if self.container is not None:
-            held = self.container.held()
-            if held is not None and held > self.container.limit - CONTAINER_MARGIN:
-                return (
-                    f"your code used more memory than allowed: the container's memory ran short "
-                    f"({held // 2**20} MB of {self.container.limit // 2**20} MB held), and it "
-                    "was stopped"
-                )
         passed = measure(self.tmp, limits.disk, nameless)
         return disk_problem(passed, limits.disk, nameless)
 

@@ -1396,7 +1396,7 @@ OOM = re.compile(r"the container's OOM killer fired (\d+) times")
 
 def test_11_every_budget_holds_and_hidden_outcomes_stay_hidden(autograder, tmp_path):
     """Files with no name, kernel buffers in sockets and pipes, memory across processes, page
-    tables, an archive of 100,000 empty members, and hidden tests that fail (a second each):
+    tables, an archive of 100,000 empty members, and hidden tests that fail (1.2 s each):
     every test past a budget is stopped and told which, what must be refused is, the summary
     shown at once is the honest submission's, and execution_time counts the visible tests only.
     The grader stays within its own memory, the container's OOM killer never fires, nothing is
@@ -1427,8 +1427,8 @@ def test_11_every_budget_holds_and_hidden_outcomes_stay_hidden(autograder, tmp_p
     ]
     assert results["output"].splitlines()[1:] == summary, results["output"]
     assert fair["output"].splitlines()[-1] == summary[-1]
-    if "execution_time" in results:  # the hidden tests' 3 s are not in it
-        assert results["execution_time"] + 2.5 < seconds, (results["execution_time"], seconds)
+    if "execution_time" in results:  # the hidden tests' 2.4 s are not in it
+        assert results["execution_time"] + 2.0 < seconds, (results["execution_time"], seconds)
     for graded in (run, fair_run):
         peak = PEAK.search(graded.stderr)
         assert peak and int(peak.group(1)) <= int(peak.group(2)), graded.stderr[-1500:]
