@@ -29,7 +29,10 @@ A seccomp filter (:func:`seccomp_filter`, given to bwrap) refuses the system cal
 kernel state namespaces do not isolate: the keyrings (``add_key``, ``request_key``, ``keyctl``;
 a uid's keyring outlives its processes and would carry a hidden test's data to a later test or
 student), and ``bpf``, ``perf_event_open``, ``userfaultfd``, ``io_uring_*``, module and kexec
-loading; and any call of another architecture's numbering (32-bit or x32 calls on x86_64).
+loading; and any call of another architecture's numbering (32-bit or x32 calls on x86_64). It
+also keeps a test to one process holding only what its limits and the grader's counts bound
+(:mod:`raykit_grading.budgets`): no second process, no socket, no ``O_TMPFILE``, no epoll,
+inotify, fanotify or AIO, no record lock, no pipe enlarged.
 The tree is mounted read-only but for ``/tmp``, so the child can fill no memory-backed folder.
 
 If bwrap is missing or the kernel refuses namespaces, :func:`preflight` says so in one line and

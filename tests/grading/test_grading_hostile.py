@@ -38,8 +38,10 @@ that failed shows as a score above the one asserted.
 Kinds (numbers as in the trust issue): 1 hard-coding the shipped answers, 2 links and special
 files in the submission, 3 child-controlled output, 4 one broken test, 5 hidden inputs reaching
 visible output, 6 reading the solution from disk, 7 forging results and killing the grader,
-8 no usable child Python, 9 classmates, the network, outliving the test; and the old ones:
-loops, memory, forks, printing, monkeypatching, garbage arrays.
+8 no usable child Python, 9 classmates, the network, outliving the test, 10 what one test
+leaves, 11 everything a test can hold, and what is shown at once of hidden tests (issue 56:
+tests/support/budget_attacks.py); and the old ones: loops, memory, forks, printing,
+monkeypatching, garbage arrays.
 """
 
 from __future__ import annotations
