@@ -435,10 +435,10 @@ def _writable_tmp(folder: Path, uid: int | None) -> None:
 
 def fit_to_container(limits: Limits, container: confine.ContainerLimits) -> Limits:
     """``limits`` with a test's memory cut to M of :mod:`raykit_grading.budgets`: what the
-    container leaves beside the grader (:data:`GRADER_MEMORY`) and what the kernel may hold for
-    the test (:func:`raykit_grading.budgets.kernel_share`), so that a test that takes all it
-    may is stopped at its own limit (a MemoryError, or the grader's count: its test's zero)
-    before the container runs out."""
+    container leaves beside the grader (:data:`raykit_grading.budgets.GRADER_MEMORY`) and what
+    the kernel may hold for the test (:func:`raykit_grading.budgets.kernel_share`), so that a
+    test that takes all it may is stopped at its own limit (a MemoryError, or the grader's
+    count: its test's zero) before the container runs out."""
     kernel = kernel_share(limits.open_files, limits.processes, limits.disk).total
     return replace(
         limits, memory_bytes=min(limits.memory_bytes, memory_budget(container.memory_bytes, kernel))
