@@ -85,6 +85,15 @@ def test_batch_grades_every_entry_of_a_mixed_class_or_says_why_not(graded_class)
     assert "not graded:" not in run.stderr
 
 
+def test_the_batch_run_again_grades_no_one_and_exits_0_as_every_submission_is_graded(graded_class):
+    out, first = graded_class
+    graded = {p: p.stat().st_mtime_ns for p in out.glob("feedback/*/results.json")}
+    again = subprocess.run(first.args, capture_output=True, text=True, cwd=out.parent, timeout=600)
+    assert again.returncode == 0, again.stderr[-3000:]
+    assert {p: p.stat().st_mtime_ns for p in graded} == graded  # no one graded again
+    assert "9 submissions: 8 graded, 1 whose raykit does not import" in again.stdout
+
+
 def test_a_submission_that_does_not_import_says_its_error_once_and_runs_no_test(graded_class):
     out, _ = graded_class
     results = json.loads((out / "feedback/bo/results.json").read_text())
