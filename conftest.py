@@ -10,7 +10,8 @@ CI runs: it adds what takes seconds a test, marked ``slow`` here in one place:
 * commands run whole: the benchmarks, the committed pictures remade, outputs under other machines'
   settings;
 * the documentation site, built and measured page by page in headless Chromium (test_site.py,
-  skipped without the docs extra or Chromium).
+  skipped without the docs extra or Chromium), and the lecture's slide deck, made and shown
+  slide by slide at 1920 x 1080 (test_deck.py, the same).
 """
 
 from __future__ import annotations
@@ -30,7 +31,59 @@ SLOW_MODULES = {
     "test_gallery.py",
     "test_machine_independent.py",
     "test_site.py",
+    "test_deck.py",
 }
+
+
+# The suite runs on every core (pytest-xdist: ``-n auto`` in pyproject.toml), a test on
+# whichever worker is free, except these groups, each kept on one worker in its order: a
+# notebook's cells (each runs on the kernel the cells before it left); the tests of a module
+# whose costly fixture is made once a module; and the hostile suite one way of grading at a time
+# (its autograder is made once a way), with the module that builds the same image for that way.
+# xdist's own groups (the xdist_group mark) are lost on pytest 9.2 (pytest-xdist issue 1386), so
+# the scheduler below reads the groups from the tests' ids.
+ONE_WORKER_MODULES = {
+    "test_batch_class.py",
+    "test_deck.py",
+    "test_grading_seeds.py",
+    "test_linescan3d.py",
+    "test_site.py",
+}
+SAME_IMAGE = {
+    "test_grading_containers.py": "container",
+    "test_grading_prairielearn.py": "prairielearn",
+}
+HOSTILE = "test_grading_hostile.py"  # its tests' ids hold the way they grade: [root-...]
+WAYS = ("root", "docker", "user", "container", "prairielearn")
+
+
+def worker_group(nodeid: str) -> str | None:
+    """The group a test's id puts it in (its worker shared with the group's other tests), or
+    None: a test that any worker may run."""
+    path, _, test = nodeid.partition("::")
+    name = path.rsplit("/", 1)[-1]
+    if name.endswith(".ipynb") or name in ONE_WORKER_MODULES:
+        return path
+    if name in SAME_IMAGE:
+        return f"grading-{SAME_IMAGE[name]}"
+    if name == HOSTILE and test.endswith("]"):
+        params = test[test.index("[") + 1 : -1].split("-")
+        way = next((way for way in (params[0], params[-1]) if way in WAYS), None)
+        return f"grading-{way}" if way else None
+    return None
+
+
+@pytest.hookimpl(optionalhook=True, tryfirst=True)  # before xdist's own choice
+def pytest_xdist_make_scheduler(config, log):
+    from xdist.scheduler import LoadScopeScheduling
+
+    class Groups(LoadScopeScheduling):
+        """xdist's scheduling by scope (the largest first), the scopes :func:`worker_group`'s."""
+
+        def _split_scope(self, nodeid: str) -> str:
+            return worker_group(nodeid) or nodeid
+
+    return Groups(config, log)
 
 
 def pytest_collection_modifyitems(config, items):
@@ -39,3 +92,7 @@ def pytest_collection_modifyitems(config, items):
         compiled = item.path.parent.name == "compiled"  # tests/compiled/: the compiled engine's
         if item.path.suffix == ".ipynb" or item.path.name in SLOW_MODULES or compiled:
             item.add_marker(slow)
+        callspec = getattr(item, "callspec", None)
+        way = callspec.params.get("autograder") if callspec else None
+        if way and worker_group(item.nodeid) != f"grading-{way}":  # the id must say its way
+            raise pytest.UsageError(f"{item.nodeid}: graded {way}, grouped as another way")

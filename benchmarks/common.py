@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import io
+import math
 import statistics
 import sys
 import textwrap
@@ -157,10 +158,9 @@ def loglog_plot(
     series: dict[str, tuple[list, list, str]],
     xlabel: str,
     ylabel: str,
-    legend_below: bool = False,
 ) -> None:
-    """One log-log line per ``label: (xs, ys, style)``, written to ``path``; ``legend_below``:
-    the legend under the axes, where it covers no line (for lines that cross anywhere)."""
+    """One log-log line per ``label: (xs, ys, style)``, written to ``path``, the legend under
+    the axes: inside them, wherever it went, it lay on some run's line or markers."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -168,15 +168,14 @@ def loglog_plot(
 
     from raykit.io.images import save_figure
 
-    figure, ax = plt.subplots(figsize=(5, 4.2 if legend_below else 3.5), layout="constrained")
+    figure, ax = plt.subplots(
+        figsize=(5, 3.5 + 0.35 * math.ceil(len(series) / 2)), layout="constrained"
+    )
     for label, (xs, ys, style) in series.items():
         ax.loglog(xs, ys, style, label=label)
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
-    if legend_below:
-        figure.legend(loc="outside lower center", ncol=2)
-    else:
-        ax.legend()
+    figure.legend(loc="outside lower center", ncol=2)
     save_figure(figure, path)
     plt.close(figure)
     print(f"\nwrote {path}")
@@ -198,7 +197,6 @@ def bar_plot(
     covered bars. Two rows, not more: a figure fitted to the projector (its text a share of its
     height, :func:`raykit.io.images.fit_for_projector`) squeezed four rows of panels until their
     titles ran into each other."""
-    import math
 
     import matplotlib
 

@@ -97,9 +97,7 @@ def main() -> None:
             [p[1] for p in every],
             "^--",
         )
-        loglog_plot(
-            args.plot, series, "objects (random spheres)", "render time (s)", legend_below=True
-        )
+        loglog_plot(args.plot, series, "objects (random spheres)", "render time (s)")
 
 
 if __name__ == "__main__":

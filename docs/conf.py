@@ -10,6 +10,8 @@ the test suite is what runs them); the API reference is made from the docstrings
 
 from __future__ import annotations
 
+import hashlib
+import json
 import re
 import runpy
 import sys
@@ -72,8 +74,9 @@ myst_heading_anchors = 3  # "page.md#a-heading" links, as a repository host make
 nb_execution_mode = "off"  # rendered from the outputs stored in the notebooks, no kernel, no pandoc
 nb_merge_streams = True
 # no widget manager: Jupyter's (require.js and @jupyter-widgets/html-manager) comes from a CDN,
-# which a page with no network cannot reach, and a slider without a kernel cannot move anyway;
-# each slider cell of the notebooks is followed by a cell that draws its first setting
+# which a page with no network cannot reach, and an interact's slider redraws its figure in a
+# Python kernel, which the site does not have; each slider cell shows instead plain HTML sliders
+# over pictures its own function drew beforehand (_slider_cells below)
 nb_ipywidgets_js: dict[str, dict[str, str]] = {}
 # the site's own copy of MathJax (see extensions above), never a CDN's; tex-chtml reads the TeX
 # that MyST's dollarmath and the notebooks' \( \) write
@@ -84,6 +87,9 @@ autosummary_generate = True
 autosummary_imported_members = False
 autodoc_default_options = {"members": True, "show-inheritance": True}
 autodoc_member_order = "bysource"
+# "On this page" lists a class's methods under the class, as "progress()", not as
+# "CompileClock.progress()": the column is narrow, and the nesting already names the class
+toc_object_entries_show_parents = "hide"
 autodoc_typehints = "description"
 autodoc_typehints_format = "short"
 # numba is the optional compiled engine's: without it, raykit.engine.compiled is documented from
@@ -108,6 +114,7 @@ html_logo = None
 # _static/raykit.css: long names wrap instead of widening the page (tests/test_site.py)
 html_static_path = ["_static"]
 html_css_files = ["raykit.css"]
+html_js_files = [("sliders.js", {"defer": "defer"})]
 html_show_sourcelink = False
 html_theme_options = {
     "navigation_with_keys": False,
@@ -173,8 +180,92 @@ def _notebook_links(docname: str, text: str) -> str:
     return text.replace("](../docs/", "](../")
 
 
+# ---- the notebooks' sliders ------------------------------------------------------------------
+# docs/make_slider_frames.py drew, for each slider cell (a cell whose stored output is a widget),
+# its function's figure at every stop of every slider, into _static/sliders/NOTEBOOK/K/ with a
+# sliders.json; on the site the widget's output becomes a plain HTML slider a control over
+# those pictures (_static/sliders.js moves them).
+SLIDERS = DOCS / "_static" / "sliders"
+WIDGET = "application/vnd.jupyter.widget-view+json"
+
+
+def _slider_html(manifest: dict, notebook: str, number: int) -> str:
+    from html import escape
+
+    folder = f"../_static/sliders/{Path(notebook).stem}/{number}/"
+    rows = []
+    for k, control in enumerate(manifest["controls"]):
+        name, labels, first = control["name"], control["labels"], control["first"]
+        ident = f"slider-{Path(notebook).stem}-{number}-{k}"
+        if all(label.lstrip("-").replace(".", "", 1).isdigit() for label in labels):
+            field = (
+                f'<input type="range" id="{ident}" data-control="{k}" min="0" '
+                f'max="{len(labels) - 1}" step="1" value="{first}">'
+                f'<output data-for="{ident}">{escape(labels[first])}</output>'
+            )
+        else:
+            options = "".join(
+                f'<option value="{i}"{" selected" if i == first else ""}>{escape(label)}</option>'
+                for i, label in enumerate(labels)
+            )
+            field = f'<select id="{ident}" data-control="{k}">{options}</select>'
+        rows.append(f'<label for="{ident}">{escape(name)}</label>{field}')
+    # inside <script>, "</" would end it early
+    data = json.dumps({"folder": folder, "controls": manifest["controls"]}).replace("</", "<\\/")
+    return (
+        '<div class="raykit-sliders">'
+        f'<div class="raykit-sliders-controls">{"".join(rows)}</div>'
+        f'<img src="{folder}{manifest["first"]}" alt="{escape(manifest["function"])}() at the '
+        "sliders' setting\">"
+        '<p class="raykit-sliders-note">One slider at a time, the others at their first setting: '
+        f"each picture was drawn by this cell's {escape(manifest['function'])}() before the site "
+        "was built (docs/make_slider_frames.py). In Jupyter the sliders combine freely.</p>"
+        '<script type="application/json" class="raykit-sliders-data">'
+        f"{data}</script></div>"
+    )
+
+
+def _slider_cells(app, docname: str, text: str) -> str:
+    """A notebook's slider cells, their widget output replaced by HTML sliders over the pictures
+    docs/make_slider_frames.py drew. A slider cell with no pictures, or whose code changed since
+    they were drawn, is a warning (an error with -W): run that command."""
+    if not docname.startswith("notebooks/") or WIDGET not in text:
+        return text
+    from sphinx.util import logging
+
+    notebook = json.loads(text)
+    name = Path(docname).name + ".ipynb"
+    number = 0
+    for cell in notebook["cells"]:
+        outputs = cell.get("outputs", [])
+        if not any(WIDGET in o.get("data", {}) for o in outputs):
+            continue
+        number += 1
+        found = SLIDERS / Path(docname).name / str(number) / "sliders.json"
+        manifest = json.loads(found.read_text()) if found.exists() else None
+        code = hashlib.sha256("".join(cell["source"]).encode("utf-8")).hexdigest()
+        if manifest is None or manifest["code"] != code:
+            logging.getLogger(__name__).warning(
+                "notebooks/%s: slider cell %d: %s: run python docs/make_slider_frames.py",
+                name,
+                number,
+                "no pictures" if manifest is None else "its code changed since its pictures",
+                location=docname,
+            )
+            continue
+        html = _slider_html(manifest, name, number)
+        cell["outputs"] = [
+            {"output_type": "display_data", "metadata": {}, "data": {"text/html": html}}
+            if WIDGET in o.get("data", {})
+            else o
+            for o in outputs
+        ]
+    return json.dumps(notebook)
+
+
 def _source_read(app, docname: str, source: list[str]) -> None:
-    source[0] = _notebook_links(docname, _benchmark_page(docname, source[0]))
+    text = _notebook_links(docname, _benchmark_page(docname, source[0]))
+    source[0] = _slider_cells(app, docname, text)
 
 
 # ---- docstrings written for help() and a terminal, read as reStructuredText ------------------
@@ -250,7 +341,56 @@ def _process_docstring(app, what, name, obj, options, lines: list[str]) -> None:
         lines += [line for twin in twin_lines(name) for line in ("", twin)]
 
 
+# ---- tables ---------------------------------------------------------------------------------
+# A table too wide for the page scrolls sideways in its own block (the theme's); the browser
+# would rather squeeze it into the page's width, breaking every cell wherever it can: a
+# benchmark's "5.9 ms" or "rays per pixel" set one word a line. A cell of a few words keeps them
+# on one line (raykit.css: td.few-words; on a phone, only a very short one: td.short), and a
+# longer one wraps, in a column no narrower than a few words (tests/test_site.py measures both).
+FEW_WORDS = 24  # characters
+SHORT = 16
+
+
+def _mark_few_word_cells(app, doctree, docname: str) -> None:
+    from docutils import nodes
+
+    for entry in doctree.findall(nodes.entry):
+        text = " ".join(entry.astext().split())
+        if len(text) <= FEW_WORDS:
+            entry["classes"].append("few-words")
+        if len(text) <= SHORT:
+            entry["classes"].append("short")
+
+
+def _autosummary_table_as_written(translator, node) -> None:
+    """autosummary writes its tables' signatures with no-break spaces, to keep each on one line;
+    raykit.css keeps them on one line where there is room for it, and on a phone, where the
+    summary goes under the name, lets a long one wrap at its spaces instead of inside a name."""
+
+
+# ---- the lecture's slide deck -------------------------------------------------------------------
+def _deck(app, exception) -> None:
+    """The deck (docs/make_deck.py) as deck/ beside the site's pages, linked from the lecturer
+    guide; its slides link to the notebooks' pages at ../notebooks/."""
+    if exception is not None or app.builder.format != "html":
+        return
+    from sphinx.util import logging
+
+    maker = runpy.run_path(str(DOCS / "make_deck.py"))
+    try:
+        maker["build"](Path(app.outdir) / "deck")
+    except maker["DeckError"] as why:
+        logging.getLogger(__name__).warning("the lecture's deck: %s", why)
+
+
 def setup(app):
+    from sphinx.ext.autosummary import autosummary_noop, autosummary_table
+
     app.connect("source-read", _source_read)
     app.connect("html-page-context", _no_empty_sidebar)
+    app.connect("doctree-resolved", _mark_few_word_cells)
+    app.connect("build-finished", _deck)
+    app.add_node(
+        autosummary_table, html=(_autosummary_table_as_written, autosummary_noop), override=True
+    )
     app.connect("autodoc-process-docstring", _process_docstring)

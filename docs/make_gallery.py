@@ -19,12 +19,13 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parent.parent
 GALLERY = REPO / "docs" / "gallery"
 
-# (title, scene file, raykit command line with {out} for the output folder, what it shows)
+# (title, scene file, raykit command line with {out} for the output folder, what it shows);
+# renders as large as a projector wants them (1200 pixels wide or 675 high, --width)
 ENTRIES = [
     (
         "Sphereflake with shadows and mirrors",
         "docs/gallery/sphereflake_lit.json",
-        "render docs/gallery/sphereflake_lit.json -o {out}/sphereflake_lit.png",
+        "render docs/gallery/sphereflake_lit.json -o {out}/sphereflake_lit.png --width 675",
         "820 balls, each a weak mirror with a highlight, under a sun and a lamp: shadows on "
         "the ground and between the balls, two mirror bounces (the BVH carries the secondary "
         "rays).",
@@ -32,44 +33,45 @@ ENTRIES = [
     (
         "Classic, lit",
         "scenes/classic_lit.json",
-        "render scenes/classic_lit.json -o {out}/classic_lit.png --samples 2",
+        "render scenes/classic_lit.json -o {out}/classic_lit.png --samples 2 --width 900",
         "The classic scene under a sun and a lamp: Lambert, Blinn-Phong highlights, shadows.",
     ),
     (
         "Mirror balls",
         "scenes/mirror_balls.json",
-        "render scenes/mirror_balls.json -o {out}/mirror_balls.png --samples 2",
+        "render scenes/mirror_balls.json -o {out}/mirror_balls.png --samples 2 --width 1080",
         "Two mirror balls and a wall mirror, up to four bounces; the tree behind the camera is "
         "seen only in them.",
     ),
     (
         "Shadow on a billboard",
         "scenes/shadow_on_billboard.json",
-        "render scenes/shadow_on_billboard.json -o {out}/shadow_on_billboard.png --samples 2",
+        "render scenes/shadow_on_billboard.json -o {out}/shadow_on_billboard.png --samples 2"
+        " --width 900",
         "A ball's shadow on a checkered billboard, a cut-out fence's shadow on the floor.",
     ),
     (
         "Classic",
         "scenes/classic.json",
-        "render scenes/classic.json -o {out}/classic.png --samples 2",
+        "render scenes/classic.json -o {out}/classic.png --samples 2 --width 900",
         "Balls and billboards, flat colours: the assignment's picture.",
     ),
     (
         "Cut-outs",
         "scenes/cutouts.json",
-        "render scenes/cutouts.json -o {out}/cutouts.png --samples 3 --adaptive",
+        "render scenes/cutouts.json -o {out}/cutouts.png --samples 3 --adaptive --width 1014",
         "Alpha cut-out trees and a fence; a billboard seen from behind, mirrored.",
     ),
     (
         "Orthographic",
         "scenes/orthographic.json",
-        "render scenes/orthographic.json -o {out}/orthographic.png --samples 2",
+        "render scenes/orthographic.json -o {out}/orthographic.png --samples 2 --width 675",
         "Parallel rays: no perspective, far balls as big as near ones.",
     ),
     (
         "Wide field of view",
         "scenes/wide_fov.json",
-        "render scenes/wide_fov.json -o {out}/wide_fov.png --samples 2",
+        "render scenes/wide_fov.json -o {out}/wide_fov.png --samples 2 --width 1200",
         "A 150° field of view from inside a ring of balls: linear perspective stretches the edges.",
     ),
     (

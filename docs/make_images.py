@@ -16,11 +16,14 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parent.parent
 
-# raykit command lines, run from the repository's folder; {out} is the output folder
+# raykit command lines, run from the repository's folder; {out} is the output folder. Renders
+# are made as large as a projector wants them (docs/lecturers.md, "Figures a back row can
+# read": 1200 pixels wide or 675 high), in the scene's proportions (--width); the 12 pixels of
+# one scan are drawn as blocks that large (--scale), a picture of the pixels themselves.
 COMMANDS = [
-    "render scenes/classic.json -o {out}/classic.png",
-    "render scenes/cutouts.json -o {out}/cutouts.png --samples 3",
-    "scan scenes/linescan/slide.json -o {out}/slide_scan.png --height 2 --scale 40"
+    "render scenes/classic.json -o {out}/classic.png --width 900",
+    "render scenes/cutouts.json -o {out}/cutouts.png --samples 3 --width 1014",
+    "scan scenes/linescan/slide.json -o {out}/slide_scan.png --height 2 --scale 160"
     " --diagram {out}/slide_rays.png",
     "sweep scenes/linescan/passing_car.json -o {out}/passing_car_2d_sweep.png"
     " --diagram {out}/passing_car_sweep_diagram.png",
@@ -29,15 +32,15 @@ COMMANDS = [
     "diagram scenes/classic.json -o {out}/classic_rays_top.png --view top",
     "diagram scenes/cutouts.json -o {out}/cutouts_rays_side.png --view side --rays 60",
     "diagram scenes/classic.json -o {out}/classic_camera.png --view camera",
-    "render scenes/classic_lit.json -o {out}/classic_lit.png",
-    "render scenes/mirror_balls.json -o {out}/mirror_balls.png",
-    "render scenes/shadow_on_billboard.json -o {out}/shadow_on_billboard.png",
+    "render scenes/classic_lit.json -o {out}/classic_lit.png --width 900",
+    "render scenes/mirror_balls.json -o {out}/mirror_balls.png --width 1080",
+    "render scenes/shadow_on_billboard.json -o {out}/shadow_on_billboard.png --width 900",
     "diagram scenes/shadow_on_billboard.json -o {out}/shadow_rays_side.png --view side --rays 40",
     "diagram scenes/mirror_balls.json -o {out}/mirror_rays_top.png --view top --rays 60",
-    "render scenes/soft_shadows.json -o {out}/soft_shadows.png",
-    "render scenes/depth_of_field.json -o {out}/depth_of_field.png",
-    "render scenes/glossy.json -o {out}/glossy.png",
-    "render scenes/motion_blur.json -o {out}/motion_blur.png",
+    "render scenes/soft_shadows.json -o {out}/soft_shadows.png --width 900",
+    "render scenes/depth_of_field.json -o {out}/depth_of_field.png --width 900",
+    "render scenes/glossy.json -o {out}/glossy.png --width 1014",
+    "render scenes/motion_blur.json -o {out}/motion_blur.png --width 1014",
 ]
 
 # figures that no command draws: (file name, function in raykit.diagrams.math_figures)
@@ -62,13 +65,38 @@ LECTURE_FIGURES = [
 ]
 
 
+# the renders whose full size takes tens of seconds: tests/test_reproducible.py renders them at
+# the scene's own size (REDUCED_WIDTH) and holds the committed picture, scaled down, to that
+REDUCED_WIDTH = {
+    "cutouts.png": 480,
+    "soft_shadows.png": 320,
+    "depth_of_field.png": 320,
+    "glossy.png": 240,
+    "motion_blur.png": 240,
+}
+
+
+def reduced(command: str) -> str:
+    """``command`` with its render at the width of REDUCED_WIDTH, if it is one of those."""
+    for name, width in REDUCED_WIDTH.items():
+        if f"/{name} " in command + " ":
+            return " ".join(_with_width(shlex.split(command), width))
+    return command
+
+
+def _with_width(args: list[str], width: int) -> list[str]:
+    at = args.index("--width")
+    return [*args[: at + 1], str(width), *args[at + 2 :]]
+
+
 def outputs(command: str) -> list[str]:
     """The file names a command line writes (its -o and --diagram arguments)."""
     args = shlex.split(command)
     return [Path(args[i + 1]).name for i, a in enumerate(args) if a in ("-o", "--diagram")]
 
 
-def make(folder: Path) -> None:
+def make(folder: Path, reduce: bool = False) -> None:
+    """Run every command into ``folder``; ``reduce``: the REDUCED_WIDTH renders at that width."""
     from raykit.cli import main
 
     folder = Path(folder).resolve()
@@ -77,6 +105,7 @@ def make(folder: Path) -> None:
     os.chdir(REPO)  # scene paths in the commands are relative to the repository
     try:
         for command in COMMANDS:
+            command = reduced(command) if reduce else command
             if main(shlex.split(command.format(out=folder))) != 0:
                 raise SystemExit(f"failed: raykit {command}")
     finally:

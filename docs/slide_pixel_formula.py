@@ -7,7 +7,8 @@ pixels (:func:`raykit.linescan.camera.slide_pixel_positions`). Fitting them to N
 student keeps the first N (u = -1 + c·2/N: every ray through a pixel's left/top edge, the image
 shifted half a pixel), the last N (the other edge), or spreads all N + 1 over the N pixels
 (u from -1 to 1 inclusive: stretched by N/(N - 1)). Each is rendered here with the renderer's
-own image-point mapping patched (``raykit.render.region_points``), on the example scenes and on
+own image-point mapping patched (``raykit.engine.regions.region_points``, where the numpy engine
+takes each pixel's point), on the example scenes and on
 the classic scene made small, and compared with the correct render: the share of pixels whose
 object changes, and the autograder's image comparison (3 x 3 neighbourhood, 2 levels).
 """
@@ -22,7 +23,7 @@ from unittest import mock
 REPO = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO))
 
-import raykit.render  # noqa: E402
+import raykit.engine.regions  # noqa: E402
 from raykit.camera import region_points  # noqa: E402
 from raykit.io.images import quantize  # noqa: E402
 from raykit.io.scene_json import load_scene  # noqa: E402
@@ -40,7 +41,7 @@ def slide_formula(variant: str, width: int, height: int):
             return x * width / (width - 1), y * height / (height - 1)
         return x + shift[variant], y + shift[variant]
 
-    return mock.patch.object(raykit.render, "region_points", points)
+    return mock.patch.object(raykit.engine.regions, "region_points", points)
 
 
 def main() -> None:
@@ -54,10 +55,11 @@ def main() -> None:
         scenes.append((f"classic {size[0]}x{size[1]}", replace(classic, camera=camera)))
     print(f"{'scene':18s} {'variant':8s} {'objects changed':>16s} {'grader matched':>15s} score")
     for name, scene in scenes:
-        reference = render(scene, skip_hidden=False)
+        reference = render(scene, skip_hidden=False, engine="numpy")
         for variant in ("first N", "last N", "spread"):
             with slide_formula(variant, scene.camera.width, scene.camera.height):
-                got = render(scene, skip_hidden=False)  # every object: bounds assume centres
+                # every object (the tiles' bounds assume centres), in the engine patched
+                got = render(scene, skip_hidden=False, engine="numpy")
             changed = (got.object_index != reference.object_index).mean()
             comparison = compare_images(quantize(got.rgb), quantize(reference.rgb))
             print(

@@ -10,9 +10,10 @@ Conventions (owned here; every other 3D module refers to this page)
 * Image plane: it passes through lookat, at distance d = |lookat - eye| from the eye, and is
   Hp = 2·d·tan(fov_angle / 2) high and Wp = Hp·width / height wide. ``fov_angle`` is the
   *vertical* field of view, in degrees. In the camera's own coordinates (eye at 0, axes
-  u, v, w) the plane is w = -d: the slide's question "what should w be?" has that answer,
+  u, v, w) the plane is w = -d: the slide's question "What should w be?" has that answer,
   since the camera looks along -w.
-* Two d's. The slides say "from now on, d = distance to the image plane" (``Camera.d`` here),
+* Two d's. The slides say "from now on, we use d to denote distance to image plane"
+  (``Camera.d`` here),
   while a ray's direction is also d (p(t) = o + t·d, :mod:`raykit.rays`). They never meet in
   one formula; in code the distance is always ``camera.d`` and a direction a plain ``d``
   array of rays.

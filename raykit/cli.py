@@ -71,6 +71,13 @@ def build_parser() -> argparse.ArgumentParser:
         samples="N x N rays",
     )
     render.add_argument(
+        "--width",
+        type=_positive,
+        metavar="W",
+        help="render W pixels wide, the height in the scene's proportion (default: the "
+        "scene's own size; a projector wants 1200 wide or 675 high)",
+    )
+    render.add_argument(
         "--adaptive",
         action="store_true",
         help="take the N x N samples only at edges, where neighbouring pixels differ",
@@ -264,6 +271,11 @@ def _run_render(args: argparse.Namespace) -> None:
 
     start = time.perf_counter()
     scene = _load_3d(args.scene)
+    if args.width:  # the same view in more (or fewer) pixels of the same shape
+        from dataclasses import replace
+
+        height = max(1, round(args.width * scene.camera.height / scene.camera.width))
+        scene = replace(scene, camera=replace(scene.camera, width=args.width, height=height))
     camera = scene.camera
     engine = choose(args.engine, scene, args.samples)
     # on a terminal, a bar of pixels done, tile by tile, once the render has taken a second

@@ -1,13 +1,27 @@
 """Object order: the lecture's other loop, over objects first.
 
-The slides contrast two ways to make an image. Object order ("Rasterization"), as the slide
-writes it:
+The slides contrast two ways to make an image. "Object-Ordered or Rasterization", as the slide
+writes it::
 
-    for each object { for each image pixel { if (object affects pixel) { do something } } }
+    for each object {
+        for each image pixel {
+            if (object affects pixel)
+            {
+                do something
+            }
+        }
+    }
 
-and image order, ray tracing, the same two loops swapped (in the kit's words):
+and "Image-Ordered or Ray Tracing", the same two loops swapped::
 
-    for each pixel { for each object { keep the nearest hit } }
+    for each image pixel {
+        for each object {
+            if (object affects pixel)
+            {
+                do something
+            }
+        }
+    }
 
 :func:`raykit.render.render` is image order (made fast by tiles, :mod:`raykit.engine.tiles`).
 This module is object order, :func:`render_object_order`, for the same 3D scenes: each object

@@ -7,7 +7,7 @@ Conventions for every intersection routine in raykit (2D and 3D alike)
   over the last axis, and serves both.
 * Directions need not be unit length; the cameras hand out unit directions, so there the
   ray parameter t is also the distance from the ray's origin.
-* The slide says a ray is p(t) = o + t·d for "typically t ≥ 0". raykit counts hits only at
+* On the slides a ray is p(t) = o + t·d, t typically non-negative. raykit counts hits only at
   **t > 0**: a hit at exactly t = 0 is a miss, so a ray never hits the surface it starts on (a
   shadow or mirror ray leaving a surface, a line-scan ray starting on a ball). Every
   intersection routine returns ``t (N,)``: the ray parameter of the nearest hit with t > 0, or

@@ -1,15 +1,17 @@
 """The renderer: for every pixel, the nearest object its ray hits, and that object's colour.
 
-This is the lecture's loop,
+This is the lecture's ray-tracing loop, as the slide writes it::
 
-    for each pixel:
-        compute the viewing ray
-        find the nearest object the ray hits
-        compute the illumination there
-        store the colour in the pixel
+    for each pixel {
+        compute viewing ray
+        intersect ray with scene
+        compute illumination at intersection
+        store resulting color at pixel
+    }
 
-run for many pixels at once (numpy arrays instead of a per-pixel Python loop): a batch is a
-tile of pixels at one sample offset. Which pixels, rays and objects go together is the
+(to intersect a ray with the scene is to find the nearest object it hits), run for many pixels
+at once (numpy arrays instead of a per-pixel Python loop): a batch is a tile of pixels at one
+sample offset. Which pixels, rays and objects go together is the
 engine's business (:mod:`raykit.engine.regions`): it skips what cannot be seen and never
 changes a pixel. Conventions: pixels and rays per :mod:`raykit.camera`, object indices per
 :mod:`raykit.scene`, colours are linear floats in [0, 1] with no gamma.

@@ -359,7 +359,7 @@ MISTAKES = [
     Mistake(
         "textbook_discriminant",
         "the discriminant is the textbook's D = B² - 4AC, whose digits are lost for a small "
-        "sphere far away (b'² and AC huge and nearly equal): use the slides' stable form "
+        "sphere far away (b'² and AC huge and nearly equal): use the stable form "
         "Δ = A·(R² - |f - (b'/A)·d|²)",
         patches=_patch((raykit.spheres, "hit_sphere", raykit.spheres.hit_sphere_textbook)),
         where="raykit/spheres.py: sphere_roots",

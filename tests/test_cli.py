@@ -2,6 +2,7 @@ import json
 import os
 import subprocess
 import sys
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -21,6 +22,16 @@ def test_render_writes_the_png_and_says_what_it_wrote(tmp_path, capsys):
     assert said.rstrip().endswith(" s")
     image = np.asarray(Image.open(out))
     assert image.shape == (480, 640, 3)
+
+
+def test_width_option_renders_the_same_view_in_that_many_pixels_of_the_same_shape(tmp_path):
+    out = tmp_path / "o.png"
+    assert main(["render", str(SCENES / "classic.json"), "-o", str(out), "--width", "160"]) == 0
+    scene = load_scene(SCENES / "classic.json")
+    smaller = replace(scene, camera=replace(scene.camera, width=160, height=120))
+    from raykit.io.images import quantize
+
+    assert np.array_equal(np.asarray(Image.open(out)), quantize(render(smaller).rgb))
 
 
 def test_samples_option_averages_n_by_n_rays(tmp_path, capsys):

@@ -1,55 +1,135 @@
-"""Every stored figure is one a back row can read when it is projected (the rule is
-raykit.io.images's: at FIGURE_DPI or more, blown up at most 1.6 times to fill a 1920 x 1080
-screen, its smallest text at least 1/40 of the screen's height there). The figures are the
-notebooks' stored PNG outputs and the pictures in docs/images/ that matplotlib drew (the
-renders, pictures of scenes with no text, are the size of their scene). The size of a figure's
-smallest text is written into its PNG as it is saved (raykit.io.images.figure_png, from the text
-the figure really draws); a figure without it was not saved that way and fails."""
+"""Every picture the notebooks and the site show is one a back row can read when it is projected
+(the rule is raykit.io.legibility's: filling a 1920 x 1080 screen it is blown up at most 1.6
+times, and its smallest text is at least 1/40 of the screen's height there), and no figure's
+text lies on other text or on a drawn line.
+
+The pictures: the notebooks' stored figures, the pictures their Markdown links, every picture a
+page of the site shows, and every picture in docs/images, docs/gallery and docs/benchmarks
+(the lecture map points at them all).
+
+What is measured, and by whom:
+
+* A picture's size is read from its PNG's pixels: every picture, renders included. A render's
+  pixels are the rays it traced, so a render passes only by being rendered that large.
+* A figure's text cannot be measured from its pixels alone, and a figure is not asked what size
+  its text is. raykit.io.images.figure_png, which stores every figure (diagrams, benchmark
+  plots, the notebooks' outputs), draws it into the PNG with raykit.io.legibility.measuring:
+  each text artist matplotlib draws, its box in the stored picture after drawing and the height
+  of its lines as the renderer laid them out, and every line, patch edge and marker the axes
+  drew, with what overlaps; that record is written into the PNG. This test reads the record and
+  ties it to the picture: its size must be the PNG's, and each text box must hold drawn pixels.
+  A matplotlib picture without a record was not stored that way, and fails.
+* Where the figures come from code the tests run, they are measured afresh as well: the
+  diagram functions in tests/test_diagrams.py (``test_diagram_labels_are_clear``), and the
+  pictures docs/make_images.py draws in tests/test_reproducible.py, whose fresh record must
+  agree with the committed one.
+
+A render has no text: it is held to the size rule only. Renders not yet stored at the rule's
+size are listed in ``TOO_SMALL_RENDERS``, and the benchmark plots drawn before their draw was
+measured in ``PLOTTED_BEFORE_THE_RECORD``, each expected to fail (strictly: one mended must
+leave its list).
+"""
 
 from __future__ import annotations
 
 import base64
 import io
 import json
+import re
 
+import numpy as np
 import pytest
 from PIL import Image
 
 from conftest import REPO
-from raykit.io.images import TEXT_KEY, legibility_problems
+from raykit.io.legibility import read_layout, size_problems, text_problems
+
+SHOWN_FOLDERS = ("docs/images", "docs/gallery", "docs/benchmarks")
+IMAGE_LINK = re.compile(r"!\[[^\]]*\]\(([^)\s]+\.png)\)")
+
+# renders stored below the rule's size (docs/lecturers.md, "Figures a back row can read"): the
+# line-scan sweeps, a pixel a camera pixel and a scan, are as large as their scenes' pixels and
+# scans; made larger, they need scenes with more of both
+TOO_SMALL_RENDERS = {
+    "docs/images/conveyor_sweep.png",
+    "docs/gallery/conveyor_sweep.png",
+    "docs/images/passing_car_sweep.png",
+    "docs/gallery/passing_car_sweep.png",
+    "docs/images/passing_car_2d_sweep.png",
+}
+# benchmark plots drawn before figure_png measured them (their text, fitted then, is unmeasured):
+# a rerun of the command at the top of the plot's page stores the record
+PLOTTED_BEFORE_THE_RECORD = {
+    "docs/benchmarks/engines.png",
+    "docs/benchmarks/mitsuba_compare.png",
+    "docs/benchmarks/sampling_error.png",
+}
 
 
-def _stored_figures() -> list[tuple[str, bytes]]:
-    found = []
+def _pictures() -> dict[str, bytes]:
+    found: dict[str, bytes] = {}
     for notebook in sorted((REPO / "notebooks").glob("*.ipynb")):
         for k, cell in enumerate(json.loads(notebook.read_text())["cells"]):
             for n, output in enumerate(cell.get("outputs", [])):
                 png = output.get("data", {}).get("image/png")
                 if png:
-                    found.append((f"{notebook.name} cell {k} output {n}", base64.b64decode(png)))
-    for path in sorted((REPO / "docs" / "images").glob("*.png")):
-        found.append((f"docs/images/{path.name}", path.read_bytes()))
+                    found[f"{notebook.name} cell {k} output {n}"] = base64.b64decode(png)
+            if cell["cell_type"] == "markdown":
+                for link in IMAGE_LINK.findall("".join(cell["source"])):
+                    path = (notebook.parent / link).resolve()
+                    found[str(path.relative_to(REPO))] = path.read_bytes()
+    for page in sorted((REPO / "docs").rglob("*.md")):
+        if "_build" in page.parts:
+            continue
+        for link in IMAGE_LINK.findall(page.read_text()):
+            path = (page.parent / link).resolve()
+            found[str(path.relative_to(REPO))] = path.read_bytes()
+    for folder in SHOWN_FOLDERS:
+        for path in sorted((REPO / folder).glob("*.png")):
+            found[f"{folder}/{path.name}"] = path.read_bytes()
     return found
 
 
-FIGURES = [(name, png) for name, png in _stored_figures()]
+PICTURES = _pictures()
+NAMES = sorted(PICTURES)
 
 
 def _is_figure(image: Image.Image) -> bool:
     return str(image.info.get("Software", "")).startswith("Matplotlib")
 
 
-def test_there_are_figures_to_check():
-    assert sum(_is_figure(Image.open(io.BytesIO(png))) for _, png in FIGURES) > 40
+def _figures() -> list[str]:
+    return [n for n in NAMES if _is_figure(Image.open(io.BytesIO(PICTURES[n])))]
 
 
-@pytest.mark.parametrize("name, png", FIGURES, ids=[name for name, _ in FIGURES])
-def test_stored_figure_reads_on_a_projector(name, png):
-    image = Image.open(io.BytesIO(png))
-    if not _is_figure(image):
-        pytest.skip("a render (a picture of a scene, no text), not a figure")
-    assert TEXT_KEY in image.info, f"{name}: saved without raykit.io.images.figure_png"
-    dpi = image.info.get("dpi", (None,))[0]
-    text = image.info[TEXT_KEY]
-    text_px = None if text == "none" else float(text)
-    assert not legibility_problems(*image.size, dpi, text_px), name
+def test_the_pictures_shown_are_all_checked():
+    for folder in SHOWN_FOLDERS:
+        for path in (REPO / folder).glob("*.png"):
+            assert f"{folder}/{path.name}" in PICTURES
+    assert len(_figures()) > 60 and len(NAMES) - len(_figures()) > 15
+    assert TOO_SMALL_RENDERS | PLOTTED_BEFORE_THE_RECORD <= set(NAMES)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_picture_is_large_enough_to_project(name, request):
+    if name in TOO_SMALL_RENDERS:
+        request.applymarker(pytest.mark.xfail(strict=True, reason="a render stored too small"))
+    image = Image.open(io.BytesIO(PICTURES[name]))
+    assert not size_problems(*image.size), f"{name}: {size_problems(*image.size)}"
+
+
+@pytest.mark.parametrize("name", _figures())
+def test_figure_text_is_measured_readable_and_clear(name, request):
+    if name in PLOTTED_BEFORE_THE_RECORD:
+        request.applymarker(pytest.mark.xfail(strict=True, reason="plotted before the record"))
+    png = PICTURES[name]
+    layout = read_layout(png)
+    assert layout is not None, f"{name}: stored without raykit.io.images.figure_png's record"
+    pixels = np.asarray(Image.open(io.BytesIO(png)).convert("L"), float)
+    assert layout.size == (pixels.shape[1], pixels.shape[0]), f"{name}: record of another size"
+    for text in layout.texts:  # the record belongs to this picture: its texts are drawn here
+        x0, y0, x1, y1 = (int(round(v)) for v in text.box)
+        inside = pixels[max(y0, 0) : y1, max(x0, 0) : x1]
+        assert inside.size and np.ptp(inside) > 60, f"{name}: nothing drawn at {text.text!r}"
+    assert not text_problems(*layout.size, layout.smallest_text_px), name
+    assert not layout.problems, f"{name}: {layout.problems}"

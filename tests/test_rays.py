@@ -1,7 +1,7 @@
 """The t > 0 rule of raykit.rays: a ray never hits the surface it starts on.
 
 Each test starts rays exactly on a surface (t = 0 is a root) and would fail if hits at t = 0
-counted, as the slide's "typically t ≥ 0" would allow.
+counted, as the slides' t ≥ 0 would allow.
 """
 
 import numpy as np

@@ -8,42 +8,37 @@ Chromium at a phone's width (400 px) and a laptop's (1280 px).
   the text it holds) lies inside the window and inside each ancestor that hides what overflows
   it, unless a block between them scrolls sideways on its own (a code block, a table's
   scroller, a notebook output). The article's own frame does not count as such a block: a
-  line wider than the text moves the whole text. ``tests/site_measure.html`` measures it.
+  line wider than the text moves the whole text. Nor do the side columns ("Section
+  Navigation", "On this page"): nothing in them is wider than the column.
+* No table is squeezed into the page when it could scroll in its own block instead: no word in
+  a cell is broken across two lines (raykit.line|scan), and no short phrase in a cell ("5.9 ms",
+  a header) is set one word a line.
+* ``tests/site_measure.html`` measures it all, every page at both widths in one Chromium.
 * No page has an empty left column ("Section Navigation" with nothing under it).
 
-The site is built once for the module, with the docs extra (skipped, saying so, without it);
-the browser tests are skipped, saying so, where Chromium is not installed.
+The site is built once for the module, with the docs extra (skipped, saying so, without it),
+or taken from the folder ``RAYKIT_SITE`` names, where .ci/run has just built it with the same
+command; the browser tests are skipped, saying so, where Chromium is not installed.
 """
 
 from __future__ import annotations
 
-import functools
-import html
-import http.server
 import importlib.util
 import json
+import os
 import re
-import shutil
 import subprocess
 import sys
-import tempfile
-import threading
 from pathlib import Path
 
 import pytest
 
+import headless
 from conftest import REPO
+from headless import CHROMIUM, served
 
 HERE = Path(__file__).resolve().parent
 WIDTHS = (400, 1280)
-CHROMIUM = next(
-    (
-        shutil.which(name)
-        for name in ("chromium", "chromium-browser", "google-chrome")
-        if shutil.which(name)
-    ),
-    None,
-)
 DOCS_EXTRA = ("sphinx", "myst_nb", "pydata_sphinx_theme", "sphinx-mathjax-offline")
 
 
@@ -54,6 +49,9 @@ def site(tmp_path_factory) -> Path:
         pytest.skip(
             f'the site needs the docs extra ({", ".join(missing)}): pip install -e ".[docs]"'
         )
+    built = os.environ.get("RAYKIT_SITE")
+    if built:  # .ci/run has just built it, with the command below
+        return Path(built).resolve()
     out = tmp_path_factory.mktemp("site")
     subprocess.run(
         [
@@ -75,11 +73,18 @@ def site(tmp_path_factory) -> Path:
 
 
 def _pages(site: Path) -> list[str]:
+    """The site's pages, and the deck's (docs/make_deck.py, deck/index.html)."""
     return sorted(
         str(path.relative_to(site))
         for path in site.rglob("*.html")
         if not path.relative_to(site).parts[0].startswith(("_", "."))
     )
+
+
+def _measured_pages(site: Path) -> list[str]:
+    """The pages measured at a phone's and a laptop's width: not the deck, which is a
+    projector's 1920 x 1080 (tests/test_deck.py measures it)."""
+    return [page for page in _pages(site) if not page.startswith("deck/")]
 
 
 ASSET = re.compile(
@@ -118,65 +123,25 @@ def test_no_page_has_an_empty_section_navigation_column(site):
     assert not empty
 
 
-class _Quiet(http.server.SimpleHTTPRequestHandler):
-    def log_message(self, *args):
-        pass
-
-
 @pytest.fixture(scope="module")
-def served(site):
-    server = http.server.ThreadingHTTPServer(
-        ("127.0.0.1", 0), functools.partial(_Quiet, directory=str(site))
-    )
-    thread = threading.Thread(target=server.serve_forever, daemon=True)
-    thread.start()
-    yield f"http://127.0.0.1:{server.server_address[1]}"
-    server.shutdown()
-    server.server_close()
-
-
-def _measure(site: Path, url: str, width: int) -> list[dict]:
-    pages = _pages(site)
+def measured(site) -> dict[int, list[dict]]:
+    """Every page at every width of WIDTHS, measured by ``site_measure.html`` in one Chromium."""
+    if CHROMIUM is None:
+        pytest.skip("needs Chromium (apt-get install chromium)")
+    pages = _measured_pages(site)
     page = (HERE / "site_measure.html").read_text()
-    page = page.replace("/*PAGES*/[]", json.dumps(pages)).replace("/*WIDTH*/0", str(width))
-    (site / f"_measure_{width}.html").write_text(page)
-    with tempfile.TemporaryDirectory() as profile:
-        dump = subprocess.run(
-            [
-                CHROMIUM,
-                "--headless",
-                "--no-sandbox",
-                "--disable-gpu",
-                "--disable-quic",
-                "--no-first-run",
-                "--disable-background-networking",
-                "--disable-component-update",
-                "--disable-sync",
-                f"--user-data-dir={profile}",
-                # no network: every name but this machine's is unknown
-                "--host-resolver-rules=MAP * ~NOTFOUND, EXCLUDE 127.0.0.1",
-                "--hide-scrollbars",
-                "--virtual-time-budget=6000000",
-                f"--window-size={width + 100},1000",
-                "--dump-dom",
-                f"{url}/_measure_{width}.html",
-            ],
-            capture_output=True,
-            text=True,
-            timeout=900,
-            check=False,
-        ).stdout
-    found = re.search(r'<pre id="result">(.*?)</pre>', dump, re.S)
-    assert found and found.group(1) != "running", "the measuring page did not finish"
-    results = json.loads(html.unescape(found.group(1)))
-    assert len(results) == len(pages)
-    return results
+    page = page.replace("/*PAGES*/[]", json.dumps(pages))
+    page = page.replace("/*WIDTHS*/[]", json.dumps(WIDTHS))
+    (site / "_measure.html").write_text(page)
+    with served(site) as address:
+        results = headless.measured(f"{address}/_measure.html", (max(WIDTHS) + 100, 1000))
+    assert len(results) == len(pages) * len(WIDTHS)
+    return {width: [r for r in results if r["width"] == width] for width in WIDTHS}
 
 
-@pytest.mark.skipif(CHROMIUM is None, reason="needs Chromium (apt-get install chromium)")
 @pytest.mark.parametrize("width", WIDTHS)
-def test_every_page_fits_the_window_with_nothing_cut_and_its_formulas_typeset(site, served, width):
-    results = _measure(site, served, width)
+def test_every_page_fits_the_window_with_nothing_cut_and_its_formulas_typeset(measured, width):
+    results = measured[width]
     errors = {r["page"]: r["error"] for r in results if "error" in r}
     assert not errors
     wide = {r["page"]: r["scrollWidth"] for r in results if r["scrollWidth"] > r["width"]}
@@ -185,3 +150,41 @@ def test_every_page_fits_the_window_with_nothing_cut_and_its_formulas_typeset(si
     assert not cut, f"cut at {width} px: {json.dumps(cut, indent=1, ensure_ascii=False)}"
     raw = {r["page"]: r["math_unrendered"] for r in results if r["math_unrendered"]}
     assert not raw, f"formulas left as TeX source: {raw}"
+
+
+@pytest.mark.parametrize("width", WIDTHS)
+def test_no_table_is_squeezed_into_the_page_breaking_its_words(measured, width):
+    squeezed = {r["page"]: r["tables"][:3] for r in measured[width] if r.get("tables")}
+    assert not squeezed, (
+        f"tables squeezed at {width} px: {json.dumps(squeezed, indent=1, ensure_ascii=False)}"
+    )
+
+
+def test_the_notebooks_sliders_move_through_their_functions_pictures(site, measured):
+    """Every slider cell of the notebooks is on the site as sliders (docs/conf.py); moving each
+    control shows, and loads, the picture docs/make_slider_frames.py drew for that stop."""
+    expected = {}
+    for manifest in sorted((site / "_static" / "sliders").glob("*/*/sliders.json")):
+        data = json.loads(manifest.read_text())
+        folder = f"../_static/sliders/{manifest.parent.parent.name}/{manifest.parent.name}/"
+        page = f"notebooks/{manifest.parent.parent.name}.html"
+        for control in data["controls"]:
+            last = len(control["labels"]) - 1
+            stop = 0 if control["first"] == last else last
+            expected.setdefault(page, []).append(
+                (control["name"], stop, folder + control["frames"][stop])
+            )
+    assert {"notebooks/01_rays_and_cameras.html", "notebooks/02_linescan_camera.html"} <= set(
+        expected
+    )
+    shown = {
+        r["page"]: [(m["control"], m["stop"], m["after"]) for m in r["sliders"]]
+        for r in measured[WIDTHS[-1]]
+        if r.get("sliders")
+    }
+    assert shown == expected
+    unloaded = [(r["page"], m) for r in measured[WIDTHS[-1]] for m in r.get("sliders", [])]
+    assert not [u for u in unloaded if not u[1]["loaded"]]
+    # each control really changes the picture (a slider whose every stop draws the same
+    # figure would show nothing moving)
+    assert all(m["after"] != m["before"] for _, m in unloaded)

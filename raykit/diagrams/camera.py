@@ -16,7 +16,8 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from raykit.camera import Camera, image_plane_corners, image_plane_points, pixel_points
-from raykit.diagrams.views import draw_lines, draw_outline, view_for
+from raykit.diagrams.labels import clear_label
+from raykit.diagrams.views import draw_lines, draw_outline, fewer_ticks_3d, view_for
 from raykit.rays import normalize
 
 COARSE_COLUMNS = 8
@@ -57,51 +58,41 @@ def camera_diagram(camera: Camera, *, ax: Axes | None = None) -> Figure:
         starts = np.broadcast_to(eye, corners.shape)
     draw_lines(ax, view, np.stack([starts, corners], axis=1), colors="0.5", linewidths=0.8)
 
-    # the frame at the eye, up, and d along -w to lookat. Labels sit beside their anchors, not
-    # on them. up is often close to v (it need only lie in the plane of v and w), so it is
-    # drawn longer than v: its label stands above v's, and v's goes to the left of its tip.
-    # Point labels get a white ground so the lines they cross do not strike them through
+    # the frame at the eye, up, and d along -w to lookat. up is often close to v (it need only
+    # lie in the plane of v and w), so it is drawn longer than v. Every label is placed where
+    # it crosses no line, marker or other label (raykit.diagrams.labels), near what it names
     # (arrows at least 0.15 of the drawing: at a wide fov_angle the plane dwarfs d)
     extent = np.ptp(np.vstack([eye[None], corners, starts]), axis=0).max()
     size = max(0.35 * d, 0.15 * extent)
-    for vector, label, color, length, align in (
-        (u, "u", "tab:red", 1.0, ("left", "top")),
-        (v, "v ", "tab:green", 1.0, ("right", "center")),
-        (w, "w", "tab:blue", 1.0, ("left", "bottom")),
-        (normalize(np.asarray(camera.up, float)), "up", "0.4", UP_LENGTH, ("center", "bottom")),
+    for vector, label, color, length in (
+        (u, "u", "tab:red", 1.0),
+        (v, "v", "tab:green", 1.0),
+        (w, "w", "tab:blue", 1.0),
+        (normalize(np.asarray(camera.up, float)), "up", "0.4", UP_LENGTH),
     ):
         tip = eye + length * size * vector
         draw_lines(ax, view, np.stack([eye, tip])[None], colors=color, linewidths=2)
-        ax.text(
-            *view.project(eye + 1.08 * length * size * vector),
-            label,
-            color=color,
-            fontsize=12,
-            fontweight="bold",
-            ha=align[0],
-            va=align[1],
-        )
+        clear_label(ax, view.project(tip), label, color=color, fontsize=12, fontweight="bold")
     draw_lines(
         ax, view, np.stack([eye, lookat])[None], colors="black", linewidths=1, linestyles="dotted"
     )
-    ax.scatter(
-        *view.project(np.stack([eye, lookat])).T, color="black", s=18, depthshade=False, zorder=11
-    )
-    _label(ax, view.project(eye), " e", fontsize=12, ha="left", va="bottom")
-    _label(ax, view.project(lookat), "lookat ", fontsize=11, ha="right", va="top")
-    _label(ax, view.project((eye + lookat) / 2), " d", fontsize=12, style="italic", va="top")
+    ax.scatter(*view.project(np.stack([eye, lookat])).T, color="black", s=18, depthshade=False)
+    clear_label(ax, view.project(eye), "e", toward=-45, fontsize=12)
+    clear_label(ax, view.project(lookat), "lookat", toward=-135, fontsize=11)
+    clear_label(ax, view.project((eye + lookat) / 2), "d", toward=-45, fontsize=12, style="italic")
 
     if camera.projection == "perspective":  # fov_angle: from the top edge to the bottom edge
         Hp = camera.plane_size[1]
+        edge = lookat + Hp / 2 * v
+        draw_lines(ax, view, np.stack([eye, edge])[None], colors="black", linewidths=0.8)
+        # the arc between the top edge and the bottom one, nearer the eye than d's label
         angles = np.linspace(-camera.fov_angle / 2, camera.fov_angle / 2, 25)
-        radius = 0.5 * d
+        radius = 0.3 * d
         arc = eye + radius * (
             np.cos(np.radians(angles))[:, None] * -w + np.sin(np.radians(angles))[:, None] * v
         )
         ax.plot(*view.project(arc).T, color="black", lw=1)
-        _label(ax, view.project(arc[-1]), "fov_angle ", fontsize=11, ha="right", va="bottom")
-        edge = lookat + Hp / 2 * v
-        draw_lines(ax, view, np.stack([eye, edge])[None], colors="black", linewidths=0.8)
+        clear_label(ax, view.project(arc[-1]), "fov_angle", toward=150, fontsize=11)
 
     up = normalize(np.asarray(camera.up, float))
     points = np.vstack(
@@ -114,7 +105,7 @@ def camera_diagram(camera: Camera, *, ax: Axes | None = None) -> Figure:
         setter(c - half, c + half)
     ax.set_box_aspect((1, 1, 1))
     ax.view_init(elev=18, azim=-62)
-    # draw in zorder, not by depth: the point labels (zorder 10) then lie over the pixel dots
+    # draw in zorder, not by depth: the labels are placed after the lines and markers are drawn
     ax.computed_zorder = False
     ax.set_title(
         f"{camera.projection}: {camera.width} x {camera.height} pixels\n"
@@ -123,24 +114,8 @@ def camera_diagram(camera: Camera, *, ax: Axes | None = None) -> Figure:
     )
     for label, axis in zip((ax.set_xlabel, ax.set_ylabel, ax.set_zlabel), view.axes, strict=True):
         label("xyz"[axis])
+    fewer_ticks_3d(ax)
     return ax.figure
-
-
-def _label(ax: Axes, where, text: str, **style) -> None:
-    """A point's label on a white ground, drawn over the lines and pixel dots under it so that
-    none strikes it through (the axes draw in zorder, see camera_diagram)."""
-    ax.text(
-        *where,
-        text,
-        zorder=10,
-        bbox={
-            "boxstyle": "round,pad=0.1",
-            "facecolor": "white",
-            "edgecolor": "none",
-            "alpha": 0.85,
-        },
-        **style,
-    )
 
 
 def camera_diagrams(camera: Camera) -> Figure:

@@ -24,6 +24,7 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from matplotlib.patches import Circle
 
+from raykit.diagrams.labels import clear_label
 from raykit.planes import hit_plane, normal_from_points, plane_side
 from raykit.rays import dot, length, normalize, point_at
 from raykit.spheres import sphere_roots
@@ -269,22 +270,23 @@ def plane_sides(axes: list[Axes] | None = None) -> Figure:
     ax3.plot(*triangle.T, color="0.3")
     ax3.plot_trisurf(*triangle[:3].T, color="0.85", alpha=0.6)
     centre = triangle[:3].mean(axis=0)
-    for point, name in ((a3, "a"), (p3, "p"), (q3, "q")):
-        ax3.scatter(*point, color="black", s=12)
-        # outward from the triangle's centre, clear of the marker and the edges
-        outward = normalize(point - centre)
-        ax3.text(*(point + 0.35 * outward), name, fontsize=12, ha="center", va="center")
     ax3.quiver(*centre, *n3, color="tab:red", arrow_length_ratio=0.08, lw=1.6)
     ax3.quiver(*centre, *(n3 / length(n3)), color="tab:blue", arrow_length_ratio=0.2, lw=2)
+    for point, name in ((a3, "a"), (p3, "p"), (q3, "q")):
+        ax3.scatter(*point, color="black", s=12)
+        # away from the triangle's middle, where its edges and the normals are
+        clear_label(ax3, point, name, toward=225 if name == "a" else -45, fontsize=12)
     ax3.text(
         *(centre + np.array([0.1, 0, 0.8 * n3[2]])),
         f"n = (p - a) × (q - a)\n|n| = {length(n3):g}",
         color="tab:red",
         fontsize=SMALLEST_FONT + 1,
     )
-    ax3.text(
-        *(centre + n3 / length(n3) + np.array([0.15, 0, -0.3])),
+    clear_label(
+        ax3,
+        centre + n3 / length(n3),
         "unit n",
+        toward=0,
         color="tab:blue",
         fontsize=SMALLEST_FONT + 1,
     )
@@ -295,5 +297,5 @@ def plane_sides(axes: list[Axes] | None = None) -> Figure:
     ax3.view_init(elev=18, azim=-65)
     for axis in (ax3.xaxis, ax3.yaxis, ax3.zaxis):
         axis.set_ticklabels([])
-    ax3.set_title("normal from three points: normal does not mean normalized", fontsize=11)
+    ax3.set_title("normal from three points:\nnormal does not mean normalized", fontsize=11)
     return ax.figure

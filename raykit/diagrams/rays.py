@@ -21,6 +21,7 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from raykit.camera import image_plane_corners
+from raykit.diagrams.labels import clear_label
 from raykit.diagrams.views import (
     draw_lines,
     draw_outline,
@@ -160,7 +161,6 @@ def ray_diagram(
         ax.scatter(*shown.project(ends[hit]).T, color="black", s=4, depthshade=False)
     else:
         ax.plot(*shown.project(ends[hit]).T, "o", color="black", ms=2, zorder=6)
-    finish_axes(ax, shown, np.vstack([extent, ends[hit]]), camera)
     title = f"{len(rows)} rays through pixel centres ({int(hit.sum())} hit): solid = hit, "
     title += "dashed = miss"
     if not shown.is_3d:
@@ -172,6 +172,8 @@ def ray_diagram(
         mirror = sum(len(p.t) for p in paths if p.kind == "mirror")
         title += f"\n{shadow} shadow rays ({blocked} blocked, x), {mirror} mirror rays"
     ax.set_title(title, fontsize=10)
+    # after the title, which it may add to
+    finish_axes(ax, shown, np.vstack([extent, ends[hit]]), camera)
     return ax.figure
 
 
@@ -226,7 +228,4 @@ def _mark(ax: Axes, view, point: np.ndarray, label: str, marker: str | None = "o
     shown = view.project(point)
     if marker:
         ax.plot(*[[c] for c in shown], marker, color="black", ms=5, zorder=7)
-    if view.is_3d:
-        ax.text(*shown, f" {label}", fontsize=10)
-    else:
-        ax.annotate(label, shown, xytext=(4, 4), textcoords="offset points", fontsize=10)
+    clear_label(ax, shown, label, fontsize=10)

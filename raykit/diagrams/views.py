@@ -80,6 +80,7 @@ def finish_axes(ax: Axes, view: View, points: np.ndarray, camera: Camera) -> Non
         ax.set_xlabel(AXIS_NAMES[view.axes[0]])
         ax.set_ylabel(AXIS_NAMES[view.axes[1]])
         ax.set_zlabel(AXIS_NAMES[view.axes[2]])
+        fewer_ticks_3d(ax)
         eye, lookat = view.project(camera.eye), view.project(camera.lookat)
         if eye[1] > lookat[1]:  # depth grows away from the viewer of the 3D box
             ax.invert_yaxis()
@@ -98,6 +99,27 @@ def finish_axes(ax: Axes, view: View, points: np.ndarray, camera: Camera) -> Non
             flip()
         if view.name == "top" and k == 1 and eye[1] > lookat[1]:
             flip()
+
+
+def fewer_ticks_3d(ax: Axes) -> None:
+    """At most five ticks an axis of 3D axes (the depth axis, foreshortened, ran its numbers
+    into each other with more); an axis far from 0 numbers no ticks, and the title says where
+    it is (matplotlib's offset text, "+1e6", lay on the tick labels; in the axis label it ran
+    off the figure). Call after the limits, labels and title are set."""
+    from matplotlib.ticker import MaxNLocator, NullFormatter
+
+    far = []
+    for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
+        axis.set_major_locator(MaxNLocator(nbins=4))
+        low, high = sorted(axis.get_view_interval())
+        centre = (low + high) / 2
+        if abs(centre) > 1000 * (high - low):
+            axis.set_major_formatter(NullFormatter())
+            far.append(f"{axis.get_label_text()} near {centre:.1e}")
+    if far:
+        title = ax.get_title()
+        where = ", ".join(far)
+        ax.set_title(f"{title}\n{where}" if title else where, fontsize=ax.title.get_fontsize())
 
 
 def draw_lines(ax: Axes, view: View, segments: np.ndarray, gid: str | None = None, **style):

@@ -7,6 +7,7 @@ Quantising follows the scene format: value = floor(clamp(c, 0, 1)·255 + 0.5), s
 from __future__ import annotations
 
 import os
+import sys
 import tempfile
 from collections.abc import Callable
 from pathlib import Path
@@ -14,6 +15,17 @@ from typing import BinaryIO
 
 import numpy as np
 from PIL import Image
+
+from raykit.io.legibility import (
+    LARGEST_ENLARGEMENT,
+    SMALLEST_SCREEN_TEXT,
+    Layout,
+    measuring,
+    png_with_layout,
+    read_layout,
+    screen_scale,
+    text_problems,
+)
 
 
 def quantize(rgb: np.ndarray) -> np.ndarray:
@@ -94,92 +106,39 @@ def _image_format(suffix: str) -> str | None:
     return Image.EXTENSION.get(suffix)
 
 
-# A figure a back row can read (docs/lecturers.md, "Figures a back row can read"): projected to
-# fill a 1920 x 1080 screen, whichever way it fits, its smallest text is at least 1/40 of the
-# screen's height (27 px), and it is blown up at most 1.6 times. For a figure W x H pixels with
-# its smallest text t pixels (the font size: points x dpi / 72) that is
-#     t >= max(H / 40, W / 71.1)   and   W >= 1200 or H >= 675,
-# and every figure is stored at FIGURE_DPI or more. tests/test_figures_legible.py checks each
-# stored figure; the smallest text is written into the PNG (TEXT_KEY) as the figure is saved.
-FIGURE_DPI = 150
-TEXT_KEY = "raykit smallest text px"
-SCREEN = (1920, 1080)
-SMALLEST_SCREEN_TEXT = SCREEN[1] / 40  # 27 px
-LARGEST_ENLARGEMENT = 1.6
+# Figures are stored for a projector: raykit.io.legibility holds the rule and measures each
+# figure as it is drawn into its PNG, which carries what was measured (LAYOUT_KEY).
+FIGURE_DPI = 150  # the least a figure is stored at; more where it would be blown up
+NOTEBOOK_DPI = 200  # the notebooks' figures are small (a few inches): stored finer
 
 
-def smallest_text_px(figure, dpi: float) -> float | None:
-    """The font size, in pixels at ``dpi``, of the smallest text ``figure`` draws (only text it
-    really draws: not the tick labels of an axis turned off, not empty labels); None without
-    text."""
-    from matplotlib.text import Text
+def _measured(figure, dpi: float, savefig_options: dict) -> Layout:
+    """``figure`` drawn as :func:`figure_png` would store it at ``dpi``, measured (unencoded)."""
+    import io
 
-    sizes: list[float] = []
-    draw = Text.draw
-
-    def recording_draw(self, renderer):
-        if self.get_visible() and self.get_text().strip():
-            sizes.append(self.get_fontsize())
-        return draw(self, renderer)
-
-    Text.draw = recording_draw
-    try:
-        figure.canvas.draw()
-    finally:
-        Text.draw = draw
-    return min(sizes) * dpi / 72 if sizes else None
+    with measuring(figure) as layout:
+        figure.savefig(io.BytesIO(), format="rgba", dpi=dpi, **savefig_options)
+    return layout
 
 
-def legibility_problems(
-    width: int, height: int, dpi: float | None, text_px: float | None
-) -> list[str]:
-    """What keeps a stored figure of ``width`` x ``height`` pixels, saved at ``dpi`` with its
-    smallest text ``text_px`` pixels, from being read on a projector (the rule above); [] when
-    nothing does."""
-    problems = []
-    if dpi is None or dpi < FIGURE_DPI - 0.5:
-        problems.append(f"stored at {dpi} dpi, under {FIGURE_DPI}")
-    scale = min(SCREEN[0] / width, SCREEN[1] / height)
-    if scale > LARGEST_ENLARGEMENT:
-        problems.append(
-            f"{width} x {height} px is blown up {scale:.2f} times to fill a {SCREEN[0]} x "
-            f"{SCREEN[1]} screen (at most {LARGEST_ENLARGEMENT})"
-        )
-    if text_px is not None and text_px * scale < SMALLEST_SCREEN_TEXT - 0.05:
-        problems.append(
-            f"its smallest text, {text_px:.1f} px, is {text_px * scale:.1f} px on the screen "
-            f"(at least {SMALLEST_SCREEN_TEXT:.0f}: {max(height / 40, width / 71.1):.1f} px here)"
-        )
-    return problems
-
-
-def _stored_size(figure, dpi: float, tight: bool) -> tuple[float, float]:
-    """The pixels ``figure`` is stored at: its whole canvas, or (``tight``) what it draws plus
-    savefig's margin (pad_inches, 0.1 inch a side)."""
-    if tight:
-        box = figure.get_tightbbox(figure.canvas.get_renderer())
-        return (box.width + 0.2) * dpi, (box.height + 0.2) * dpi
-    width, height = figure.get_size_inches()
-    return width * dpi, height * dpi
-
-
-def fit_for_projector(figure, dpi: float, tight: bool = False) -> float:
-    """Make ``figure`` keep the projector rule above, and return the dpi to store it at: where
-    its smallest text is under 1/40 of the screen, the figure is made smaller (the same text
-    in fewer inches, so the text is a larger part of it); then, where it would be blown up more
-    than 1.6 times, it is stored at more than ``dpi``. Text sizes and what is drawn stay."""
+def fit_for_projector(figure, dpi: float, **savefig_options) -> float:
+    """Make ``figure`` keep the projector rule (:mod:`raykit.io.legibility`), and return the
+    dpi to store it at: where its smallest text, as drawn, is under 1/40 of the screen, the
+    figure is made smaller (the same text in fewer inches, so the text is a larger part of it);
+    then, where it would be blown up more than 1.6 times, it is stored at more than ``dpi``.
+    Text sizes and what is drawn stay."""
     for _ in range(8):
-        text_px = smallest_text_px(figure, dpi)
+        layout = _measured(figure, dpi, savefig_options)
+        text_px = layout.smallest_text_px
         if text_px is None:
             break
-        width, height = _stored_size(figure, dpi, tight)
-        # 3% to spare: a tight crop's stored size can differ a little from this estimate
-        needed = 1.03 * SMALLEST_SCREEN_TEXT * max(width / SCREEN[0], height / SCREEN[1])
+        # 3% to spare: a tight crop's stored size moves a little as the figure shrinks
+        needed = 1.03 * SMALLEST_SCREEN_TEXT / screen_scale(*layout.size)
         if text_px >= needed:
             break
         figure.set_size_inches(figure.get_size_inches() * max(0.5, 0.98 * text_px / needed))
-    width, height = _stored_size(figure, dpi, tight)
-    scale = min(SCREEN[0] / width, SCREEN[1] / height)
+    layout = _measured(figure, dpi, savefig_options)
+    scale = screen_scale(*layout.size)
     if scale > LARGEST_ENLARGEMENT:
         dpi = float(np.ceil(dpi * scale / LARGEST_ENLARGEMENT * 1.01))
     return dpi
@@ -187,38 +146,42 @@ def fit_for_projector(figure, dpi: float, tight: bool = False) -> float:
 
 def figure_png(figure, dpi: float = FIGURE_DPI, **savefig_options) -> bytes:
     """``figure`` as PNG bytes, fitted to the projector rule (:func:`fit_for_projector`, at
-    ``dpi`` or more), with its smallest text's size written in (TEXT_KEY)."""
+    ``dpi`` or more), carrying what its draw into the PNG measured (LAYOUT_KEY: its size, each
+    text's box and line height, its images, and :func:`raykit.io.legibility.layout_problems`)."""
     import io
 
-    tight = savefig_options.get("bbox_inches") == "tight"
-    dpi = fit_for_projector(figure, dpi, tight)
-    text_px = smallest_text_px(figure, dpi)
-    metadata = {TEXT_KEY: "none" if text_px is None else f"{text_px:.2f}"}
+    dpi = fit_for_projector(figure, dpi, **savefig_options)
     stream = io.BytesIO()
-    figure.savefig(stream, format="png", dpi=dpi, metadata=metadata, **savefig_options)
-    return stream.getvalue()
-
-
-NOTEBOOK_DPI = 200  # the notebooks' figures are small (a few inches): stored finer
+    with measuring(figure) as layout:
+        figure.savefig(stream, format="png", dpi=dpi, **savefig_options)
+    return png_with_layout(stream.getvalue(), layout)
 
 
 def show_figures_legibly(dpi: float = NOTEBOOK_DPI) -> None:
     """In a notebook: show each matplotlib figure as :func:`figure_png` stores it (at ``dpi``,
-    cropped to what it draws, its smallest text written in), instead of the inline backend's
-    default, so that the stored outputs are figures a projector shows legibly."""
+    cropped to what it draws, its measured layout written in), instead of the inline backend's
+    default, so that the stored outputs are figures a projector shows legibly; what keeps a
+    figure from it (text too small, cut off, on other text or on a line) is printed under it."""
     from IPython import get_ipython
     from matplotlib.figure import Figure
 
     shell = get_ipython()
     if shell is None:
         return
-    formatter = shell.display_formatter.formatters["image/png"]
-    formatter.for_type(Figure, lambda figure: figure_png(figure, dpi, bbox_inches="tight"))
+
+    def shown(figure) -> bytes:
+        png = figure_png(figure, dpi, bbox_inches="tight")
+        layout = read_layout(png)
+        for problem in layout.problems + text_problems(*layout.size, layout.smallest_text_px):
+            print(f"raykit: this figure will not read on a projector: {problem}", file=sys.stderr)
+        return png
+
+    shell.display_formatter.formatters["image/png"].for_type(Figure, shown)
 
 
 def save_figure(figure, path: str | Path, dpi: int = FIGURE_DPI) -> None:
     """Write a matplotlib ``figure`` to ``path`` (format from the suffix), whole or not at all;
-    a PNG carries the size of its smallest text (TEXT_KEY)."""
+    a PNG is fitted to the projector and carries its measured layout (:func:`figure_png`)."""
     path = Path(path)
     kind = _figure_kind(path, figure.canvas.get_supported_filetypes())
     if kind == "png":

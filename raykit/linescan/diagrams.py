@@ -26,6 +26,7 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Arc, Circle
 
 from raykit.billboards import OPAQUE_FROM
+from raykit.diagrams.labels import arrow, clear_label
 from raykit.linescan.camera import pixel_positions, pixel_x, slide_pixel_positions
 from raykit.linescan.scan import Scan, scan, sweep, trace
 from raykit.linescan.scene import LineScene
@@ -103,15 +104,12 @@ def _draw_camera(ax: Axes, scene: LineScene, taken: Scan, annotate: bool) -> Non
     cam = scene.camera
     e = np.asarray(cam.e, float)
     u, w = cam.frame
+    behind = _degrees(-w)  # the eye's side away from the rays: where labels find room
     ax.plot(*e, "ko", ms=5, zorder=6)
-    ax.annotate("e", e - 0.3 * w, fontsize=11, ha="center", va="center")
+    clear_label(ax, e, "e", toward=behind, fontsize=11)
     for vector, label in ((w, "w"), (u, "u")) if annotate else ():
-        ax.annotate(
-            "", e + vector, e, arrowprops=dict(arrowstyle="-|>", color="black", lw=1.3), zorder=6
-        )
-        ax.annotate(
-            label, e + 1.2 * vector, fontsize=11, ha="center", va="center", fontweight="bold"
-        )
+        arrow(ax, e, e + vector, arrowstyle="-|>", color="black", lw=1.3, zorder=6)
+        clear_label(ax, e + vector, label, toward=_degrees(vector), fontsize=11, fontweight="bold")
     if cam.projection == "perspective":
         half, line_centre, centres = 1.0, e + cam.D * w, pixel_positions(cam)
     else:
@@ -134,24 +132,18 @@ def _draw_camera(ax: Axes, scene: LineScene, taken: Scan, annotate: bool) -> Non
         return
     # past the line's end along u; the first and last pixel's i beside the ends, on the eye's
     # side of the line, where no ray has fanned out yet
-    ax.annotate("image line", ends[1] + 0.75 * u, fontsize=10, ha="center", va="center")
+    clear_label(ax, ends[1] + 0.3 * u, "image line", toward=_degrees(u), fontsize=10)
     for i, end in ((0, ends[0]), (cam.pixels - 1, ends[1])):
-        ax.annotate(f"i={i}", end - 0.45 * w, fontsize=10, ha="center", va="center")
+        clear_label(ax, end, f"i={i}", toward=behind, fontsize=10)
     if cam.projection == "perspective":
         side = -0.35 * u  # the D dimension line, set off to the right of w
-        ax.annotate(
-            "", line_centre + side, e + side, arrowprops=dict(arrowstyle="<->", color="0.25", lw=1)
-        )
-        ax.annotate(
-            "D",
-            e + side + 0.5 * cam.D * w - 0.18 * u,
-            fontsize=11,
-            ha="center",
-            va="center",
-            style="italic",
+        arrow(ax, e + side, line_centre + side, arrowstyle="<->", color="0.25", lw=1)
+        clear_label(
+            ax, e + side + 0.5 * cam.D * w, "D", toward=_degrees(-u), fontsize=11, style="italic"
         )
         heading = math.degrees(math.atan2(w[1], w[0]))
         radius = 0.45 * cam.D
+        # over the rays, which hid it under them
         ax.add_patch(
             Arc(
                 e,
@@ -160,22 +152,24 @@ def _draw_camera(ax: Axes, scene: LineScene, taken: Scan, annotate: bool) -> Non
                 angle=heading,
                 theta1=-cam.fov_angle / 2,
                 theta2=cam.fov_angle / 2,
-                color="0.25",
-                lw=1,
+                color="black",
+                lw=1.6,
+                zorder=6,
             )
         )
         edge = math.radians(heading + cam.fov_angle / 2)
-        # the label beyond u's arrow, led to the arc's end: beside the arc it would lie on the
-        # rays or the u arrow
-        ax.annotate(
-            f"fov_angle = {cam.fov_angle:g}°",
+        clear_label(
+            ax,
             e + radius * np.array([math.cos(edge), math.sin(edge)]),
-            xytext=e + 2.6 * u + 0.1 * w,
+            f"fov_angle = {cam.fov_angle:g}°",
+            toward=_degrees(u),
             fontsize=10,
-            ha="left",
-            va="bottom",
-            arrowprops=dict(arrowstyle="-", color="0.4", lw=0.7, shrinkA=1, shrinkB=1),
         )
+
+
+def _degrees(vector: np.ndarray) -> float:
+    """The direction of a 2D ``vector``, in degrees counterclockwise from +x."""
+    return math.degrees(math.atan2(vector[1], vector[0]))
 
 
 def _draw_rays(ax: Axes, scene: LineScene, taken: Scan, every: int, lower, upper) -> None:
@@ -336,7 +330,8 @@ def pixel_formulas(counts: tuple[int, ...] = (8, 7), ax: Axes | None = None) -> 
     ax.set_yticks([])
     ax.set_xticks([-1, -0.5, 0, 0.5, 1])
     ax.set_xlabel("position on the image line (u)")
-    ax.legend(loc="upper left", fontsize=10, ncol=2, frameon=False)
+    # under the axes: over them it lay on the image line's ends
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.35), fontsize=10, ncol=2, frameon=False)
     for side in ("top", "right", "left"):
         ax.spines[side].set_visible(False)
     ax.set_title("the slide's second pixel formula against the pixel centres", fontsize=10)
@@ -380,9 +375,12 @@ def paths_of_light(
         lower = np.minimum(lower, obj.center - obj.radius - 0.5)
         upper = np.maximum(upper, obj.center + obj.radius + 0.5)
     ends = np.where(hit[:, None], points, _exit_points(origins, directions, lower, upper))
+    # the faded photons drawn from a little way out: the light's name needs a clear ring
+    clear = 0.06 * length(upper - lower)
+    starts = origins + np.minimum(clear, 0.5 * length(ends - origins))[:, None] * directions
     for k in np.flatnonzero(~arrives):
         ax.plot(
-            *np.stack([origins[k], ends[k]]).T,
+            *np.stack([starts[k], ends[k]]).T,
             color="goldenrod",
             alpha=0.35,
             lw=0.8,
@@ -400,9 +398,9 @@ def paths_of_light(
     line = np.stack([e + camera.D * w - u, e + camera.D * w + u])
     ax.plot(*line.T, color="black", lw=3)
     ax.plot(*e, "ko", ms=6)
-    ax.annotate("eye e", e, xytext=(-10, -16), textcoords="offset points")
+    clear_label(ax, e, "eye e", toward=_degrees(-w))
     ax.plot(*light, "*", color="gold", mec="black", ms=18, zorder=7)
-    ax.annotate("light", light, xytext=(10, 6), textcoords="offset points")
+    clear_label(ax, light, "light", toward=45)
     ax.set_xlim(lower[0], upper[0])
     ax.set_ylim(lower[1], upper[1])
     ax.set_aspect("equal")

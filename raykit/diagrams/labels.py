@@ -1,0 +1,195 @@
+"""Labels that sit beside what they name, never on a ray, an edge, a marker or another label.
+
+A label made by :func:`clear_label` is placed each time its axes are drawn, after their lines,
+patches and markers and before their texts: at the size the figure is drawn at, it takes the
+first place round its point, nearest first and its preferred side first, whose box crosses none
+of them (as :mod:`raykit.io.legibility` measures them) and lies inside the axes. So a diagram's
+labels stay clear whatever the scene, and wherever the figure is shrunk or stored at more dpi.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from matplotlib.artist import Artist
+from matplotlib.axes import Axes
+from matplotlib.patches import FancyArrowPatch
+from matplotlib.text import Annotation, Text
+from matplotlib.transforms import IdentityTransform
+
+from raykit.io.legibility import drawing_of, segments_cross
+
+# how far from its point a label may go, in multiples of its font size, nearest first
+DISTANCES = (0.3, 0.7, 1.2, 1.9, 2.8, 4.0, 5.5, 7.5)
+DIRECTIONS = 16  # tried round the point at each distance, the preferred one first
+CLEARANCE_PX = 3.0  # room kept between a label and the lines and markers round it
+LEADER_FROM = 1.5  # a label further from its point than this (font sizes) gets a leader line
+
+
+def clear_label(ax: Axes, point, text: str, toward: float = 45.0, **style) -> Annotation:
+    """Label ``point`` (its data coordinates: 2 numbers, or 3 in 3D axes) with ``text``, placed
+    at each draw where nothing of ``ax`` is under it, ``toward`` (degrees, counterclockwise
+    from the right) preferred. ``style``: Text properties (fontsize, color, ...)."""
+    label = ax.annotate(
+        text,
+        (0.0, 0.0),
+        xycoords=IdentityTransform(),
+        xytext=(0.0, 0.0),
+        textcoords="offset pixels",
+        ha="center",
+        va="center",
+        annotation_clip=False,
+        # a leader to the point, shown only when the label had to go far from it
+        arrowprops={"arrowstyle": "-", "color": "0.45", "lw": 0.7, "shrinkA": 1, "shrinkB": 2},
+        **style,
+    )
+    label.set_in_layout(False)  # inside the axes by placement: no part of the layout's room
+    _placer(ax).labels.append((label, np.asarray(point, float), toward))
+    return label
+
+
+def arrow(ax: Axes, start, end, **style) -> FancyArrowPatch:
+    """An arrow from ``start`` to ``end`` (data coordinates) drawn as one of ``ax``'s patches,
+    so that labels are placed off it (an annotation's own arrow is not: it is part of a label).
+    ``style``: FancyArrowPatch properties (arrowstyle, color, lw, ...)."""
+    patch = FancyArrowPatch(
+        tuple(start), tuple(end), mutation_scale=10, shrinkA=0, shrinkB=0, **style
+    )
+    ax.add_patch(patch)
+    return patch
+
+
+def _placer(ax: Axes) -> _Placer:
+    for artist in ax.artists:
+        if isinstance(artist, _Placer):
+            return artist
+    placer = _Placer(ax)
+    ax.add_artist(placer)
+    return placer
+
+
+class _Placer(Artist):
+    """Drawn after the axes' lines, patches and markers (zorder 2) and before their texts (3):
+    places the axes' clear labels where those lines are drawn now."""
+
+    def __init__(self, ax: Axes) -> None:
+        super().__init__()
+        self.ax = ax
+        self.labels: list[tuple[Annotation, np.ndarray, float]] = []
+        self.set_zorder(2.99)
+
+    def draw(self, renderer) -> None:
+        drawings = drawing_of(self.ax)
+        segments = np.concatenate([d.segments for d in drawings] + [np.zeros((0, 2, 2))])
+        points = np.concatenate([d.points for d in drawings] + [np.zeros((0, 2))])
+        # each marker's half width, and room to spare round it
+        reach = np.concatenate(
+            [np.full(len(d.points), d.marker_px + CLEARANCE_PX) for d in drawings] + [np.zeros(0)]
+        )
+        areas = [d.area for d in drawings if d.area is not None]
+        ours = {id(label) for label, _, _ in self.labels}
+        taken = [
+            _box(t, renderer)
+            for t in self.ax.texts
+            if id(t) not in ours and t.get_visible() and t.get_text().strip()
+        ]
+        inside = self.ax.bbox
+        for label, point, toward in self.labels:
+            anchor = self._display(point)
+            label.xy = tuple(anchor)
+            label.set_position((0.0, 0.0))
+            label.update_positions(renderer)  # its transform follows the new point
+            box = _box(label, renderer)
+            half = np.array([box[2] - box[0], box[3] - box[1]]) / 2
+            size = renderer.points_to_pixels(label.get_fontsize())
+            best, best_cost, far = None, math.inf, False
+            for (dx, dy), distance in _candidates(toward, size, half):
+                centre = anchor + (dx, dy)
+                rect = (*(centre - half), *(centre + half))
+                cost = _cost(rect, segments, points, reach, areas, taken, inside)
+                if distance > LEADER_FROM:  # its leader: over no other label, few lines
+                    leader = np.array([[anchor, centre]])
+                    cost += 10 * sum(bool(segments_cross(leader, box)[0]) for box in taken)
+                    cost += 0.2 * float(np.count_nonzero(_crossings(leader[0], segments)))
+                if cost < best_cost:
+                    best, best_cost, far = (dx, dy), cost, distance > LEADER_FROM
+                if cost == 0:
+                    break
+            label.set_position(best)
+            label.update_positions(renderer)
+            label.arrow_patch.set_visible(far)
+            taken.append(_box(label, renderer))
+
+    def _display(self, point: np.ndarray) -> np.ndarray:
+        if len(point) == 3:  # 3D axes: the point as their projection now shows it
+            from mpl_toolkits.mplot3d import proj3d
+
+            x, y, _ = proj3d.proj_transform(*point, self.ax.get_proj())
+            point = np.array([x, y])
+        return self.ax.transData.transform(point[:2])
+
+
+def _box(text: Text, renderer) -> tuple[float, float, float, float]:
+    box = Text.get_window_extent(text, renderer)  # an annotation's text, not its arrow
+    return (box.x0, box.y0, box.x1, box.y1)
+
+
+def _candidates(toward: float, size: float, half: np.ndarray):
+    """Offsets (display pixels) of a label's centre from its point: round it at each of
+    :data:`DISTANCES`, ``toward`` first, then alternately either side of it."""
+    turns = [0] + [s * k for k in range(1, DIRECTIONS // 2 + 1) for s in (1, -1)][: DIRECTIONS - 1]
+    for distance in DISTANCES:
+        for turn in turns:
+            angle = math.radians(toward + turn * 360 / DIRECTIONS)
+            u = np.array([math.cos(angle), math.sin(angle)])
+            # the box's edge, not its centre, at this distance: a box reaches |u.x| w/2 + ...
+            reach = distance * size + abs(u[0]) * half[0] + abs(u[1]) * half[1]
+            yield tuple(u * reach), distance
+
+
+def _cost(rect, segments, points, reach, areas, taken, inside) -> float:
+    """0 for a clear place; otherwise how much is under the label there (lines and markers
+    crossed, other labels covered, the axes' edge crossed count most)."""
+    cost = 0.0
+    if rect[0] < inside.x0 or rect[1] < inside.y0 or rect[2] > inside.x1 or rect[3] > inside.y1:
+        cost += 100
+    grown = (
+        rect[0] - CLEARANCE_PX,
+        rect[1] - CLEARANCE_PX,
+        rect[2] + CLEARANCE_PX,
+        rect[3] + CLEARANCE_PX,
+    )
+    # a line in the room round the label costs less than one under it
+    cost += float(np.count_nonzero(segments_cross(segments, grown)))
+    cost += 3.0 * float(np.count_nonzero(segments_cross(segments, rect)))
+    near = (
+        (points[:, 0] > rect[0] - reach)
+        & (points[:, 0] < rect[2] + reach)
+        & (points[:, 1] > rect[1] - reach)
+        & (points[:, 1] < rect[3] + reach)
+    )
+    cost += float(np.count_nonzero(near))
+    for other in taken:
+        if min(rect[2], other[2]) > max(rect[0], other[0]) and min(rect[3], other[3]) > max(
+            rect[1], other[1]
+        ):
+            cost += 10
+    centre = ((rect[0] + rect[2]) / 2, (rect[1] + rect[3]) / 2)
+    cost += 0.5 * sum(area.contains_point(centre) for area in areas)
+    return cost
+
+
+def _crossings(leader: np.ndarray, segments: np.ndarray) -> np.ndarray:
+    """Which of ``segments`` (K, 2, 2) the segment ``leader`` (2, 2) crosses."""
+    if not len(segments):
+        return np.zeros(0, bool)
+    a, b = leader
+    c, d = segments[:, 0], segments[:, 1]
+
+    def side(p, q, r):
+        return (q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (q[..., 1] - p[..., 1]) * (
+            r[..., 0] - p[..., 0]
+        )
+
+    return (side(a, b, c) * side(a, b, d) < 0) & (side(c, d, a) * side(c, d, b) < 0)
