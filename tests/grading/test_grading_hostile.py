@@ -1398,16 +1398,15 @@ OOM = re.compile(r"the container's OOM killer fired (\d+) times")
 
 def test_11_every_budget_holds_and_hidden_outcomes_stay_hidden(autograder, tmp_path):
     """Files with no name, kernel buffers in sockets and pipes, memory across processes, page
-    tables, an archive of 100,000 empty members, and hidden tests that fail (1.2 s each):
-    every test past a budget is stopped and told which, what must be refused is, the summary
-    shown at once is the honest submission's, and execution_time counts the visible tests only.
-    The grader stays within its own memory, the container's OOM killer never fires, nothing is
-    left, and the honest submission graded next scores in full."""
+    tables, an archive of 100,000 empty members, and hidden tests that fail: every test past a
+    budget is stopped and told which, what must be refused is, and the summary shown at once
+    is the honest submission's. The grader stays within its own memory, the container's OOM
+    killer never fires, nothing is left, and the honest submission graded next scores in full.
+    (That execution_time counts the visible tests only is test_grading's, on a clock of its
+    own.)"""
     attacker = budget_attacker(tmp_path / "attack" / "submission")
-    start = time.perf_counter()
     results, run = grade_as_deployed(autograder, attacker, BUDGETED, tmp_path / "a")
-    seconds = time.perf_counter() - start
-    print(way(autograder), f"{seconds:.1f} s", scores(results), results["output"])
+    print(way(autograder), scores(results), results["output"])
     print({t["number"]: t["output"][-600:] for t in results["tests"]}, run.stderr[-1500:])
     assert run.returncode == 0, run.stderr[-2000:]
     within = way(autograder) in PAGE_TABLES_WITHIN
@@ -1429,14 +1428,11 @@ def test_11_every_budget_holds_and_hidden_outcomes_stay_hidden(autograder, tmp_p
     ]
     assert results["output"].splitlines()[1:] == summary, results["output"]
     assert fair["output"].splitlines()[-1] == summary[-1]
-    if "execution_time" in results:  # the hidden tests' 2.4 s are not in it
-        assert results["execution_time"] + 2.0 < seconds, (results["execution_time"], seconds)
     for graded in (run, fair_run):
         peak = PEAK.search(graded.stderr)
         assert peak and int(peak.group(1)) <= int(peak.group(2)), graded.stderr[-1500:]
         if way(autograder) in ("docker", "container", "prairielearn"):
             assert OOM.search(graded.stderr).group(1) == "0", graded.stderr[-1500:]
-    assert seconds < 120
 
 
 def test_removal_copes_with_any_tree_a_child_can_leave(tmp_path):

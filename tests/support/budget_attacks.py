@@ -6,21 +6,22 @@ Each entry of :data:`ATTACKS`: the module, the function it replaces (the origina
 ``_function`` and called when the attack wants the right answer, as
 ``test_grading_hostile.submission_wrapping`` lays it out), and the code. An attack that needs
 something the sandbox must refuse answers right only if it was refused, so a defence that
-failed shows as a lower score; one that must be stopped holds what it can and then answers
-right, so a budget that was not enforced shows as a higher score.
+failed shows as a lower score; one that must be stopped holds what it can until it is, so a
+budget that was not enforced shows as the test's time running out instead of the budget's
+message, which the tests assert: nothing depends on when the grader looks.
 
 * ``nameless disk`` (2.1, visible): files with no name, through ``O_TMPFILE`` and, when that is
-  refused, files unlinked while open; held by descriptors, fsynced, then kept half a second.
+  refused, files unlinked while open; held by descriptors, fsynced, kept until it is stopped.
 * ``kernel buffers`` (2.6, visible): socket pairs and pipes filled (pipes enlarged first), by the
   test's process and three forks; right only if they all held less than 64 MB.
-* ``hidden outcomes`` (2.3 visible, 2.4 and 2.5 hidden): the hidden tests fail, 1.2 s each,
-  the visible one passes; what is shown at once must be what an honest submission shows.
+* ``hidden outcomes`` (2.3 visible, 2.4 and 2.5 hidden): the hidden tests fail, the visible
+  one passes; what is shown at once must be what an honest submission shows.
 * ``memory across processes`` (2.7, visible): fifteen children of 45 MB each, every one under
   its own limit; right only if no child could hold any.
 * ``page tables`` (4.1, visible): 20,000 mappings of two pages, each across a gigabyte
   boundary: 320 MB of page tables, which the address-space limit does not count, beside
-  160 MB of memory; past the budget where a container leaves a test less than 500 MB
-  (Gradescope's), within it elsewhere.
+  160 MB of memory; past the budget where a container leaves a test less than 480 MB
+  (Gradescope's: then held until it is stopped), within it elsewhere (then let be).
 * ``archive of empty members`` (4.2, visible): returns an ``.npz`` of empty members as large
   as it may send (15 MB, 100,000 members), which the grader must refuse without parsing it.
 """
@@ -49,7 +50,7 @@ def hit_plane(origins, directions, a, n):
         os.fsync(fd)
         held.append(fd)
     print('HELD', sorted(how), sum(os.fstat(fd).st_blocks for fd in held) >> 11, 'MB')
-    time.sleep(0.5)
+    time.sleep(30)  # held until the grader stops it: past its time, the test says so instead
     return _hit_plane(origins, directions, a, n)
 """
 
@@ -111,16 +112,13 @@ def plane_side(p, a, n):
     for r in children:
         total += int(os.read(r, 20) or 0)
     print('KERNEL', sorted(set(said)), 'held', total >> 20, 'MB')
-    time.sleep(0.3)
     right = _plane_side(p, a, n)
     return right if total < 64 * 2**20 else -right
 """
 
 HIDDEN_OUTCOMES = """
 def hit_sphere(origins, directions, center, radius):
-    import time
     if len(origins) < 500:  # 2.4 and 2.5, the hidden ones, draw fewer rays than 2.3
-        time.sleep(1.2)
         raise ValueError('a hidden test')
     return _hit_sphere(origins, directions, center, radius)
 """
@@ -146,14 +144,13 @@ def normal_from_points(a, p, q):
         if os.read(r, 1) == b'1':
             held += 45 * 2**20
     print('PROCESSES', sorted(set(said)), 'children held', held >> 20, 'MB')
-    time.sleep(0.3)
     right = _normal_from_points(a, p, q)
     return right if held == 0 else -right
 """
 
 PAGE_TABLES = """
 def sphere_normals(points, center, radius):
-    import ctypes, time
+    import ctypes, resource, time
     libc = ctypes.CDLL(None, use_errno=True)
     libc.mmap.restype = ctypes.c_void_p
     libc.mmap.argtypes = [ctypes.c_void_p, ctypes.c_size_t, ctypes.c_int, ctypes.c_int,
@@ -167,7 +164,9 @@ def sphere_normals(points, center, radius):
             break
         made += 1
     print('MAPPINGS', made)
-    time.sleep(0.3)
+    if made * (8192 + 4 * 4096) > resource.getrlimit(resource.RLIMIT_AS)[0]:
+        time.sleep(30)  # past its memory budget (M): held until the grader stops it
+    time.sleep(0.3)  # within it: looked at, and let be
     return _sphere_normals(points, center, radius)
 """
 
