@@ -64,7 +64,10 @@ its blocks counted; through a mapping alone, counted as the largest a file may b
 grader cannot measure it). ``O_TMPFILE`` is refused (EOPNOTSUPP: Python's ``tempfile`` then
 unlinks a named file, which is counted), ``fallocate`` is refused, sparse files cost what
 they hold, and no socket can carry a descriptor away from the process. Between two looks the
-test can add only what it writes in that time (each file at most ``Limits.file_bytes``).
+test can add only what it writes in that time (each file at most ``Limits.file_bytes``). Its
+mappings are read again only after :data:`MAPS_SHARE` times what the last reading took (the
+kernel writes a line for each of them, up to 65,530), so that the grader's looks take a small
+share of the CPU the test and the grader share.
 
 Where no container limit is found (the root and normal-user ways on an instructor's machine),
 M is 2 GB and the net is not there: the machine's memory is the instructor's to size.
@@ -77,6 +80,7 @@ import os
 import re
 import resource
 import stat
+import time
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
@@ -89,6 +93,7 @@ MOST_MEMORY = 2 * 2**30  # M where no container limit is found
 CONTAINER_MARGIN = 24 * 2**20  # what the container must keep free at every look
 WATCH_SECONDS = 0.05  # how often a running test's memory is counted
 DISK_EVERY = 2  # and its disk, every so many looks
+MAPS_SHARE = 10  # its mappings, after so many times what the last look at them took
 MAPPING_RECORD = 300  # bytes the kernel keeps per mapping (vm_area_struct, its tree, a name)
 PIPE_PAGES = 16  # a pipe's buffer, which F_SETPIPE_SZ (refused) would enlarge
 THREAD_BYTES = 24 * 2**10  # a thread's kernel stack and record
@@ -262,53 +267,76 @@ class Gone(Exception):
     """The test's process ended while the grader looked."""
 
 
-def nameless_bytes(pid: int, device: int, file_bytes: int, ids=None) -> int:
+def nameless_bytes(pid: int, device: int, file_bytes: int, ids=None, mapped=None) -> int:
     """Disk blocks that process ``pid`` holds in files with no name on ``device`` (its
     ``tmp/``'s): through a descriptor, the file's own blocks; through a mapping alone, the
-    largest a file may be (``file_bytes``: the grader cannot measure it). Raises
+    largest a file may be (``file_bytes``: the grader cannot measure it). ``mapped``: the
+    inodes :func:`mapped_nameless` found at an earlier look, instead of looking again. Raises
     :class:`Hidden` if the process keeps the grader from looking, :class:`Gone` if it has
     ended (an ending process's descriptors are closed to all but root)."""
+    held = descriptor_nameless(pid, device, ids)
+    mapped = mapped_nameless(pid, device, ids) if mapped is None else mapped
+    return sum(held.values()) + file_bytes * len(mapped - held.keys())
+
+
+def _task_or_gone(pid: int) -> str:
     task = live_task(pid)
     if task is None:
         raise Gone
-    base = task[0]
-    held: dict[int, int] = {}
+    return task[0]
 
-    def refused() -> Exception:
-        return Hidden() if live_task(pid) else Gone()
 
+def _refused(pid: int) -> Exception:
+    return Hidden() if live_task(pid) else Gone()
+
+
+def descriptor_nameless(pid: int, device: int, ids=None) -> dict[int, int]:
+    """{inode: its blocks in bytes} of the files with no name on ``device`` that process
+    ``pid`` holds open (:func:`nameless_bytes`)."""
+    base, held = _task_or_gone(pid), {}
     with looking_as(ids):
         try:
             names = os.listdir(f"{base}/fd")
         except (FileNotFoundError, ProcessLookupError):
             raise Gone from None
         except PermissionError:
-            raise refused() from None
+            raise _refused(pid) from None
         for name in names:
             try:
                 info = os.stat(f"{base}/fd/{name}")
             except (FileNotFoundError, ProcessLookupError):
                 continue
             except PermissionError:
-                raise refused() from None
+                raise _refused(pid) from None
             if stat.S_ISREG(info.st_mode) and info.st_nlink == 0 and info.st_dev == device:
                 held[info.st_ino] = info.st_blocks * 512
+    return held
+
+
+DELETED = b" (deleted)\n"  # how /proc/PID/maps ends the line of a file with no name
+
+
+def mapped_nameless(pid: int, device: int, ids=None) -> set[int]:
+    """The inodes of the files with no name on ``device`` that process ``pid`` maps (read from
+    ``/proc/PID/maps`` at once and only the lines of deleted files parsed: a test may have
+    65,530 mappings, and the grader's look must not cost it its time)."""
+    base = _task_or_gone(pid)
+    with looking_as(ids):
         try:
-            with open(f"{base}/maps") as maps:
-                lines = maps.readlines()
+            with open(f"{base}/maps", "rb") as maps:
+                text = maps.read()
         except (FileNotFoundError, ProcessLookupError):
             raise Gone from None
         except PermissionError:
-            raise refused() from None
-    for line in lines:
-        fields = line.split(maxsplit=5)
-        if len(fields) < 6 or not fields[5].rstrip("\n").endswith(" (deleted)"):
-            continue
-        major, minor = (int(part, 16) for part in fields[3].split(":"))
-        inode = int(fields[4])
-        if os.makedev(major, minor) == device and inode not in held:
-            held[inode] = file_bytes
-    return sum(held.values())
+            raise _refused(pid) from None
+    found, end = set(), text.find(DELETED)
+    while end != -1:  # each such line: address, permissions, offset, major:minor, inode, path
+        fields = text[text.rfind(b"\n", 0, end) + 1 : end].split(maxsplit=5)
+        major, minor = (int(part, 16) for part in fields[3].split(b":"))
+        if os.makedev(major, minor) == device:
+            found.add(int(fields[4]))
+        end = text.find(DELETED, end + 1)
+    return found
 
 
 class Watch:
@@ -329,6 +357,8 @@ class Watch:
         self.pid: int | None = None
         self.looked_as: tuple[int, int] | None | str = ""  # as which ids /proc let it look
         self.looks = 0
+        self.mapped: set[int] = set()  # the mapped files with no name, at the last look at them
+        self.maps_due = 0.0  # when the mappings are looked at again (time.monotonic())
         try:
             self.device = os.stat(tmp).st_dev
         except OSError:
@@ -359,12 +389,20 @@ class Watch:
         return self.disk() if (self.looks - 1) % DISK_EVERY == 0 else ""
 
     def disk(self) -> str:
-        """The disk budget: the files its ``tmp/`` names and those with no name it holds."""
+        """The disk budget: the files its ``tmp/`` names and those with no name it holds (its
+        mappings looked at again only after :data:`MAPS_SHARE` times what the last look at
+        them took, so that the grader's looks take a small share of the time they watch)."""
         limits, nameless = self.limits, 0
         if self.pid is not None:
             for ids in [self.looked_as] if self.looked_as != "" else [None, self.ids]:
                 try:
-                    nameless = nameless_bytes(self.pid, self.device, limits.file_bytes, ids)
+                    held = descriptor_nameless(self.pid, self.device, ids)
+                    if time.monotonic() >= self.maps_due:
+                        began = time.monotonic()
+                        self.mapped = mapped_nameless(self.pid, self.device, ids)
+                        self.maps_due = time.monotonic() + MAPS_SHARE * (time.monotonic() - began)
+                    mapped_alone = len(self.mapped - held.keys())
+                    nameless = sum(held.values()) + limits.file_bytes * mapped_alone
                     self.looked_as = ids
                     break
                 except Gone:

@@ -94,6 +94,8 @@ def test_a_watch_stops_a_test_whose_files_with_no_name_pass_its_disk_budget(hold
     said = watch()
     assert said.startswith("your code used more disk than allowed: it wrote more than 16 MB")
     assert "(69 MB of it in files with no name)" in said
+    watch.maps_due = float("inf")  # the mappings not read again: what they held still counts
+    assert "(69 MB of it in files with no name)" in watch.disk()
     within = Limits(disk=DiskBudget(bytes=128 * MB))
     assert Watch(within, None, process.pid, 0, tmp_path / "tmp0", None)() == ""
 
