@@ -36,6 +36,7 @@ def _seed_file(folder: Path) -> Path:
 
 
 def _written(tmp_path: Path, *options: str) -> Path:
+    tmp_path.mkdir(parents=True, exist_ok=True)
     out = tmp_path / "pl"
     run = subprocess.run(
         [sys.executable, "-m", "raykit_grading", "prairielearn", "-o", str(out), "--image",
