@@ -1280,13 +1280,13 @@ def test_10_disk_attacks_cost_their_own_test_and_leave_nothing(name, autograder,
 
 
 SPY = (
-    "def plane_side(p, a, n):\n    import os, json, time\n"
+    "def plane_side(p, a, n):\n    import os, json\n"
     "    home = os.environ['HOME']\n    seen = {{}}\n"
     "    looks = [('parent', '..'), ('here', '.'), ('tmp', home), ('tmp parent', home + '/..')]\n"
     "    for what, path in looks:\n"
     "        try:\n"
     "            got = os.stat(path)\n"
-    "            seen[what] = [got.st_nlink, got.st_size, time.time() - got.st_mtime > 5]\n"
+    "            seen[what] = [got.st_nlink, got.st_size]\n"
     "        except OSError as e:\n            seen[what] = e.strerror\n"
     "    seen['tmp entries'] = sorted(os.listdir(home))\n"
     "    try:\n        seen['free inodes'] = os.statvfs(home).f_ffree\n"
@@ -1318,7 +1318,9 @@ def test_10_a_test_sees_nothing_of_the_tests_before_it(release, autograder, tmp_
     2.6 (graded with them) and 2.1's plane side look at everything they can stat: their
     folder's parent, their tmp/ and its parent, the free inodes. What each visible test sees is
     the same, whatever ran before it: the folder's parent and tmp/ are the same fixed ones,
-    tmp/ is empty, and the file system's counts are refused."""
+    tmp/ is empty, and the file system's counts are refused. (Their times are not compared: a
+    folder is as old as the grading or its container, which says nothing of an earlier test,
+    and comparing their age with a few seconds failed on a loaded machine.)"""
     submission = submission_wrapping(
         tmp_path,
         {"spheres.py": ("hit_sphere", LEAVE.format()), "planes.py": ("plane_side", SPY.format())},
