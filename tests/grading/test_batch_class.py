@@ -262,6 +262,10 @@ def test_a_students_feedback_folder_holds_nothing_of_the_hidden_tests(tmp_path):
         "3.6.png", "index.html", "results.json"
     ]  # fmt: skip
     assert (out / f"hidden/mo/{hidden}.png").is_file()
+    said = {t["number"]: t["output"] for t in json.loads((out / "feedback/mo/results.json")
+                                                          .read_text())["tests"]}  # fmt: skip
+    assert "3.6.png" in said["3.6"]  # the picture it gets is named, the hidden one's is not
+    assert "feedback picture" not in said[hidden] and ".png" not in said[hidden], said[hidden]
     page = html.unescape((out / "report.html").read_text())
     examples = re.findall(r"<img class='example' src='([^']+)'", page)
     assert examples and all((out / unquote(src)).is_file() for src in examples)
