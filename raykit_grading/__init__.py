@@ -24,6 +24,9 @@ Running a submission
       untrusted; which kind of sandbox is used.
     * :mod:`~raykit_grading.isolation`: the bubblewrap sandbox, and the seccomp filter.
     * :mod:`~raykit_grading.confine`: the sandbox without namespaces (chroot, own uid, Landlock).
+    * :mod:`~raykit_grading.budgets`: what a running test may hold, counted or refused: its
+      memory with page tables, its disk with files that have no name, the container's memory;
+      the arithmetic of the bounds.
     * :mod:`~raykit_grading.tasks`: what a test runs, the same in the grader and the sandbox.
     * :mod:`~raykit_grading.child`: what runs inside the sandbox: one task, arrays out.
 

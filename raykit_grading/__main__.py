@@ -85,6 +85,13 @@ def build_parser() -> argparse.ArgumentParser:
         help="the image's name on Docker Hub, for info.json (e.g. yourname/raykit-grader)",
     )
     learn.add_argument(
+        "--base-image",
+        default="ubuntu:22.04",
+        help="the grader image's base (default ubuntu:22.04, from Docker Hub; where it cannot be "
+        "reached: python -m raykit_grading.containers base-image makes "
+        "raykit/debian-bookworm-base:latest)",
+    )
+    learn.add_argument(
         "--seed-file",
         type=Path,
         help="the assignment's secret seed from this file instead, made (mode 600) if missing",
@@ -209,7 +216,24 @@ def main(argv: list[str] | None = None) -> int:
         found = _assignment_seed(args.assignment)
         if found is None:
             return 2
-        build_release(args.output)
+        from raykit_grading.catalog import TESTS, VISIBLE
+
+        visible = [t for t in TESTS if t.visibility == VISIBLE]
+        bar = _progress(len(visible), "the practice tests' references")
+        done = []
+
+        def made(test) -> None:  # a bar on a terminal, else a line a test
+            done.append(test)
+            if bar:
+                bar.update()
+            else:
+                print(f"release: {len(done)} of {len(visible)}: {test.name}", file=sys.stderr)
+
+        try:
+            build_release(args.output, made)
+        finally:
+            if bar:
+                bar.close()
         print(found.line(), file=sys.stderr)
     elif args.command == "gradescope":
         from raykit_grading.autograder import build_zip
@@ -226,7 +250,9 @@ def main(argv: list[str] | None = None) -> int:
         if found is None:
             return 2
         try:
-            write_course_files(args.output, args.image or DEFAULT_IMAGE, found.seed)
+            write_course_files(
+                args.output, args.image or DEFAULT_IMAGE, found.seed, args.base_image
+            )
         except OSError as exc:
             print(f"raykit_grading: error: {args.output}: {exc.strerror}", file=sys.stderr)
             return 2

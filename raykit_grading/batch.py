@@ -21,13 +21,15 @@ scores.csv never mixes two seeds' grades.
 
 ``OUT/scores.csv``: student, status, score, max_score, then one column per test; the status is
 ``graded``, ``does not import`` (0 points: the submission's raykit does not import, so no test
-ran), ``could not grade: why`` or ``not graded: why`` (an entry that is no submission). Every
-entry of the class is a row. ``OUT/feedback/<student>/``: results.json, the visible tests'
+ran), ``could not grade: why``, ``not graded: why`` (a submission that could not be taken in)
+or ``not a submission: why`` (a stray file beside the submissions). Every entry of the class
+is a row. ``OUT/feedback/<student>/``: results.json, the visible tests'
 feedback pictures and the student's page (``index.html``), which may be handed to the student;
 ``OUT/hidden/<student>/``: the hidden tests' pictures, for the instructor only;
 ``OUT/report.html``: the class report
-(:mod:`raykit_grading.report`). The exit status is 1 (and the entries are listed) if any could
-not be graded.
+(:mod:`raykit_grading.report`). The exit status says whether every submission was graded: 1
+(and they are listed) if some submission could not be, 0 otherwise, a stray file beside them
+or a run that had no one left to grade included.
 """
 
 from __future__ import annotations
@@ -46,7 +48,7 @@ from zipfile import is_zipfile
 from raykit_grading.catalog import VISIBLE, by_name
 from raykit_grading.grade import GradingImpossible, Options, preflight
 from raykit_grading.intake import Entry, entries
-from raykit_grading.report import write_report
+from raykit_grading.report import NOT_A_SUBMISSION, class_summary, write_report
 from raykit_grading.seeds import (
     FILE_NAME,
     AssignmentSeed,
@@ -135,7 +137,8 @@ def _grade_all(students: list[Entry], out, jobs, names, options, regrade, assign
         rows, todo = {}, [s for s in students if s.folder is not None]  # other tests: start over
     for entry in students:  # what is not graded says why, in every run
         if entry.folder is None:
-            rows[entry.name] = {"student": entry.name, "status": f"not graded: {entry.why}"}
+            kind = "not graded" if entry.submission else NOT_A_SUBMISSION
+            rows[entry.name] = {"student": entry.name, "status": f"{kind}: {entry.why}"}
     _write_all(path, header, rows)
     with (
         open(path, "a", newline="", **NAMES_AS_BYTES) as stream,
@@ -159,17 +162,15 @@ def _grade_all(students: list[Entry], out, jobs, names, options, regrade, assign
     failed = [
         f"{name}: {row['status']}"
         for name, row in rows.items()
-        if row["status"] not in ("graded", DOES_NOT_IMPORT)
+        if row["status"].startswith(("could not grade", "not graded"))
     ]
-    graded = sum(r["status"] == "graded" for r in rows.values())
-    broken = sum(r["status"] == DOES_NOT_IMPORT for r in rows.values())
-    print(  # in the class report's words
-        f"wrote {path}: {len(rows)} submissions: {graded} graded"
-        + (f", {broken} whose raykit does not import (0 points)" if broken else "")
-        + (f", {len(failed)} not graded (listed below)" if failed else "")
-    )
+    strays = [f"{name}: {row['status']}" for name, row in rows.items()
+              if row["status"].startswith(NOT_A_SUBMISSION)]  # fmt: skip
+    print(f"wrote {path}: {class_summary(rows)}")  # in the class report's words
     report = write_report(out, tests, rows)
     print(f"wrote {report}: the class report (and each student's feedback/<student>/index.html)")
+    if strays:
+        print("left out, not submissions:\n  " + "\n  ".join(strays), file=sys.stderr)
     if failed:
         print("not graded:\n  " + "\n  ".join(failed), file=sys.stderr)
         return 1

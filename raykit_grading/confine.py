@@ -19,8 +19,8 @@ test's child makes for itself between ``fork`` and ``exec`` (:func:`confine_chil
 4. Landlock where the kernel has it (:func:`landlock_restrict`): read and execute the tree,
    read its own folder, write only its ``tmp/`` (and ``/dev/null``); from ABI 6 also no
    signal to, and no abstract unix socket of, any process outside its domain;
-5. the seccomp filter of :func:`raykit_grading.isolation.seccomp_filter` (no socket but
-   AF_UNIX, no keyrings, System V IPC, ptrace, bpf, namespaces, mounts...);
+5. the seccomp filter of :func:`raykit_grading.isolation.seccomp_filter` (no socket, no
+   second process, no keyrings, System V IPC, ptrace, bpf, namespaces, mounts...);
 
 then ``exec`` of the child Python. After the test every process of its uid is killed
 (:func:`raykit_grading.isolation.kill_uid`) before the uid is leased again.
@@ -48,7 +48,7 @@ import os
 import shutil
 import stat
 import struct
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from raykit_grading.isolation import SITE, ChildPython, IsolationUnavailable
@@ -156,10 +156,15 @@ def no_new_privileges() -> None:
 @dataclass(frozen=True)
 class ContainerLimits:
     """What the grader's cgroup gives it: ``memory_bytes`` (None: no limit found) and
-    ``cpus`` (the CPU quota in CPUs, None: none)."""
+    ``cpus`` (the CPU quota in CPUs, None: none). ``memory_cgroup``: the folder of the cgroup
+    whose limit that is, where the grader reads what the container holds and how often its
+    OOM killer fired (:class:`raykit_grading.budgets.ContainerMemory`); ``cgroup_v2`` says
+    which files it has."""
 
     memory_bytes: int | None
     cpus: float | None
+    memory_cgroup: Path | None = field(default=None, compare=False)
+    cgroup_v2: bool = field(default=False, compare=False)
 
 
 UNLIMITED = 1 << 60  # cgroup v1 says "no limit" as a huge number
@@ -213,9 +218,9 @@ def _read_number(path: Path) -> int | None:
 
 def container_limits(proc: Path = Path("/proc/self")) -> ContainerLimits:
     """The tightest memory limit and CPU quota over the grader's cgroup and its parents."""
-    memory, cpus = [], []
+    memory, cpus = [], []  # memory: (limit, its folder, cgroup v2)
     for folder in _cgroup_folders("", proc):
-        memory.append(_read_number(folder / "memory.max"))
+        memory.append((_read_number(folder / "memory.max"), folder, True))
         try:
             quota, period = (folder / "cpu.max").read_text().split()
             if quota != "max":
@@ -223,14 +228,15 @@ def container_limits(proc: Path = Path("/proc/self")) -> ContainerLimits:
         except (OSError, ValueError):
             pass
     for folder in _cgroup_folders("memory", proc):
-        memory.append(_read_number(folder / "memory.limit_in_bytes"))
+        memory.append((_read_number(folder / "memory.limit_in_bytes"), folder, False))
     for folder in _cgroup_folders("cpu", proc):
         quota = _read_number(folder / "cpu.cfs_quota_us")
         period = _read_number(folder / "cpu.cfs_period_us")
         if quota is not None and quota > 0 and period:
             cpus.append(quota / period)
-    memory = [m for m in memory if m]
-    return ContainerLimits(min(memory) if memory else None, min(cpus) if cpus else None)
+    memory = [m for m in memory if m[0]]
+    tightest = min(memory, key=lambda m: m[0]) if memory else (None, None, False)
+    return ContainerLimits(tightest[0], min(cpus) if cpus else None, *tightest[1:])
 
 
 # ---- the chroot tree --------------------------------------------------------------------

@@ -20,7 +20,12 @@ results.json follows Gradescope's specification (score, execution_time, output, 
 name, number, score, max_score, status, output, output_format, visibility). It is written by
 this process, last and atomically. A visible render's output is HTML with the captioned
 feedback picture (yours | expected | where they differ) inline; hidden tests show their score
-and message only, never a picture or what the code printed.
+and message only, never a picture or what the code printed. What is shown at once says
+nothing of a hidden test: the top output sums the visible tests only, and
+``execution_time`` is the time up to the last visible test (every hidden test runs after
+them). At the end the grader says on stderr (Gradescope's stdout, which students do not see)
+its own peak memory and how often the container's OOM killer fired while it graded
+(:mod:`raykit_grading.budgets`).
 """
 
 from __future__ import annotations
@@ -28,6 +33,7 @@ from __future__ import annotations
 import functools
 import json
 import os
+import re
 import sys
 import tempfile
 import time
@@ -38,6 +44,7 @@ import numpy as np
 
 from raykit.io.images import quantize, save_image
 from raykit_grading import tasks
+from raykit_grading.budgets import GRADER_MEMORY, grader_peak
 from raykit_grading.catalog import HIDDEN_SCENES, SCENES, TESTS, VISIBLE, GradingTest, by_name
 from raykit_grading.compare import (
     DEFAULT_SCORING,
@@ -128,8 +135,10 @@ def grade(
     seed = new_seed() if seed is None else seed
     check_clone()
     results, notes, failures = [], [], []
+    sandbox, visible_done = None, None  # visible_done: when the last visible test was graded
     sandbox_kind = "none: nothing of the submission was run"
     broken = ""  # why the submission's raykit does not import ("" if it does)
+    unimported: list[str] = []  # which of its modules do not import, and why
     with Workspace() as workspace:
         try:
             staged = stage(Path(submission), workspace / "submission")
@@ -155,6 +164,8 @@ def grade(
             notes = notes + unimported
             graded = {t.key: test_entry(t, 0.0, NOT_IMPORTED) for t in tests} if broken else {}
             for test in [] if broken else _visible_first(tests):
+                if test.visibility != VISIBLE and visible_done is None:
+                    visible_done = time.perf_counter()
                 try:
                     graded[test.key] = _grade_one(sandbox, test, seed, feedback, options, deadline)
                 except Exception as exc:  # noqa: BLE001 - one test's failure stays its own
@@ -175,11 +186,14 @@ def grade(
     if broken:  # said once here; every test says it was not run
         summary.append(f"raykit does not import, so no test was run: {broken}")
     summary += stage_lines(tests, results)
-    if failures:
-        summary.append(f"{len(failures)} test(s) could not be graded; they need a regrade")
+    hidden = {t.key for t in tests if t.visibility != VISIBLE}
+    shown_failures = [f for f in failures if f.split(":")[0] not in hidden]
+    if shown_failures:  # a hidden test's failure is the instructor's to see (stderr, exit 3)
+        summary.append(f"{len(shown_failures)} test(s) could not be graded; they need a regrade")
+    _say_what_it_cost(sandbox)
     graded = {
         "score": round(sum(r["score"] for r in results), 4),
-        "execution_time": round(time.perf_counter() - start, 2),
+        "execution_time": round((visible_done or time.perf_counter()) - start, 2),
         "output": "\n".join(summary),
         "visibility": "visible",
         "stdout_visibility": "hidden",
@@ -190,12 +204,26 @@ def grade(
             "not_graded": failures,
             "sandbox": sandbox_kind,
             **({"does_not_import": broken} if broken else {}),
+            **({"modules_not_imported": unimported[0]} if unimported else {}),
         },
         "tests": results,
     }
     if failures:
         raise NotGraded("; ".join(failures), graded)
     return graded
+
+
+def _say_what_it_cost(sandbox) -> None:
+    """One line on stderr: the grader's own peak memory against the share it keeps, and how
+    often the container's OOM killer fired while it graded (where its cgroup says)."""
+    line = (
+        f"raykit_grading: the grader's peak memory: {grader_peak() // 2**20} MB of the "
+        f"{GRADER_MEMORY // 2**20} MB it keeps"
+    )
+    now = sandbox.oom_count() if sandbox is not None else None
+    if now is not None and sandbox.oom_before is not None:
+        line += f"; the container's OOM killer fired {now - sandbox.oom_before} times"
+    print(line, file=sys.stderr)
 
 
 def _grade_one(
@@ -267,9 +295,11 @@ def _import_error(sandbox: Sandbox, options: Options, deadline: float) -> tuple[
         if not failing:
             return "", []
         one = len(failing) == 1
+        causes = list(dict.fromkeys(re.findall(r"^import failed: (.*)$", ran.output, re.M)))
+        why = f" ({'; '.join(causes[:3])})" if causes else ""
         return "", [
-            f"{', '.join(failing)}: {'does' if one else 'do'} not import; the tests that use "
-            f"{'it' if one else 'them'} fail"
+            f"{', '.join(failing)}: {'does' if one else 'do'} not import{why}; the tests that "
+            f"use {'it' if one else 'them'} fail"
         ]
     if not ran.problem.startswith(IMPORT_FAILURES):
         return "", []
@@ -411,7 +441,8 @@ def _image_result(
         feedback.mkdir(parents=True, exist_ok=True)
         path = feedback / f"{test.key}.png"
         save_image(verdict.picture, path)
-        message += f"\nfeedback picture (yours | expected | where they differ): {path.name}"
+        if not hidden:  # a hidden test's picture is the instructor's alone: not named to students
+            message += f"\nfeedback picture (yours | expected | where they differ): {path.name}"
     entry = _diagnosed(test_entry(test, test.points * verdict.share, message, printed), verdict)
     if test.visibility == VISIBLE:  # hidden tests show nothing a student could copy
         entry["output"] = html_output(entry["output"], verdict.picture)

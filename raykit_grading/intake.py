@@ -42,11 +42,14 @@ MAX_BYTES = 64 * 1024**2  # bytes taken from an archive per submission (or a stu
 @dataclass
 class Entry:
     """One row of the class: ``name`` as scores.csv shows it, ``folder`` to grade (None: not
-    graded, and ``why``)."""
+    graded, and ``why``); ``submission`` False for what is no student's submission at all (a
+    stray file beside them), which the batch lists but does not count as one it could not
+    grade."""
 
     name: str
     folder: Path | None
     why: str = ""
+    submission: bool = True
 
 
 def entries(submissions: Path, scratch: Path) -> list[Entry]:
@@ -68,7 +71,7 @@ def entries(submissions: Path, scratch: Path) -> list[Entry]:
         elif stat.S_ISREG(mode) and entry.name.lower().endswith(".zip"):
             found += _zip_entry(path, scratch / f"{len(found)}")
         else:
-            found.append(Entry(entry.name, None, "not a folder or a zip"))
+            found.append(Entry(entry.name, None, "not a folder or a zip", submission=False))
     return _unique(found)
 
 
@@ -197,7 +200,9 @@ def _export_folder(folder: Path, refused: dict[str, str] | None = None) -> list[
         if entry.is_dir(follow_symlinks=False):
             found.append(Entry(entry.name, Path(entry.path)))
         else:
-            found.append(Entry(entry.name, None, "not a submission folder of the export"))
+            found.append(
+                Entry(entry.name, None, "not a submission folder of the export", submission=False)
+            )
     found += [Entry(k, None, why) for k, why in refused.items() if k not in named]
     return _unique(found)
 

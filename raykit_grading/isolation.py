@@ -29,7 +29,10 @@ A seccomp filter (:func:`seccomp_filter`, given to bwrap) refuses the system cal
 kernel state namespaces do not isolate: the keyrings (``add_key``, ``request_key``, ``keyctl``;
 a uid's keyring outlives its processes and would carry a hidden test's data to a later test or
 student), and ``bpf``, ``perf_event_open``, ``userfaultfd``, ``io_uring_*``, module and kexec
-loading; and any call of another architecture's numbering (32-bit or x32 calls on x86_64).
+loading; and any call of another architecture's numbering (32-bit or x32 calls on x86_64). It
+also keeps a test to one process holding only what its limits and the grader's counts bound
+(:mod:`raykit_grading.budgets`): no second process, no socket, no ``O_TMPFILE``, no epoll,
+inotify, fanotify or AIO, no record lock, no pipe enlarged.
 The tree is mounted read-only but for ``/tmp``, so the child can fill no memory-backed folder.
 
 If bwrap is missing or the kernel refuses namespaces, :func:`preflight` says so in one line and
@@ -149,6 +152,13 @@ def _shared_libraries(binaries: list[str], packages: list[str]) -> tuple[tuple[s
 # keeps up with it (refused with EPERM, so the C library's posix_fallocate does not fall back
 # to writing); statfs and fstatfs show the free space and inodes of a file system other tests
 # share, a count another test's leftovers would change.
+#
+# And what would hold kernel memory that no limit of a process counts (raykit_grading.budgets
+# does the sum of what is left): sockets of every family (a socket's buffers hold up to
+# 2 x net.core.wmem_max each, and a unix socket carries open files with no process holding
+# them), a second process (fork and vfork; clone only as a thread, below), epoll and inotify
+# instances (an epoll's watches multiply descriptors by descriptors), fanotify, and AIO
+# contexts (io_setup).
 SECCOMP_ARCHES = {
     "x86_64": (0xC000003E, {
         "add_key": 248, "request_key": 249, "keyctl": 250, "bpf": 321, "perf_event_open": 298,
@@ -165,6 +175,9 @@ SECCOMP_ARCHES = {
         "mq_timedreceive": 243, "mq_notify": 244, "mq_getsetattr": 245,
         "memfd_create": 319, "memfd_secret": 447,
         "fallocate": 285, "statfs": 137, "fstatfs": 138,
+        "socket": 41, "socketpair": 53, "fork": 57, "vfork": 58, "epoll_create": 213,
+        "epoll_create1": 291, "inotify_init": 253, "inotify_init1": 294, "fanotify_init": 300,
+        "io_setup": 206,
     }),
     "aarch64": (0xC00000B7, {
         "add_key": 217, "request_key": 218, "keyctl": 219, "bpf": 280, "perf_event_open": 241,
@@ -181,25 +194,45 @@ SECCOMP_ARCHES = {
         "mq_timedreceive": 183, "mq_notify": 184, "mq_getsetattr": 185,
         "memfd_create": 279, "memfd_secret": 447,
         "fallocate": 47, "statfs": 43, "fstatfs": 44,
+        "socket": 198, "socketpair": 199, "epoll_create1": 20, "inotify_init1": 26,
+        "fanotify_init": 262, "io_setup": 0,
     }),
 }  # fmt: skip
-SOCKET_CALL = {"x86_64": 41, "aarch64": 198}  # socket(2): only AF_UNIX is let through
-AF_UNIX = 1
-# clone(2) with a CLONE_NEW* flag would make namespaces unshare(2) may not (a user namespace
-# is root in a world of its own: mounts through the new mount API, a tmpfs outside every
-# limit); clone3(2) hides its flags in memory seccomp cannot read, so it fails with ENOSYS
-# and the C library falls back to clone, as under Docker's own profile
+# clone(2) only makes a thread of the test's one process: its memory, its open files and its
+# signal handlers shared (CLONE_VM|CLONE_FILES|CLONE_SIGHAND|CLONE_THREAD), no CLONE_VFORK (a
+# vfork child execs into a process of its own) and no CLONE_NEW* flag (a user namespace is
+# root in a world of its own: mounts through the new mount API, a tmpfs outside every limit);
+# a test is then one process, whose limits bound all it holds. clone3(2) hides its flags in
+# memory seccomp cannot read, so it fails with ENOSYS and the C library falls back to clone,
+# as under Docker's own profile; so does openat2(2), whose flags are in memory as well.
 CLONE_CALLS = {"x86_64": (56, 435), "aarch64": (220, 435)}  # clone, clone3
 CLONE_NEW_FLAGS = 0x7E020000  # CLONE_NEWNS|NEWCGROUP|NEWUTS|NEWIPC|NEWUSER|NEWPID|NEWNET
+CLONE_VM, CLONE_FILES, CLONE_SIGHAND, CLONE_VFORK, CLONE_THREAD = (
+    0x100, 0x400, 0x800, 0x4000, 0x10000,
+)  # fmt: skip
+THREAD_FLAGS = CLONE_VM | CLONE_FILES | CLONE_SIGHAND | CLONE_THREAD
+CLONE_CHECKED = THREAD_FLAGS | CLONE_VFORK | CLONE_NEW_FLAGS
+# a file opened with O_TMPFILE has no name the disk budget's walk can find (refused with
+# EOPNOTSUPP, as where a file system cannot make one: Python's tempfile then makes a named
+# file and unlinks it, which the budget counts through the descriptor); a pipe is not
+# enlarged past its 16 pages (F_SETPIPE_SZ refused), and no POSIX record lock is taken (each
+# costs the kernel a record, and a test could take 100,000s; flock's one lock an open file
+# is left)
+OPEN_CALLS = {"x86_64": {"open": (2, 24), "openat": (257, 32)}, "aarch64": {"openat": (56, 32)}}
+OPENAT2 = 437  # how: a struct in memory; ENOSYS, and the C library never needs it
+O_TMPFILE_BIT = 0o20000000  # __O_TMPFILE, the same on x86_64 and aarch64
+FCNTL_CALL = {"x86_64": 72, "aarch64": 25}
+FCNTL_REFUSED = {"F_SETLK": 6, "F_SETLKW": 7, "F_OFD_SETLK": 37, "F_OFD_SETLKW": 38,
+                 "F_SETPIPE_SZ": 1031}  # fmt: skip
 X32_SYSCALL_BIT = 0x40000000
-SECCOMP_RET_ALLOW, SECCOMP_RET_ERRNO, EPERM, ENOSYS = 0x7FFF0000, 0x00050000, 1, 38
+SECCOMP_RET_ALLOW, SECCOMP_RET_ERRNO, EPERM, ENOSYS, EOPNOTSUPP = 0x7FFF0000, 0x50000, 1, 38, 95
 
 
 def bpf_program(steps: list[tuple]) -> bytes:
     """Classic BPF from ``steps``: ``("label", name)`` marks a place; ``("ld", offset)`` loads
-    a word of seccomp_data; ``("jeq"|"jge"|"jset", k, where_true, where_false)`` jumps to
-    labels (None: the next step); ``("ret", value)``. Jumps go forward only, as BPF
-    requires."""
+    a word of seccomp_data; ``("and", k)`` masks it; ``("jeq"|"jge"|"jset", k, where_true,
+    where_false)`` jumps to labels (None: the next step); ``("ret", value)``. Jumps go forward
+    only, as BPF requires."""
     places, index = {}, 0
     for step in steps:
         if step[0] == "label":
@@ -212,6 +245,8 @@ def bpf_program(steps: list[tuple]) -> bytes:
             continue
         if step[0] == "ld":
             program.append(struct.pack("HBBI", 0x20, 0, 0, step[1]))
+        elif step[0] == "and":
+            program.append(struct.pack("HBBI", 0x54, 0, 0, step[1]))
         elif step[0] == "ret":
             program.append(struct.pack("HBBI", 0x06, 0, 0, step[1]))
         else:
@@ -227,24 +262,35 @@ def bpf_program(steps: list[tuple]) -> bytes:
 def seccomp_filter(machine: str | None = None) -> bytes:
     """The sandbox's seccomp program, classic BPF as bwrap's ``--seccomp`` and
     ``PR_SET_SECCOMP`` read it: a call of another architecture, an x32 call, one of
-    :data:`SECCOMP_ARCHES`, a socket of any family but AF_UNIX (no network: IPv4, IPv6,
-    netlink, packet...) or a ``clone`` with a ``CLONE_NEW*`` flag fails with EPERM;
-    ``clone3`` with ENOSYS; everything else is allowed."""
+    :data:`SECCOMP_ARCHES` (every socket, a second process, the kernel state above), a
+    ``clone`` that is not a thread (:data:`THREAD_FLAGS`) or an ``fcntl`` that enlarges a pipe
+    or takes a record lock (:data:`FCNTL_REFUSED`) fails with EPERM; an ``open`` with
+    ``O_TMPFILE`` with EOPNOTSUPP; ``clone3`` and ``openat2`` with ENOSYS; everything else is
+    allowed."""
     machine = machine or platform.machine()
     if machine not in SECCOMP_ARCHES:
         raise IsolationUnavailable(f"no seccomp filter for {machine} machines; grade on x86_64")
     arch, calls = SECCOMP_ARCHES[machine]
     clone, clone3 = CLONE_CALLS[machine]
+    opens = OPEN_CALLS[machine]
     steps: list[tuple] = [("ld", 4), ("jeq", arch, None, "deny"), ("ld", 0)]
-    steps += [("jge", X32_SYSCALL_BIT, "deny", None), ("jeq", SOCKET_CALL[machine], "socket", None)]
-    steps += [("jeq", clone, "clone", None), ("jeq", clone3, "enosys", None)]
+    steps += [("jge", X32_SYSCALL_BIT, "deny", None), ("jeq", clone, "clone", None)]
+    steps += [("jeq", clone3, "enosys", None), ("jeq", OPENAT2, "enosys", None)]
+    steps += [("jeq", number, name, None) for name, (number, _) in opens.items()]
+    steps += [("jeq", FCNTL_CALL[machine], "fcntl", None)]
     steps += [("jeq", number, "deny", None) for number in sorted(calls.values())]
-    steps += [("ret", SECCOMP_RET_ALLOW), ("label", "socket"), ("ld", 16)]  # args[0], low word
-    steps += [("jeq", AF_UNIX, "allow", "deny"), ("label", "clone"), ("ld", 16)]  # its flags
-    steps += [("jset", CLONE_NEW_FLAGS, "deny", "allow")]
+    steps += [("ret", SECCOMP_RET_ALLOW)]
+    steps += [("label", "clone"), ("ld", 16), ("and", CLONE_CHECKED)]  # args[0]: its flags
+    steps += [("jeq", THREAD_FLAGS, "allow", "deny")]
+    for name, (_, flags) in opens.items():  # the flags' low word: args[1] of open, [2] of openat
+        steps += [("label", name), ("ld", flags), ("jset", O_TMPFILE_BIT, "eopnotsupp", "allow")]
+    steps += [("label", "fcntl"), ("ld", 24)]  # args[1]: the command
+    steps += [("jeq", command, "deny", None) for command in FCNTL_REFUSED.values()]
+    steps += [("ret", SECCOMP_RET_ALLOW)]
     steps += [("label", "allow"), ("ret", SECCOMP_RET_ALLOW)]
     steps += [("label", "deny"), ("ret", SECCOMP_RET_ERRNO | EPERM)]
     steps += [("label", "enosys"), ("ret", SECCOMP_RET_ERRNO | ENOSYS)]
+    steps += [("label", "eopnotsupp"), ("ret", SECCOMP_RET_ERRNO | EOPNOTSUPP)]
     return bpf_program(steps)
 
 

@@ -1,16 +1,19 @@
 """PrairieLearn: the grader image's build folder, the question, and PrairieLearn's results.json.
 
-    python -m raykit_grading prairielearn -o DIR [--image NAME] [--assignment DIR]
+    python -m raykit_grading prairielearn -o DIR [--image NAME] [--base-image IMAGE]
+        [--assignment DIR]
 
 writes what a course needs (``DIR/README.md`` says the steps):
 
 * ``DIR/grader-image/``: a ``Dockerfile`` (its base the ``BASE_IMAGE`` build argument, default
-  :data:`DEFAULT_BASE`) and ``source/``, the same pieces as Gradescope's zip
-  (:mod:`raykit_grading.autograder`: ``setup.sh``, the pinned requirements, the grader, the
-  reference raykit, the scenes) and the entrypoint ``run_prairielearn``. PrairieLearn pulls
-  images from Docker Hub, so the image may be public: it holds **neither the seed nor the
-  hidden scenes**. ``setup.sh`` runs at build time, as on Gradescope: a Python with what
-  ``grader-requirements.txt`` pins, bubblewrap, and the chroot sandbox's tree.
+  :data:`DEFAULT_BASE`, or ``--base-image``: where Docker Hub cannot be reached, the Debian
+  base image ``python -m raykit_grading.containers base-image`` makes, as for ``try-zip``)
+  and ``source/``, the same pieces as Gradescope's zip (:mod:`raykit_grading.autograder`:
+  ``setup.sh``, the pinned requirements, the grader, the reference raykit, the scenes) and
+  the entrypoint ``run_prairielearn``. PrairieLearn pulls images from Docker Hub, so the
+  image may be public: it holds **neither the seed nor the hidden scenes**. ``setup.sh``
+  runs at build time, as on Gradescope: a Python with what ``grader-requirements.txt`` pins,
+  bubblewrap, and the chroot sandbox's tree.
 * ``DIR/questions/raykit/``: ``info.json`` (external grading with that image and entrypoint,
   no network, a :data:`TIMEOUT` s timeout), ``question.html`` (a ``pl-file-upload`` of
   :data:`SUBMITTED_FILE`, the student's ``raykit/`` folder zipped, and the grader's results)
@@ -59,6 +62,7 @@ from raykit_grading.seeds import HEADER, SeedFileError, fingerprint, new_seed, r
 SUBMITTED_FILE = "raykit.zip"
 TAKEN = {SUBMITTED_FILE, "raykit"}  # the upload, or the folder a workspace question grades
 DEFAULT_BASE = "ubuntu:22.04"  # what Gradescope's base image is built on
+LOCAL_BASE = "raykit/debian-bookworm-base:latest"  # containers.DEBIAN_BASE: no registry needed
 DEFAULT_IMAGE = "your-docker-hub-name/raykit-grader:latest"  # a placeholder: --image NAME
 SOURCE = "/grader/source"  # in the image: the grader, root's alone
 ENTRYPOINT = "/grader/run_prairielearn"
@@ -75,10 +79,10 @@ HIDDEN_TESTS = "Hidden tests"
 
 DOCKERFILE = f"""\
 # The raykit grader for PrairieLearn. Build with the base image as a build argument
-# (default: Ubuntu 22.04, as Gradescope's), push to Docker Hub, and name it in the question's
-# info.json. It holds no secret: the seed and hidden scenes come with each grading job.
-ARG BASE_IMAGE={DEFAULT_BASE}
-FROM ${{BASE_IMAGE}}
+# (default: {{base}}), push to Docker Hub, and name it in the question's info.json. It holds
+# no secret: the seed and hidden scenes come with each grading job.
+ARG BASE_IMAGE={{base}}
+FROM ${{{{BASE_IMAGE}}}}
 COPY source {SOURCE}
 RUN cp {SOURCE}/run_prairielearn {ENTRYPOINT} \\
  && chmod 755 {ENTRYPOINT} \\
@@ -164,8 +168,17 @@ Written by `python -m raykit_grading prairielearn -o {out}` (grading seed {finge
    docker push {image}
    ```
 
-   The base is Ubuntu 22.04; another is given with `--build-arg BASE_IMAGE=...` (one with
-   apt-get and Python 3.10 or newer).
+   The base is {base}; another is given with `--build-arg BASE_IMAGE=...` (one with
+   apt-get and Python 3.10 or newer). Where Docker Hub cannot be reached (the build then
+   fails pulling the base), make a Debian base image from the distribution's packages once
+   (as root, with `debootstrap` installed) and build on it:
+
+   ```bash
+   python -m raykit_grading.containers base-image      # {local_base}
+   docker build --build-arg BASE_IMAGE={local_base} -t {image} {out}/grader-image
+   ```
+
+   (or write this folder again with `--base-image {local_base}`, which makes it the default).
 2. Copy the question into your course: `cp -r {out}/questions/raykit
    COURSE/questions/raykit`, commit and sync. Its `tests/` folder holds the assignment's
    secret seed and the hidden scenes: your course repository must stay private.
@@ -180,11 +193,13 @@ writing this folder again there keeps the question's inputs.
 """
 
 
-def write_course_files(out: Path, image: str = DEFAULT_IMAGE, seed: int | None = None) -> Path:
-    """Write ``out``: the grader image's build folder, the question and the README, the
-    question grading under ``seed``: the assignment's (the command passes
-    :func:`raykit_grading.seeds.assignment_seed`'s); None draws one that only this question
-    holds."""
+def write_course_files(
+    out: Path, image: str = DEFAULT_IMAGE, seed: int | None = None, base: str = DEFAULT_BASE
+) -> Path:
+    """Write ``out``: the grader image's build folder (on the base image ``base`` unless the
+    build says another), the question and the README, the question grading under ``seed``:
+    the assignment's (the command passes :func:`raykit_grading.seeds.assignment_seed`'s);
+    None draws one that only this question holds."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     seed = new_seed() if seed is None else seed
@@ -204,7 +219,7 @@ def write_course_files(out: Path, image: str = DEFAULT_IMAGE, seed: int | None =
     for name, text in (("setup.sh", setup_script()), ("run_prairielearn", RUN)):
         (source / name).write_text(text)
         (source / name).chmod(0o755)
-    (build / "Dockerfile").write_text(DOCKERFILE)
+    (build / "Dockerfile").write_text(DOCKERFILE.format(base=base))
     (build / ".dockerignore").write_text("**/__pycache__\n")
     tests = question / "tests"
     shutil.copytree(REPO / HIDDEN_FOLDER, tests / HIDDEN_NAME)
@@ -215,7 +230,7 @@ def write_course_files(out: Path, image: str = DEFAULT_IMAGE, seed: int | None =
     (out / "README.md").write_text(
         README.format(
             out=out, image=image, fingerprint=fingerprint(seed), timeout=TIMEOUT,
-            stop=STOP_SECONDS, submitted=SUBMITTED_FILE,
+            stop=STOP_SECONDS, submitted=SUBMITTED_FILE, base=base, local_base=LOCAL_BASE,
         )
     )  # fmt: skip
     print(f"wrote {out}: the grader image's build folder, the question and README.md")

@@ -172,8 +172,10 @@ def _by_stage(functions: list[str]) -> str:
 NOT_RELEASED = {REPO / "raykit/engine/compiled"}  # the package, and all in it
 
 
-def build_release(out: Path) -> list[str]:
-    """Build the release in ``out`` (which must not exist); returns the stubbed functions."""
+def build_release(out: Path, progress=None) -> list[str]:
+    """Build the release in ``out`` (which must not exist); returns the stubbed functions.
+    ``progress(test)`` is called as each visible test's references are made (the long part:
+    each render, and the classic mistakes' pictures)."""
     out = Path(out)
     if out.exists():
         raise FileExistsError(f"{out} exists; give a new folder")
@@ -195,7 +197,7 @@ def build_release(out: Path) -> list[str]:
         ignore=shutil.ignore_patterns("__pycache__", "make_textures.py"),
     )
     (out / "pyproject.toml").write_text(_student_pyproject())
-    _visible_tests(out / "tests")
+    _visible_tests(out / "tests", progress)
     shutil.copy(Path(__file__).with_name("selfcheck.py"), out / "check.py")
     functions = _by_stage(stubbed)
     readme = STUDENT_README.format(functions=functions, zip_command=ZIP_COMMAND)
@@ -248,7 +250,7 @@ def _student_pyproject() -> str:
     return STUDENT_PYPROJECT.format(version=version, dependencies=dependencies)
 
 
-def _visible_tests(tests: Path) -> None:
+def _visible_tests(tests: Path, progress=None) -> None:
     helpers = tests / "_grading"
     helpers.mkdir(parents=True)
     (helpers / "__init__.py").write_text("")
@@ -280,6 +282,8 @@ def _visible_tests(tests: Path) -> None:
             _mistake_pictures(test, quantize(want["rgb"]), folder)
         if test.kind != "image":  # and their results, for the array tests
             _mistake_results(test, want, folder)
+        if progress:
+            progress(test)
 
 
 def _callees(test, spec: dict, arrays: dict, folder: Path) -> list[dict]:

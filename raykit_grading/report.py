@@ -10,7 +10,8 @@ offline, from the folder as it is) shows at a glance:
   read from the field each test's entry carries (``extra_data``: ``mistake``, ``says``,
   ``where``), never from the messages' words;
 * the students who could not be graded, and why; those whose raykit does not import, with the
-  error;
+  error, its file and line; those some of whose modules do not import, which, and why (their
+  tests that need them fail); the entries that are not submissions;
 * every student's score, linked to their page.
 
 ``OUT/feedback/<student>/index.html`` is the student's feedback as the page ``check.py`` writes
@@ -32,6 +33,7 @@ from raykit_grading.catalog import VISIBLE, GradingTest
 from raykit_grading.compare import PAGE_STYLE, feedback_page
 
 GRADED, DOES_NOT_IMPORT = "graded", "does not import"
+NOT_A_SUBMISSION = "not a submission"  # a stray entry: listed, never counted as ungraded
 STYLE = (
     PAGE_STYLE
     + """
@@ -212,7 +214,6 @@ def _link(name: str) -> str:
 
 
 def _page(out, tests, rows, results, scores, rates, total) -> str:
-    graded = [n for n in results if rows[n]["status"] == GRADED]
     broken = sorted(n for n in results if rows[n]["status"] == DOES_NOT_IMPORT)
     others = sorted(n for n in rows if n not in results)
     values = list(scores.values())
@@ -226,10 +227,7 @@ def _page(out, tests, rows, results, scores, rates, total) -> str:
         "<title>raykit: the class report</title>",
         f"<style>{STYLE}</style>",
         "<h1>raykit: the class report</h1>",
-        f"<p class='summary'><strong>{len(rows)} submissions: {len(graded)} graded"
-        + (f", {len(broken)} whose raykit does not import (0 points)" if broken else "")
-        + (f", {len(others)} not graded (listed below)" if others else "")
-        + ".</strong>"
+        f"<p class='summary'><strong>{e(class_summary(rows))}.</strong>"
         + (
             f" Mean {statistics.mean(values):.1f}, median "
             f"{statistics.median(values):.1f} of {_number(total)} points."
@@ -291,8 +289,11 @@ def _page(out, tests, rows, results, scores, rates, total) -> str:
         )
     if mistakes:
         parts.append("</table></div>")
-    if broken or others:
-        parts.append(f"<h2>Not graded, or not run ({len(broken) + len(others)})</h2><ul>")
+    partly = sorted(n for n in results if results[n].get("extra_data", {}).get(
+        "modules_not_imported"))  # fmt: skip
+    if broken or others or partly:
+        count = len(broken) + len(others) + len(partly)
+        parts.append(f"<h2>Not graded, or not all run ({count})</h2><ul>")
         for name in broken:
             error = results[name].get("extra_data", {}).get("does_not_import", "")
             parts.append(
@@ -300,6 +301,11 @@ def _page(out, tests, rows, results, scores, rates, total) -> str:
                 f"test ran (0 points): <code>{e(error.splitlines()[0] if error else '')}</code>"
                 f"{e(_where(error))}</li>"
             )
+        parts += [
+            f"<li><a href='{_link(name)}'>{e(name)}</a>: "
+            f"{e(results[name]['extra_data']['modules_not_imported'])}</li>"
+            for name in partly
+        ]
         parts += [f"<li>{e(name)}: {e(rows[name]['status'])}</li>" for name in others]
         parts.append("</ul>")
     parts.append("<h2>Every student</h2><div class='scroll'><table>")
@@ -313,3 +319,19 @@ def _page(out, tests, rows, results, scores, rates, total) -> str:
         )
     parts.append("</table></div>")
     return "\n".join(parts) + "\n"
+
+
+def class_summary(rows: dict[str, dict]) -> str:
+    """The class in one line, as the report and the batch command say it: ``9 submissions: 8
+    graded, 1 whose raykit does not import (0 points); 1 entry is not a submission``."""
+    statuses = [row["status"] for row in rows.values()]
+    strays = sum(s.startswith(NOT_A_SUBMISSION) for s in statuses)
+    graded, broken = statuses.count(GRADED), statuses.count(DOES_NOT_IMPORT)
+    failed = len(statuses) - strays - graded - broken
+    return (
+        f"{len(statuses) - strays} submissions: {graded} graded"
+        + (f", {broken} whose raykit does not import (0 points)" if broken else "")
+        + (f", {failed} not graded (listed below)" if failed else "")
+        + (f"; {strays} {'entry is' if strays == 1 else 'entries are'} not a submission"
+           if strays else "")
+    )  # fmt: skip

@@ -121,14 +121,25 @@ NOT_IMPORTED = "not run: raykit does not import"
 
 
 def stage_lines(tests: list[GradingTest], entries: list[dict]) -> list[str]:
-    """The top output's sum-up, one line per stage: its points and its tests that pass."""
+    """The top output's sum-up, shown at once: one line per stage of its visible tests' points
+    and passes, then one line saying how many hidden tests there are and their points, and
+    nothing of how they went (that is each hidden test's own, shown with its visibility)."""
     lines = []
     for stage in dict.fromkeys(t.stage for t in tests):
-        mine = [(t, e) for t, e in zip(tests, entries, strict=True) if t.stage == stage]
+        mine = [(t, e) for t, e in zip(tests, entries, strict=True)
+                if t.stage == stage and t.visibility == VISIBLE]  # fmt: skip
+        if not mine:
+            continue
         earned = sum(e["score"] for _, e in mine)
         passed = sum(e["score"] >= t.points for t, e in mine)
         lines.append(
             f"Stage {stage}: {earned:.4g} of {sum(t.points for t, _ in mine):.4g} points, "
-            f"{passed} of {len(mine)} tests pass"
+            f"{passed} of {len(mine)} visible tests pass"
+        )
+    hidden = [t for t in tests if t.visibility != VISIBLE]
+    if hidden:
+        lines.append(
+            f"Hidden tests: {len(hidden)}, {sum(t.points for t in hidden):.4g} points (how they "
+            "went is not shown here)"
         )
     return lines

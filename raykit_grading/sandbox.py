@@ -8,17 +8,22 @@ child gets:
 * Python in isolated mode without ``site`` (``-I -S -B``): its path is the submission, then
   numpy and Pillow, then the standard library. The grader's reference raykit is not in its world.
 * limits (:class:`Limits`): wall-clock time (then the whole sandbox is killed), CPU seconds,
-  address space, processes, open files, the size of a file, a private ``/tmp`` of a fixed
-  size, no cores.
+  address space, threads (it is one process: the seccomp filter refuses a second), open
+  files, the size of a file, queued signals, no cores; and the budgets the grader counts
+  while it runs (:mod:`raykit_grading.budgets`: memory with page tables, disk in its ``tmp/``
+  with the files it holds that have no name, the container's memory), past which it is
+  stopped.
 * a work folder of its own, made for that task and removed after it: a hidden test's inputs
   are never where a later (visible) test's child could find them.
 
 What the child gives back is read as an untrusted stream, never from a path it could have
 swapped for a link or a FIFO: its results come over a pipe the grader holds (at most
-:attr:`Limits.returned_bytes`, within the wall time) as an ``.npz`` whose members must be
-stored (not compressed) ``.npy`` arrays, each header checked against its size before any
-array is made (:func:`read_returned`; ``allow_pickle=False``); what it prints comes over a
-second pipe, of which the first :data:`OUTPUT_EXCERPT` bytes are kept.
+:attr:`Limits.returned_bytes`, within the wall time) as an ``.npz`` of at most
+:attr:`Limits.returned_arrays` members, refused from its directory's end before the archive
+is parsed, whose members must be stored (not compressed) ``.npy`` arrays, each header checked
+against its size before any array is made (:func:`read_returned`; ``allow_pickle=False``), all
+within the test's wall time; what it prints comes over a second pipe, of which the first
+:data:`OUTPUT_EXCERPT` bytes are kept.
 """
 
 from __future__ import annotations
@@ -30,6 +35,7 @@ import resource
 import selectors
 import shutil
 import signal
+import struct
 import subprocess
 import sys
 import tempfile
@@ -41,6 +47,15 @@ from pathlib import Path
 import numpy as np
 
 from raykit_grading import confine
+from raykit_grading.budgets import (
+    SIGNALS_PENDING,
+    WATCH_SECONDS,
+    ContainerMemory,
+    Watch,
+    disk_problem,
+    kernel_share,
+    memory_budget,
+)
 from raykit_grading.isolation import (
     SITE,
     WORK,
@@ -59,9 +74,8 @@ CHILD_SCRIPT = Path(__file__).with_name("child.py")
 TASKS_SCRIPT = Path(__file__).with_name("tasks.py")  # the child loads it by path
 OUTPUT_EXCERPT = 2000
 KINDS = ("bubblewrap", "chroot")  # strongest first; RAYKIT_SANDBOX=KIND asks for one
-GRADER_MEMORY = 320 * 2**20  # what the grader itself may need beside one child
-CHILD_MEMORY_FLOOR = 256 * 2**20  # below this a child cannot render; the grader says so
-WATCH_SECONDS = 0.1  # how often a running child's tmp/ is measured against its disk budget
+# how many generations below the process the sandbox starts the test's own process is
+TEST_DEPTH = {"bubblewrap": 2, "chroot": 0}  # bwrap, its pid namespace's init, the test
 
 
 @dataclass(frozen=True)
@@ -70,14 +84,14 @@ class Limits:
 
     wall_seconds: float = 20.0
     cpu_seconds: int = 20
-    memory_bytes: int = 2 * 1024**3
-    processes: int = 16
-    # descriptors: each socket may hold up to 2 x net.core.wmem_max (8 MB) of kernel memory
-    # that the address-space limit does not count, so their number bounds that memory
-    open_files: int = 64
+    memory_bytes: int = 2 * 1024**3  # M of raykit_grading.budgets: cut to fit the container
+    processes: int = 16  # threads of its one process (RLIMIT_NPROC counts them)
+    open_files: int = 64  # shared by its threads (the seccomp filter sees to it)
     file_bytes: int = 64 * 1024**2
     disk: DiskBudget = DiskBudget()  # what its tmp/ may hold at once (bytes, entries, depth)
-    returned_bytes: int = 64 * 1024**2
+    # what it hands back: a test returns 3 arrays at most, the largest render 2 MB
+    returned_bytes: int = 16 * 1024**2
+    returned_arrays: int = 16
 
 
 @dataclass
@@ -112,6 +126,14 @@ class Sandbox:
         self.workspace = Path(workspace)
         self.container = confine.container_limits()
         self.limits = fit_to_container(limits or Limits(), self.container)
+        self.memory = (
+            ContainerMemory(
+                self.container.memory_cgroup, self.container.memory_bytes, self.container.cgroup_v2
+            )
+            if self.container.memory_cgroup is not None
+            else None
+        )
+        self.oom_before = self.oom_count()  # how often the container's OOM killer had fired
         self.python = probe_python(child_python or sys.executable)
         self.as_root = os.geteuid() == 0
         self.uids = UidPool() if self.as_root else None
@@ -202,18 +224,17 @@ class Sandbox:
                 }
                 self._fill(work, order, arrays, files or {})
                 _writable_tmp(work / "tmp", lease.uid if lease else None)
-                start = time.perf_counter()
+                wall = wall_seconds or self.limits.wall_seconds
+                kills = self.oom_count()
+                start, deadline = time.perf_counter(), time.monotonic() + wall
                 child, printed_read = self._start(work, returned_write)
             finally:
                 os.close(returned_write)  # the child holds the only writing end now
             try:
+                watch = Watch(self.limits, self.memory, child.pid, TEST_DEPTH["bubblewrap"],
+                              work / "tmp", (lease.uid, lease.uid) if lease else None)  # fmt: skip
                 returned, printed, status, why = _collect(
-                    child,
-                    returned_read,
-                    printed_read,
-                    wall_seconds or self.limits.wall_seconds,
-                    self.limits.returned_bytes,
-                    lambda: _over_budget(measure(work / "tmp", self.limits.disk), self.limits),
+                    child, returned_read, printed_read, wall, self.limits.returned_bytes, watch
                 )
             finally:
                 _kill_group(child)
@@ -226,9 +247,9 @@ class Sandbox:
             removal = remove_tree(work, quarantine(self.workspace))
             if removal.problem:
                 print(f"raykit_grading: {removal.problem}", file=sys.stderr)
-        why = why or _over_budget(left_over, self.limits)
+        why = self._killed_by_oom(kills) or why or disk_problem(left_over, self.limits.disk)
         return _result(returned, printed, status, why, time.perf_counter() - start, self.limits,
-                       removal)  # fmt: skip
+                       removal, deadline)  # fmt: skip
 
     def _run_chrooted(self, task, spec, arrays, files, wall_seconds) -> ChildResult:
         """The same as :meth:`run`, in a chroot of its own (:mod:`raykit_grading.confine`)."""
@@ -269,7 +290,9 @@ class Sandbox:
                 )
                 command = [self.python.executable, "-I", "-S", "-B", f"{inside}/child.py", inside]
                 printed_read, printed_write = os.pipe()
-                start = time.perf_counter()
+                wall = wall_seconds or self.limits.wall_seconds
+                kills = self.oom_count()
+                start, deadline = time.perf_counter(), time.monotonic() + wall
                 try:
                     child = subprocess.Popen(
                         command,
@@ -290,13 +313,10 @@ class Sandbox:
             finally:
                 os.close(returned_write)
             try:
+                watch = Watch(self.limits, self.memory, child.pid, TEST_DEPTH["chroot"],
+                              outside / "tmp", (lease.uid, lease.uid))  # fmt: skip
                 returned, printed, status, why = _collect(
-                    child,
-                    returned_read,
-                    printed_read,
-                    wall_seconds or self.limits.wall_seconds,
-                    self.limits.returned_bytes,
-                    lambda: _over_budget(measure(outside / "tmp", self.limits.disk), self.limits),
+                    child, returned_read, printed_read, wall, self.limits.returned_bytes, watch
                 )
             finally:
                 _kill_group(child)
@@ -310,9 +330,20 @@ class Sandbox:
             for problem in slot.empty() + ([removal.problem] if removal.problem else []):
                 print(f"raykit_grading: {problem}", file=sys.stderr)
             slot.release()
-        why = why or _over_budget(left_over, self.limits)
+        why = self._killed_by_oom(kills) or why or disk_problem(left_over, self.limits.disk)
         return _result(returned, printed, status, why, time.perf_counter() - start, self.limits,
-                       removal)  # fmt: skip
+                       removal, deadline)  # fmt: skip
+
+    def oom_count(self) -> int | None:
+        """How often the container's OOM killer has fired (None: no cgroup says)."""
+        return self.memory.oom_kills() if self.memory is not None else None
+
+    def _killed_by_oom(self, before: int | None) -> str:
+        """Why the test failed if the container's OOM killer fired while it ran ("" if not)."""
+        after = self.oom_count()
+        if before is None or after is None or after <= before:
+            return ""
+        return "your code was killed: the container's memory ran out while it ran"
 
     def _rlimits(self) -> tuple[tuple[int, int], ...]:
         limits = self.limits
@@ -322,6 +353,7 @@ class Sandbox:
             (resource.RLIMIT_FSIZE, limits.file_bytes),
             (resource.RLIMIT_CORE, 0),
             (resource.RLIMIT_NOFILE, limits.open_files),
+            (resource.RLIMIT_SIGPENDING, SIGNALS_PENDING),
             (resource.RLIMIT_NPROC, limits.processes),  # counted for the task's own uid
         )
 
@@ -378,6 +410,7 @@ class Sandbox:
         resource.setrlimit(resource.RLIMIT_FSIZE, (limits.file_bytes, limits.file_bytes))
         resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
         resource.setrlimit(resource.RLIMIT_NOFILE, (limits.open_files, limits.open_files))
+        resource.setrlimit(resource.RLIMIT_SIGPENDING, (SIGNALS_PENDING, SIGNALS_PENDING))
         if self.as_root:  # counted for the task's own uid, once the child has dropped to it
             resource.setrlimit(resource.RLIMIT_NPROC, (limits.processes, limits.processes))
         else:  # processes count per user: leave room for the ones the user already runs
@@ -400,24 +433,16 @@ def _writable_tmp(folder: Path, uid: int | None) -> None:
         os.chown(folder, uid, uid)
 
 
-def _over_budget(passed: str, limits: Limits) -> str:
-    """The problem of a child whose tmp/ passed its disk budget ("" if it did not)."""
-    if not passed:
-        return ""
-    return (
-        f"your code used more disk than allowed: it wrote {passed} in its tmp/ folder and was "
-        f"stopped (a test may keep at most {limits.disk.describe()} there)"
-    )
-
-
 def fit_to_container(limits: Limits, container: confine.ContainerLimits) -> Limits:
-    """``limits`` with a child's memory cut to what the container leaves beside the grader
-    (:data:`GRADER_MEMORY`), so that a child that takes all it may dies of its own limit
-    (a MemoryError, its test's zero) before the container runs out."""
-    if container.memory_bytes is None:
-        return limits
-    room = max(CHILD_MEMORY_FLOOR, container.memory_bytes - GRADER_MEMORY)
-    return replace(limits, memory_bytes=min(limits.memory_bytes, room))
+    """``limits`` with a test's memory cut to M of :mod:`raykit_grading.budgets`: what the
+    container leaves beside the grader (:data:`raykit_grading.budgets.GRADER_MEMORY`) and what
+    the kernel may hold for the test (:func:`raykit_grading.budgets.kernel_share`), so that a
+    test that takes all it may is stopped at its own limit (a MemoryError, or the grader's
+    count: its test's zero) before the container runs out."""
+    kernel = kernel_share(limits.open_files, limits.processes, limits.disk).total
+    return replace(
+        limits, memory_bytes=min(limits.memory_bytes, memory_budget(container.memory_bytes, kernel))
+    )
 
 
 def _prefer_me_when_memory_runs_out() -> None:
@@ -518,7 +543,7 @@ def _collect(child, returned_fd, printed_fd, wall_seconds, returned_limit, watch
 
 
 def _result(
-    returned, printed, status, why, seconds, limits: Limits, removal: Removal
+    returned, printed, status, why, seconds, limits: Limits, removal: Removal, deadline=None
 ) -> ChildResult:
     output = printed.decode("utf-8", "replace")
     left = ""
@@ -532,7 +557,12 @@ def _result(
     if status != 0:
         return ChildResult(None, _describe_exit(status, output), output, seconds, left)
     try:
-        outputs = read_returned(returned, limits.returned_bytes)
+        outputs = read_returned(returned, limits.returned_bytes, limits.returned_arrays, deadline)
+    except TimeoutError:
+        return ChildResult(
+            None, "took longer than its time, with the grader's reading of what it returned, "
+            "and was stopped", output, seconds, left,
+        )  # fmt: skip
     except ValueError as exc:
         return ChildResult(
             None, f"returned something that is not plain arrays ({exc})", output, seconds, left
@@ -549,25 +579,53 @@ def _kill_group(child: subprocess.Popen) -> None:
     child.wait()
 
 
-def read_returned(data: bytes, limit: int) -> dict[str, np.ndarray]:
+def read_returned(
+    data: bytes, limit: int, arrays: int = 16, deadline: float | None = None
+) -> dict[str, np.ndarray]:
     """The arrays in an ``.npz`` a child returned, read as hostile input.
 
     Every member must be a stored (uncompressed) ``name.npy`` whose header's shape and dtype
     account for exactly the bytes that follow it, plain numbers or booleans, and all of them
     together at most ``limit`` bytes; so nothing is inflated or allocated beyond what was
-    actually sent. Raises ValueError saying what is wrong.
+    actually sent. The archive's directory is bounded before it is parsed: its end must be
+    where numpy writes it (the archive's last 22 bytes), and say at most ``arrays`` members in
+    at most :data:`DIRECTORY_BYTES_EACH` bytes each, so parsing it costs the grader nothing
+    however many members follow. Raises ValueError saying what is wrong, TimeoutError past
+    ``deadline`` (a :func:`time.monotonic` time).
     """
     if len(data) > limit:
         raise ValueError(f"more than {limit} bytes")
+    _check_directory(data, arrays)
     try:
-        return _read_npz(data, limit)
-    except ValueError:
+        return _read_npz(data, limit, deadline)
+    except (ValueError, TimeoutError):
         raise
     except Exception as exc:  # noqa: BLE001 - whatever a hostile archive makes a parser do
         raise ValueError(f"unreadable: {type(exc).__name__}") from None
 
 
-def _read_npz(data: bytes, limit: int) -> dict[str, np.ndarray]:
+END_OF_DIRECTORY = struct.Struct("<4s4H2LH")  # a zip's end of central directory record
+DIRECTORY_BYTES_EACH = 512  # a member's directory entry: 46 bytes, its name, a zip64 field
+
+
+def _check_directory(data: bytes, arrays: int) -> None:
+    """Refuse an archive whose directory says more than ``arrays`` members, or takes more
+    room than they would, before :mod:`zipfile` reads it (which it does whole, on opening)."""
+    if len(data) < END_OF_DIRECTORY.size:
+        raise ValueError("not an .npz: too short")
+    sign, _, _, _, members, size, _, comment = END_OF_DIRECTORY.unpack_from(
+        data, len(data) - END_OF_DIRECTORY.size
+    )
+    if sign != b"PK\x05\x06" or comment:
+        raise ValueError("not an .npz as numpy writes one (no end of its directory last)")
+    locator = len(data) - END_OF_DIRECTORY.size - 20
+    if locator >= 0 and data[locator : locator + 4] == b"PK\x06\x07":
+        raise ValueError("a zip64 directory (numpy writes none for a test's arrays)")
+    if members > arrays or size > arrays * DIRECTORY_BYTES_EACH:
+        raise ValueError(f"more than {arrays} arrays")
+
+
+def _read_npz(data: bytes, limit: int, deadline: float | None) -> dict[str, np.ndarray]:
     try:
         archive = zipfile.ZipFile(io.BytesIO(data))
     except zipfile.BadZipFile as exc:
@@ -578,6 +636,8 @@ def _read_npz(data: bytes, limit: int) -> dict[str, np.ndarray]:
         if sum(m.file_size for m in members) > limit:
             raise ValueError("its arrays are larger than allowed")
         for member in members:
+            if deadline is not None and time.monotonic() > deadline:
+                raise TimeoutError
             if (
                 member.compress_type != zipfile.ZIP_STORED
                 or member.file_size != member.compress_size
@@ -602,6 +662,8 @@ def _read_npz(data: bytes, limit: int) -> dict[str, np.ndarray]:
                 array = np.frombuffer(stream.read(size), dtype=dtype)
                 array = array.reshape(shape, order="F" if fortran else "C")
             arrays[member.filename[: -len(".npy")]] = array
+    if deadline is not None and time.monotonic() > deadline:
+        raise TimeoutError
     return arrays
 
 

@@ -62,10 +62,13 @@ IMPORTED = (
 
 
 def task_imports(spec, arrays):
-    """Before any test: which of raykit's modules the tasks use import (1) or not (0). If the
-    package itself or every one of them fails, nothing can be tested: the first error is
-    raised, for the grader to say once."""
+    """Before any test: which of raykit's modules the tasks use import (1) or not (0), and
+    for each that does not, one printed line ``import failed: <the error's last line> (in
+    raykit/<file>, line <n>)``, the last place in the submission's files its traceback names.
+    If the package itself or every one of them fails, nothing can be tested: the first error
+    is raised, for the grader to say once."""
     import importlib
+    import traceback
 
     import numpy as np
 
@@ -77,9 +80,21 @@ def task_imports(spec, arrays):
             if name == "raykit":
                 raise
             errors[name] = exc
+            print(f"import failed: {_where_it_failed(exc, traceback)}")
     if len(errors) == len(IMPORTED) - 1:
         raise next(iter(errors.values()))
     return {"imports": np.array([name not in errors for name in IMPORTED], dtype=float)}
+
+
+def _where_it_failed(exc: BaseException, traceback) -> str:
+    """``SyntaxError: invalid syntax (in raykit/shading.py, line 12)``: the error's last line
+    and the last place in the submission (``.../submission/raykit/...``) it names."""
+    said = traceback.format_exception_only(type(exc), exc)[-1].strip()
+    places = [(frame.filename, frame.lineno) for frame in traceback.extract_tb(exc.__traceback__)]
+    if isinstance(exc, SyntaxError) and exc.filename:
+        places.append((exc.filename, exc.lineno))
+    theirs = [(f.split("/submission/", 1)[1], n) for f, n in places if "/submission/" in f]
+    return f"{said} (in {theirs[-1][0]}, line {theirs[-1][1]})" if theirs else said
 
 
 def task_pixel_x(spec, arrays):

@@ -65,7 +65,7 @@ def graded_class(tmp_path_factory, release):
 
 def test_batch_grades_every_entry_of_a_mixed_class_or_says_why_not(graded_class):
     out, run = graded_class
-    assert run.returncode == 1, run.stderr[-3000:]  # notes.txt could not be graded
+    assert run.returncode == 0, run.stderr[-3000:]  # every submission graded: notes.txt is none
     rows = {row["student"]: row for row in csv.DictReader((out / "scores.csv").open())}
     assert {name: (row["status"], row["score"]) for name, row in rows.items()} == {
         "ada": ("graded", "7.0"),
@@ -77,11 +77,21 @@ def test_batch_grades_every_entry_of_a_mixed_class_or_says_why_not(graded_class)
         "flo": ("graded", "3.0"),  # the render is upside down
         "bo": ("does not import", "0.0"),
         "cy": ("graded", "3.0"),  # what needs mirrors.py (the render) fails, the rest passes
-        "notes.txt": ("not graded: not a folder or a zip", ""),
+        "notes.txt": ("not a submission: not a folder or a zip", ""),
     }
-    said = "10 submissions: 8 graded, 1 whose raykit does not import (0 points), 1 not graded"
-    assert said in run.stdout  # in the class report's words
-    assert "notes.txt: not graded: not a folder or a zip" in run.stderr
+    said = "9 submissions: 8 graded, 1 whose raykit does not import (0 points); 1 entry is not a"
+    assert f"{said} submission\n" in run.stdout  # in the class report's words
+    assert "left out, not submissions:\n  notes.txt: not a submission: not a folder" in run.stderr
+    assert "not graded:" not in run.stderr
+
+
+def test_the_batch_run_again_grades_no_one_and_exits_0_as_every_submission_is_graded(graded_class):
+    out, first = graded_class
+    graded = {p: p.stat().st_mtime_ns for p in out.glob("feedback/*/results.json")}
+    again = subprocess.run(first.args, capture_output=True, text=True, cwd=out.parent, timeout=600)
+    assert again.returncode == 0, again.stderr[-3000:]
+    assert {p: p.stat().st_mtime_ns for p in graded} == graded  # no one graded again
+    assert "9 submissions: 8 graded, 1 whose raykit does not import" in again.stdout
 
 
 def test_a_submission_that_does_not_import_says_its_error_once_and_runs_no_test(graded_class):
@@ -98,8 +108,12 @@ def test_a_submission_that_does_not_import_says_its_error_once_and_runs_no_test(
 def test_a_module_that_does_not_import_is_noted_once_and_fails_only_its_tests(graded_class):
     out, _ = graded_class
     results = json.loads((out / "feedback/cy/results.json").read_text())
-    noted = "Note: raykit.mirrors, raykit.render, raykit.shading: do not import; the tests that "
-    assert noted + "use them fail" in results["output"].splitlines()  # and those importing it
+    noted = (  # and those importing it, with why: the error, its file and line
+        "Note: raykit.mirrors, raykit.render, raykit.shading: do not import (SyntaxError: "
+        "invalid syntax (in raykit/mirrors.py, line "
+    )
+    line = next(li for li in results["output"].splitlines() if li.startswith(noted))
+    assert line.endswith(")); the tests that use them fail"), line
     assert {t["number"]: t["score"] for t in results["tests"]} == {"2.3": 2, "3.1": 1, "3.6": 0}
     assert "SyntaxError" in results["tests"][2]["output"]
 
@@ -108,8 +122,8 @@ def test_results_sum_up_each_stage_and_carry_the_diagnosed_mistake(graded_class)
     out, _ = graded_class
     mo = json.loads((out / "feedback/mo/results.json").read_text())
     assert mo["output"].splitlines()[1:] == [
-        "Stage 2 rays, planes and spheres: 2 of 2 points, 1 of 1 tests pass",
-        "Stage 3 renderer: 0 of 5 points, 0 of 2 tests pass",
+        "Stage 2 rays, planes and spheres: 2 of 2 points, 1 of 1 visible tests pass",
+        "Stage 3 renderer: 0 of 5 points, 0 of 2 visible tests pass",
     ]
     render = next(t for t in mo["tests"] if t["number"] == "3.6")
     assert render["extra_data"] == {
@@ -125,8 +139,9 @@ def test_the_class_report_shows_scores_pass_rates_mistakes_and_who_was_not_grade
     for plot in ("report/scores.png", "report/pass_rates.png"):
         assert f"src='{plot}'" in page
         assert (out / plot).read_bytes().startswith(b"\x89PNG")
-    assert "10 submissions: 8 graded, 1 whose raykit does not import (0 points), 1 not graded" in (
-        page
+    assert (
+        "9 submissions: 8 graded, 1 whose raykit does not import (0 points); 1 entry is not a "
+        "submission." in page
     )
     assert "Mean 3.6, median 3.0 of 7 points" in page  # 7 7 7 1 2 2 3 3 0
     rates = dict(re.findall(r"<tr><td>(\d\.\d+) .*?<td class='n'>(\d+%)</td>", page))
@@ -141,7 +156,12 @@ def test_the_class_report_shows_scores_pass_rates_mistakes_and_who_was_not_grade
     assert (out / unquote(example)).is_file()  # a URL, relative to the report
     assert "bo</a>: raykit does not import, so no test ran (0 points)" in page
     assert re.search(r"SyntaxError[^<]*</code> in raykit/__init__\.py, line \d+</li>", page)
-    assert "notes.txt: not graded: not a folder or a zip" in page
+    assert re.search(
+        r"cy</a>: raykit.mirrors, raykit.render, raykit.shading: do not import "
+        r"\(SyntaxError: invalid syntax \(in raykit/mirrors\.py, line \d+\)\)",
+        page,
+    )
+    assert "notes.txt: not a submission: not a folder or a zip" in page
 
 
 def test_each_student_gets_the_self_checks_page_with_the_grades_numbers(graded_class):
@@ -242,6 +262,10 @@ def test_a_students_feedback_folder_holds_nothing_of_the_hidden_tests(tmp_path):
         "3.6.png", "index.html", "results.json"
     ]  # fmt: skip
     assert (out / f"hidden/mo/{hidden}.png").is_file()
+    said = {t["number"]: t["output"] for t in json.loads((out / "feedback/mo/results.json")
+                                                          .read_text())["tests"]}  # fmt: skip
+    assert "3.6.png" in said["3.6"]  # the picture it gets is named, the hidden one's is not
+    assert "feedback picture" not in said[hidden] and ".png" not in said[hidden], said[hidden]
     page = html.unescape((out / "report.html").read_text())
     examples = re.findall(r"<img class='example' src='([^']+)'", page)
     assert examples and all((out / unquote(src)).is_file() for src in examples)

@@ -108,6 +108,45 @@ def test_solution_scores_full_marks_in_a_valid_results_file(solution, child_pyth
     assert len(list((tmp_path / "feedback").glob("*.png"))) == sum(t.kind == "image" for t in TESTS)
 
 
+def test_execution_time_ends_at_the_last_visible_test(tmp_path, monkeypatch):
+    """execution_time is shown at once: it stops where the hidden tests start, so how long they
+    ran (a hidden input that makes the code loop) never shows before the due date. The grader's
+    clock here is one that each test advances, 1 s a visible test, 100 s a hidden one."""
+    import types
+
+    from raykit_grading import grade as grading
+    from raykit_grading.results import test_entry
+
+    now = [0.0]
+
+    class Sandbox:  # what grade asks of one, running nothing
+        description = "none: a test's stand-in"
+
+        def __init__(self, *args) -> None:
+            pass
+
+        def check(self) -> None:
+            pass
+
+        def oom_count(self) -> None:
+            return None
+
+    def graded(sandbox, test, *args):
+        now[0] += 1.0 if test.visibility == VISIBLE else 100.0
+        return test_entry(test, test.points, "")
+
+    monkeypatch.setattr(grading, "Sandbox", Sandbox)
+    monkeypatch.setattr(grading, "_import_error", lambda *args: ("", []))
+    monkeypatch.setattr(grading, "_grade_one", graded)
+    clock = types.SimpleNamespace(perf_counter=lambda: now[0], monotonic=lambda: now[0])
+    monkeypatch.setattr(grading, "time", clock)
+    (tmp_path / "raykit").mkdir()
+    (tmp_path / "raykit" / "__init__.py").write_text("")
+    results = grade(tmp_path, names=["2.4", "2.3", "2.5", "2.6"])  # 2.4, 2.5 hidden
+    assert [t["number"] for t in results["tests"]] == ["2.3", "2.4", "2.5", "2.6"]
+    assert now[0] == 202.0 and results["execution_time"] == 2.0
+
+
 def test_release_imports_cleanly_and_its_stubs_raise(release):
     code = (
         "import importlib, pkgutil, raykit\n"

@@ -38,8 +38,10 @@ that failed shows as a score above the one asserted.
 Kinds (numbers as in the trust issue): 1 hard-coding the shipped answers, 2 links and special
 files in the submission, 3 child-controlled output, 4 one broken test, 5 hidden inputs reaching
 visible output, 6 reading the solution from disk, 7 forging results and killing the grader,
-8 no usable child Python, 9 classmates, the network, outliving the test; and the old ones:
-loops, memory, forks, printing, monkeypatching, garbage arrays.
+8 no usable child Python, 9 classmates, the network, outliving the test, 10 what one test
+leaves, 11 everything a test can hold, and what is shown at once of hidden tests (issue 56:
+tests/support/budget_attacks.py); and the old ones: loops, memory, forks, printing,
+monkeypatching, garbage arrays.
 """
 
 from __future__ import annotations
@@ -56,12 +58,12 @@ import subprocess
 import sys
 import tempfile
 import threading
-import time
 import zipfile
 from pathlib import Path
 
 import numpy as np
 import pytest
+from budget_attacks import budget_attacker
 
 from conftest import REPO
 from mistaken_submissions import make_submission
@@ -442,13 +444,15 @@ SABOTAGE = {
 def test_a_process_left_holding_the_tests_output_costs_the_test_nothing(
     release, autograder, tmp_path
 ):
-    """Importing raykit starts a process that keeps the test's output pipes open and sleeps:
-    the test is graded when its own code is done, not when the pipes close (which, in the
-    chroot sandbox, is when the grader kills the test's uid), and the process is gone."""
+    """Importing raykit tries to start a process that would keep the test's output pipes
+    open and sleep (a test is one process: the fork is refused, and the import goes on): the
+    test is graded when its own code is done, not when pipes close, and no such process is
+    left."""
     marker = f"HOLDER-{os.getpid()}"
     code = (
         "import os as _os, sys as _sys\n"
-        "if _os.fork() == 0:\n"
+        "try:\n    _pid = _os.fork()\nexcept OSError:\n    _pid = -1\n"
+        "if _pid == 0:\n"
         f"    _os.execv(_sys.executable, [_sys.executable, '-c', 'import time; time.sleep(60)', "
         f"'{marker}'])\n"
     )
@@ -466,7 +470,6 @@ def test_a_process_left_holding_the_tests_output_costs_the_test_nothing(
 def test_sabotage_scores_zero_and_the_run_survives(name, release, autograder, tmp_path):
     file, code = SABOTAGE[name]
     submission = submission_with(release, tmp_path, {file: code})
-    start = time.perf_counter()
     results, run = grade_as_deployed(autograder, submission, ["2.1", "3.6"], tmp_path)
     assert run.returncode == 0, run.stderr[-2000:]
     # the solution with one module sabotaged: what needs that module scores nothing
@@ -474,7 +477,6 @@ def test_sabotage_scores_zero_and_the_run_survives(name, release, autograder, tm
     if name == "prints 100 MB":  # printing is no mistake: the output is cut, the code graded
         expected = {"2.1": 2, "3.6": 4}
     assert scores(results) == expected, results
-    assert time.perf_counter() - start < 2 * (WALL + 15)
     text = [re.sub(r"<img [^>]*>", "", t["output"]) for t in results["tests"]]
     assert all(len(output) <= 5000 for output in text)  # the printing is cut
 
@@ -604,12 +606,14 @@ RETURNED = {
 def test_3_what_a_child_returns_is_checked_before_it_is_believed(
     name, release, autograder, tmp_path
 ):
-    """The child writes its own 'results' to the grader's pipe and exits before child.py can."""
+    """The child writes its own 'results' to the grader's pipe (task.json names it) and exits
+    before child.py can."""
     code = (
-        "def hit_plane(origins, directions, a, n):\n    import os\n"
+        "def hit_plane(origins, directions, a, n):\n    import json, os, sys\n"
         + "".join(f"    {line}\n" for line in RETURNED[name].splitlines())
-        + "    os.write(3, data) if len(data) < 2**16 else open(3, 'wb', closefd=False)"
-        ".write(data)\n    os._exit(0)"
+        + "    order = json.load(open(os.path.join(sys.argv[1], 'task.json')))\n"
+        "    out = open(order['outputs_fd'], 'wb', closefd=False)\n"
+        "    out.write(data)\n    out.flush()\n    os._exit(0)"
     )
     submission = submission_with(release, tmp_path, {"planes.py": code})
     results, run = grade_as_deployed(autograder, submission, ["2.1", "2.3"], tmp_path)
@@ -818,9 +822,8 @@ def test_9_no_namespace_of_its_own_so_no_memory_beyond_its_limits(release, autog
 
 def test_9_no_gigabyte_held_by_the_kernel_outside_the_memory_limit(release, autograder, tmp_path):
     """The address-space limit does not count what the kernel holds for a process: memfd
-    files (never mapped) and socket buffers. It tries to hold 1 GB in each: memfd_create is
-    refused (seccomp) and 64 open files bound the sockets to about half of that. The code
-    answers right only if it never held 1 GB."""
+    files (never mapped) and socket buffers. It tries to hold 1 GB in each: memfd_create and
+    every socket are refused (seccomp). The code answers right only if it never held 1 GB."""
     code = (
         "def hit_plane(origins, directions, a, n):\n"
         "    import os, socket\n"
@@ -851,7 +854,7 @@ def test_9_no_gigabyte_held_by_the_kernel_outside_the_memory_limit(release, auto
     results, run = grade_as_deployed(autograder, submission, ["2.1"], tmp_path)
     assert scores(results) == {"2.1": 2}, results
     assert "memfd 1" in results["tests"][0]["output"]  # refused: EPERM
-    assert "sockets 24" in results["tests"][0]["output"]  # EMFILE: out of descriptors
+    assert "sockets 1" in results["tests"][0]["output"]  # refused: EPERM
 
 
 def test_9_the_sandbox_init_cannot_be_rewritten_to_outlive_the_test(release, autograder, tmp_path):
@@ -1154,16 +1157,15 @@ def _rows(path: Path) -> dict[str, dict]:
 
 def test_a_slow_submission_is_stopped_by_the_total_budget(release, autograder, tmp_path):
     """It sleeps at import: every test times out until the total is used up, then the rest
-    are not run; the whole grading takes about the total, not tests x wall."""
+    are not run: at most the two tests that 6 s of 4 s tests can start are run."""
     submission = submission_with(release, tmp_path, {"__init__.py": "import time\ntime.sleep(60)"})
-    start = time.perf_counter()
     only = ["2.1", "2.3", "3.1", "4.1", "4.6"]
     results, run = grade_as_deployed(
         autograder, submission, only, tmp_path, extra="--total-seconds 6"
     )
-    assert time.perf_counter() - start < 6 + 30
     assert all(score == 0 for score in scores(results).values())
-    assert any("not run: all tests together" in t["output"] for t in results["tests"])
+    not_run = ["not run: all tests together" in t["output"] for t in results["tests"]]
+    assert sum(not_run) >= len(only) - 2, results
 
 
 def test_a_right_submission_that_writes_to_devnull_keeps_its_score(autograder, tmp_path):
@@ -1266,13 +1268,11 @@ def test_10_disk_attacks_cost_their_own_test_and_leave_nothing(name, autograder,
     disk, and the solution graded right after on the same machine scores in full."""
     code, points, says = DISK_ATTACKS[name]
     submission = submission_wrapping(tmp_path / "attack", {"planes.py": ("hit_plane", code)})
-    start = time.perf_counter()
     results, run = grade_as_deployed(autograder, submission, ["2.1", "2.3"], tmp_path / "a")
     assert run.returncode == 0, run.stderr[-2000:]
     assert scores(results) == {"2.1": points, "2.3": 2}, results
     assert says in results["tests"][0]["output"], results["tests"][0]["output"]
     assert "autograder failed" not in everything_visible(results)
-    assert time.perf_counter() - start < 2 * (WALL + 15)
     assert _leftovers() == []
     honest = make_submission(tmp_path / "honest" / "submission")
     results, run = grade_as_deployed(autograder, honest, ["2.1", "2.3"], tmp_path / "h")
@@ -1280,13 +1280,13 @@ def test_10_disk_attacks_cost_their_own_test_and_leave_nothing(name, autograder,
 
 
 SPY = (
-    "def plane_side(p, a, n):\n    import os, json, time\n"
+    "def plane_side(p, a, n):\n    import os, json\n"
     "    home = os.environ['HOME']\n    seen = {{}}\n"
     "    looks = [('parent', '..'), ('here', '.'), ('tmp', home), ('tmp parent', home + '/..')]\n"
     "    for what, path in looks:\n"
     "        try:\n"
     "            got = os.stat(path)\n"
-    "            seen[what] = [got.st_nlink, got.st_size, time.time() - got.st_mtime > 5]\n"
+    "            seen[what] = [got.st_nlink, got.st_size]\n"
     "        except OSError as e:\n            seen[what] = e.strerror\n"
     "    seen['tmp entries'] = sorted(os.listdir(home))\n"
     "    try:\n        seen['free inodes'] = os.statvfs(home).f_ffree\n"
@@ -1318,7 +1318,9 @@ def test_10_a_test_sees_nothing_of_the_tests_before_it(release, autograder, tmp_
     2.6 (graded with them) and 2.1's plane side look at everything they can stat: their
     folder's parent, their tmp/ and its parent, the free inodes. What each visible test sees is
     the same, whatever ran before it: the folder's parent and tmp/ are the same fixed ones,
-    tmp/ is empty, and the file system's counts are refused."""
+    tmp/ is empty, and the file system's counts are refused. (Their times are not compared: a
+    folder is as old as the grading or its container, which says nothing of an earlier test,
+    and comparing their age with a few seconds failed on a loaded machine.)"""
     submission = submission_wrapping(
         tmp_path,
         {"spheres.py": ("hit_sphere", LEAVE.format()), "planes.py": ("plane_side", SPY.format())},
@@ -1369,6 +1371,64 @@ def test_10_a_batch_grades_the_students_after_an_attacker_in_full(release, tmp_p
         "zoe": ("graded", 5.0),
     }
     assert _leftovers() == []
+
+
+# ---- 11: every budget holds, and nothing shown at once tells of a hidden test ----------------
+
+# tests/support/budget_attacks.py, all in one submission: each attack in a function of its own
+BUDGETED = ["2.1", "2.3", "2.4", "2.5", "2.6", "2.7", "4.1", "4.2"]
+BUDGETED_SCORES = {"2.1": 0, "2.3": 2, "2.4": 0, "2.5": 0, "2.6": 1, "2.7": 1, "4.1": 0, "4.2": 0}
+# the page tables' 480 MB are within a test's memory where no container (root, user) or a
+# 2 GB one (PrairieLearn's) leaves it more, past it at Gradescope's 768 MB (docker, container)
+PAGE_TABLES_WITHIN = ("root", "user", "prairielearn")
+BUDGETED_SAY = {  # what each visible test's output says
+    "2.1": ["your code used more disk than allowed", "with no name"],
+    "2.6": ["socketpair 1", "fork 1", "F_SETPIPE_SZ 1", "held 0 MB"],
+    "2.7": ["fork 1", "children held 0 MB"],
+    "4.1": ["your code used more memory than allowed", "page tables"],
+    "4.2": ["returned something that is not plain arrays", "more than 16 arrays"],
+}
+PEAK = re.compile(r"raykit_grading: the grader's peak memory: (\d+) MB of the (\d+) MB it keeps")
+OOM = re.compile(r"the container's OOM killer fired (\d+) times")
+
+
+def test_11_every_budget_holds_and_hidden_outcomes_stay_hidden(autograder, tmp_path):
+    """Files with no name, kernel buffers in sockets and pipes, memory across processes, page
+    tables, an archive of 100,000 empty members, and hidden tests that fail: every test past a
+    budget is stopped and told which, what must be refused is, and the summary shown at once
+    is the honest submission's. The grader stays within its own memory, the container's OOM
+    killer never fires, nothing is left, and the honest submission graded next scores in full.
+    (That execution_time counts the visible tests only is test_grading's, on a clock of its
+    own.)"""
+    attacker = budget_attacker(tmp_path / "attack" / "submission")
+    results, run = grade_as_deployed(autograder, attacker, BUDGETED, tmp_path / "a")
+    print(way(autograder), scores(results), results["output"])
+    print({t["number"]: t["output"][-600:] for t in results["tests"]}, run.stderr[-1500:])
+    assert run.returncode == 0, run.stderr[-2000:]
+    within = way(autograder) in PAGE_TABLES_WITHIN
+    assert scores(results) == shown(autograder, {**BUDGETED_SCORES, "4.1": int(within)}), results
+    said = {t["number"]: t["output"] for t in results["tests"]}
+    for key, words in BUDGETED_SAY.items():
+        words = ["MAPPINGS 20000"] if key == "4.1" and within else words
+        assert all(w in said[key] for w in words), (key, said[key])
+    assert _leftovers() == []
+    honest = make_submission(tmp_path / "honest" / "submission")
+    fair, fair_run = grade_as_deployed(autograder, honest, BUDGETED, tmp_path / "h")
+    assert fair_run.returncode == 0, fair_run.stderr[-2000:]
+    assert scores(fair) == shown(autograder, {k: POINTS[k] for k in BUDGETED}), fair
+    summary = [  # shown at once: the visible tests' sums, and of the hidden ones no outcome
+        "Stage 2 rays, planes and spheres: 4 of 6 points, 3 of 4 visible tests pass",
+        f"Stage 4 shading, shadows and mirrors: {int(within)} of 2 points, {int(within)} of 2 "
+        "visible tests pass",
+        "Hidden tests: 2, 3 points (how they went is not shown here)",
+    ]
+    assert results["output"].splitlines()[1:] == summary, results["output"]
+    assert fair["output"].splitlines()[-1] == summary[-1]
+    for graded in (run, fair_run):
+        peak = PEAK.search(graded.stderr)
+        assert peak and int(peak.group(1)) <= int(peak.group(2)), graded.stderr[-1500:]
+        if way(autograder) in ("docker", "container", "prairielearn"):
+            assert OOM.search(graded.stderr).group(1) == "0", graded.stderr[-1500:]
 
 
 def test_removal_copes_with_any_tree_a_child_can_leave(tmp_path):

@@ -139,7 +139,7 @@ EMULATION = REPO / "tests" / "support" / "docker_confinement.py"
 NOBODY = 65534
 
 SECCOMP_PROBE = """
-import ctypes, errno, json, os, socket, sys
+import ctypes, errno, fcntl, json, os, select, socket, sys, tempfile, threading
 sys.path.insert(0, {repo!r})
 from raykit_grading.confine import install_seccomp, no_new_privileges
 from raykit_grading.isolation import CLONE_CALLS, SECCOMP_ARCHES, seccomp_filter
@@ -149,18 +149,28 @@ no_new_privileges()
 install_seccomp(seccomp_filter())
 libc = ctypes.CDLL(None, use_errno=True)
 said = {{}}
-for name, family in (("inet", socket.AF_INET), ("inet6", socket.AF_INET6),
-                     ("netlink", socket.AF_NETLINK), ("unix", socket.AF_UNIX)):
+
+
+def said_of(name, action):
     try:
-        socket.socket(family, socket.SOCK_DGRAM).close()
+        action()
         said[name] = "made"
     except OSError as exc:
         said[name] = errno.errorcode[exc.errno]
-for name in ("keyctl", "ptrace", "unshare", "bpf", "shmget", "mq_open", "fsopen", "memfd_create"):
+
+
+for name, family in (("inet", socket.AF_INET), ("inet6", socket.AF_INET6),
+                     ("netlink", socket.AF_NETLINK), ("unix", socket.AF_UNIX)):
+    said_of(name, lambda: socket.socket(family, socket.SOCK_DGRAM).close())
+said_of("socketpair", socket.socketpair)
+for name in ("keyctl", "ptrace", "unshare", "bpf", "shmget", "mq_open", "fsopen", "memfd_create",
+             "inotify_init1", "fanotify_init", "io_setup"):
     libc.syscall(calls[name], 0, 0, 0, 0)
     said[name] = errno.errorcode.get(ctypes.get_errno(), "none")
+said_of("epoll", lambda: select.epoll().close())
 clone, clone3 = CLONE_CALLS[platform.machine()]
-for name, flags in (("clone_newuser", 0x10000000), ("clone_newns", 0x00020000), ("fork", 0)):
+for name, flags in (("clone_newuser", 0x10000000), ("clone_newns", 0x00020000), ("fork", 0),
+                    ("vfork", 0x4000 | 0x100)):
     ctypes.set_errno(0)
     pid = libc.syscall(clone, flags | 17, 0, 0, 0, 0)  # SIGCHLD
     if pid == 0:
@@ -170,22 +180,39 @@ for name, flags in (("clone_newuser", 0x10000000), ("clone_newns", 0x00020000), 
         os.waitpid(pid, 0)
 libc.syscall(clone3, None, 0)
 said["clone3"] = errno.errorcode.get(ctypes.get_errno(), "none")
+ran = []
+thread = threading.Thread(target=lambda: ran.append(1))
+thread.start()
+thread.join()
+said["thread"] = "made" if ran else "none"
+said_of("O_TMPFILE", lambda: os.close(os.open("/tmp", os.O_TMPFILE | os.O_RDWR, 0o600)))
+said_of("TemporaryFile", lambda: tempfile.TemporaryFile(dir="/tmp").close())
+read, write = os.pipe()
+said_of("pipe bigger", lambda: fcntl.fcntl(write, 1031, 2**20))  # F_SETPIPE_SZ
+said_of("record lock", lambda: fcntl.lockf(tempfile.TemporaryFile(dir="/tmp"), fcntl.LOCK_EX))
+said_of("flock", lambda: fcntl.flock(tempfile.TemporaryFile(dir="/tmp"), fcntl.LOCK_EX))
 print(json.dumps(said))
 """
 
 
-def test_the_seccomp_filter_refuses_the_network_kernel_state_and_namespaces_not_unix_sockets():
+def test_the_seccomp_filter_refuses_the_network_kernel_state_and_a_second_process():
+    """What would reach kernel state no namespace isolates, hold kernel memory no limit of
+    the test's process counts, or make a second process is refused; threads, Python's
+    temporary files, pipes and flock still work."""
     run = subprocess.run(
         [sys.executable, "-c", SECCOMP_PROBE.format(repo=str(REPO))],
         capture_output=True, text=True, timeout=60,
     )  # fmt: skip
     assert run.returncode == 0, run.stderr
     assert json.loads(run.stdout) == {
-        "inet": "EPERM", "inet6": "EPERM", "netlink": "EPERM", "unix": "made",
-        "keyctl": "EPERM", "ptrace": "EPERM", "unshare": "EPERM", "bpf": "EPERM",
-        "shmget": "EPERM", "mq_open": "EPERM", "fsopen": "EPERM", "memfd_create": "EPERM",
-        "clone_newuser": "EPERM",
-        "clone_newns": "EPERM", "fork": "made", "clone3": "ENOSYS",
+        "inet": "EPERM", "inet6": "EPERM", "netlink": "EPERM", "unix": "EPERM",
+        "socketpair": "EPERM", "keyctl": "EPERM", "ptrace": "EPERM", "unshare": "EPERM",
+        "bpf": "EPERM", "shmget": "EPERM", "mq_open": "EPERM", "fsopen": "EPERM",
+        "memfd_create": "EPERM", "inotify_init1": "EPERM", "fanotify_init": "EPERM",
+        "io_setup": "EPERM", "epoll": "EPERM", "clone_newuser": "EPERM", "clone_newns": "EPERM",
+        "fork": "EPERM", "vfork": "EPERM", "clone3": "ENOSYS", "thread": "made",
+        "O_TMPFILE": "ENOTSUP", "TemporaryFile": "made", "pipe bigger": "EPERM",
+        "record lock": "EPERM", "flock": "made",
     }  # fmt: skip
 
 
@@ -227,12 +254,18 @@ def test_the_container_limits_are_read_from_cgroup_v2_and_v1(tmp_path):
     assert container_limits(proc) == ContainerLimits(512 * 2**20, 1.5)
 
 
-def test_a_childs_memory_is_cut_to_what_the_container_leaves_beside_the_grader():
-    from raykit_grading.sandbox import GRADER_MEMORY, Limits, fit_to_container
+def test_a_childs_memory_is_cut_to_what_the_container_leaves_beside_the_grader_and_kernel():
+    """L = G + K + M (raykit_grading.budgets): at Gradescope's 768 MB the test may hold
+    416 MB, the kernel 32 MB for it, the grader 320 MB; with no limit found, 2 GB."""
+    from raykit_grading.budgets import GRADER_MEMORY, kernel_share
+    from raykit_grading.sandbox import Limits, fit_to_container
 
     limits = Limits(memory_bytes=2 * 1024**3)
+    kernel = kernel_share(limits.open_files, limits.processes, limits.disk)
+    assert kernel.total == 32 * 2**20 and kernel.pipes == 4 * 2**20  # 64 pipes of 16 pages
     gradescope = fit_to_container(limits, ContainerLimits(768 * 2**20, 0.5))
-    assert gradescope.memory_bytes == 768 * 2**20 - GRADER_MEMORY
+    assert gradescope.memory_bytes + GRADER_MEMORY + kernel.total == 768 * 2**20
+    assert gradescope.memory_bytes == 416 * 2**20
     assert fit_to_container(limits, ContainerLimits(None, None)) == limits
     assert fit_to_container(limits, ContainerLimits(64 * 2**30, 4)) == limits
 

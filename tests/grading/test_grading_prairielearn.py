@@ -35,11 +35,12 @@ def _seed_file(folder: Path) -> Path:
     return path
 
 
-def _written(tmp_path: Path) -> Path:
+def _written(tmp_path: Path, *options: str) -> Path:
+    tmp_path.mkdir(parents=True, exist_ok=True)
     out = tmp_path / "pl"
     run = subprocess.run(
         [sys.executable, "-m", "raykit_grading", "prairielearn", "-o", str(out), "--image",
-         "course/raykit-grader:1", "--seed-file", str(_seed_file(tmp_path))],
+         "course/raykit-grader:1", "--seed-file", str(_seed_file(tmp_path)), *options],
         capture_output=True, text=True, cwd=REPO,
     )  # fmt: skip
     assert run.returncode == 0, run.stderr
@@ -72,6 +73,21 @@ def test_the_image_holds_no_secret_and_the_question_holds_the_seed_and_hidden_sc
     assert "<pl-external-grader-results>" in html
     readme = (out / "README.md").read_text()
     assert f"docker build -t course/raykit-grader:1 {out}/grader-image" in readme
+
+
+def test_where_no_registry_answers_the_guide_and_the_folder_name_a_local_base(tmp_path):
+    """The Dockerfile's FROM pulls ubuntu:22.04 from Docker Hub; the README says how to build
+    on the Debian base try-zip uses, and --base-image makes that base the Dockerfile's own
+    (the image built on it in the hostile suite's prairielearn way)."""
+    readme = (_written(tmp_path / "hub") / "README.md").read_text()
+    assert "python -m raykit_grading.containers base-image" in readme
+    local = containers.DEBIAN_BASE
+    assert f"docker build --build-arg BASE_IMAGE={local} -t course/raykit-grader:1" in readme
+    out = _written(tmp_path / "local", "--base-image", local)
+    assert (
+        f"ARG BASE_IMAGE={local}\nFROM ${{BASE_IMAGE}}\n"
+        in (out / "grader-image/Dockerfile").read_text()
+    )
 
 
 def test_writing_again_keeps_the_question_uuid_and_the_seed(tmp_path):

@@ -21,7 +21,7 @@ import pytest
 
 from conftest import REPO
 from mistaken_submissions import make_submission
-from raykit_grading.catalog import TESTS
+from raykit_grading.catalog import TESTS, VISIBLE
 from raykit_grading.grade import Options, grade
 from raykit_grading.seeds import (
     HEADER,
@@ -423,6 +423,9 @@ def test_run_autograder_grade_batch_and_prairielearn_score_a_submission_alike_wi
         return run
 
     released = command("release", "-o", "student-release/")
+    visible = [t.name for t in TESTS if t.visibility == VISIBLE]
+    shown = [f"release: {i} of {len(visible)}: {name}" for i, name in enumerate(visible, 1)]
+    assert [li for li in released.stderr.splitlines() if li.startswith("release:")] == shown
     seed = read_seed_file(assignment / "grading-seed")
     said = f"raykit_grading: assignment seed {fingerprint(seed)}"
     assert f"{said} (./grading-seed, made now, mode 600" in released.stderr

@@ -104,7 +104,9 @@ def main() -> int:
     parser.add_argument("--memory-mb", type=int)
     parser.add_argument("--cpus", type=float)
     parser.add_argument(
-        "--report", action="store_true", help="say the wall time and the peak memory used"
+        "--report",
+        action="store_true",
+        help="say the wall time, the peak memory used and how often the OOM killer fired",
     )
     parser.add_argument("command", nargs=argparse.REMAINDER)
     args = parser.parse_args()
@@ -147,6 +149,9 @@ def main() -> int:
                 if (folder / "memory.max_usage_in_bytes").exists():
                     peak = int((folder / "memory.max_usage_in_bytes").read_text())
                     said.append(f"peak memory {peak / 2**20:.0f} MB")
+                    control = (folder / "memory.oom_control").read_text().split()
+                    if "oom_kill" in control:
+                        said.append(f"OOM kills {control[control.index('oom_kill') + 1]}")
             print(f"docker_confinement: {', '.join(said)}", file=sys.stderr)
         for folder in made:
             for _ in range(100):  # the command's last processes may still be exiting
