@@ -170,6 +170,12 @@ def test_no_footer_link_or_left_column_breaks_a_page_name_inside_a_word(measured
     assert not broken, f"at {width} px: {json.dumps(broken, indent=1, ensure_ascii=False)}"
 
 
+@pytest.mark.parametrize("width", WIDTHS)
+def test_no_inline_formula_has_a_scroll_bar_of_its_own(measured, width):
+    scrolling = {r["page"]: r["math_scrolls"][:3] for r in measured[width] if r["math_scrolls"]}
+    assert not scrolling, f"at {width} px: {json.dumps(scrolling, indent=1, ensure_ascii=False)}"
+
+
 def test_the_notebooks_sliders_move_through_their_functions_pictures(site, measured):
     """Every slider cell of the notebooks is on the site as sliders (docs/conf.py); moving each
     control shows, and loads, the picture docs/make_slider_frames.py drew for that stop."""
