@@ -148,21 +148,32 @@ def _no_empty_sidebar(app, pagename: str, templatename, context: dict, doctree) 
         context["sidebars"] = []
 
 
-# the footer's "previous" and "next" links name pages; an API page's name is one long word of
-# dotted parts (raykit.engine.compiled.billboards), which the browser, with no other place to
-# break it, broke inside a part ("billboa|rds"). A break is offered after each dot instead.
+# An API page's name is one long word of dotted parts (raykit.engine.compiled.billboards), which
+# the browser, with no other place to break it, broke inside a part ("billboa|rds") where it names
+# a page: in the footer's "previous" and "next" links and in the left column ("Section
+# Navigation", "compiled.billbo|ards" at 1280 px). A break is offered after each dot instead.
 TAG = re.compile(r"(<[^>]*>)")
 
 
-def _footer_names_break_at_dots(app, pagename, templatename, context: dict, doctree) -> None:
+def _break_after_dots(html: str) -> str:
+    """``html`` with a <wbr> after each dot between two letters of its text (not its tags)."""
+    return "".join(
+        part if TAG.fullmatch(part) else re.sub(r"(?<=\w)\.(?=\w)", ".<wbr>", part)
+        for part in TAG.split(html)
+    )
+
+
+def _page_names_break_at_dots(app, pagename, templatename, context: dict, doctree) -> None:
     for key in ("prev", "next"):
         link = context.get(key)
         if link and link.get("title"):
-            parts = TAG.split(link["title"])  # the title is HTML: only its text is touched
-            link["title"] = "".join(
-                part if TAG.fullmatch(part) else re.sub(r"(?<=\w)\.(?=\w)", ".<wbr>", part)
-                for part in parts
-            )
+            link["title"] = _break_after_dots(link["title"])
+    # the theme's function that draws the left column, set by the theme for each page
+    draw_column = context.get("generate_toctree_html")
+    if draw_column is not None:
+        context["generate_toctree_html"] = lambda *args, **kwargs: _break_after_dots(
+            str(draw_column(*args, **kwargs))
+        )
 
 
 # ---- pages written for a repository host, read by Sphinx -------------------------------------
@@ -405,7 +416,8 @@ def setup(app):
 
     app.connect("source-read", _source_read)
     app.connect("html-page-context", _no_empty_sidebar)
-    app.connect("html-page-context", _footer_names_break_at_dots)
+    # after the theme has set its functions for the page (it connects at the default, 500)
+    app.connect("html-page-context", _page_names_break_at_dots, priority=900)
     app.connect("doctree-resolved", _mark_few_word_cells)
     app.connect("build-finished", _deck)
     app.add_node(

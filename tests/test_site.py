@@ -13,8 +13,10 @@ Chromium at a phone's width (400 px) and a laptop's (1280 px).
 * No table is squeezed into the page when it could scroll in its own block instead: no word in
   a cell is broken across two lines (raykit.line|scan), and no short phrase in a cell ("5.9 ms",
   a header) is set one word a line.
-* No page name in the footer's "previous" and "next" links is broken inside a word
-  ("Benchma|rks", "raykit.engine.compile|d.billboards"): a dotted name breaks after a dot.
+* No page name in the footer's "previous" and "next" links or in the left column ("Section
+  Navigation") is broken inside a word ("Benchma|rks", "raykit.engine.compile|d.billboards",
+  "compiled.billbo|ards"): a dotted name breaks after a dot.
+* No inline formula has a scroll bar of its own; a display formula wider than the column may.
 * ``tests/site_measure.html`` measures it all, every page at both widths in one Chromium.
 * No page has an empty left column ("Section Navigation" with nothing under it).
 
@@ -163,9 +165,15 @@ def test_no_table_is_squeezed_into_the_page_breaking_its_words(measured, width):
 
 
 @pytest.mark.parametrize("width", WIDTHS)
-def test_no_footer_link_breaks_a_page_name_inside_a_word(measured, width):
-    broken = {r["page"]: r["broken"] for r in measured[width] if r.get("broken")}
+def test_no_footer_link_or_left_column_breaks_a_page_name_inside_a_word(measured, width):
+    broken = {r["page"]: r["broken"][:3] for r in measured[width] if r.get("broken")}
     assert not broken, f"at {width} px: {json.dumps(broken, indent=1, ensure_ascii=False)}"
+
+
+@pytest.mark.parametrize("width", WIDTHS)
+def test_no_inline_formula_has_a_scroll_bar_of_its_own(measured, width):
+    scrolling = {r["page"]: r["math_scrolls"][:3] for r in measured[width] if r["math_scrolls"]}
+    assert not scrolling, f"at {width} px: {json.dumps(scrolling, indent=1, ensure_ascii=False)}"
 
 
 def test_the_notebooks_sliders_move_through_their_functions_pictures(site, measured):
