@@ -34,7 +34,9 @@ so and times the numpy engine's.
 
 from __future__ import annotations
 
+import ast
 import importlib
+import importlib.util
 import json
 import math
 import os
@@ -129,10 +131,20 @@ CONSTANTS = [
 
 
 def code_value(constant) -> object:
-    """The constant's value in the code (without importing numba)."""
+    """The constant's value in the code. The compiled engine's modules import numba: without
+    it, their constant is read from the module's source, where each is a plain number."""
     if constant.name == NRT:
         return False  # compiling.KERNEL's; tests/test_benchmarks.py holds the two the same
-    return getattr(importlib.import_module(constant.module), constant.name)
+    if constant.engine == "numpy" or importlib.util.find_spec("numba") is not None:
+        return getattr(importlib.import_module(constant.module), constant.name)
+    import raykit
+
+    source = Path(raykit.__file__).parent.joinpath(*constant.module.split(".")[1:])
+    for statement in ast.parse(source.with_suffix(".py").read_text()).body:
+        targets = statement.targets if isinstance(statement, ast.Assign) else []
+        if any(isinstance(target, ast.Name) and target.id == constant.name for target in targets):
+            return ast.literal_eval(statement.value)
+    raise LookupError(f"{constant.name} is not assigned in {constant.module}")
 
 
 # ---- scenes -----------------------------------------------------------------------------------
