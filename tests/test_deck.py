@@ -141,6 +141,9 @@ def test_every_link_to_a_notebook_names_a_section_the_notebook_opens(deck):
 def test_a_bad_lecture_json_is_one_line_naming_the_field_and_writes_nothing(
     tmp_path, change, message
 ):
+    pytest.importorskip(
+        "sphinx_revealjs", reason='the deck needs the docs extra: pip install -e ".[docs]"'
+    )
     data = json.loads(LECTURE.read_text(encoding="utf-8"))
     change(data)
     bad = tmp_path / "lecture.json"
