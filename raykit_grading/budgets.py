@@ -150,7 +150,16 @@ def memory_budget(container_bytes: int | None, kernel: int) -> int:
 
 
 def grader_peak() -> int:
-    """The grader process's own peak memory so far (its largest resident set), in bytes."""
+    """The grader process's own peak memory so far (its largest resident set), in bytes: its
+    VmHWM. Not getrusage's ru_maxrss, which Linux carries across exec: a grader started from a
+    large process (a test runner's worker, a batch) would report that process's resident set."""
+    try:
+        with open("/proc/self/status", encoding="ascii") as status:
+            for line in status:
+                if line.startswith("VmHWM:"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
 
 

@@ -198,3 +198,16 @@ def test_what_numpy_writes_is_read_and_what_it_never_writes_is_refused():
     zip64 = good.getvalue()[:-22] + locator + good.getvalue()[-22:]
     with pytest.raises(ValueError, match="zip64"):
         read_returned(zip64, 16 * MB)
+
+
+def test_the_graders_peak_is_its_own_not_that_of_the_process_that_started_it():
+    """Linux carries ru_maxrss across exec: a grader started by a large process (a test
+    runner's worker, a batch) must not report that process's resident set as its own."""
+    launcher = bytearray(300 * 2**20)
+    launcher[::4096] = b"\x01" * len(launcher[::4096])  # every page resident
+    peak = "from raykit_grading.budgets import grader_peak; print(grader_peak())"
+    run = subprocess.run(
+        [sys.executable, "-c", peak],
+        capture_output=True, text=True, check=True,
+    )  # fmt: skip
+    assert int(run.stdout) < 200 * 2**20, (int(run.stdout) >> 20, len(launcher))
