@@ -111,9 +111,10 @@ sys.exit(status)
 
 
 def calls_left() -> list[str]:
-    """The calls of per-ray kernels (``@njit(**ONE_RAY)``, which LLVM is to inline where they
-    are called) left in the machine code of the kernels this process compiled, as ``caller ->
-    kernel``: none if LLVM inlined every one (a kernel loaded from the cache shows no code)."""
+    """The calls of per-ray kernels (``@njit(**ONE_RAY)``, which LLVM inlines where its rule
+    finds that it pays, and ``@njit(**INLINED)``, which it always inlines) left in the machine
+    code of the kernels this process compiled, as ``caller -> kernel``: none if LLVM inlined
+    every one (a kernel loaded from the cache shows no code)."""
     import inspect
     import pkgutil
 
@@ -130,8 +131,9 @@ def calls_left() -> list[str]:
                 package.__name__
             ):
                 kernels[name] = value
+    per_ray = ("@njit(**ONE_RAY)", "@njit(**INLINED)")
     one_ray = {name for name, kernel in kernels.items()
-               if inspect.getsource(kernel.py_func).startswith("@njit(**ONE_RAY)")}  # fmt: skip
+               if inspect.getsource(kernel.py_func).startswith(per_ray)}  # fmt: skip
     # each compiled version's symbol, as the machine code of a call of it names it
     symbols = {
         result.fndesc.mangled_name: name
@@ -539,7 +541,8 @@ def all_parts(args) -> None:
         listed = ", ".join(f"{kernel} {took:.1f} s" for kernel, took in every)
         print(f"\n{entry}: {len(kernels)} kernels, {sum(kernels.values()):.1f} s: {listed}.")
     print(
-        "\nCalls of per-ray kernels (ONE_RAY, which LLVM is to inline) left in the code compiled: "
+        "\nCalls of per-ray kernels left in the code compiled (ONE_RAY, which LLVM inlines where "
+        "its rule finds that it pays; INLINED, which it always inlines, should be none of them): "
         + (", ".join(left) if left else "none")
         + "."
     )
