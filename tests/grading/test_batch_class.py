@@ -20,8 +20,8 @@ from gradescope_export import make_export
 
 from conftest import REPO
 from mistaken_submissions import make_submission
-from raykit_grading.catalog import TESTS, VISIBLE
-from raykit_grading.results import NOT_IMPORTED
+from raykit_grading.assignment.catalog import TESTS, VISIBLE
+from raykit_grading.grading.results import NOT_IMPORTED
 
 ONLY = ["2.3", "3.1", "3.6"]  # a ray-sphere array test, the camera frame, a render: 7 points
 

@@ -1,6 +1,7 @@
-"""What the grader counts of a running test (raykit_grading.budgets), on a process of the test's
-own here, and what it reads of the archive a test returns (raykit_grading.sandbox.read_returned):
-each count against what the process really holds, each bound met at once."""
+"""What the grader counts of a running test (raykit_grading.sandbox.budgets), on a process of the
+test's own here, and what it reads of the archive a test returns
+(raykit_grading.sandbox.base.read_returned): each count against what the process really holds, each
+bound met at once."""
 
 from __future__ import annotations
 
@@ -17,15 +18,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from raykit_grading.budgets import (
+from raykit_grading.sandbox.base import Limits, read_returned
+from raykit_grading.sandbox.budgets import (
     ContainerMemory,
     Watch,
     descendant,
     nameless_bytes,
     process_memory,
 )
-from raykit_grading.leftovers import DiskBudget
-from raykit_grading.sandbox import Limits, read_returned
+from raykit_grading.sandbox.leftovers import DiskBudget
 
 MB = 2**20
 
@@ -205,7 +206,7 @@ def test_the_graders_peak_is_its_own_not_that_of_the_process_that_started_it():
     runner's worker, a batch) must not report that process's resident set as its own."""
     launcher = bytearray(300 * 2**20)
     launcher[::4096] = b"\x01" * len(launcher[::4096])  # every page resident
-    peak = "from raykit_grading.budgets import grader_peak; print(grader_peak())"
+    peak = "from raykit_grading.sandbox.budgets import grader_peak; print(grader_peak())"
     run = subprocess.run(
         [sys.executable, "-c", peak],
         capture_output=True, text=True, check=True,

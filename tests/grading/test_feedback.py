@@ -10,15 +10,15 @@ import numpy as np
 import pytest
 
 from mistake_table import NAMED_IN
-from raykit_grading.catalog import TESTS, VISIBLE, by_name
-from raykit_grading.compare import (
+from raykit_grading.assignment.catalog import TESTS, VISIBLE, by_name
+from raykit_grading.assignment.mistakes import MISTAKES
+from raykit_grading.assignment.references import array_mistakes, expected
+from raykit_grading.kit.compare import (
     feedback_html,
     judge_arrays,
     judge_image,
     picture_scale,
 )
-from raykit_grading.grade import array_mistakes, expected
-from raykit_grading.mistakes import MISTAKES
 
 SEED = 20260101
 ARRAY_CASES = [
@@ -169,15 +169,15 @@ def test_the_self_check_page_starts_with_the_summary_and_lists_failures_first(mo
     import sys
 
     import raykit_grading
-    from raykit_grading import cases, compare, tasks
+    from raykit_grading.kit import cases, compare, tasks
 
     monkeypatch.setattr(sys, "path", list(sys.path))  # check.py puts its folders first
     # check.py imports the grader's modules as the release's tests/_grading package
     for name, module in {"": raykit_grading, ".cases": cases, ".tasks": tasks,
                          ".compare": compare}.items():  # fmt: skip
         monkeypatch.setitem(sys.modules, f"_grading{name}", module)
-    monkeypatch.delitem(sys.modules, "raykit_grading.selfcheck", raising=False)
-    page = importlib.import_module("raykit_grading.selfcheck").page
+    monkeypatch.delitem(sys.modules, "raykit_grading.kit.selfcheck", raising=False)
+    page = importlib.import_module("raykit_grading.kit.selfcheck").page
 
     rows = [
         {"name": "1.1 a", "points": 1, "share": 1.0, "message": "ok", "picture": None},
@@ -201,8 +201,8 @@ def test_every_visible_array_test_with_a_callee_names_it():
 def test_every_mistake_is_blamed_on_a_function_the_student_writes():
     """``where`` names the functions the release leaves to write (its stubs), never given code
     a student function calls (such as Camera.plane_size, read by _in_plane)."""
-    from raykit_grading.catalog import REPO
-    from raykit_grading.markers import strip_solutions
+    from raykit_grading.assignment.catalog import REPO
+    from raykit_grading.assignment.markers import strip_solutions
 
     stubs = set()
     for source in (REPO / "raykit").rglob("*.py"):
@@ -216,7 +216,7 @@ def test_every_mistake_is_blamed_on_a_function_the_student_writes():
 def test_the_summary_shown_at_once_sums_the_visible_tests_and_tells_no_hidden_outcome():
     """Two results that differ only in how the hidden tests went (all passed, all failed)
     give the same summary: the visible tests' sums, then the hidden tests' count and points."""
-    from raykit_grading.results import stage_lines, test_entry
+    from raykit_grading.grading.results import stage_lines, test_entry
 
     tests = by_name(["2.1", "2.3", "2.4", "2.5", "3.6", "3.8"])
     passed = [test_entry(t, t.points, "") for t in tests]

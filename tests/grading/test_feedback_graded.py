@@ -14,9 +14,9 @@ import pytest
 
 from mistake_table import NAMED_IN
 from mistaken_submissions import make_submission
-from raykit_grading.catalog import VISIBLE, by_name
-from raykit_grading.grade import Options, grade
-from raykit_grading.mistakes import MISTAKES
+from raykit_grading.assignment.catalog import VISIBLE, by_name
+from raykit_grading.assignment.mistakes import MISTAKES
+from raykit_grading.grading.grade import Options, grade
 
 pytestmark = pytest.mark.slow
 SEED = 3

@@ -16,7 +16,7 @@ import pytest
 
 from conftest import REPO
 from mistaken_submissions import make_submission
-from raykit_grading.autograder import REQUIREMENTS
+from raykit_grading.platforms.gradescope import REQUIREMENTS
 
 pytestmark = pytest.mark.slow
 

@@ -13,11 +13,16 @@ import pytest
 
 from conftest import REPO
 from mistaken_submissions import EDITS, make_rewritten, make_submission
-from raykit_grading.catalog import HIDDEN, HIDDEN_SCENES, TESTS, VISIBLE
-from raykit_grading.compare import check_arrays, compare_images, feedback_picture, strict_fraction
-from raykit_grading.grade import Options, grade, grade_to_file
-from raykit_grading.markers import MarkerError, strip_solutions
-from raykit_grading.mistakes import MISTAKES
+from raykit_grading.assignment.catalog import HIDDEN, HIDDEN_SCENES, TESTS, VISIBLE
+from raykit_grading.assignment.markers import MarkerError, strip_solutions
+from raykit_grading.assignment.mistakes import MISTAKES
+from raykit_grading.grading.grade import Options, grade, grade_to_file
+from raykit_grading.kit.compare import (
+    check_arrays,
+    compare_images,
+    feedback_picture,
+    strict_fraction,
+)
 
 # Gradescope's results.json, as its autograder specification documents it
 RESULTS_SCHEMA = {
@@ -114,8 +119,8 @@ def test_execution_time_ends_at_the_last_visible_test(tmp_path, monkeypatch):
     clock here is one that each test advances, 1 s a visible test, 100 s a hidden one."""
     import types
 
-    from raykit_grading import grade as grading
-    from raykit_grading.results import test_entry
+    from raykit_grading.grading import grade as grading
+    from raykit_grading.grading.results import test_entry
 
     now = [0.0]
 
@@ -297,7 +302,7 @@ def test_image_comparison_forgives_a_silhouette_pixel_but_not_a_wrong_colour():
 
 
 def test_score_is_linear_between_the_thresholds():
-    from raykit_grading.compare import Comparison
+    from raykit_grading.kit.compare import Comparison
 
     assert Comparison(None, 0.995, 0).score() == 1.0
     assert Comparison(None, 0.9475, 0).score() == pytest.approx(0.5)
@@ -321,7 +326,7 @@ def test_batch_grades_a_folder_into_a_csv_and_a_feedback_folder_each(
     import csv
     import shutil
 
-    from raykit_grading.batch import grade_folder
+    from raykit_grading.grading.batch import grade_folder
 
     students = tmp_path / "submissions"
     make_submission(students / "ada")

@@ -1,5 +1,5 @@
-"""The zip in a real container (:mod:`raykit_grading.containers`) and ``try-zip``, the check
-an instructor runs before uploading the zip.
+"""The zip in a real container (:mod:`raykit_grading.platforms.containers`) and ``try-zip``, the
+check an instructor runs before uploading the zip.
 
 The hostile suite's ``container`` way (tests/grading/test_grading_hostile.py) grades every
 attack through the same image; here: the zip laid out as Gradescope lays it out, try-zip's
@@ -20,9 +20,9 @@ import pytest
 
 from conftest import REPO
 from mistaken_submissions import make_submission
-from raykit_grading import containers
-from raykit_grading.autograder import build_zip
-from raykit_grading.seeds import HEADER
+from raykit_grading.assignment.seeds import HEADER
+from raykit_grading.platforms import containers
+from raykit_grading.platforms.gradescope import build_zip
 
 SEED = 20261123
 
@@ -95,7 +95,9 @@ def _base_image() -> str:
     base = os.environ.get("RAYKIT_CONTAINER_BASE", containers.DEBIAN_BASE)
     if not containers.image_exists(base):
         if base != containers.DEBIAN_BASE or os.geteuid() != 0:
-            pytest.skip(f"no base image {base} (python -m raykit_grading.containers base-image)")
+            pytest.skip(
+                f"no base image {base} (python -m raykit_grading.platforms.containers base-image)"
+            )
         try:
             containers.make_base_image(base)
         except containers.ContainerError as exc:

@@ -14,18 +14,18 @@ for :data:`PRAIRIELEARN_DIFFERS`):
   (tests/support/grader_python.py): bubblewrap's sandbox;
 * ``docker``: the same ``run_autograder`` as root under an emulation of Docker's default
   confinement with a 768 MB memory limit (``tests/support/docker_confinement.py``), as
-  Gradescope runs it: no namespaces, so the chroot sandbox (:mod:`raykit_grading.confine`);
+  Gradescope runs it: no namespaces, so the chroot sandbox (:mod:`raykit_grading.sandbox.confine`);
 * ``user``: the README's ``python -m raykit_grading grade`` as a normal user (this one, or as
   root ``setpriv`` to uid 65534 with the same grader Python, which that uid can run);
 * ``container``: the zip in a real Docker container, as Gradescope builds and runs it
-  (:mod:`raykit_grading.containers`): an image built once per session from the zip on a base
-  image (``RAYKIT_CONTAINER_BASE``, default the Debian one made with debootstrap, made here if
+  (:mod:`raykit_grading.platforms.containers`): an image built once per session from the zip on a
+  base image (``RAYKIT_CONTAINER_BASE``, default the Debian one made with debootstrap, made here if
   missing), ``setup.sh`` run at build time, then a fresh container per submission with
   Docker's default seccomp profile and capabilities, 768 MB and half a CPU, the submission
   copied to ``/autograder/submission``, ``/autograder/run_autograder`` as the command: the
   chroot sandbox, for real. Skipped, saying why, where Docker cannot run containers.
 * ``prairielearn``: the grader image whose build folder ``prairielearn -o`` writes
-  (:mod:`raykit_grading.prairielearn`), built once per session on the same base, run as
+  (:mod:`raykit_grading.platforms.prairielearn`), built once per session on the same base, run as
   PrairieLearn's grader host runs it (``containers.grade_in_prairielearn_container``):
   ``/grade`` laid out as its docs say (the submission's files in ``/grade/student``, as a
   workspace question's ``gradedFiles`` sends a ``raykit/`` folder; the question's ``tests/``
@@ -71,9 +71,9 @@ from budget_attacks import budget_attacker
 
 from conftest import REPO
 from mistaken_submissions import make_submission
-from raykit_grading.autograder import build_zip
-from raykit_grading.catalog import TESTS
-from raykit_grading.confine import TREES
+from raykit_grading.assignment.catalog import TESTS
+from raykit_grading.platforms.gradescope import build_zip
+from raykit_grading.sandbox.confine import TREES
 
 pytestmark = pytest.mark.slow
 
@@ -114,7 +114,7 @@ def _deployment_skip(way: str) -> str | None:
     if way == "user" and AS_ROOT and shutil.which("setpriv") is None:
         return "as root, the user way needs setpriv to become uid 65534"
     if way in ("container", "prairielearn"):
-        from raykit_grading.containers import docker_problem
+        from raykit_grading.platforms.containers import docker_problem
 
         problem = docker_problem()
         if problem:
@@ -123,13 +123,13 @@ def _deployment_skip(way: str) -> str | None:
 
 
 def _base_image_or_skip(say) -> str:
-    from raykit_grading import containers
+    from raykit_grading.platforms import containers
 
     base = os.environ.get("RAYKIT_CONTAINER_BASE", containers.DEBIAN_BASE)
     if not containers.image_exists(base):
         if base != containers.DEBIAN_BASE or not AS_ROOT:
-            pytest.skip(f"no base image {base} (as root: python -m raykit_grading.containers "
-                        "base-image)")  # fmt: skip
+            pytest.skip(f"no base image {base} (as root: python -m "
+                        "raykit_grading.platforms.containers base-image)")  # fmt: skip
         try:
             containers.make_base_image(base, log=say)
         except containers.ContainerError as exc:
@@ -140,7 +140,7 @@ def _base_image_or_skip(say) -> str:
 def prairielearn_image(out: Path, say) -> str:
     """The image of the build folder ``prairielearn -o`` wrote in ``out`` (built once, then
     reused while the folder's contents are the same), on the container way's base."""
-    from raykit_grading import containers
+    from raykit_grading.platforms import containers
 
     base = _base_image_or_skip(say)
     try:
@@ -157,7 +157,7 @@ def container_image(folder: Path, archive: Path, say) -> str:
     zip's contents are the same), on ``RAYKIT_CONTAINER_BASE`` (default the Debian base image,
     made with debootstrap if missing: skips saying why where it cannot be). A zip whose image
     does not build fails, as it would on Gradescope."""
-    from raykit_grading import containers
+    from raykit_grading.platforms import containers
 
     base = _base_image_or_skip(say)
     try:
@@ -194,7 +194,7 @@ def autograder(request, tmp_path_factory, grader_python):
                 reporter.write_line(line)
 
         if request.param == "prairielearn":
-            from raykit_grading.prairielearn import write_course_files
+            from raykit_grading.platforms.prairielearn import write_course_files
 
             out = write_course_files(root / "course", "course/raykit", SEED)
             (root / "image").write_text(prairielearn_image(out, say))
@@ -251,7 +251,7 @@ EMULATION_DIFFERS = frozenset({
 @functools.cache
 def container_way_runs() -> bool:
     """Whether the container way grades on this machine (Docker and the base image there)."""
-    from raykit_grading import containers
+    from raykit_grading.platforms import containers
 
     base = os.environ.get("RAYKIT_CONTAINER_BASE", containers.DEBIAN_BASE)
     return _deployment_skip("container") is None and containers.image_exists(base)
@@ -342,7 +342,7 @@ def _grade_in_a_container(
 ) -> tuple[dict, subprocess.CompletedProcess]:
     """A fresh container of the zip's image grades ``submission``, as on Gradescope; the
     options reach ``run_autograder`` as ``RAYKIT_GRADE_OPTIONS`` (``docker create -e``)."""
-    from raykit_grading.containers import grade_in_container
+    from raykit_grading.platforms.containers import grade_in_container
 
     image = (autograder / "image").read_text()
     graded = grade_in_container(
@@ -364,8 +364,8 @@ def _grade_as_prairielearn(
 ) -> tuple[dict, subprocess.CompletedProcess]:
     """A fresh container of the grader image grades ``submission`` as PrairieLearn runs it;
     the options reach the entrypoint as ``RAYKIT_GRADE_OPTIONS`` (``docker run -e``)."""
-    from raykit_grading.containers import grade_in_prairielearn_container
-    from raykit_grading.prairielearn import ENTRYPOINT, SUBMITTED_FILE
+    from raykit_grading.platforms.containers import grade_in_prairielearn_container
+    from raykit_grading.platforms.prairielearn import ENTRYPOINT, SUBMITTED_FILE
 
     entries = list(submission.iterdir())
     if len(entries) == 1 and entries[0].suffix == ".zip":  # uploaded as the question names it
@@ -752,7 +752,7 @@ def test_5_a_hidden_test_cannot_leave_its_inputs_for_a_visible_one(release, auto
 def test_5_kernel_keyrings_carry_nothing_from_a_hidden_test(release, autograder, tmp_path):
     """A uid's keyring outlives its processes; the sandbox refuses the keyring system calls
     (seccomp), so a hidden test cannot leave its inputs there for a visible one."""
-    from raykit_grading.isolation import SECCOMP_ARCHES
+    from raykit_grading.sandbox.isolation import SECCOMP_ARCHES
 
     calls = SECCOMP_ARCHES[platform.machine()][1]
     keep = (
@@ -1361,8 +1361,8 @@ LEAVE = (
 
 
 def test_10_visible_tests_run_before_hidden_ones():
-    from raykit_grading.catalog import VISIBLE
-    from raykit_grading.grade import _visible_first
+    from raykit_grading.assignment.catalog import VISIBLE
+    from raykit_grading.grading.grade import _visible_first
 
     order = [t.visibility == VISIBLE for t in _visible_first(TESTS)]
     assert order == sorted(order, reverse=True) and order.count(True) == sum(
@@ -1492,7 +1492,7 @@ def test_removal_copes_with_any_tree_a_child_can_leave(tmp_path):
     """Folders nested deeper than a path can name, closed to their owner, FIFOs, sockets and
     links: removed by a walk that never recurses; as a normal user too, where the owner must
     open what it closed."""
-    from raykit_grading.leftovers import remove_tree
+    from raykit_grading.sandbox.leftovers import remove_tree
 
     def plant(top: Path) -> None:
         here = os.open(top, os.O_RDONLY)
@@ -1527,7 +1527,7 @@ def test_removal_copes_with_any_tree_a_child_can_leave(tmp_path):
 
 
 def test_removal_sets_aside_what_it_cannot_finish_in_time(tmp_path):
-    from raykit_grading.leftovers import remove_tree
+    from raykit_grading.sandbox.leftovers import remove_tree
 
     tree = tmp_path / "left"
     (tree / "a" / "b").mkdir(parents=True)
@@ -1556,7 +1556,7 @@ def test_nothing_is_left_behind(autograder):
     """No process of a sandbox uid, no grader workspace, nothing in a chroot tree's test
     folder and nothing in a quarantine that no running grader holds (this runs after the
     tests above, for each way)."""
-    from raykit_grading.isolation import SANDBOX_UIDS, UID_LOCKS
+    from raykit_grading.sandbox.isolation import SANDBOX_UIDS, UID_LOCKS
 
     if way(autograder) in ("container", "prairielearn"):  # every grading's container
         for name in CONTAINERS:  # removed (by its name: others may grade on the same daemon)
@@ -1580,7 +1580,7 @@ def test_nothing_is_left_behind(autograder):
 def test_read_returned_refuses_what_is_not_plain_stored_arrays():
     import io
 
-    from raykit_grading.sandbox import read_returned
+    from raykit_grading.sandbox.base import read_returned
 
     good = io.BytesIO()
     np.savez(good, t=np.arange(4.0))

@@ -17,10 +17,10 @@ import pytest
 import tomllib
 
 from conftest import REPO
-from raykit_grading.confine import ContainerLimits, container_limits, landlock_abi
-from raykit_grading.isolation import SANDBOX_UIDS, UidPool
-from raykit_grading.submissions import MAX_BYTES, SubmissionError, stage
-from raykit_grading.workspace import PREFIX, Workspace, clean_stale
+from raykit_grading.grading.submissions import MAX_BYTES, SubmissionError, stage
+from raykit_grading.sandbox.confine import ContainerLimits, container_limits, landlock_abi
+from raykit_grading.sandbox.isolation import SANDBOX_UIDS, UidPool
+from raykit_grading.sandbox.workspace import PREFIX, Workspace, clean_stale
 
 AS_ROOT = os.geteuid() == 0
 
@@ -108,7 +108,7 @@ def test_the_wheel_holds_raykit_and_its_grader_but_no_hidden_scenes():
 
 
 def test_the_grader_says_plainly_when_it_has_no_clone_to_read_scenes_from(monkeypatch, tmp_path):
-    import raykit_grading.grade as grade
+    import raykit_grading.grading.grade as grade
 
     monkeypatch.setattr(grade, "HIDDEN_SCENES", tmp_path / "nowhere")
     with pytest.raises(grade.GradingImpossible, match="needs a clone of the course repository"):
@@ -118,7 +118,7 @@ def test_the_grader_says_plainly_when_it_has_no_clone_to_read_scenes_from(monkey
 def test_the_zip_holds_at_its_top_what_gradescope_puts_in_autograder_source(tmp_path):
     """Gradescope extracts the zip into /autograder/source: setup.sh, run_autograder, the
     requirements, the seed and the grader's packages are at the zip's top, not in a folder."""
-    from raykit_grading.autograder import REQUIREMENTS, build_zip
+    from raykit_grading.platforms.gradescope import REQUIREMENTS, build_zip
 
     with zipfile.ZipFile(build_zip(tmp_path / "ag.zip")) as archive:
         setup = archive.read("setup.sh").decode()
@@ -141,8 +141,8 @@ NOBODY = 65534
 SECCOMP_PROBE = """
 import ctypes, errno, fcntl, json, os, select, socket, sys, tempfile, threading
 sys.path.insert(0, {repo!r})
-from raykit_grading.confine import install_seccomp, no_new_privileges
-from raykit_grading.isolation import CLONE_CALLS, SECCOMP_ARCHES, seccomp_filter
+from raykit_grading.sandbox.confine import install_seccomp, no_new_privileges
+from raykit_grading.sandbox.isolation import CLONE_CALLS, SECCOMP_ARCHES, seccomp_filter
 import platform
 calls = SECCOMP_ARCHES[platform.machine()][1]
 no_new_privileges()
@@ -255,10 +255,10 @@ def test_the_container_limits_are_read_from_cgroup_v2_and_v1(tmp_path):
 
 
 def test_a_childs_memory_is_cut_to_what_the_container_leaves_beside_the_grader_and_kernel():
-    """L = G + K + M (raykit_grading.budgets): at Gradescope's 768 MB the test may hold
+    """L = G + K + M (raykit_grading.sandbox.budgets): at Gradescope's 768 MB the test may hold
     416 MB, the kernel 32 MB for it, the grader 320 MB; with no limit found, 2 GB."""
-    from raykit_grading.budgets import GRADER_MEMORY, kernel_share
-    from raykit_grading.sandbox import Limits, fit_to_container
+    from raykit_grading.sandbox.base import Limits, fit_to_container
+    from raykit_grading.sandbox.budgets import GRADER_MEMORY, kernel_share
 
     limits = Limits(memory_bytes=2 * 1024**3)
     kernel = kernel_share(limits.open_files, limits.processes, limits.disk)
@@ -335,8 +335,8 @@ import json, os, sys, tempfile
 from pathlib import Path
 sys.path.insert(0, {repo!r})
 import numpy as np
-from raykit_grading.sandbox import Sandbox
-from raykit_grading.workspace import Workspace
+from raykit_grading.sandbox.base import Sandbox
+from raykit_grading.sandbox.workspace import Workspace
 with Workspace() as workspace:
     sandbox = Sandbox(Path({submission!r}), workspace, kind={kind!r})
     sandbox.check()
@@ -395,7 +395,7 @@ def test_a_normal_user_without_user_namespaces_is_refused_in_one_line(tmp_path, 
     program = docker_seccomp()
 
     def confine() -> None:
-        from raykit_grading.confine import install_seccomp, no_new_privileges
+        from raykit_grading.sandbox.confine import install_seccomp, no_new_privileges
 
         if AS_ROOT:
             os.setgroups([])
@@ -421,18 +421,18 @@ def test_a_normal_user_without_user_namespaces_is_refused_in_one_line(tmp_path, 
 
 def test_setup_sh_builds_the_chroot_tree_the_sandbox_then_uses(tmp_path):
     """setup.sh's line builds the tree at image build time; a grading then finds it built."""
-    from raykit_grading.autograder import build_zip
-    from raykit_grading.isolation import probe_python
-    from raykit_grading.sandbox import Sandbox
+    from raykit_grading.platforms.gradescope import build_zip
+    from raykit_grading.sandbox.base import Sandbox
+    from raykit_grading.sandbox.isolation import probe_python
 
     with zipfile.ZipFile(build_zip(tmp_path / "ag.zip")) as archive:
         setup = archive.read("setup.sh").decode()
-    line = next(line for line in setup.splitlines() if "raykit_grading.confine" in line)
+    line = next(line for line in setup.splitlines() if "raykit_grading.sandbox.confine" in line)
     assert line.startswith('PYTHONPATH="$source" /opt/raykit-grader/bin/python -m')
     if not AS_ROOT:
         pytest.skip("the chroot tree is built by root")
     built = subprocess.run(
-        [sys.executable, "-m", "raykit_grading.confine"], capture_output=True, text=True,
+        [sys.executable, "-m", "raykit_grading.sandbox.confine"], capture_output=True, text=True,
         cwd=REPO, timeout=600,
     )  # fmt: skip
     assert built.returncode == 0, built.stderr

@@ -1,5 +1,5 @@
-"""PrairieLearn (:mod:`raykit_grading.prairielearn`): the folder ``prairielearn -o`` writes,
-PrairieLearn's results.json, and the image run as PrairieLearn's grader host runs it.
+"""PrairieLearn (:mod:`raykit_grading.platforms.prairielearn`): the folder ``prairielearn -o``
+writes, PrairieLearn's results.json, and the image run as PrairieLearn's grader host runs it.
 
 The hostile suite's ``prairielearn`` way (tests/grading/test_grading_hostile.py) grades every
 attack through the same image; here: no secret in the image, the question's files, the
@@ -21,9 +21,9 @@ import pytest
 
 from conftest import REPO
 from mistaken_submissions import make_submission
-from raykit_grading import containers, prairielearn
-from raykit_grading.catalog import TESTS, VISIBLE
-from raykit_grading.seeds import HEADER, fingerprint, read_seed_file
+from raykit_grading.assignment.catalog import TESTS, VISIBLE
+from raykit_grading.assignment.seeds import HEADER, fingerprint, read_seed_file
+from raykit_grading.platforms import containers, prairielearn
 
 SEED = 20261123
 
@@ -52,7 +52,7 @@ def test_the_image_holds_no_secret_and_the_question_holds_the_seed_and_hidden_sc
     image_files = {p.relative_to(out / "grader-image").as_posix()
                    for p in (out / "grader-image").rglob("*") if p.is_file()}  # fmt: skip
     assert {"Dockerfile", "source/setup.sh", "source/run_prairielearn",
-            "source/grader-requirements.txt", "source/raykit_grading/prairielearn.py",
+            "source/grader-requirements.txt", "source/raykit_grading/platforms/prairielearn.py",
             "source/raykit/render.py", "source/scenes/classic.json"} <= image_files  # fmt: skip
     assert not any("hidden" in name or "grading-seed" in name for name in image_files)
     for path in (out / "grader-image").rglob("*"):
@@ -80,7 +80,7 @@ def test_where_no_registry_answers_the_guide_and_the_folder_name_a_local_base(tm
     on the Debian base try-zip uses, and --base-image makes that base the Dockerfile's own
     (the image built on it in the hostile suite's prairielearn way)."""
     readme = (_written(tmp_path / "hub") / "README.md").read_text()
-    assert "python -m raykit_grading.containers base-image" in readme
+    assert "python -m raykit_grading.platforms.containers base-image" in readme
     local = containers.DEBIAN_BASE
     assert f"docker build --build-arg BASE_IMAGE={local} -t course/raykit-grader:1" in readme
     out = _written(tmp_path / "local", "--base-image", local)
@@ -134,7 +134,7 @@ def test_hidden_tests_count_in_the_score_as_one_line_with_nothing_of_theirs():
 def test_a_picture_becomes_an_image_and_pictures_go_largest_first_past_the_limit():
     import numpy as np
 
-    from raykit_grading.results import html_output
+    from raykit_grading.grading.results import html_output
 
     rng = np.random.default_rng(7)
     small = html_output("3.6 text", np.zeros((8, 8, 3), np.uint8))
@@ -206,7 +206,9 @@ def pl_image(tmp_path_factory) -> tuple[str, Path]:
         pytest.skip(f"the PrairieLearn lane needs Docker: {problem}")
     base = os.environ.get("RAYKIT_CONTAINER_BASE", containers.DEBIAN_BASE)
     if not containers.image_exists(base):
-        pytest.skip(f"no base image {base} (python -m raykit_grading.containers base-image)")
+        pytest.skip(
+            f"no base image {base} (python -m raykit_grading.platforms.containers base-image)"
+        )
     folder = tmp_path_factory.mktemp("pl")
     out = prairielearn.write_course_files(folder / "pl", "course/raykit", SEED)
     try:

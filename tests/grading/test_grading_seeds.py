@@ -2,8 +2,8 @@
 every machine.
 
 A regrade must not change a grade: the graded inputs come from the assignment's seed file
-(raykit_grading/seeds.py), which every command finds in the assignment folder, the draw is the
-same on any processor and thread count, and results.json names the seed by a fingerprint
+(raykit_grading/assignment/seeds.py), which every command finds in the assignment folder, the draw
+is the same on any processor and thread count, and results.json names the seed by a fingerprint
 only."""
 
 import ast
@@ -21,9 +21,8 @@ import pytest
 
 from conftest import REPO
 from mistaken_submissions import make_submission
-from raykit_grading.catalog import TESTS, VISIBLE
-from raykit_grading.grade import Options, grade
-from raykit_grading.seeds import (
+from raykit_grading.assignment.catalog import TESTS, VISIBLE
+from raykit_grading.assignment.seeds import (
     HEADER,
     SeedFileError,
     assignment_seed,
@@ -32,6 +31,7 @@ from raykit_grading.seeds import (
     read_seed_file,
     seed_from_file,
 )
+from raykit_grading.grading.grade import Options, grade
 
 SEED = 20261126
 
@@ -104,7 +104,7 @@ MACHINE_DEPENDENT = {
 def test_the_draw_uses_no_blas_and_no_vectorised_transcendental_functions():
     """catalog.py draws the inputs: no ``@``, no np.dot / np.linalg.norm / np.sin ... in it
     (raykit.rays.dot and normalize sum left to right; np.sqrt is correctly rounded)."""
-    tree = ast.parse((REPO / "raykit_grading/catalog.py").read_text())
+    tree = ast.parse((REPO / "raykit_grading/assignment/catalog.py").read_text())
     found = []
     for node in ast.walk(tree):
         if isinstance(node, (ast.BinOp, ast.AugAssign)) and isinstance(node.op, ast.MatMult):
@@ -237,8 +237,8 @@ def test_assignment_seed_file_and_seed_override_the_search_in_that_order(tmp_pat
 def test_try_zip_names_the_zips_seed_and_warns_when_it_is_not_the_assignments(
     tmp_path, monkeypatch, capsys
 ):
-    from raykit_grading.autograder import build_zip
-    from raykit_grading.containers import say_seeds
+    from raykit_grading.platforms.containers import say_seeds
+    from raykit_grading.platforms.gradescope import build_zip
 
     monkeypatch.setenv("HOME", str(tmp_path))
     archive = build_zip(tmp_path / "autograder.zip", 7)
@@ -345,7 +345,7 @@ def test_the_borderline_submission_is_borderline_its_score_depends_on_the_seed(
 def test_batch_grades_every_student_under_one_seed_and_refuses_to_mix_in_another(
     tmp_path, child_python, borderline, capsys
 ):
-    from raykit_grading.batch import grade_folder
+    from raykit_grading.grading.batch import grade_folder
 
     students = tmp_path / "submissions"
     for name in ("ada", "bob"):
@@ -481,8 +481,8 @@ def test_run_autograder_grade_batch_and_prairielearn_score_a_submission_alike_wi
     job = tmp_path / "grade"  # laid out as PrairieLearn lays out /grade
     shutil.copytree(assignment / "prairielearn/questions/raykit/tests", job / "tests")
     shutil.copytree(borderline / "raykit", job / "student/raykit")
-    command("-c", "import sys; from raykit_grading.prairielearn import main; sys.exit(main())",
-            "job", job, "--only", *ONLY, python_option=True)  # fmt: skip
+    command("-c", "import sys; from raykit_grading.platforms.prairielearn import main; "
+            "sys.exit(main())", "job", job, "--only", *ONLY, python_option=True)  # fmt: skip
     on_prairielearn = json.loads((job / "results/results.json").read_text())
     assert on_prairielearn["gradable"] and on_prairielearn["extra_data"][
         "seed_fingerprint"

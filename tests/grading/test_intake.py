@@ -1,5 +1,6 @@
-"""What a batch takes in (raykit_grading.intake): every entry of a class is a student to grade or
-a reason why not, whatever the class comes as: folders, zips, Gradescope's export archive."""
+"""What a batch takes in (raykit_grading.grading.intake): every entry of a class is a student to
+grade or a reason why not, whatever the class comes as: folders, zips, Gradescope's export
+archive."""
 
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ import zipfile
 
 from gradescope_export import ASSIGNMENT, METADATA, make_export
 
-from raykit_grading.intake import entries, read_metadata
+from raykit_grading.grading.intake import entries, read_metadata
 
 
 def _student(folder):

@@ -225,7 +225,7 @@ def test_several_raykit_folders_are_not_guessed_between(make, message, tmp_path,
 def test_the_zip_the_student_readme_says_to_make_is_graded_as_it_is(tmp_path, child_python):
     """The release README's command, run where it says (the folder holding raykit/), makes a
     zip the grader takes without a note."""
-    from raykit_grading.release import STUDENT_README, ZIP_COMMAND
+    from raykit_grading.assignment.release import STUDENT_README, ZIP_COMMAND
 
     readme = STUDENT_README.format(functions="", zip_command=ZIP_COMMAND)
     assert f"```bash\n{ZIP_COMMAND}\n```" in readme
@@ -247,7 +247,7 @@ def test_a_zip_in_a_zip_is_held_to_the_same_bounds_and_names(tmp_path):
     """The inner zip is unpacked by the same rules: no name leaves the folder, no bomb."""
     import io
 
-    from raykit_grading.submissions import MAX_BYTES, SubmissionError, stage
+    from raykit_grading.grading.submissions import MAX_BYTES, SubmissionError, stage
 
     inflating = {"raykit/__init__.py": b""}
     inflating |= {f"raykit/big{i}.py": b"\0" * (MAX_BYTES // 2) for i in range(3)}

@@ -1,9 +1,9 @@
-"""Grading a class (:mod:`raykit_grading.intake`: folders, zips, Gradescope's export), a few
+"""Grading a class (:mod:`raykit_grading.grading.intake`: folders, zips, Gradescope's export), a few
 students at a time, into ``scores.csv`` and a class report.
 
     python -m raykit_grading batch SUBMISSIONS -o OUT/ [--jobs N] [--regrade]
 
-First a preflight (:func:`raykit_grading.grade.preflight`): if no sandbox can be made here,
+First a preflight (:func:`raykit_grading.grading.grade.preflight`): if no sandbox can be made here,
 nothing is graded and the command says why. Then each student is graded by a grader process of
 its own (``python -m raykit_grading grade``), with a time budget: a student whose grading
 hangs, crashes or cannot be done is that student's "could not grade" line, never the class's.
@@ -13,8 +13,8 @@ grader has finished (and all its sandboxes are gone), so a batch that is stopped
 has graded, and running it again grades only the students not graded yet.
 
 Every student is graded on the same inputs, drawn from the assignment's secret seed
-(:mod:`raykit_grading.seeds`: ``grading-seed`` in the assignment folder, found from the current
-folder or ``--assignment``, made there if there is none; or ``--seed-file``/``--seed``), the
+(:mod:`raykit_grading.assignment.seeds`: ``grading-seed`` in the assignment folder, found from the
+current folder or ``--assignment``, made there if there is none; or ``--seed-file``/``--seed``), the
 seed ``gradescope`` puts in the zip. An OUT/ graded before under another seed (its students'
 results.json name the fingerprint) is refused, naming both, unless ``--regrade``: one
 scores.csv never mixes two seeds' grades.
@@ -27,7 +27,7 @@ is a row. ``OUT/feedback/<student>/``: results.json, the visible tests'
 feedback pictures and the student's page (``index.html``), which may be handed to the student;
 ``OUT/hidden/<student>/``: the hidden tests' pictures, for the instructor only;
 ``OUT/report.html``: the class report
-(:mod:`raykit_grading.report`). The exit status says whether every submission was graded: 1
+(:mod:`raykit_grading.grading.report`). The exit status says whether every submission was graded: 1
 (and they are listed) if some submission could not be, 0 otherwise, a stray file beside them
 or a run that had no one left to grade included.
 """
@@ -45,11 +45,8 @@ from concurrent.futures import ThreadPoolExecutor, as_completed
 from pathlib import Path
 from zipfile import is_zipfile
 
-from raykit_grading.catalog import VISIBLE, by_name
-from raykit_grading.grade import GradingImpossible, Options, preflight
-from raykit_grading.intake import Entry, entries
-from raykit_grading.report import NOT_A_SUBMISSION, class_summary, write_report
-from raykit_grading.seeds import (
+from raykit_grading.assignment.catalog import VISIBLE, by_name
+from raykit_grading.assignment.seeds import (
     FILE_NAME,
     AssignmentSeed,
     SeedFileError,
@@ -57,6 +54,9 @@ from raykit_grading.seeds import (
     fingerprint,
     read_seed_file,
 )
+from raykit_grading.grading.grade import GradingImpossible, Options, preflight
+from raykit_grading.grading.intake import Entry, entries
+from raykit_grading.grading.report import NOT_A_SUBMISSION, class_summary, write_report
 
 NAMES_AS_BYTES = {"encoding": "utf-8", "errors": "surrogateescape"}  # folder names as they are
 DOES_NOT_IMPORT = "does not import"  # scores.csv's status (results.json says the error)
@@ -85,7 +85,7 @@ def grade_folder(
 ) -> int:
     """Grade every submission in ``submissions`` (a folder or a zip); returns the exit
     status. The seed: ``seed``, else ``seed_file``, else the assignment's
-    (:func:`raykit_grading.seeds.assignment_seed`)."""
+    (:func:`raykit_grading.assignment.seeds.assignment_seed`)."""
     options = options or Options()
     submissions = Path(submissions)
     if not submissions.is_dir() and not (submissions.is_file() and is_zipfile(submissions)):

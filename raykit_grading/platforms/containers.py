@@ -1,7 +1,7 @@
 """The autograder zip in a real container, as Gradescope builds and runs it.
 
     python -m raykit_grading try-zip autograder.zip SUBMISSION... [--base-image IMAGE]
-    python -m raykit_grading.containers base-image [--tag TAG] [--rootfs DIR]
+    python -m raykit_grading.platforms.containers base-image [--tag TAG] [--rootfs DIR]
 
 Gradescope builds one image per autograder: the zip extracted into ``/autograder/source``,
 ``run_autograder`` copied to ``/autograder/run_autograder``, ``setup.sh`` run there as root.
@@ -36,7 +36,7 @@ import zipfile
 from dataclasses import dataclass
 from pathlib import Path, PurePosixPath
 
-from raykit_grading.seeds import (
+from raykit_grading.assignment.seeds import (
     FILE_NAME,
     SeedFileError,
     assignment_seed,
@@ -525,7 +525,7 @@ def try_zip(
         print(f"raykit_grading: error: {exc}", file=sys.stderr)
         if base_image == GRADESCOPE_BASE:
             print(f"raykit_grading: where Docker Hub cannot be reached, make a Debian base "
-                  f"image (python -m raykit_grading.containers base-image) and pass "
+                  f"image (python -m raykit_grading.platforms.containers base-image) and pass "
                   f"--base-image {DEBIAN_BASE}", file=sys.stderr)  # fmt: skip
         return 3
     how = (
@@ -588,8 +588,8 @@ def say_seeds(archive: Path, assignment: Path | None) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """``python -m raykit_grading.containers base-image``: make the Debian base image."""
-    parser = argparse.ArgumentParser(prog="python -m raykit_grading.containers")
+    """``python -m raykit_grading.platforms.containers base-image``: make the Debian base image."""
+    parser = argparse.ArgumentParser(prog="python -m raykit_grading.platforms.containers")
     commands = parser.add_subparsers(dest="command", required=True)
     base = commands.add_parser("base-image", help="make a Debian base image with debootstrap")
     base.add_argument("--tag", default=DEBIAN_BASE)

@@ -1,8 +1,8 @@
 """One secret seed per assignment: every student, every command and every regrade get the same
 graded inputs.
 
-The graded inputs (:meth:`raykit_grading.catalog.GradingTest.graded_inputs`) are drawn from a
-seed, made once per assignment and kept in the instructor's *assignment folder* as
+The graded inputs (:meth:`raykit_grading.assignment.catalog.GradingTest.graded_inputs`) are drawn
+from a seed, made once per assignment and kept in the instructor's *assignment folder* as
 ``grading-seed`` (mode 600; only the instructor, and the grader as root, can read it). Every
 command that makes or grades the assignment (``release``, ``gradescope``, ``grade``, ``batch``,
 ``try-zip``) calls :func:`assignment_seed`, which finds it:

@@ -18,7 +18,7 @@ export that its YAML does not name is graded under its folder's name.
 
 What a zip holds is read with bounds (:data:`MAX_MEMBERS` files, :data:`MAX_BYTES` bytes per
 submission, names that stay inside, no links) and written as plain files into a scratch folder;
-each student's folder is then taken in by :func:`raykit_grading.submissions.stage` like any
+each student's folder is then taken in by :func:`raykit_grading.grading.submissions.stage` like any
 other, with its own checks. A student's zip is not opened here: it is graded as a folder
 holding that zip, which the staging unpacks as it does an upload.
 """

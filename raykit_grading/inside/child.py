@@ -2,10 +2,10 @@
 
     python -I -S child.py WORK_FOLDER
 
-runs inside the sandbox (:mod:`raykit_grading.sandbox`). It reads ``task.json`` and
+runs inside the sandbox (:mod:`raykit_grading.sandbox.base`). It reads ``task.json`` and
 ``inputs.npz`` from WORK_FOLDER (read-only), drops root if it has it, puts the submission and
 the allowed libraries (numpy, Pillow) on ``sys.path`` and nothing else, runs the task (from
-``tasks.py`` beside it, :mod:`raykit_grading.tasks`, loaded by its path), and writes the results
+``tasks.py`` beside it, :mod:`raykit_grading.kit.tasks`, loaded by its path), and writes the results
 as an ``.npz`` of plain arrays to a pipe the grader holds (never to a file: the grader reads
 nothing back from the sandbox's disk).
 """
@@ -36,7 +36,7 @@ def _drop_privileges(uid: int | None) -> None:
 
 
 def _tasks(work: Path) -> dict:
-    """:data:`raykit_grading.tasks.TASKS`, from the copy the grader put in the work folder (the
+    """:data:`raykit_grading.kit.tasks.TASKS`, from the copy the grader put in the work folder (the
     child runs isolated, ``-I``: no folder of its own is on its path)."""
     spec = importlib.util.spec_from_file_location("raykit_grading_tasks", work / "tasks.py")
     module = importlib.util.module_from_spec(spec)

@@ -1,7 +1,7 @@
 """Every resource a test can hold while it runs: counted against a budget, or refused.
 
-A test's code runs in one process (:mod:`raykit_grading.sandbox`). What it could hold is either
-refused by the sandbox's seccomp filter (:func:`raykit_grading.isolation.seccomp_filter`),
+A test's code runs in one process (:mod:`raykit_grading.sandbox.base`). What it could hold is either
+refused by the sandbox's seccomp filter (:func:`raykit_grading.sandbox.isolation.seccomp_filter`),
 bounded by a limit of that process, or counted by the grader while it runs (:class:`Watch`,
 every :data:`WATCH_SECONDS`): a test whose count passes its budget is stopped and scores 0,
 told which budget it passed. This is the arithmetic, in one place.
@@ -14,13 +14,13 @@ and ``Limits.processes`` (16) threads, whatever it does, and everything it holds
 process's.
 
 **Memory.** Where the grader runs in a container of L bytes (its cgroup's limit,
-:func:`raykit_grading.confine.container_limits`), L is shared three ways::
+:func:`raykit_grading.sandbox.confine.container_limits`), L is shared three ways::
 
     L = G + K + M          at Gradescope's L = 768 MB: 320 + 32 + 416
 
 * G = :data:`GRADER_MEMORY`, the grader's own. Its peak is measured and printed at the end of
   every grading (``the grader's peak memory: N MB of the 320 MB it keeps``); what it does with
-  what a test returns is bounded (:func:`raykit_grading.sandbox.read_returned`: 16 arrays,
+  what a test returns is bounded (:func:`raykit_grading.sandbox.base.read_returned`: 16 arrays,
   16 MB). What the grader does not use of G is the room for what a test can add between two of
   the grader's looks (below).
 * K = :func:`kernel_share`, rounded up to a whole 16 MB: what the test's process can make the
@@ -58,8 +58,8 @@ it was killed, and prints the count at the end of every grading.
 
 **Disk.** A test may write in its ``tmp/`` only, and hold there at once at most
 ``DiskBudget`` (64 MB of blocks, 4,096 entries, folders 32 deep): the files it can name
-(:func:`raykit_grading.leftovers.measure`, a walk of ``tmp/``) and the files with no name that
-its process holds (:func:`nameless_bytes`: through a descriptor, a file unlinked while open,
+(:func:`raykit_grading.sandbox.leftovers.measure`, a walk of ``tmp/``) and the files with no name
+that its process holds (:func:`nameless_bytes`: through a descriptor, a file unlinked while open,
 its blocks counted; through a mapping alone, counted as the largest a file may be, since the
 grader cannot measure it). ``O_TMPFILE`` is refused (EOPNOTSUPP: Python's ``tempfile`` then
 unlinks a named file, which is counted), ``fallocate`` is refused, sparse files cost what
@@ -85,7 +85,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
-from raykit_grading.leftovers import DiskBudget, measure
+from raykit_grading.sandbox.leftovers import DiskBudget, measure
 
 GRADER_MEMORY = 320 * 2**20  # G: what the grader itself may need beside one test
 CHILD_MEMORY_FLOOR = 256 * 2**20  # below this a test cannot render; the grader says so

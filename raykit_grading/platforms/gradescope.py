@@ -6,16 +6,16 @@ Gradescope extracts the zip into ``/autograder/source``, copies ``run_autograder
 ``/autograder/run_autograder``, and runs ``setup.sh`` once, as root, when it builds the image.
 So the zip's top holds exactly what ``/autograder/source`` is to hold: ``setup.sh``,
 ``run_autograder``, ``grader-requirements.txt``, ``grading-seed`` (a copy of the assignment's
-secret seed, :mod:`raykit_grading.seeds`: every submission and every regrade is graded on the
-inputs drawn from it, as ``grade`` and ``batch`` grade in the assignment folder), the grader,
+secret seed, :mod:`raykit_grading.assignment.seeds`: every submission and every regrade is graded on
+the inputs drawn from it, as ``grade`` and ``batch`` grade in the assignment folder), the grader,
 the reference raykit, the scenes and the hidden scenes.
 
-* ``setup.sh`` installs bubblewrap (the sandbox, :mod:`raykit_grading.isolation`), and a Python
-  (``/opt/raykit-grader``) with what ``grader-requirements.txt`` pins and nothing else: the
+* ``setup.sh`` installs bubblewrap (the sandbox, :mod:`raykit_grading.sandbox.isolation`), and a
+  Python (``/opt/raykit-grader``) with what ``grader-requirements.txt`` pins and nothing else: the
   references are computed with it at grading time, and submissions run on the same interpreter,
   inside the sandbox, which shows them numpy and Pillow only. The pins are the repository's,
   not the builder's: each has wheels for the Python of every base image Gradescope offers.
-  It builds the chroot sandbox's tree (:mod:`raykit_grading.confine`), used where Docker's
+  It builds the chroot sandbox's tree (:mod:`raykit_grading.sandbox.confine`), used where Docker's
   default confinement refuses bubblewrap its namespaces (as on Gradescope), and closes
   ``/autograder/source`` to everyone but root.
 * ``run_autograder`` grades ``/autograder/submission`` (a folder or a zip in it) under the
@@ -36,8 +36,8 @@ from __future__ import annotations
 import zipfile
 from pathlib import Path
 
-from raykit_grading.catalog import REPO
-from raykit_grading.seeds import HEADER, new_seed
+from raykit_grading.assignment.catalog import REPO
+from raykit_grading.assignment.seeds import HEADER, new_seed
 
 SETUP = """#!/usr/bin/env bash
 # Gradescope runs this once, as root, in /autograder/source (this zip's contents), when it
@@ -52,7 +52,7 @@ python3 -m venv /opt/raykit-grader
   -r "$source/{requirements}"
 chmod -R a+rX /opt/raykit-grader
 # the chroot sandbox's tree, made now so that no grading pays for it
-PYTHONPATH="$source" /opt/raykit-grader/bin/python -m raykit_grading.confine
+PYTHONPATH="$source" /opt/raykit-grader/bin/python -m raykit_grading.sandbox.confine
 # submissions run in a sandbox, as an unprivileged uid (50000-59999): none of this is in it
 chmod 700 "$source"
 # the assignment's secret seed, root's alone (PrairieLearn's image has none: the seed comes
@@ -84,7 +84,7 @@ exit "$status"
 """
 
 
-REQUIREMENTS = Path(__file__).with_name("grader-requirements.txt")
+REQUIREMENTS = Path(__file__).parents[1] / "grader-requirements.txt"
 GRADER_FOLDERS = ("raykit", "raykit_grading", "scenes")  # what every grader image holds
 HIDDEN_FOLDER = "grading/hidden-scenes"  # secret: in Gradescope's zip, never in a public image
 
@@ -106,8 +106,8 @@ def grader_files(folders: tuple[str, ...] = GRADER_FOLDERS):
 
 def build_zip(out: Path, seed: int | None = None) -> Path:
     """Write the autograder zip to ``out``, grading under ``seed``: the assignment's (the
-    command passes :func:`raykit_grading.seeds.assignment_seed`'s); None draws one that only
-    this zip holds."""
+    command passes :func:`raykit_grading.assignment.seeds.assignment_seed`'s); None draws one that
+    only this zip holds."""
     out = Path(out)
     seed = new_seed() if seed is None else seed
     with zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as archive:

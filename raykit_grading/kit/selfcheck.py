@@ -12,7 +12,7 @@ in a browser.
 
 The grader runs the same kinds of test on inputs it draws fresh each time, plus hidden tests:
 passing here is a good sign, not the grade. (This file is copied into the starter kit from
-``raykit_grading/selfcheck.py``.)
+``raykit_grading/kit/selfcheck.py``.)
 """
 
 from __future__ import annotations

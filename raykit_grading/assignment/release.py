@@ -5,7 +5,7 @@
 writes a folder students can ``pip install -e`` and test with ``python -m pytest``:
 
 * ``raykit/``: every ``# BEGIN SOLUTION`` region replaced by a NotImplementedError with its
-  hint (:mod:`raykit_grading.markers`); everything else as in the solution.
+  hint (:mod:`raykit_grading.assignment.markers`); everything else as in the solution.
 * ``scenes/``: the example scenes and their textures.
 * ``tests/``: the visible grading tests, each with its inputs and the reference results (and,
   for renders, the reference image as a PNG to look at), checked by the same task code and
@@ -22,10 +22,21 @@ from pathlib import Path
 import numpy as np
 
 from raykit.io.images import quantize, save_image
-from raykit_grading import tasks
-from raykit_grading.cases import located
-from raykit_grading.catalog import REPO, STAGE1, STAGE2, STAGE3, STAGE4, STAGE5, TESTS, VISIBLE
-from raykit_grading.markers import strip_solutions
+from raykit_grading import kit
+from raykit_grading.assignment.catalog import (
+    REPO,
+    STAGE1,
+    STAGE2,
+    STAGE3,
+    STAGE4,
+    STAGE5,
+    TESTS,
+    VISIBLE,
+)
+from raykit_grading.assignment.markers import strip_solutions
+from raykit_grading.assignment.references import array_mistakes, expected
+from raykit_grading.kit import tasks
+from raykit_grading.kit.cases import located
 
 VISIBLE_TESTS = '''"""The visible grading tests: your functions against the reference results.
 
@@ -168,6 +179,17 @@ def _by_stage(functions: list[str]) -> str:
     return "\n\n".join(f"### {stage}\n\n" + "\n".join(lines) for stage, lines in grouped.items())
 
 
+# what ships to students is raykit_grading/kit/ as it is: its self-check as check.py, the rest
+# as tests/_grading/ (the name they import each other by there)
+KIT = Path(kit.__file__).parent
+SELF_CHECK = "selfcheck.py"
+
+
+def kit_modules() -> list[Path]:
+    """The kit's modules that the release copies into ``tests/_grading/``."""
+    return sorted(p for p in KIT.glob("*.py") if p.name not in ("__init__.py", SELF_CHECK))
+
+
 # the compiled engine repeats the solutions in machine code: students render with their own
 NOT_RELEASED = {REPO / "raykit/engine/compiled"}  # the package, and all in it
 
@@ -198,7 +220,7 @@ def build_release(out: Path, progress=None) -> list[str]:
     )
     (out / "pyproject.toml").write_text(_student_pyproject())
     _visible_tests(out / "tests", progress)
-    shutil.copy(Path(__file__).with_name("selfcheck.py"), out / "check.py")
+    shutil.copy(KIT / SELF_CHECK, out / "check.py")
     functions = _by_stage(stubbed)
     readme = STUDENT_README.format(functions=functions, zip_command=ZIP_COMMAND)
     (out / "README.md").write_text(readme)
@@ -254,8 +276,8 @@ def _visible_tests(tests: Path, progress=None) -> None:
     helpers = tests / "_grading"
     helpers.mkdir(parents=True)
     (helpers / "__init__.py").write_text("")
-    for name in ("cases.py", "tasks.py", "compare.py"):
-        shutil.copy(Path(__file__).with_name(name), helpers / name)
+    for module in kit_modules():
+        shutil.copy(module, helpers / module.name)
     (tests / "test_visible.py").write_text(VISIBLE_TESTS)
     (tests / "conftest.py").write_text(
         "import sys\nfrom pathlib import Path\n\nsys.path.insert(0, str(Path(__file__).parent))\n"
@@ -305,8 +327,7 @@ def _callees(test, spec: dict, arrays: dict, folder: Path) -> list[dict]:
 
 
 def _mistake_pictures(test, right: np.ndarray, folder: Path) -> None:
-    from raykit_grading.grade import expected
-    from raykit_grading.mistakes import MISTAKES
+    from raykit_grading.assignment.mistakes import MISTAKES
 
     says = {}
     (folder / "mistakes").mkdir()
@@ -323,9 +344,8 @@ def _mistake_pictures(test, right: np.ndarray, folder: Path) -> None:
 def _mistake_results(test, want: dict, folder: Path) -> None:
     """``mistakes/<key>.npz``: the results of each classic mistake that changes this array
     test's results, and ``mistakes.json`` saying what each is."""
-    from raykit_grading.compare import judge_arrays
-    from raykit_grading.grade import array_mistakes
-    from raykit_grading.mistakes import MISTAKES
+    from raykit_grading.assignment.mistakes import MISTAKES
+    from raykit_grading.kit.compare import judge_arrays
 
     says = {}
     where = {m.says: m for m in MISTAKES}

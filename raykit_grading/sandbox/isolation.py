@@ -16,8 +16,8 @@ Every task runs in a sandbox made by bubblewrap (``bwrap``, Debian/Ubuntu packag
 * **network** (none but a loopback of its own), **ipc** and **uts**.
 
 As root (Gradescope), bwrap needs no user namespace; the child's first act (in
-:mod:`raykit_grading.child`, before any submitted code is imported) is to drop to a uid of its
-own for that one task, leased from :class:`UidPool` under a lock so that two graders on one
+:mod:`raykit_grading.inside.child`, before any submitted code is imported) is to drop to a uid of
+its own for that one task, leased from :class:`UidPool` under a lock so that two graders on one
 machine never share one. As a normal user, bwrap makes a user namespace (no privilege needed)
 and the child stays the grader's uid, but inside the namespaces above.
 
@@ -31,7 +31,7 @@ a uid's keyring outlives its processes and would carry a hidden test's data to a
 student), and ``bpf``, ``perf_event_open``, ``userfaultfd``, ``io_uring_*``, module and kexec
 loading; and any call of another architecture's numbering (32-bit or x32 calls on x86_64). It
 also keeps a test to one process holding only what its limits and the grader's counts bound
-(:mod:`raykit_grading.budgets`): no second process, no socket, no ``O_TMPFILE``, no epoll,
+(:mod:`raykit_grading.sandbox.budgets`): no second process, no socket, no ``O_TMPFILE``, no epoll,
 inotify, fanotify or AIO, no record lock, no pipe enlarged.
 The tree is mounted read-only but for ``/tmp``, so the child can fill no memory-backed folder.
 
@@ -153,11 +153,11 @@ def _shared_libraries(binaries: list[str], packages: list[str]) -> tuple[tuple[s
 # to writing); statfs and fstatfs show the free space and inodes of a file system other tests
 # share, a count another test's leftovers would change.
 #
-# And what would hold kernel memory that no limit of a process counts (raykit_grading.budgets
-# does the sum of what is left): sockets of every family (a socket's buffers hold up to
-# 2 x net.core.wmem_max each, and a unix socket carries open files with no process holding
-# them), a second process (fork and vfork; clone only as a thread, below), epoll and inotify
-# instances (an epoll's watches multiply descriptors by descriptors), fanotify, and AIO
+# And what would hold kernel memory that no limit of a process counts
+# (raykit_grading.sandbox.budgets does the sum of what is left): sockets of every family (a socket's
+# buffers hold up to 2 x net.core.wmem_max each, and a unix socket carries open files with no
+# process holding them), a second process (fork and vfork; clone only as a thread, below), epoll and
+# inotify instances (an epoll's watches multiply descriptors by descriptors), fanotify, and AIO
 # contexts (io_setup).
 SECCOMP_ARCHES = {
     "x86_64": (0xC000003E, {

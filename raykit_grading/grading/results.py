@@ -20,8 +20,8 @@ from pathlib import Path
 
 import numpy as np
 
-from raykit_grading.catalog import TESTS, VISIBLE, GradingTest
-from raykit_grading.compare import feedback_html
+from raykit_grading.assignment.catalog import TESTS, VISIBLE, GradingTest
+from raykit_grading.kit.compare import feedback_html
 
 OUTPUT_LIMIT = 4000  # characters of text per test (pictures come on top, as HTML)
 

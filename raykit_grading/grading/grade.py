@@ -1,15 +1,15 @@
 """Grading one submission: every test of the catalog, in a sandbox, into Gradescope's results.
 
-The submission is first staged (:mod:`raykit_grading.submissions`: plain files only, links
-and special files left out) into a private workspace (:mod:`raykit_grading.workspace`), then a
-sandbox is checked to work (:meth:`Sandbox.check`) before any test runs. Each test draws its
-inputs from the assignment's secret seed (:mod:`raykit_grading.seeds`;
+The submission is first staged (:mod:`raykit_grading.grading.submissions`: plain files only, links
+and special files left out) into a private workspace (:mod:`raykit_grading.sandbox.workspace`), then
+a sandbox is checked to work (:meth:`Sandbox.check`) before any test runs. Each test draws its
+inputs from the assignment's secret seed (:mod:`raykit_grading.assignment.seeds`;
 :meth:`GradingTest.graded_inputs`: nothing shipped to students answers it, and a regrade gets
 the same inputs), runs the submission's code on them in a sandbox of its own, and compares what
 comes back with the same task run here by the reference raykit: arrays within a tolerance,
-renders with :mod:`raykit_grading.compare`; a render that is not right is also compared with
-the classic mistakes (:mod:`raykit_grading.mistakes`), and a mistake found there costs that
-test its points (a systematic mistake is not float noise), saying why.
+renders with :mod:`raykit_grading.kit.compare`; a render that is not right is also compared with
+the classic mistakes (:mod:`raykit_grading.assignment.mistakes`), and a mistake found there costs
+that test its points (a systematic mistake is not float noise), saying why.
 
 A test that fails, for whatever reason, fails alone: every other test keeps its score. If the
 grader itself fails on a test, that test says so ("not graded"), the others are graded, and
@@ -25,12 +25,11 @@ nothing of a hidden test: the top output sums the visible tests only, and
 ``execution_time`` is the time up to the last visible test (every hidden test runs after
 them). At the end the grader says on stderr (Gradescope's stdout, which students do not see)
 its own peak memory and how often the container's OOM killer fired while it graded
-(:mod:`raykit_grading.budgets`).
+(:mod:`raykit_grading.sandbox.budgets`).
 """
 
 from __future__ import annotations
 
-import functools
 import json
 import os
 import re
@@ -43,19 +42,17 @@ from pathlib import Path
 import numpy as np
 
 from raykit.io.images import quantize, save_image
-from raykit_grading import tasks
-from raykit_grading.budgets import GRADER_MEMORY, grader_peak
-from raykit_grading.catalog import HIDDEN_SCENES, SCENES, TESTS, VISIBLE, GradingTest, by_name
-from raykit_grading.compare import (
-    DEFAULT_SCORING,
-    Scoring,
-    describe_inputs,
-    judge_arrays,
-    judge_image,
+from raykit_grading.assignment.catalog import (
+    HIDDEN_SCENES,
+    SCENES,
+    VISIBLE,
+    GradingTest,
+    by_name,
 )
-from raykit_grading.isolation import IsolationUnavailable
-from raykit_grading.mistakes import MISTAKES
-from raykit_grading.results import (
+from raykit_grading.assignment.mistakes import MISTAKES
+from raykit_grading.assignment.references import array_mistakes, expected
+from raykit_grading.assignment.seeds import fingerprint, new_seed
+from raykit_grading.grading.results import (
     NOT_IMPORTED,
     html_output,
     not_graded_results,
@@ -64,10 +61,19 @@ from raykit_grading.results import (
     withheld,
     write_results,
 )
-from raykit_grading.sandbox import Limits, Sandbox
-from raykit_grading.seeds import fingerprint, new_seed
-from raykit_grading.submissions import SubmissionError, stage
-from raykit_grading.workspace import Workspace
+from raykit_grading.grading.submissions import SubmissionError, stage
+from raykit_grading.kit import tasks
+from raykit_grading.kit.compare import (
+    DEFAULT_SCORING,
+    Scoring,
+    describe_inputs,
+    judge_arrays,
+    judge_image,
+)
+from raykit_grading.sandbox.base import Limits, Sandbox
+from raykit_grading.sandbox.budgets import GRADER_MEMORY, grader_peak
+from raykit_grading.sandbox.isolation import IsolationUnavailable
+from raykit_grading.sandbox.workspace import Workspace
 
 TOTAL_SECONDS = 480.0  # what all of one submission's tests may take together
 
@@ -343,17 +349,6 @@ CALLERS = {
 }
 
 
-def array_mistakes(test: GradingTest, seed: int | None):
-    """(what it says, the results, where it is made) of each classic mistake on this test's
-    draw; a mistake the reference cannot make here (it fails) is left out."""
-    for mistake in MISTAKES:
-        try:
-            results = expected(test.name, seed, mistake.key)
-        except Exception:  # noqa: BLE001 - a patch that does not fit this task
-            continue
-        yield mistake.says, results, mistake.where
-
-
 def _callees(sandbox, test, spec, arrays, files, deadline, options) -> list:
     """(name, the submission's results or None, the reference's) of each function the test's
     function calls, run on the same inputs."""
@@ -373,36 +368,6 @@ def _callees(sandbox, test, spec, arrays, files, deadline, options) -> list:
         want = tasks.TASKS[callee.task](json.loads(json.dumps(their_spec)), their_arrays)
         found.append((callee.name, ran.outputs, {k: np.asarray(v) for k, v in want.items()}))
     return found
-
-
-@functools.cache
-def expected(test_name: str, seed: int | None, mistake: str | None = None) -> dict:
-    """The reference results of a test's draw (``seed`` None: the public draw), optionally
-    with a classic mistake made."""
-    test = next(t for t in TESTS if t.name == test_name)
-    spec, arrays, files = test.public_inputs() if seed is None else test.graded_inputs(seed)
-    return reference_results(test, spec, arrays, files, mistake)
-
-
-def reference_results(test: GradingTest, spec, arrays, files, mistake: str | None = None):
-    """``test``'s task run here by the reference raykit on these inputs."""
-    spec = json.loads(json.dumps(spec))
-    with tempfile.TemporaryDirectory() as folder:
-        if "folder" in spec:  # the reference reads the textures where the child would
-            for relative, source in files.items():
-                target = Path(folder) / relative
-                target.parent.mkdir(parents=True, exist_ok=True)
-                target.write_bytes(source.read_bytes())
-            spec["folder"] = str(Path(folder) / spec["folder"])
-        if mistake is None:
-            return tasks.TASKS[test.task](spec, arrays)
-        wrong = next(m for m in MISTAKES if m.key == mistake)
-        image = test.kind == "image"
-        with wrong.active(arrays=not image):
-            outputs = tasks.TASKS[test.task](spec, arrays)
-        if not image:
-            return {k: np.asarray(v) for k, v in outputs.items()}
-        return {k: wrong.after(v) for k, v in outputs.items()}
 
 
 def _image_result(

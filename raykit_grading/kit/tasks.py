@@ -2,7 +2,7 @@
 inputs, arrays out.
 
 The same :data:`TASKS` run in the grader with the reference raykit, to make the expected
-results, and in the sandbox's child (:mod:`raykit_grading.child`) with the submission's; so a
+results, and in the sandbox's child (:mod:`raykit_grading.inside.child`) with the submission's; so a
 task is written once and means the same on both sides. This file imports only numpy and raykit,
 and only inside the tasks, so it imports whichever raykit comes first on the path: in the
 child, the submission's. The child loads it from its work folder by path; the starter kit

@@ -7,8 +7,8 @@ writes what a course needs (``DIR/README.md`` says the steps):
 
 * ``DIR/grader-image/``: a ``Dockerfile`` (its base the ``BASE_IMAGE`` build argument, default
   :data:`DEFAULT_BASE`, or ``--base-image``: where Docker Hub cannot be reached, the Debian
-  base image ``python -m raykit_grading.containers base-image`` makes, as for ``try-zip``)
-  and ``source/``, the same pieces as Gradescope's zip (:mod:`raykit_grading.autograder`:
+  base image ``python -m raykit_grading.platforms.containers base-image`` makes, as for ``try-zip``)
+  and ``source/``, the same pieces as Gradescope's zip (:mod:`raykit_grading.platforms.gradescope`:
   ``setup.sh``, the pinned requirements, the grader, the reference raykit, the scenes) and
   the entrypoint ``run_prairielearn``. PrairieLearn pulls images from Docker Hub, so the
   image may be public: it holds **neither the seed nor the hidden scenes**. ``setup.sh``
@@ -21,7 +21,7 @@ writes what a course needs (``DIR/README.md`` says the steps):
   not readable by students; PrairieLearn mounts ``tests/`` at ``/grade/tests`` for each job.
 
 PrairieLearn runs the entrypoint as root in a fresh container per submission: Docker's default
-confinement (no namespaces, so the chroot sandbox of :mod:`raykit_grading.confine`), no
+confinement (no namespaces, so the chroot sandbox of :mod:`raykit_grading.sandbox.confine`), no
 network, ``/grade`` laid out as its external-grading docs say. :func:`run_job` grades
 ``/grade/student`` with the seed and hidden scenes of ``/grade/tests`` and writes
 ``/grade/results/results.json`` in PrairieLearn's format (:func:`to_prairielearn`):
@@ -54,10 +54,18 @@ import tempfile
 import uuid
 from pathlib import Path
 
-from raykit_grading.autograder import HIDDEN_FOLDER, grader_files, setup_script
-from raykit_grading.catalog import HIDDEN_SCENES, REPO, VISIBLE
-from raykit_grading.results import split_html_output, write_results
-from raykit_grading.seeds import HEADER, SeedFileError, fingerprint, new_seed, read_seed_file
+from raykit_grading.assignment.catalog import HIDDEN_SCENES, REPO, VISIBLE
+from raykit_grading.assignment.seeds import (
+    HEADER,
+    SeedFileError,
+    fingerprint,
+    new_seed,
+    read_seed_file,
+)
+from raykit_grading.grading.grade import grade_to_file
+from raykit_grading.grading.options import add_grading_arguments, grading_options
+from raykit_grading.grading.results import split_html_output, write_results
+from raykit_grading.platforms.gradescope import HIDDEN_FOLDER, grader_files, setup_script
 
 SUBMITTED_FILE = "raykit.zip"
 TAKEN = {SUBMITTED_FILE, "raykit"}  # the upload, or the folder a workspace question grades
@@ -104,7 +112,8 @@ rm -f "$results"
 # RAYKIT_GRADE_OPTIONS (e.g. "--only 3.6 --wall-seconds 5") is for testing this script
 # shellcheck disable=SC2086
 (cd "$source" && PYTHONPATH="$source" timeout --kill-after=10 {STOP_SECONDS} \\
-  "$grader_python" -m raykit_grading.prairielearn job "$grade" ${{RAYKIT_GRADE_OPTIONS:-}})
+  "$grader_python" -m raykit_grading.platforms.prairielearn job "$grade" \\
+  ${{RAYKIT_GRADE_OPTIONS:-}})
 status=$?
 if [ ! -s "$results" ]; then  # the grader did not finish: say so, never a silent zero
   why="the grader could not run (exit status $status)"
@@ -174,7 +183,7 @@ Written by `python -m raykit_grading prairielearn -o {out}` (grading seed {finge
    (as root, with `debootstrap` installed) and build on it:
 
    ```bash
-   python -m raykit_grading.containers base-image      # {local_base}
+   python -m raykit_grading.platforms.containers base-image      # {local_base}
    docker build --build-arg BASE_IMAGE={local_base} -t {image} {out}/grader-image
    ```
 
@@ -198,7 +207,7 @@ def write_course_files(
 ) -> Path:
     """Write ``out``: the grader image's build folder (on the base image ``base`` unless the
     build says another), the question and the README, the question grading under ``seed``:
-    the assignment's (the command passes :func:`raykit_grading.seeds.assignment_seed`'s);
+    the assignment's (the command passes :func:`raykit_grading.assignment.seeds.assignment_seed`'s);
     None draws one that only this question holds."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
@@ -253,7 +262,7 @@ def not_gradable(message: str, format_errors: list[str] | None = None) -> dict:
 
 
 def to_prairielearn(graded: dict, status: int = 0) -> dict:
-    """The grader's results (Gradescope's format, :mod:`raykit_grading.results`) in
+    """The grader's results (Gradescope's format, :mod:`raykit_grading.grading.results`) in
     PrairieLearn's: see the module's docstring. ``status``: the ``grade`` command's."""
     if status != 0:
         return not_gradable(
@@ -344,63 +353,71 @@ def submission_problems(student: Path) -> list[str]:
     return problems
 
 
-def prepare_secrets(tests: Path, private: Path) -> tuple[Path | None, str]:
-    """Copy the question's seed into ``private`` and its hidden scenes to where the grader
-    reads them; (the seed's copy, "") or (None, why not)."""
-    seed_path = tests / SEED_NAME
+def prepare_secrets(tests: Path) -> tuple[int | None, str]:
+    """The question's seed, its hidden scenes put where the grader reads them: (the seed, "")
+    or (None, why not)."""
     try:
-        seed = read_seed_file(seed_path)
+        seed = read_seed_file(tests / SEED_NAME)
     except SeedFileError as exc:
         return None, f"the question's tests/ has no usable grading seed ({exc})"
-    copy = private / SEED_NAME
-    copy.write_text(f"{HEADER}{seed}\n")
-    copy.chmod(0o600)
     scenes = tests / HIDDEN_NAME
     if not HIDDEN_SCENES.is_dir():  # in the image (a clone has its own)
         if not scenes.is_dir():
             return None, f"the question's tests/ has no {HIDDEN_NAME}/"
         shutil.copytree(scenes, HIDDEN_SCENES)
-    return copy, ""
+    return seed, ""
+
+
+def job_parser() -> argparse.ArgumentParser:
+    """``job GRADE_ROOT`` and the grading options (:mod:`raykit_grading.grading.options`)."""
+    parser = argparse.ArgumentParser(prog="python -m raykit_grading.platforms.prairielearn")
+    commands = parser.add_subparsers(dest="command", required=True)
+    job = commands.add_parser("job", help="grade a PrairieLearn job folder (/grade)")
+    job.add_argument("grade_root", type=Path)
+    add_grading_arguments(job, TOTAL_SECONDS)
+    return parser
 
 
 def run_job(grade_root: Path, options: list[str]) -> int:
-    """Grade ``grade_root/student`` into ``grade_root/results/results.json``; the ``grade``
-    command's exit status (results.json is written whatever it is)."""
-    from raykit_grading.__main__ import main as command
+    """Grade ``grade_root/student`` into ``grade_root/results/results.json`` with the grading
+    ``options`` (as a command line gives them); the exit status of
+    :func:`~raykit_grading.grading.grade.grade_to_file` (results.json is written whatever it
+    is)."""
+    parser = job_parser()
+    return _grade_job(parser.parse_args(["job", str(grade_root), *options]), parser)
 
-    grade_root = Path(grade_root)
-    results = grade_root / "results" / "results.json"
-    problems = submission_problems(grade_root / "student")
+
+def _grade_job(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
+    grading = grading_options(args, parser)
+    results = args.grade_root / "results" / "results.json"
+    problems = submission_problems(args.grade_root / "student")
     if problems:
         write_results(not_gradable("The submission is not in the shape asked for.", problems),
                       results)  # fmt: skip
         return 0
+    seed, why = prepare_secrets(args.grade_root / "tests")
+    if seed is None:
+        print(f"raykit_grading: error: {why}", file=sys.stderr)
+        write_results(not_gradable(f"NOT GRADED: {why}; ask your instructor"), results)
+        return 3
     with tempfile.TemporaryDirectory(prefix="raykit-pl-") as private:
-        seed_file, why = prepare_secrets(grade_root / "tests", Path(private))
-        if seed_file is None:
-            print(f"raykit_grading: error: {why}", file=sys.stderr)
-            write_results(not_gradable(f"NOT GRADED: {why}; ask your instructor"), results)
-            return 3
         graded_path = Path(private) / "graded.json"
-        status = command(["grade", str(grade_root / "student"), "-o", str(graded_path),
-                          "--seed-file", str(seed_file), "--total-seconds",
-                          str(TOTAL_SECONDS), *options])  # fmt: skip
-        if not graded_path.is_file():  # bad options: said by argparse
-            write_results(not_gradable("NOT GRADED: the grader did not run"), results)
-            return status or 3
+        status = grade_to_file(
+            args.grade_root / "student",
+            graded_path,
+            names=args.only,
+            seed=seed if args.seed is None else args.seed,
+            options=grading,
+        )
         write_results(to_prairielearn(json.loads(graded_path.read_text()), status), results)
     return status
 
 
 def main(argv: list[str] | None = None) -> int:
-    """``python -m raykit_grading.prairielearn job GRADE_ROOT [grade's options]``: what the
-    image's entrypoint runs."""
-    parser = argparse.ArgumentParser(prog="python -m raykit_grading.prairielearn")
-    commands = parser.add_subparsers(dest="command", required=True)
-    job = commands.add_parser("job", help="grade a PrairieLearn job folder (/grade)")
-    job.add_argument("grade_root", type=Path)
-    args, options = parser.parse_known_args(argv)
-    return run_job(args.grade_root, options)
+    """``python -m raykit_grading.platforms.prairielearn job GRADE_ROOT [grading options]``:
+    what the image's entrypoint runs."""
+    parser = job_parser()
+    return _grade_job(parser.parse_args(argv), parser)
 
 
 if __name__ == "__main__":

@@ -1,8 +1,8 @@
 """Running one task of a submission in a sandbox, and taking back what it returns as untrusted.
 
-Each task runs in a fresh child (:mod:`raykit_grading.child`) inside a sandbox of its own
-(:mod:`raykit_grading.isolation`: it sees only the Python it runs on, numpy, Pillow, the staged
-submission and that task's read-only work folder; no network; nothing outlives the task). The
+Each task runs in a fresh child (:mod:`raykit_grading.inside.child`) inside a sandbox of its own
+(:mod:`raykit_grading.sandbox.isolation`: it sees only the Python it runs on, numpy, Pillow, the
+staged submission and that task's read-only work folder; no network; nothing outlives the task). The
 child gets:
 
 * Python in isolated mode without ``site`` (``-I -S -B``): its path is the submission, then
@@ -10,8 +10,8 @@ child gets:
 * limits (:class:`Limits`): wall-clock time (then the whole sandbox is killed), CPU seconds,
   address space, threads (it is one process: the seccomp filter refuses a second), open
   files, the size of a file, queued signals, no cores; and the budgets the grader counts
-  while it runs (:mod:`raykit_grading.budgets`: memory with page tables, disk in its ``tmp/``
-  with the files it holds that have no name, the container's memory), past which it is
+  while it runs (:mod:`raykit_grading.sandbox.budgets`: memory with page tables, disk in its
+  ``tmp/`` with the files it holds that have no name, the container's memory), past which it is
   stopped.
 * a work folder of its own, made for that task and removed after it: a hidden test's inputs
   are never where a later (visible) test's child could find them.
@@ -46,8 +46,8 @@ from pathlib import Path
 
 import numpy as np
 
-from raykit_grading import confine
-from raykit_grading.budgets import (
+from raykit_grading.sandbox import confine
+from raykit_grading.sandbox.budgets import (
     SIGNALS_PENDING,
     WATCH_SECONDS,
     ContainerMemory,
@@ -56,7 +56,7 @@ from raykit_grading.budgets import (
     kernel_share,
     memory_budget,
 )
-from raykit_grading.isolation import (
+from raykit_grading.sandbox.isolation import (
     SITE,
     WORK,
     IsolationUnavailable,
@@ -67,11 +67,12 @@ from raykit_grading.isolation import (
     sandbox_arguments,
     seccomp_filter,
 )
-from raykit_grading.leftovers import DiskBudget, Removal, measure, remove_tree
-from raykit_grading.workspace import quarantine
+from raykit_grading.sandbox.leftovers import DiskBudget, Removal, measure, remove_tree
+from raykit_grading.sandbox.workspace import quarantine
 
-CHILD_SCRIPT = Path(__file__).with_name("child.py")
-TASKS_SCRIPT = Path(__file__).with_name("tasks.py")  # the child loads it by path
+GRADER = Path(__file__).parents[1]
+CHILD_SCRIPT = GRADER / "inside" / "child.py"
+TASKS_SCRIPT = GRADER / "kit" / "tasks.py"  # the child loads it by path
 OUTPUT_EXCERPT = 2000
 KINDS = ("bubblewrap", "chroot")  # strongest first; RAYKIT_SANDBOX=KIND asks for one
 # how many generations below the process the sandbox starts the test's own process is
@@ -84,7 +85,7 @@ class Limits:
 
     wall_seconds: float = 20.0
     cpu_seconds: int = 20
-    memory_bytes: int = 2 * 1024**3  # M of raykit_grading.budgets: cut to fit the container
+    memory_bytes: int = 2 * 1024**3  # M of raykit_grading.sandbox.budgets: cut to fit the container
     processes: int = 16  # threads of its one process (RLIMIT_NPROC counts them)
     open_files: int = 64  # shared by its threads (the seccomp filter sees to it)
     file_bytes: int = 64 * 1024**2
@@ -205,7 +206,7 @@ class Sandbox:
         files: dict[str, Path] | None = None,
         wall_seconds: float | None = None,
     ) -> ChildResult:
-        """Run ``task`` of :mod:`raykit_grading.tasks` on the submission, in a sandbox."""
+        """Run ``task`` of :mod:`raykit_grading.kit.tasks` on the submission, in a sandbox."""
         if self.kind is None:
             self.check()
         if self.kind == "chroot":
@@ -252,7 +253,8 @@ class Sandbox:
                        removal, deadline)  # fmt: skip
 
     def _run_chrooted(self, task, spec, arrays, files, wall_seconds) -> ChildResult:
-        """The same as :meth:`run`, in a chroot of its own (:mod:`raykit_grading.confine`)."""
+        """The same as :meth:`run`, in a chroot of its own
+        (:mod:`raykit_grading.sandbox.confine`)."""
         slot, problems = confine.lease_slot(self.tree)
         for problem in problems:
             print(f"raykit_grading: {problem}", file=sys.stderr)
@@ -401,7 +403,7 @@ class Sandbox:
 
     def _limit(self) -> None:
         """In the child, before exec: its own session and the limits (the uid comes later,
-        inside the sandbox, from :mod:`raykit_grading.child`)."""
+        inside the sandbox, from :mod:`raykit_grading.inside.child`)."""
         os.setsid()
         _prefer_me_when_memory_runs_out()
         limits = self.limits
@@ -434,10 +436,10 @@ def _writable_tmp(folder: Path, uid: int | None) -> None:
 
 
 def fit_to_container(limits: Limits, container: confine.ContainerLimits) -> Limits:
-    """``limits`` with a test's memory cut to M of :mod:`raykit_grading.budgets`: what the
-    container leaves beside the grader (:data:`raykit_grading.budgets.GRADER_MEMORY`) and what
-    the kernel may hold for the test (:func:`raykit_grading.budgets.kernel_share`), so that a
-    test that takes all it may is stopped at its own limit (a MemoryError, or the grader's
+    """``limits`` with a test's memory cut to M of :mod:`raykit_grading.sandbox.budgets`: what the
+    container leaves beside the grader (:data:`raykit_grading.sandbox.budgets.GRADER_MEMORY`) and
+    what the kernel may hold for the test (:func:`raykit_grading.sandbox.budgets.kernel_share`), so
+    that a test that takes all it may is stopped at its own limit (a MemoryError, or the grader's
     count: its test's zero) before the container runs out."""
     kernel = kernel_share(limits.open_files, limits.processes, limits.disk).total
     return replace(

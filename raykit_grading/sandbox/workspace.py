@@ -6,7 +6,7 @@ On leaving, the folder is removed. A grader that was killed cannot remove its fo
 grader started by the same user finds it unlocked and removes it (:func:`clean_stale`), so
 nothing is left behind for long.
 
-Removal is :func:`raykit_grading.leftovers.remove_tree`'s, which never raises: whatever a
+Removal is :func:`raykit_grading.sandbox.leftovers.remove_tree`'s, which never raises: whatever a
 test's code left that still cannot be removed is moved into ``<TMPDIR>/raykit-grading-
 quarantine`` (:func:`quarantine`) and named in one line on stderr, and the next grading starts
 as if it were not there.
@@ -22,7 +22,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from raykit_grading.leftovers import remove_tree
+from raykit_grading.sandbox.leftovers import remove_tree
 
 PREFIX = "raykit-grading-"
 

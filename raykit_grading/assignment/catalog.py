@@ -1,17 +1,17 @@
 """The grading tests: per stage, with points and Gradescope visibility.
 
-Each test names a task of :mod:`raykit_grading.tasks` and builds its inputs from a seed or a
+Each test names a task of :mod:`raykit_grading.kit.tasks` and builds its inputs from a seed or a
 scene file. The expected result is that task run with the reference raykit; the submission's
 result is the same task run in the child. Array tests compare every number within the stated
 tolerance (a miss may be NaN or inf); image tests compare renders with
-:mod:`raykit_grading.compare`.
+:mod:`raykit_grading.kit.compare`.
 
 Inputs are drawn, never fixed: :meth:`GradingTest.inputs` takes a random generator. The
 student release ships each visible test's *public* draw (:meth:`GradingTest.public_inputs`,
 from a seed of its own) for practice; grading draws others
 (:meth:`GradingTest.graded_inputs`) from the assignment's secret seed
-(:mod:`raykit_grading.seeds`), so nothing shipped to students answers a graded test, and every
-student and every regrade gets the same tests. Scenes are graded from a camera moved a little
+(:mod:`raykit_grading.assignment.seeds`), so nothing shipped to students answers a graded test, and
+every student and every regrade gets the same tests. Scenes are graded from a camera moved a little
 at random (:func:`jitter_camera`: another image size, eye and field of view), arrays from new
 random rays, sizes and parameters.
 
@@ -50,7 +50,7 @@ import numpy as np
 
 from raykit.rays import dot, length, normalize
 
-REPO = Path(__file__).resolve().parent.parent
+REPO = Path(__file__).resolve().parents[2]
 SCENES = REPO / "scenes"
 HIDDEN_SCENES = REPO / "grading" / "hidden-scenes"
 VISIBLE, HIDDEN = "visible", "after_due_date"

@@ -15,7 +15,7 @@ offline, from the folder as it is) shows at a glance:
 * every student's score, linked to their page.
 
 ``OUT/feedback/<student>/index.html`` is the student's feedback as the page ``check.py`` writes
-(:func:`raykit_grading.compare.feedback_page`), from their results.json: the summary, the
+(:func:`raykit_grading.kit.compare.feedback_page`), from their results.json: the summary, the
 failing tests with their messages and pictures, the passing ones.
 """
 
@@ -29,8 +29,8 @@ import statistics
 from pathlib import Path
 from urllib.parse import quote
 
-from raykit_grading.catalog import VISIBLE, GradingTest
-from raykit_grading.compare import PAGE_STYLE, feedback_page
+from raykit_grading.assignment.catalog import VISIBLE, GradingTest
+from raykit_grading.kit.compare import PAGE_STYLE, feedback_page
 
 GRADED, DOES_NOT_IMPORT = "graded", "does not import"
 NOT_A_SUBMISSION = "not a submission"  # a stray entry: listed, never counted as ungraded

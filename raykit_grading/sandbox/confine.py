@@ -6,11 +6,11 @@ capabilities (no ``CAP_SYS_ADMIN``) and a seccomp profile that refuses ``unshare
 fails. What that confinement leaves root is enough for a sandbox of another kind, which each
 test's child makes for itself between ``fork`` and ``exec`` (:func:`confine_child`, in order):
 
-1. its own session, the limits (:class:`raykit_grading.sandbox.Limits`), and
+1. its own session, the limits (:class:`raykit_grading.sandbox.base.Limits`), and
    ``oom_score_adj`` 1000, so that if the container's memory runs out the kernel kills the
    child, never the grader;
 2. ``chroot`` into a minimal tree (:func:`chroot_tree`: the interpreter, its standard library
-   without ``site-packages``, numpy and Pillow at :data:`raykit_grading.isolation.SITE`, the
+   without ``site-packages``, numpy and Pillow at :data:`raykit_grading.sandbox.isolation.SITE`, the
    shared libraries they load, made once, root-owned and read-only) and ``chdir`` into the
    test's own folder in it (a slot, ``/tasks/<n>``, mode 750 root:its gid, holding the child
    script, the inputs, a copy of the submission, and ``tmp/`` of its uid, mode 700);
@@ -19,11 +19,11 @@ test's child makes for itself between ``fork`` and ``exec`` (:func:`confine_chil
 4. Landlock where the kernel has it (:func:`landlock_restrict`): read and execute the tree,
    read its own folder, write only its ``tmp/`` (and ``/dev/null``); from ABI 6 also no
    signal to, and no abstract unix socket of, any process outside its domain;
-5. the seccomp filter of :func:`raykit_grading.isolation.seccomp_filter` (no socket, no
+5. the seccomp filter of :func:`raykit_grading.sandbox.isolation.seccomp_filter` (no socket, no
    second process, no keyrings, System V IPC, ptrace, bpf, namespaces, mounts...);
 
 then ``exec`` of the child Python. After the test every process of its uid is killed
-(:func:`raykit_grading.isolation.kill_uid`) before the uid is leased again.
+(:func:`raykit_grading.sandbox.isolation.kill_uid`) before the uid is leased again.
 
 The tree is built where only root can reach it (:data:`TREES`), once per interpreter and set
 of packages: Gradescope's ``setup.sh`` builds it when the image is made; elsewhere the first
@@ -51,8 +51,8 @@ import struct
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from raykit_grading.isolation import SITE, ChildPython, IsolationUnavailable
-from raykit_grading.leftovers import remove_tree
+from raykit_grading.sandbox.isolation import SITE, ChildPython, IsolationUnavailable
+from raykit_grading.sandbox.leftovers import remove_tree
 
 TREES = Path("/var/cache/raykit-grading")  # root only (mode 700)
 TREE_LAYOUT = 3  # raise when what goes into a tree changes: old trees are then not used
@@ -158,7 +158,7 @@ class ContainerLimits:
     """What the grader's cgroup gives it: ``memory_bytes`` (None: no limit found) and
     ``cpus`` (the CPU quota in CPUs, None: none). ``memory_cgroup``: the folder of the cgroup
     whose limit that is, where the grader reads what the container holds and how often its
-    OOM killer fired (:class:`raykit_grading.budgets.ContainerMemory`); ``cgroup_v2`` says
+    OOM killer fired (:class:`raykit_grading.sandbox.budgets.ContainerMemory`); ``cgroup_v2`` says
     which files it has."""
 
     memory_bytes: int | None
@@ -433,11 +433,11 @@ def confine_child(plan: ChildConfinement) -> None:
 
 
 def main() -> None:
-    """``python -m raykit_grading.confine``: build the tree for this Python now (as root;
+    """``python -m raykit_grading.sandbox.confine``: build the tree for this Python now (as root;
     Gradescope's ``setup.sh`` does, so that no grading pays for it)."""
     import sys
 
-    from raykit_grading.isolation import probe_python
+    from raykit_grading.sandbox.isolation import probe_python
 
     try:
         print(f"sandbox tree: {chroot_tree(probe_python(sys.executable))}")

@@ -2,9 +2,10 @@
 
 ``task.json`` says what to run (the task, its kind, the test's name and its spec),
 ``inputs.npz`` holds the inputs and ``expected.npz`` the reference results; a spec's
-``folder`` (scene textures) is relative to the case's folder. :mod:`raykit_grading.release`
-writes the cases; the kit's tests and its ``check.py`` (:mod:`raykit_grading.selfcheck`) read
-them with :func:`read_case`, from the copy of this module in ``tests/_grading/``.
+``folder`` (scene textures) is relative to the case's folder.
+:mod:`raykit_grading.assignment.release` writes the cases; the kit's tests and its ``check.py``
+(:mod:`raykit_grading.kit.selfcheck`) read them with :func:`read_case`, from the copy of this module
+in ``tests/_grading/``.
 """
 
 from __future__ import annotations
