@@ -43,7 +43,8 @@ sys.path.insert(0, str(REPO))
 from common import arguments, medians_in_turns, parse, timer  # noqa: E402
 
 from raykit_grading.sandbox import confine  # noqa: E402
-from raykit_grading.sandbox.base import Sandbox, _link_or_copy  # noqa: E402
+from raykit_grading.sandbox.bubblewrap import Bubblewrap  # noqa: E402
+from raykit_grading.sandbox.chroot import Chroot, _link_or_copy  # noqa: E402
 from raykit_grading.sandbox.isolation import (  # noqa: E402
     SITE,
     child_environment,
@@ -84,10 +85,10 @@ def main() -> None:
             "bare": lambda: subprocess.run(bare, check=True, env=child_environment("/tmp")),
             "bubblewrap": lambda: subprocess.run(boxed, check=True),
         }
-        sandboxes = {"bubblewrap": Sandbox(submission, workspace, kind="bubblewrap")}
+        sandboxes = {"bubblewrap": Bubblewrap(submission, workspace)}
         if as_root:
             built = _tree_once(python)
-            sandboxes["chroot"] = Sandbox(submission, workspace, kind="chroot")
+            sandboxes["chroot"] = Chroot(submission, workspace)
             calls["chroot"], cleanup = _chrooted_imports(python, sandboxes["chroot"])
         for kind, sandbox in sandboxes.items():
             sandbox.check()
@@ -142,7 +143,7 @@ def _tree_once(python) -> tuple[int, int, float]:
         shutil.rmtree(trees, ignore_errors=True)
 
 
-def _chrooted_imports(python, sandbox: Sandbox):
+def _chrooted_imports(python, sandbox: Chroot):
     """The import command in the chroot sandbox, as a test's child is confined; and what
     removes its folder and ends its uid's lease."""
     sandbox.check()

@@ -18,7 +18,11 @@ import), and each module is listed here:
 
 :mod:`~raykit_grading.sandbox`: the sandbox itself, on the grader's side
     * :mod:`~raykit_grading.sandbox.base`: one task in a child process, its results taken back
-      as untrusted; which kind of sandbox is used.
+      as untrusted: the run every kind of sandbox shares.
+    * :mod:`~raykit_grading.sandbox.bubblewrap`: the kind in namespaces of its own (bubblewrap).
+    * :mod:`~raykit_grading.sandbox.chroot`: the kind for where no namespaces can be made (a
+      chroot, a uid of its own, as root).
+    * :mod:`~raykit_grading.sandbox.kinds`: which kind grades here, the strongest that works.
     * :mod:`~raykit_grading.sandbox.isolation`: the bubblewrap sandbox, and the seccomp filter.
     * :mod:`~raykit_grading.sandbox.confine`: the sandbox without namespaces (chroot, own uid,
       Landlock), and the container's limits.

@@ -73,6 +73,7 @@ from raykit_grading.kit.compare import (
 from raykit_grading.sandbox.base import Limits, Sandbox
 from raykit_grading.sandbox.budgets import GRADER_MEMORY, grader_peak
 from raykit_grading.sandbox.isolation import IsolationUnavailable
+from raykit_grading.sandbox.kinds import choose_sandbox
 from raykit_grading.sandbox.workspace import Workspace
 
 TOTAL_SECONDS = 480.0  # what all of one submission's tests may take together
@@ -116,7 +117,7 @@ def preflight(options: Options = Options()) -> None:
         empty = workspace / "nothing"
         empty.mkdir(mode=0o755)
         try:
-            Sandbox(empty, workspace, options.child_python, options.limits).check()
+            choose_sandbox(empty, workspace, options.child_python, options.limits)
         except IsolationUnavailable as exc:
             raise GradingImpossible(str(exc)) from None
 
@@ -159,8 +160,9 @@ def grade(
             results = [test_entry(t, 0.0, problem) for t in tests]
         else:
             try:
-                sandbox = Sandbox(staged.root, workspace, options.child_python, options.limits)
-                sandbox.check()
+                sandbox = choose_sandbox(
+                    staged.root, workspace, options.child_python, options.limits
+                )
             except IsolationUnavailable as exc:
                 raise GradingImpossible(str(exc)) from None
             sandbox_kind = sandbox.description

@@ -1,9 +1,11 @@
 """Running one task of a submission in a sandbox, and taking back what it returns as untrusted.
 
-Each task runs in a fresh child (:mod:`raykit_grading.inside.child`) inside a sandbox of its own
-(:mod:`raykit_grading.sandbox.isolation`: it sees only the Python it runs on, numpy, Pillow, the
-staged submission and that task's read-only work folder; no network; nothing outlives the task). The
-child gets:
+Each task runs in a fresh child (:mod:`raykit_grading.inside.child`) inside a sandbox of its own,
+of one of the kinds (:mod:`raykit_grading.sandbox.kinds`: bubblewrap, or a chroot where no
+namespaces can be made): it sees only the Python it runs on, numpy, Pillow, the staged
+submission and that task's read-only work folder; no network; nothing outlives the task.
+:class:`Sandbox` is what every kind shares, written once; a kind's class says where the task's
+folder is, what more it lays out there and how the child starts. The child gets:
 
 * Python in isolated mode without ``site`` (``-I -S -B``): its path is the submission, then
   numpy and Pillow, then the standard library. The grader's reference raykit is not in its world.
@@ -31,16 +33,15 @@ from __future__ import annotations
 import io
 import json
 import os
-import resource
 import selectors
 import shutil
 import signal
 import struct
 import subprocess
 import sys
-import tempfile
 import time
 import zipfile
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -48,7 +49,6 @@ import numpy as np
 
 from raykit_grading.sandbox import confine
 from raykit_grading.sandbox.budgets import (
-    SIGNALS_PENDING,
     WATCH_SECONDS,
     ContainerMemory,
     Watch,
@@ -58,25 +58,17 @@ from raykit_grading.sandbox.budgets import (
 )
 from raykit_grading.sandbox.isolation import (
     SITE,
-    WORK,
     IsolationUnavailable,
     UidPool,
-    child_environment,
-    find_bwrap,
     probe_python,
-    sandbox_arguments,
     seccomp_filter,
 )
-from raykit_grading.sandbox.leftovers import DiskBudget, Removal, measure, remove_tree
-from raykit_grading.sandbox.workspace import quarantine
+from raykit_grading.sandbox.leftovers import DiskBudget, Removal, measure
 
 GRADER = Path(__file__).parents[1]
 CHILD_SCRIPT = GRADER / "inside" / "child.py"
 TASKS_SCRIPT = GRADER / "kit" / "tasks.py"  # the child loads it by path
 OUTPUT_EXCERPT = 2000
-KINDS = ("bubblewrap", "chroot")  # strongest first; RAYKIT_SANDBOX=KIND asks for one
-# how many generations below the process the sandbox starts the test's own process is
-TEST_DEPTH = {"bubblewrap": 2, "chroot": 0}  # bwrap, its pid namespace's init, the test
 
 
 @dataclass(frozen=True)
@@ -108,12 +100,30 @@ class ChildResult:
     left: str = ""
 
 
+@dataclass(frozen=True)
+class TaskFolder:
+    """One task's folder: its ``path`` here, the path the child sees it at, and what removes
+    it after the task (what was removed, and the problems to say)."""
+
+    path: Path
+    seen_as: str
+    clean: Callable[[], tuple[Removal, list[str]]]
+
+
 class Sandbox:
-    """Runs tasks of one staged submission; make one per submission graded.
+    """Runs tasks of one staged submission in one kind of sandbox; make one per submission
+    graded, with :func:`raykit_grading.sandbox.kinds.choose_sandbox`.
 
     ``workspace`` is a folder private to the grader (mode 700) for the tasks' work folders.
-    Raises :class:`IsolationUnavailable` when no sandbox can be made here.
+    :meth:`run` is the skeleton every kind shares: the task's folder filled, a uid leased, the
+    child started, watched and read back as untrusted, what it left measured and removed. A
+    kind says where the task's folder is (:meth:`_task_folder`), what more it lays out in it
+    (:meth:`_lay_out`) and how the child starts (:meth:`_start`).
     """
+
+    kind = ""  # its name in KINDS and RAYKIT_SANDBOX
+    test_depth = 0  # how many generations below the process it starts the test's own is
+    child_drops_uid = False  # the child takes its leased uid itself, inside the sandbox
 
     def __init__(
         self,
@@ -121,7 +131,6 @@ class Sandbox:
         workspace: Path,
         child_python: str | None = None,
         limits: Limits | None = None,
-        kind: str | None = None,
     ) -> None:
         self.submission = Path(submission)
         self.workspace = Path(workspace)
@@ -139,64 +148,25 @@ class Sandbox:
         self.as_root = os.geteuid() == 0
         self.uids = UidPool() if self.as_root else None
         self.seccomp = seccomp_filter()
-        self.wanted = kind or os.environ.get("RAYKIT_SANDBOX") or "auto"
-        self.kind: str | None = None  # chosen by check()
-        self.description = ""  # what the chosen kind is made of, e.g. "bubblewrap"
-        self.bwrap: str | None = None
-        self.tree: Path | None = None
-        self.landlock = 0
+        self.description = ""  # what it is made of, e.g. "bubblewrap"; said by check()
+        self.ready = False
 
     def check(self) -> None:
-        """Preflight: pick the strongest sandbox that works here (:data:`KINDS`), one whose
-        Python imports numpy and Pillow as the sandbox user; otherwise
-        :class:`IsolationUnavailable`, saying why in one line and how to grade safely.
+        """Preflight: make ready what this kind needs and run a probe in it, whose Python
+        imports numpy and Pillow as the sandbox user; otherwise :class:`IsolationUnavailable`,
+        saying why in one line."""
+        self._prepare()
+        self.ready = True
+        ran = self.run("probe", {}, {})
+        if ran.outputs is None or "ok" not in ran.outputs:
+            self.ready = False
+            said = (ran.output.strip().splitlines() or [ran.problem])[-1]
+            raise IsolationUnavailable(f"a sandbox could not run Python with numpy: {said}")
 
-        Nothing weaker than the floor is ever used: as root, a chroot into the minimal tree,
-        a uid of its own and the seccomp filter (Landlock on top where the kernel has it); as
-        a normal user, bubblewrap only (a user's child shares the grader's uid, and without
-        namespaces nothing would stop it from signalling the grader or outliving its test on
-        a kernel without Landlock's scoping)."""
-        if self.wanted not in ("auto", *KINDS):
-            raise IsolationUnavailable(
-                f"RAYKIT_SANDBOX={self.wanted}: not a sandbox kind (auto, {', '.join(KINDS)})"
-            )
-        refused = []
-        for kind in KINDS if self.wanted == "auto" else (self.wanted,):
-            try:
-                self._prepare(kind)
-                ran = self.run("probe", {}, {})
-                if ran.outputs is None or "ok" not in ran.outputs:
-                    said = (ran.output.strip().splitlines() or [ran.problem])[-1]
-                    raise IsolationUnavailable(f"a sandbox could not run Python with numpy: {said}")
-                return
-            except IsolationUnavailable as exc:
-                self.kind = None
-                refused.append(f"{kind}: {exc}")
-        if len(refused) == 1:
-            raise IsolationUnavailable(refused[0].split(": ", 1)[1])
-        if not self.as_root:
-            raise IsolationUnavailable(
-                f"cannot isolate submissions as a normal user here ({refused[0]}); grade as "
-                "root (sudo, or in a container as Gradescope does), or where unprivileged "
-                "user namespaces are allowed"
-            )
-        raise IsolationUnavailable("no sandbox works here (" + "; ".join(refused) + ")")
-
-    def _prepare(self, kind: str) -> None:
-        """Make ready what ``kind`` needs, or raise :class:`IsolationUnavailable`."""
-        if kind == "bubblewrap":
-            self.bwrap = find_bwrap()
-            self.description = "bubblewrap"
-        else:
-            if not self.as_root:
-                raise IsolationUnavailable("a chroot sandbox needs root")
-            self.tree = confine.chroot_tree(self.python)
-            self.landlock = confine.landlock_abi()
-            made_of = ["chroot", "uid"]
-            if self.landlock:
-                made_of.append(f"landlock{self.landlock}")
-            self.description = "+".join([*made_of, "seccomp"])
-        self.kind = kind
+    def _prepare(self) -> None:
+        """Make ready what this kind needs and set :attr:`description`, or raise
+        :class:`IsolationUnavailable`."""
+        raise NotImplementedError
 
     def run(
         self,
@@ -207,12 +177,12 @@ class Sandbox:
         wall_seconds: float | None = None,
     ) -> ChildResult:
         """Run ``task`` of :mod:`raykit_grading.kit.tasks` on the submission, in a sandbox."""
-        if self.kind is None:
+        if not self.ready:
             self.check()
-        if self.kind == "chroot":
-            return self._run_chrooted(task, spec, arrays, files or {}, wall_seconds)
-        work = Path(tempfile.mkdtemp(prefix="task-", dir=self.workspace))
+        place = self._task_folder()
+        folder = place.path
         lease = self.uids.lease() if self.uids else None
+        uid = lease.uid if lease else None
         returned_read, returned_write = os.pipe()
         try:
             try:
@@ -220,20 +190,21 @@ class Sandbox:
                     "task": task,
                     "spec": spec,
                     "library_paths": [SITE],
-                    "uid": lease.uid if lease else None,
+                    "uid": uid if self.child_drops_uid else None,
                     "outputs_fd": returned_write,
                 }
-                self._fill(work, order, arrays, files or {})
-                _writable_tmp(work / "tmp", lease.uid if lease else None)
+                self._fill(folder, order, arrays, files or {})
+                self._lay_out(folder, uid)
+                _writable_tmp(folder / "tmp", uid)
                 wall = wall_seconds or self.limits.wall_seconds
                 kills = self.oom_count()
                 start, deadline = time.perf_counter(), time.monotonic() + wall
-                child, printed_read = self._start(work, returned_write)
+                child, printed_read = self._start(place, returned_write, uid)
             finally:
                 os.close(returned_write)  # the child holds the only writing end now
             try:
-                watch = Watch(self.limits, self.memory, child.pid, TEST_DEPTH["bubblewrap"],
-                              work / "tmp", (lease.uid, lease.uid) if lease else None)  # fmt: skip
+                watch = Watch(self.limits, self.memory, child.pid, self.test_depth,
+                              folder / "tmp", (uid, uid) if lease else None)  # fmt: skip
                 returned, printed, status, why = _collect(
                     child, returned_read, printed_read, wall, self.limits.returned_bytes, watch
                 )
@@ -243,98 +214,28 @@ class Sandbox:
         finally:
             os.close(returned_read)
             if lease is not None:
-                lease.release()
-            left_over = measure(work / "tmp", self.limits.disk)
-            removal = remove_tree(work, quarantine(self.workspace))
-            if removal.problem:
-                print(f"raykit_grading: {removal.problem}", file=sys.stderr)
+                lease.release()  # every process of the uid is dead after this
+            left_over = measure(folder / "tmp", self.limits.disk)
+            removal, problems = place.clean()
+            for problem in problems:
+                print(f"raykit_grading: {problem}", file=sys.stderr)
         why = self._killed_by_oom(kills) or why or disk_problem(left_over, self.limits.disk)
         return _result(returned, printed, status, why, time.perf_counter() - start, self.limits,
                        removal, deadline)  # fmt: skip
 
-    def _run_chrooted(self, task, spec, arrays, files, wall_seconds) -> ChildResult:
-        """The same as :meth:`run`, in a chroot of its own
-        (:mod:`raykit_grading.sandbox.confine`)."""
-        slot, problems = confine.lease_slot(self.tree)
-        for problem in problems:
-            print(f"raykit_grading: {problem}", file=sys.stderr)
-        outside, inside = slot.outside, slot.inside
-        lease = self.uids.lease()
-        returned_read, returned_write = os.pipe()
-        printed_read = None
-        try:
-            try:
-                order = {
-                    "task": task,
-                    "spec": spec,
-                    "library_paths": [SITE],
-                    "uid": None,  # it is the task's uid before child.py starts
-                    "outputs_fd": returned_write,
-                }
-                self._fill(outside, order, arrays, files)
-                (outside / "submission").rmdir()
-                shutil.copytree(
-                    self.submission, outside / "submission", True, copy_function=_link_or_copy
-                )
-                for path in outside.rglob("*"):
-                    os.chmod(path, 0o755 if path.is_dir() else 0o644)
-                _writable_tmp(outside / "tmp", lease.uid)
-                os.chown(outside, 0, lease.uid)  # its uid may read it, no other uid enter it
-                os.chmod(outside, 0o750)
-                plan = confine.ChildConfinement(
-                    tree=str(self.tree),
-                    folder=inside,
-                    uid=lease.uid,
-                    rlimits=self._rlimits(),
-                    landlock_abi=self.landlock,
-                    landlock_read_execute=tuple(confine.top_entries(self.tree)),
-                    seccomp=self.seccomp,
-                )
-                command = [self.python.executable, "-I", "-S", "-B", f"{inside}/child.py", inside]
-                printed_read, printed_write = os.pipe()
-                wall = wall_seconds or self.limits.wall_seconds
-                kills = self.oom_count()
-                start, deadline = time.perf_counter(), time.monotonic() + wall
-                try:
-                    child = subprocess.Popen(
-                        command,
-                        stdin=subprocess.DEVNULL,
-                        stdout=printed_write,
-                        stderr=printed_write,
-                        env=child_environment(f"{inside}/tmp"),
-                        pass_fds=(returned_write,),
-                        preexec_fn=lambda: _confine_or_say(plan),  # noqa: PLW1509 - the point
-                    )
-                except subprocess.SubprocessError:
-                    os.close(printed_write)
-                    said = os.read(printed_read, 2000).decode(errors="replace").strip()
-                    raise IsolationUnavailable(
-                        f"the chroot sandbox could not start a child: {said or 'no reason given'}"
-                    ) from None
-                os.close(printed_write)
-            finally:
-                os.close(returned_write)
-            try:
-                watch = Watch(self.limits, self.memory, child.pid, TEST_DEPTH["chroot"],
-                              outside / "tmp", (lease.uid, lease.uid))  # fmt: skip
-                returned, printed, status, why = _collect(
-                    child, returned_read, printed_read, wall, self.limits.returned_bytes, watch
-                )
-            finally:
-                _kill_group(child)
-        finally:
-            os.close(returned_read)
-            if printed_read is not None:
-                os.close(printed_read)
-            lease.release()  # every process of the uid is dead after this
-            left_over = measure(outside / "tmp", self.limits.disk)
-            removal = remove_tree(outside / "tmp", self.tree.parent / confine.QUARANTINE)
-            for problem in slot.empty() + ([removal.problem] if removal.problem else []):
-                print(f"raykit_grading: {problem}", file=sys.stderr)
-            slot.release()
-        why = self._killed_by_oom(kills) or why or disk_problem(left_over, self.limits.disk)
-        return _result(returned, printed, status, why, time.perf_counter() - start, self.limits,
-                       removal, deadline)  # fmt: skip
+    def _task_folder(self) -> TaskFolder:
+        """A folder for one task, made for it."""
+        raise NotImplementedError
+
+    def _lay_out(self, folder: Path, uid: int | None) -> None:
+        """What this kind lays out in the task's folder besides the task (nothing here)."""
+
+    def _start(
+        self, folder: TaskFolder, returned_write: int, uid: int | None
+    ) -> tuple[subprocess.Popen, int]:
+        """Start the child in the sandbox: (the process, the read end of what it prints).
+        Raises :class:`IsolationUnavailable` (its pipes closed) if it cannot."""
+        raise NotImplementedError
 
     def oom_count(self) -> int | None:
         """How often the container's OOM killer has fired (None: no cgroup says)."""
@@ -347,19 +248,8 @@ class Sandbox:
             return ""
         return "your code was killed: the container's memory ran out while it ran"
 
-    def _rlimits(self) -> tuple[tuple[int, int], ...]:
-        limits = self.limits
-        return (
-            (resource.RLIMIT_CPU, limits.cpu_seconds),
-            (resource.RLIMIT_AS, limits.memory_bytes),
-            (resource.RLIMIT_FSIZE, limits.file_bytes),
-            (resource.RLIMIT_CORE, 0),
-            (resource.RLIMIT_NOFILE, limits.open_files),
-            (resource.RLIMIT_SIGPENDING, SIGNALS_PENDING),
-            (resource.RLIMIT_NPROC, limits.processes),  # counted for the task's own uid
-        )
-
     def _fill(self, work: Path, order: dict, arrays, files: dict[str, Path]) -> None:
+        """The task's folder: the child, the tasks, the inputs and what to run."""
         shutil.copyfile(CHILD_SCRIPT, work / "child.py")
         shutil.copyfile(TASKS_SCRIPT, work / "tasks.py")
         (work / "submission").mkdir()  # where the staged submission is mounted, read-only
@@ -370,62 +260,6 @@ class Sandbox:
         (work / "task.json").write_text(json.dumps(order))
         for path in [work, *work.rglob("*")]:  # readable by the sandbox uid, writable by none
             os.chmod(path, 0o755 if path.is_dir() else 0o644)
-
-    def _start(self, work: Path, returned_write: int) -> tuple[subprocess.Popen, int]:
-        """Start bwrap and the child in it: (the process, the read end of what it prints)."""
-        command = [self.python.executable, "-I", "-S", "-B", f"{WORK}/child.py", WORK]
-        printed_read, printed_write = os.pipe()
-        # bwrap reads its arguments and its seccomp program from files, so that the child's
-        # /proc shows neither
-        with tempfile.TemporaryFile() as arguments, tempfile.TemporaryFile() as seccomp:
-            seccomp.write(self.seccomp)
-            seccomp.seek(0)
-            listed = sandbox_arguments(self.python, work, self.submission, self.as_root)
-            listed += ["--seccomp", str(seccomp.fileno())]
-            arguments.write(b"\0".join(a.encode() for a in listed) + b"\0")
-            arguments.seek(0)
-            try:
-                child = subprocess.Popen(
-                    [self.bwrap, "--args", str(arguments.fileno()), *command],
-                    stdin=subprocess.DEVNULL,
-                    stdout=printed_write,
-                    stderr=printed_write,
-                    env={"PATH": "/usr/bin:/bin"},
-                    pass_fds=(returned_write, arguments.fileno(), seccomp.fileno()),
-                    preexec_fn=self._limit,  # noqa: PLW1509 - the point
-                )
-            except BaseException:
-                os.close(printed_read)
-                raise
-            finally:
-                os.close(printed_write)
-        return child, printed_read
-
-    def _limit(self) -> None:
-        """In the child, before exec: its own session and the limits (the uid comes later,
-        inside the sandbox, from :mod:`raykit_grading.inside.child`)."""
-        os.setsid()
-        _prefer_me_when_memory_runs_out()
-        limits = self.limits
-        resource.setrlimit(resource.RLIMIT_CPU, (limits.cpu_seconds, limits.cpu_seconds))
-        resource.setrlimit(resource.RLIMIT_AS, (limits.memory_bytes, limits.memory_bytes))
-        resource.setrlimit(resource.RLIMIT_FSIZE, (limits.file_bytes, limits.file_bytes))
-        resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
-        resource.setrlimit(resource.RLIMIT_NOFILE, (limits.open_files, limits.open_files))
-        resource.setrlimit(resource.RLIMIT_SIGPENDING, (SIGNALS_PENDING, SIGNALS_PENDING))
-        if self.as_root:  # counted for the task's own uid, once the child has dropped to it
-            resource.setrlimit(resource.RLIMIT_NPROC, (limits.processes, limits.processes))
-        else:  # processes count per user: leave room for the ones the user already runs
-            uid = os.getuid()
-            running = 0
-            for proc in Path("/proc").iterdir():
-                try:
-                    running += proc.name.isdigit() and proc.stat().st_uid == uid
-                except OSError:
-                    pass
-            cap = min(running + limits.processes, resource.getrlimit(resource.RLIMIT_NPROC)[1])
-            if cap > 0:
-                resource.setrlimit(resource.RLIMIT_NPROC, (cap, cap))
 
 
 def _writable_tmp(folder: Path, uid: int | None) -> None:
@@ -455,24 +289,6 @@ def _prefer_me_when_memory_runs_out() -> None:
             adj.write("1000")
     except OSError:
         pass
-
-
-def _link_or_copy(source: str, target: str) -> None:
-    """A hard link where the tree shares the staged submission's file system (the grader's
-    own private copy: the child can read it, never write it), else a copy."""
-    try:
-        os.link(source, target)
-    except OSError:
-        shutil.copy2(source, target)
-
-
-def _confine_or_say(plan) -> None:
-    """:func:`confine.confine_child`, saying why on the child's stderr if it fails."""
-    try:
-        confine.confine_child(plan)
-    except BaseException as exc:
-        os.write(2, f"{type(exc).__name__}: {exc}".encode(errors="replace"))
-        raise
 
 
 PIPE_MOST_BYTES = 1 << 20  # the most a pipe holds that an unprivileged process enlarged

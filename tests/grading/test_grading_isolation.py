@@ -335,11 +335,10 @@ import json, os, sys, tempfile
 from pathlib import Path
 sys.path.insert(0, {repo!r})
 import numpy as np
-from raykit_grading.sandbox.base import Sandbox
+from raykit_grading.sandbox.kinds import choose_sandbox
 from raykit_grading.sandbox.workspace import Workspace
 with Workspace() as workspace:
-    sandbox = Sandbox(Path({submission!r}), workspace, kind={kind!r})
-    sandbox.check()
+    sandbox = choose_sandbox(Path({submission!r}), workspace, kind={kind!r})
     ran = sandbox.run("plane_side", {{}}, {{k: np.zeros((2, 3)) for k in ("p", "a", "n")}})
     print(sandbox.description, ran.problem)
     print(ran.output)
@@ -422,8 +421,8 @@ def test_a_normal_user_without_user_namespaces_is_refused_in_one_line(tmp_path, 
 def test_setup_sh_builds_the_chroot_tree_the_sandbox_then_uses(tmp_path):
     """setup.sh's line builds the tree at image build time; a grading then finds it built."""
     from raykit_grading.platforms.gradescope import build_zip
-    from raykit_grading.sandbox.base import Sandbox
     from raykit_grading.sandbox.isolation import probe_python
+    from raykit_grading.sandbox.kinds import choose_sandbox
 
     with zipfile.ZipFile(build_zip(tmp_path / "ag.zip")) as archive:
         setup = archive.read("setup.sh").decode()
@@ -443,9 +442,7 @@ def test_setup_sh_builds_the_chroot_tree_the_sandbox_then_uses(tmp_path):
     assert oct(tree.parent.stat().st_mode & 0o777) == "0o700"
     empty = tmp_path / "empty"
     empty.mkdir()
-    sandbox = Sandbox(empty, tmp_path, kind="chroot")
-    sandbox.check()
-    assert sandbox.tree == tree
+    assert choose_sandbox(empty, tmp_path, kind="chroot").tree == tree
 
 
 @pytest.mark.skipif(shutil.which("bwrap") is None, reason="the benchmark times bubblewrap too")
