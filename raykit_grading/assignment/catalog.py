@@ -19,7 +19,7 @@ The same seed must give the same inputs on any machine (Gradescope's, of any pro
 draw uses numpy's generator, elementwise arithmetic, ``np.sqrt`` (correctly rounded) and
 :func:`raykit.rays.dot` / :func:`~raykit.rays.normalize` (sums left to right), never ``@``,
 ``np.dot``, ``np.linalg.norm`` or numpy's vectorised sin/cos, whose last bits depend on BLAS
-and the processor's vector width (tests/grading/test_grading_seeds.py checks both).
+and the processor's vector width (tests/grading/assignment/test_seeds.py checks both).
 
 Stage 5 (distributed ray tracing) is graded with a fixed seed, not statistically. Its student
 functions are pure functions of given uniform numbers (:mod:`raykit.sampling`), so each is

@@ -1,7 +1,7 @@
 """PrairieLearn (:mod:`raykit_grading.platforms.prairielearn`): the folder ``prairielearn -o``
 writes, PrairieLearn's results.json, and the image run as PrairieLearn's grader host runs it.
 
-The hostile suite's ``prairielearn`` way (tests/grading/test_grading_hostile.py) grades every
+The hostile suite's ``prairielearn`` way (tests/grading/hostile/) grades every
 attack through the same image; here: no secret in the image, the question's files, the
 conversion of results (hidden tests as one line, pictures within 1 MB), a wrong-shaped
 submission not gradable, and exact scores in the container for an honest, a mistaken and a

@@ -1,7 +1,7 @@
 """The zip in a real container (:mod:`raykit_grading.platforms.containers`) and ``try-zip``, the
 check an instructor runs before uploading the zip.
 
-The hostile suite's ``container`` way (tests/grading/test_grading_hostile.py) grades every
+The hostile suite's ``container`` way (tests/grading/hostile/) grades every
 attack through the same image; here: the zip laid out as Gradescope lays it out, try-zip's
 scores equal to the local ``grade``'s, and try-zip without Docker in one line.
 """
