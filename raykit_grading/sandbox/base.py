@@ -281,16 +281,6 @@ def fit_to_container(limits: Limits, container: confine.ContainerLimits) -> Limi
     )
 
 
-def _prefer_me_when_memory_runs_out() -> None:
-    """oom_score_adj 1000: if the container's memory runs out all the same, the kernel's
-    OOM killer picks the child, not the grader (raising one's own score needs no privilege)."""
-    try:
-        with open("/proc/self/oom_score_adj", "w") as adj:
-            adj.write("1000")
-    except OSError:
-        pass
-
-
 PIPE_MOST_BYTES = 1 << 20  # the most a pipe holds that an unprivileged process enlarged
 
 

@@ -1,7 +1,8 @@
 """The bubblewrap sandbox: the task's child in namespaces of its own (mount, pid, network,
 ipc, uts; a user namespace as a normal user), seeing only the Python it runs on, numpy,
-Pillow, the staged submission and its read-only work folder (:mod:`raykit_grading.sandbox.isolation`
-says what it is made of). As root its child drops to its leased uid itself."""
+Pillow, the staged submission and its read-only work folder
+(:mod:`raykit_grading.sandbox.isolation` says what it is made of). As root its child drops to
+its leased uid itself."""
 
 from __future__ import annotations
 
@@ -11,7 +12,7 @@ import subprocess
 import tempfile
 from pathlib import Path
 
-from raykit_grading.sandbox.base import Sandbox, TaskFolder, _prefer_me_when_memory_runs_out
+from raykit_grading.sandbox.base import Sandbox, TaskFolder
 from raykit_grading.sandbox.budgets import SIGNALS_PENDING
 from raykit_grading.sandbox.isolation import WORK, find_bwrap, sandbox_arguments
 from raykit_grading.sandbox.leftovers import remove_tree
@@ -94,3 +95,13 @@ class Bubblewrap(Sandbox):
             cap = min(running + limits.processes, resource.getrlimit(resource.RLIMIT_NPROC)[1])
             if cap > 0:
                 resource.setrlimit(resource.RLIMIT_NPROC, (cap, cap))
+
+
+def _prefer_me_when_memory_runs_out() -> None:
+    """oom_score_adj 1000: if the container's memory runs out all the same, the kernel's
+    OOM killer picks the child, not the grader (raising one's own score needs no privilege)."""
+    try:
+        with open("/proc/self/oom_score_adj", "w") as adj:
+            adj.write("1000")
+    except OSError:
+        pass
