@@ -15,9 +15,9 @@ from hostile.deployed import (
     EMULATION_DIFFERS,
     PRAIRIELEARN_DIFFERS,
     SEED,
-    _deployment_skip,
     container_image,
     container_way_runs,
+    deployment_skip,
     prairielearn_image,
 )
 from raykit_grading.platforms.gradescope import build_zip
@@ -41,7 +41,7 @@ def autograder(request, tmp_path_factory, grader_python):
     """The autograder zip unpacked as Gradescope does (into ``source/``, ``run_autograder``
     copied from there beside it), source closed to everyone but root; its folder's name ends in
     the way it is graded (:data:`DEPLOYMENTS`)."""
-    why = _deployment_skip(request.param)
+    why = deployment_skip(request.param)
     if why:
         pytest.skip(why)
     root = Path("/tmp") / f"raykit-autograder-{os.getpid()}-{request.param}"

@@ -30,7 +30,7 @@ SEED = 20261123
 CONTAINERS: list[str] = []  # the container way's containers, each to be gone after its grading
 
 
-def _deployment_skip(way: str) -> str | None:
+def deployment_skip(way: str) -> str | None:
     """Why ``way`` cannot run on this machine, or None."""
     if way in ("root", "docker") and not AS_ROOT:
         return f"the {way} way runs run_autograder as root, as Gradescope does"
@@ -138,7 +138,7 @@ def container_way_runs() -> bool:
     from raykit_grading.platforms import containers
 
     base = os.environ.get("RAYKIT_CONTAINER_BASE", containers.DEBIAN_BASE)
-    return _deployment_skip("container") is None and containers.image_exists(base)
+    return deployment_skip("container") is None and containers.image_exists(base)
 
 
 def grade_as_deployed(
@@ -328,13 +328,13 @@ def everything_visible(results: dict) -> str:
     return json.dumps(results)
 
 
-def _leftovers() -> list[str]:
+def leftovers_no_grader_holds() -> list[str]:
     """What no running grader holds: test folders' contents in the chroot trees' slots,
     graders' workspaces, the quarantines."""
     found = []
     for slot in TREES.glob("tree-*/tasks/*") if AS_ROOT else ():
         lock = TREES / f".slots-{slot.parent.parent.name}" / slot.name
-        if not _held(lock):
+        if not held_by_a_grader(lock):
             found += [str(p) for p in slot.iterdir()]
     for quarantine in [
         TREES / "quarantine",
@@ -343,12 +343,12 @@ def _leftovers() -> list[str]:
         if quarantine.is_dir():
             found += [str(p) for p in quarantine.iterdir()]
     for folder in Path(tempfile.gettempdir()).glob("raykit-grading-*"):
-        if folder.name != "raykit-grading-quarantine" and not _held(folder / ".lock"):
+        if folder.name != "raykit-grading-quarantine" and not held_by_a_grader(folder / ".lock"):
             found.append(str(folder))
     return found
 
 
-def _held(lock: Path) -> bool:
+def held_by_a_grader(lock: Path) -> bool:
     """Whether a live grader holds ``lock`` (other graders may be running on this machine:
     only what none of them holds was left behind)."""
     try:

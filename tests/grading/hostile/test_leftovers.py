@@ -20,10 +20,10 @@ from hostile.deployed import (
     CONTAINERS,
     SEED,
     WALL,
-    _held,
-    _leftovers,
     everything_visible,
     grade_as_deployed,
+    held_by_a_grader,
+    leftovers_no_grader_holds,
     scores,
     submission_wrapping,
     way,
@@ -95,7 +95,7 @@ def test_10_disk_attacks_cost_their_own_test_and_leave_nothing(name, autograder,
     assert scores(results) == {"2.1": points, "2.3": 2}, results
     assert says in results["tests"][0]["output"], results["tests"][0]["output"]
     assert "autograder failed" not in everything_visible(results)
-    assert _leftovers() == []
+    assert leftovers_no_grader_holds() == []
     honest = make_submission(tmp_path / "honest" / "submission")
     results, run = grade_as_deployed(autograder, honest, ["2.1", "2.3"], tmp_path / "h")
     assert run.returncode == 0 and scores(results) == {"2.1": 2, "2.3": 2}, results
@@ -192,7 +192,7 @@ def test_10_a_batch_grades_the_students_after_an_attacker_in_full(release, tmp_p
         "mallory": ("graded", 1.0),
         "zoe": ("graded", 5.0),
     }
-    assert _leftovers() == []
+    assert leftovers_no_grader_holds() == []
 
 
 def test_removal_copes_with_any_tree_a_child_can_leave(tmp_path):
@@ -255,7 +255,7 @@ def test_nothing_is_left_behind(autograder):
                 ["docker", "container", "inspect", name], capture_output=True
             )
             assert inspected.returncode != 0, f"container {name} left"
-    assert _leftovers() == []
+    assert leftovers_no_grader_holds() == []
     uids = set(SANDBOX_UIDS)
     left = []
     for proc in Path("/proc").iterdir():
@@ -263,6 +263,6 @@ def test_nothing_is_left_behind(autograder):
             uid = proc.stat().st_uid
         except FileNotFoundError:  # a process of this machine that ended meanwhile
             continue
-        if proc.name.isdigit() and uid in uids and not _held(UID_LOCKS / str(uid)):
+        if proc.name.isdigit() and uid in uids and not held_by_a_grader(UID_LOCKS / str(uid)):
             left.append(proc.name)
     assert left == []

@@ -11,8 +11,8 @@ from budget_attacks import budget_attacker
 
 from hostile.deployed import (
     POINTS,
-    _leftovers,
     grade_as_deployed,
+    leftovers_no_grader_holds,
     scores,
     shown,
     submission_wrapping,
@@ -192,7 +192,7 @@ def test_11_every_budget_holds_and_hidden_outcomes_stay_hidden(autograder, tmp_p
     for key, words in BUDGETED_SAY.items():
         words = ["MAPPINGS 20000"] if key == "4.1" and within else words
         assert all(w in said[key] for w in words), (key, said[key])
-    assert _leftovers() == []
+    assert leftovers_no_grader_holds() == []
     honest = make_submission(tmp_path / "honest" / "submission")
     fair, fair_run = grade_as_deployed(autograder, honest, BUDGETED, tmp_path / "h")
     assert fair_run.returncode == 0, fair_run.stderr[-2000:]
