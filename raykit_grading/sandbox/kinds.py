@@ -39,8 +39,9 @@ def choose_sandbox(
         )
     refused = []
     for name in KINDS if wanted == "auto" else (wanted,):
+        # what every kind needs (the child's Python runs) is said as it is, once
+        sandbox = KINDS[name](submission, workspace, child_python, limits)
         try:
-            sandbox = KINDS[name](submission, workspace, child_python, limits)
             sandbox.check()
             return sandbox
         except IsolationUnavailable as exc:
