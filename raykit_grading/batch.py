@@ -26,6 +26,8 @@ or ``not a submission: why`` (a stray file beside the submissions). Every entry 
 is a row. ``OUT/feedback/<student>/``: results.json, the visible tests'
 feedback pictures and the student's page (``index.html``), which may be handed to the student;
 ``OUT/hidden/<student>/``: the hidden tests' pictures, for the instructor only;
+``OUT/logs/<student>.log``: what the student's grader said (its sandbox, its own peak memory
+and the container's OOM kills, what it could not remove), for the instructor too;
 ``OUT/report.html``: the class report
 (:mod:`raykit_grading.report`). The exit status says whether every submission was graded: 1
 (and they are listed) if some submission could not be, 0 otherwise, a stray file beside them
@@ -61,6 +63,7 @@ from raykit_grading.seeds import (
 NAMES_AS_BYTES = {"encoding": "utf-8", "errors": "surrogateescape"}  # folder names as they are
 DOES_NOT_IMPORT = "does not import"  # scores.csv's status (results.json says the error)
 HIDDEN_PICTURES = "hidden"  # OUT/hidden/<student>/: the hidden tests' pictures
+LOGS = "logs"  # OUT/logs/<student>.log: what each student's grader said
 MARGIN_SECONDS = 180.0  # a student's grader may take its tests' total time and this much more
 
 
@@ -237,8 +240,10 @@ def _grade_student(
             timeout=options.total_seconds + MARGIN_SECONDS,
             stdin=subprocess.DEVNULL,
         )
-    except subprocess.TimeoutExpired:
+    except subprocess.TimeoutExpired as exc:
+        _keep_log(out, name, exc.stderr)
         return {**row, "status": "could not grade: its grader went over its time budget"}
+    _keep_log(out, name, run.stderr)
     if run.returncode != 0 or not results_path.is_file():
         last = (run.stderr.strip().splitlines() or [f"exit status {run.returncode}"])[-1]
         return {**row, "status": f"could not grade: {last[:300]}"}
@@ -255,6 +260,17 @@ def _grade_student(
     row["max_score"] = sum(t["max_score"] for t in results["tests"])
     row.update({t["number"]: t["score"] for t in results["tests"]})
     return row
+
+
+def _keep_log(out: Path, name: str, log: str | bytes | None) -> None:
+    """Keep what the student's grader said on stderr in ``OUT/logs/<student>.log``, for the
+    instructor: its sandbox, its own peak memory and how often the container's OOM killer
+    fired, what it set aside in a quarantine, why it could not grade."""
+    if isinstance(log, bytes):  # what a grader stopped part way said
+        log = log.decode("utf-8", "replace")
+    path = out / LOGS / f"{name}.log"
+    path.parent.mkdir(exist_ok=True)
+    path.write_text(log or "", encoding="utf-8", errors="replace")
 
 
 def _set_hidden_pictures_apart(results: dict, feedback: Path, hidden: Path) -> None:
