@@ -32,6 +32,12 @@ and the container's OOM kills, what it could not remove), for the instructor too
 (:mod:`raykit_grading.report`). The exit status says whether every submission was graded: 1
 (and they are listed) if some submission could not be, 0 otherwise, a stray file beside them
 or a run that had no one left to grade included.
+
+Students are graded ``--jobs`` at a time (2 by default), but one at a time in a container with
+a memory limit (:func:`jobs_within`): each grader shares the container's memory out as its own
+(:mod:`raykit_grading.budgets`, L = G + K + M), so two at once could pass the container's limit
+together while each is within its own, and one student's test would be stopped for memory a
+classmate held.
 """
 
 from __future__ import annotations
@@ -48,6 +54,7 @@ from pathlib import Path
 from zipfile import is_zipfile
 
 from raykit_grading.catalog import VISIBLE, by_name
+from raykit_grading.confine import ContainerLimits, container_limits
 from raykit_grading.grade import GradingImpossible, Options, preflight
 from raykit_grading.intake import Entry, entries
 from raykit_grading.report import NOT_A_SUBMISSION, class_summary, write_report
@@ -65,6 +72,20 @@ DOES_NOT_IMPORT = "does not import"  # scores.csv's status (results.json says th
 HIDDEN_PICTURES = "hidden"  # OUT/hidden/<student>/: the hidden tests' pictures
 LOGS = "logs"  # OUT/logs/<student>.log: what each student's grader said
 MARGIN_SECONDS = 180.0  # a student's grader may take its tests' total time and this much more
+JOBS = 2  # students graded at once where nothing says otherwise
+
+
+def jobs_within(asked: int | None, limits: ContainerLimits) -> tuple[int, str | None]:
+    """How many students to grade at once: ``asked`` (:data:`JOBS` if None), or 1 where the
+    grader's cgroup has a memory limit (the module's docstring says why); and, where that
+    differs from what was asked, one line saying so."""
+    jobs = JOBS if asked is None else asked
+    if limits.memory_bytes is None or jobs <= 1:
+        return jobs, None
+    return 1, (
+        f"raykit_grading: one student at a time, not {jobs}: this container's "
+        f"{limits.memory_bytes >> 20} MB are each grading's own (raykit_grading/budgets.py)"
+    )
 
 
 def _read_scores(path: Path) -> dict[str, dict]:
@@ -143,9 +164,12 @@ def _grade_all(students: list[Entry], out, jobs, names, options, regrade, assign
             kind = "not graded" if entry.submission else NOT_A_SUBMISSION
             rows[entry.name] = {"student": entry.name, "status": f"{kind}: {entry.why}"}
     _write_all(path, header, rows)
+    jobs, why = jobs_within(jobs, container_limits())
+    if why and todo:
+        print(why, file=sys.stderr)
     with (
         open(path, "a", newline="", **NAMES_AS_BYTES) as stream,
-        ThreadPoolExecutor(jobs or 2) as pool,
+        ThreadPoolExecutor(jobs) as pool,
     ):
         writer = csv.writer(stream)
         futures = {
