@@ -26,10 +26,18 @@ or ``not a submission: why`` (a stray file beside the submissions). Every entry 
 is a row. ``OUT/feedback/<student>/``: results.json, the visible tests'
 feedback pictures and the student's page (``index.html``), which may be handed to the student;
 ``OUT/hidden/<student>/``: the hidden tests' pictures, for the instructor only;
+``OUT/logs/<student>.log``: what the student's grader said (its sandbox, its own peak memory
+and the container's OOM kills, what it could not remove), for the instructor too;
 ``OUT/report.html``: the class report
 (:mod:`raykit_grading.grading.report`). The exit status says whether every submission was graded: 1
 (and they are listed) if some submission could not be, 0 otherwise, a stray file beside them
 or a run that had no one left to grade included.
+
+Students are graded ``--jobs`` at a time (2 by default), but one at a time in a container with
+a memory limit (:func:`jobs_within`): each grader shares the container's memory out as its own
+(:mod:`raykit_grading.sandbox.budgets`, L = G + K + M), so two at once could pass the container's
+limit together while each is within its own, and one student's test would be stopped for memory a
+classmate held.
 """
 
 from __future__ import annotations
@@ -57,11 +65,27 @@ from raykit_grading.assignment.seeds import (
 from raykit_grading.grading.grade import GradingImpossible, Options, preflight
 from raykit_grading.grading.intake import Entry, entries
 from raykit_grading.grading.report import NOT_A_SUBMISSION, class_summary, write_report
+from raykit_grading.sandbox.confine import ContainerLimits, container_limits
 
 NAMES_AS_BYTES = {"encoding": "utf-8", "errors": "surrogateescape"}  # folder names as they are
 DOES_NOT_IMPORT = "does not import"  # scores.csv's status (results.json says the error)
 HIDDEN_PICTURES = "hidden"  # OUT/hidden/<student>/: the hidden tests' pictures
+LOGS = "logs"  # OUT/logs/<student>.log: what each student's grader said
 MARGIN_SECONDS = 180.0  # a student's grader may take its tests' total time and this much more
+JOBS = 2  # students graded at once where nothing says otherwise
+
+
+def jobs_within(asked: int | None, limits: ContainerLimits) -> tuple[int, str | None]:
+    """How many students to grade at once: ``asked`` (:data:`JOBS` if None), or 1 where the
+    grader's cgroup has a memory limit (the module's docstring says why); and, where that
+    differs from what was asked, one line saying so."""
+    jobs = JOBS if asked is None else asked
+    if limits.memory_bytes is None or jobs <= 1:
+        return jobs, None
+    return 1, (
+        f"raykit_grading: one student at a time, not {jobs}: this container's "
+        f"{limits.memory_bytes >> 20} MB are each grading's own (raykit_grading/sandbox/budgets.py)"
+    )
 
 
 def _read_scores(path: Path) -> dict[str, dict]:
@@ -140,9 +164,12 @@ def _grade_all(students: list[Entry], out, jobs, names, options, regrade, assign
             kind = "not graded" if entry.submission else NOT_A_SUBMISSION
             rows[entry.name] = {"student": entry.name, "status": f"{kind}: {entry.why}"}
     _write_all(path, header, rows)
+    jobs, why = jobs_within(jobs, container_limits())
+    if why and todo:
+        print(why, file=sys.stderr)
     with (
         open(path, "a", newline="", **NAMES_AS_BYTES) as stream,
-        ThreadPoolExecutor(jobs or 2) as pool,
+        ThreadPoolExecutor(jobs) as pool,
     ):
         writer = csv.writer(stream)
         futures = {
@@ -237,8 +264,10 @@ def _grade_student(
             timeout=options.total_seconds + MARGIN_SECONDS,
             stdin=subprocess.DEVNULL,
         )
-    except subprocess.TimeoutExpired:
+    except subprocess.TimeoutExpired as exc:
+        _keep_log(out, name, exc.stderr)
         return {**row, "status": "could not grade: its grader went over its time budget"}
+    _keep_log(out, name, run.stderr)
     if run.returncode != 0 or not results_path.is_file():
         last = (run.stderr.strip().splitlines() or [f"exit status {run.returncode}"])[-1]
         return {**row, "status": f"could not grade: {last[:300]}"}
@@ -255,6 +284,17 @@ def _grade_student(
     row["max_score"] = sum(t["max_score"] for t in results["tests"])
     row.update({t["number"]: t["score"] for t in results["tests"]})
     return row
+
+
+def _keep_log(out: Path, name: str, log: str | bytes | None) -> None:
+    """Keep what the student's grader said on stderr in ``OUT/logs/<student>.log``, for the
+    instructor: its sandbox, its own peak memory and how often the container's OOM killer
+    fired, what it set aside in a quarantine, why it could not grade."""
+    if isinstance(log, bytes):  # what a grader stopped part way said
+        log = log.decode("utf-8", "replace")
+    path = out / LOGS / f"{name}.log"
+    path.parent.mkdir(exist_ok=True)
+    path.write_text(log or "", encoding="utf-8", errors="replace")
 
 
 def _set_hidden_pictures_apart(results: dict, feedback: Path, hidden: Path) -> None:

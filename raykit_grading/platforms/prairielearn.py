@@ -34,8 +34,9 @@ network, ``/grade`` laid out as its external-grading docs say. :func:`run_job` g
   past the time limit) is ``gradable: false`` with a message beginning ``NOT GRADED``, never a
   score;
 * hidden tests count in the score but show as one line, their points together and nothing
-  else (PrairieLearn has no "after the due date"; a hidden test's name, message or picture
-  never reaches the student);
+  else (a hidden test's name, message or picture never reaches the student). PrairieLearn has
+  no "after the due date" and shows the score at once: the points the hidden tests earned
+  together are what a student learns (docs/instructors.md says what an instructor can do);
 * a visible render's picture is a base64 PNG in the test's ``images``; pictures are left out,
   largest first, while the file would pass PrairieLearn's 1 MB, and ``message`` says so.
 

@@ -8,6 +8,7 @@ from __future__ import annotations
 import csv
 import html
 import json
+import os
 import re
 import shutil
 import subprocess
@@ -21,7 +22,9 @@ from gradescope_export import make_export
 from conftest import REPO
 from mistaken_submissions import make_submission
 from raykit_grading.assignment.catalog import TESTS, VISIBLE
+from raykit_grading.grading.batch import JOBS, jobs_within
 from raykit_grading.grading.results import NOT_IMPORTED
+from raykit_grading.sandbox.confine import ContainerLimits
 
 ONLY = ["2.3", "3.1", "3.6"]  # a ray-sphere array test, the camera frame, a render: 7 points
 
@@ -269,3 +272,38 @@ def test_a_students_feedback_folder_holds_nothing_of_the_hidden_tests(tmp_path):
     page = html.unescape((out / "report.html").read_text())
     examples = re.findall(r"<img class='example' src='([^']+)'", page)
     assert examples and all((out / unquote(src)).is_file() for src in examples)
+
+
+def test_batch_grades_one_student_at_a_time_in_a_container_with_a_memory_limit():
+    no_limit, limit = ContainerLimits(None, None), ContainerLimits(768 << 20, 0.5)
+    assert jobs_within(None, no_limit) == (JOBS, None)
+    assert jobs_within(4, no_limit) == (4, None)
+    assert jobs_within(1, limit) == (1, None)
+    jobs, why = jobs_within(4, limit)
+    assert jobs == 1 and "not 4" in why and "768 MB" in why
+
+
+def test_batch_in_docker_s_confinement_says_it_grades_one_student_at_a_time(tmp_path):
+    """Asked for 4 at once in a container of 768 MB (Docker's confinement emulated), batch
+    grades the two students one after the other, says so, and grades both in full."""
+    if os.geteuid() != 0:
+        pytest.skip("emulating Docker's confinement needs root")
+    students = tmp_path / "submissions"
+    make_submission(students / "ada")
+    make_submission(students / "zoe")
+    out = tmp_path / "graded"
+    run = subprocess.run(
+        [sys.executable, str(REPO / "tests" / "support" / "docker_confinement.py"),
+         "--memory-mb", "768", "--", sys.executable, "-m", "raykit_grading", "batch",
+         str(students), "-o", str(out), "--only", "2.3", "--jobs", "4", "--seed", "7"],
+        capture_output=True, text=True, cwd=REPO, timeout=600,
+    )  # fmt: skip
+    if run.returncode == 77:
+        pytest.skip(run.stderr.strip())
+    assert run.returncode == 0, run.stderr[-3000:]
+    assert "one student at a time, not 4: this container's 768 MB" in run.stderr
+    rows = {row["student"]: row for row in csv.DictReader((out / "scores.csv").open())}
+    assert {k: (r["status"], r["score"] == r["max_score"]) for k, r in rows.items()} == {
+        "ada": ("graded", True),
+        "zoe": ("graded", True),
+    }

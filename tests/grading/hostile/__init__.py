@@ -34,9 +34,11 @@ for :data:`PRAIRIELEARN_DIFFERS`):
   (:func:`as_gradescope`): hidden tests are one line there (:func:`shown` says what a test's
   expected scores look like that way), and a submission that is not gradable scores nothing.
 
-The batch tests run as the user running the suite. Every attack that needs something outside
-its sandbox has a way to profit if it got it (it then answers right and scores), so a defence
-that failed shows as a score above the one asserted.
+The batch tests run as the user running the suite, but for
+:func:`~hostile.test_memory.test_11_a_batch_grades_honest_students_between_attackers_in_full`,
+which runs ``batch`` in each way it runs on an instructor's machine (``BATCH_WAYS``). Every
+attack that needs something outside its sandbox has a way to profit if it got it (it then
+answers right and scores), so a defence that failed shows as a score above the one asserted.
 
 Kinds (numbers as in the trust issue): 1 hard-coding the shipped answers, 2 links and special
 files in the submission, 3 child-controlled output, 4 one broken test, 5 hidden inputs reaching

@@ -1,25 +1,20 @@
-"""What one test leaves reaches no other test and no later student (10), and nothing is
-left behind by any way of grading."""
+"""What one test leaves reaches no other test (10; no later student: test_memory.py's batch),
+and nothing is left behind by any way of grading."""
 
 from __future__ import annotations
 
-import csv
 import json
 import os
 import re
 import shutil
 import socket
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 
-from conftest import REPO
 from hostile.deployed import (
     CONTAINERS,
-    SEED,
-    WALL,
     everything_visible,
     grade_as_deployed,
     held_by_a_grader,
@@ -156,43 +151,6 @@ def test_10_a_test_sees_nothing_of_the_tests_before_it(release, autograder, tmp_
     assert seen[0] == seen[1] == seen[2], seen
     facts = json.loads(seen[0])
     assert facts["tmp entries"] == [] and facts["free inodes"] == "Operation not permitted"
-
-
-def test_10_a_batch_grades_the_students_after_an_attacker_in_full(release, tmp_path):
-    """ada, then mallory (a tree too deep to name, 10 GB asked of fallocate, 200 files of 50
-    MB, in three tests), then zoe: ada and zoe score in full, mallory what her budget allows,
-    and nothing is left."""
-    students = tmp_path / "submissions"
-    make_submission(students / "ada")
-    make_submission(students / "zoe")
-    mallory = submission_wrapping(
-        tmp_path / "m",
-        {
-            "planes.py": ("hit_plane", DEEP_TREE),
-            "spheres.py": (
-                "hit_sphere",
-                WRITES_TOO_MUCH.replace("hit_plane", "hit_sphere").replace(
-                    "origins, directions, a, n", "origins, directions, center, radius"
-                ),
-            ),
-        },
-    )
-    shutil.copytree(mallory, students / "mallory")
-    out = tmp_path / "out"
-    run = subprocess.run(
-        [sys.executable, "-m", "raykit_grading", "batch", str(students), "-o", str(out),
-         "--only", "2.1", "2.3", "2.6", "--wall-seconds", str(WALL), "--jobs", "1",
-         "--seed", str(SEED)],
-        capture_output=True, text=True, cwd=REPO, timeout=600,
-    )  # fmt: skip
-    assert run.returncode == 0, run.stderr[-2000:]
-    rows = {row["student"]: row for row in csv.DictReader((out / "scores.csv").open())}
-    assert {k: (rows[k]["status"], float(rows[k]["score"])) for k in rows} == {
-        "ada": ("graded", 5.0),
-        "mallory": ("graded", 1.0),
-        "zoe": ("graded", 5.0),
-    }
-    assert leftovers_no_grader_holds() == []
 
 
 def test_removal_copes_with_any_tree_a_child_can_leave(tmp_path):

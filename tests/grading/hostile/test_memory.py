@@ -1,16 +1,29 @@
 """Memory beyond the limits: no namespace of its own, nothing the kernel holds outside the
 limit, an init that outlives the test, a tmp to fill (9); and every budget holds, with
-nothing shown at once that tells of a hidden test (11)."""
+nothing shown at once that tells of a hidden test (11), in a batch too, where honest students
+between attackers score in full."""
 
 from __future__ import annotations
 
+import csv
+import html
+import json
 import re
+import shutil
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
 
 import pytest
 from budget_attacks import budget_attacker
 
+from conftest import REPO
 from hostile.deployed import (
+    AS_ROOT,
+    NOBODY,
     POINTS,
+    SEED,
     grade_as_deployed,
     leftovers_no_grader_holds,
     scores,
@@ -18,7 +31,9 @@ from hostile.deployed import (
     submission_wrapping,
     way,
 )
+from hostile.test_leftovers import DEEP_TREE, WRITES_TOO_MUCH
 from mistaken_submissions import make_submission
+from raykit_grading.assignment.catalog import TESTS
 
 pytestmark = pytest.mark.slow
 
@@ -210,3 +225,129 @@ def test_11_every_budget_holds_and_hidden_outcomes_stay_hidden(autograder, tmp_p
         assert peak and int(peak.group(1)) <= int(peak.group(2)), graded.stderr[-1500:]
         if way(autograder) in ("docker", "container", "prairielearn"):
             assert OOM.search(graded.stderr).group(1) == "0", graded.stderr[-1500:]
+
+
+# batch runs on an instructor's machine, as root or as a normal user (bubblewrap's sandbox);
+# in a container only run_autograder and PrairieLearn's entrypoint grade, one submission each
+BATCH_WAYS = ("root", "user")
+
+
+@pytest.mark.parametrize("graded_as", BATCH_WAYS)
+def test_11_a_batch_grades_honest_students_between_attackers_in_full(graded_as, tmp_path):
+    """One batch on one machine grades ada, then mallory (issue 40's disk: a tree too deep to
+    name, 200 files of 50 MB), then trudy (every attack of tests/support/budget_attacks.py),
+    then zoe: ada and zoe score in full, test for test; mallory and trudy exactly what
+    test_10's and test_11's attacks score, each of their pages (linked from the class report)
+    naming the budget that stopped them; every student's grader stays within its own memory
+    (its log, ``logs/<student>.log``), the OOM killer never fires where its cgroup says, and
+    nothing is left."""
+    students = tmp_path / "submissions"
+    make_submission(students / "ada")
+    mallory = submission_wrapping(
+        tmp_path / "m",
+        {
+            "planes.py": ("hit_plane", DEEP_TREE),
+            "spheres.py": (
+                "hit_sphere",
+                WRITES_TOO_MUCH.replace("hit_plane", "hit_sphere").replace(
+                    "origins, directions, a, n", "origins, directions, center, radius"
+                ),
+            ),
+        },
+    )
+    shutil.copytree(mallory, students / "mallory")
+    budget_attacker(students / "trudy")
+    make_submission(students / "zoe")
+    out, run = _batch_as(graded_as, students, tmp_path / "graded")
+    assert run.returncode == 0, run.stderr[-2000:]
+    rows = {row["student"]: row for row in csv.DictReader((out / "scores.csv").open())}
+    full = {k: POINTS[k] for k in BUDGETED}
+    within = int(graded_as in PAGE_TABLES_WITHIN)
+    assert {k: (r["status"], {t: float(r[t]) for t in BUDGETED}) for k, r in rows.items()} == {
+        "ada": ("graded", full),
+        "mallory": ("graded", {**full, "2.1": 0, "2.3": 0, "2.4": 0, "2.5": 0}),
+        "trudy": ("graded", {**BUDGETED_SCORES, "4.1": within}),
+        "zoe": ("graded", full),
+    }, run.stderr[-2000:]
+    report = (out / "report.html").read_text()
+    pages = {name: html.unescape((out / "feedback" / name / "index.html").read_text())
+             for name in rows if f"href='feedback/{name}/index.html'" in report}  # fmt: skip
+    assert sorted(pages) == sorted(rows), report
+    stopped = {("mallory", "2.1"): "used more disk than allowed",
+               ("mallory", "2.3"): "used more disk than allowed",
+               ("trudy", "2.1"): BUDGETED_SAY["2.1"][0], ("trudy", "4.2"): BUDGETED_SAY["4.2"][0],
+               **({} if within else {("trudy", "4.1"): BUDGETED_SAY["4.1"][0]})}  # fmt: skip
+    for (name, key), budget in stopped.items():  # on the page the report links
+        told = re.sub(r"<[^>]+>", " ", _failing_on(pages[name], key))
+        assert budget in told, f"{name}'s {key} was not stopped for {budget!r}: {told!r}"
+    trudy = json.loads((out / "feedback/trudy/results.json").read_text())
+    said = {t["number"]: t["output"] for t in trudy["tests"]}
+    for key, words in {**BUDGETED_SAY, **({"4.1": ["MAPPINGS 20000"]} if within else {})}.items():
+        assert all(w in said[key] for w in words), (
+            f"trudy's {key} does not say {words}: {said[key]!r}"
+        )
+    for name in rows:
+        log = (out / "logs" / f"{name}.log").read_text()
+        peak = PEAK.search(log)
+        assert peak and int(peak.group(1)) <= int(peak.group(2)), (name, log[-1500:])
+        killed = OOM.search(log)  # a container's cgroup says; an instructor's machine may not
+        assert killed is None or killed.group(1) == "0", (name, log[-1500:])
+    assert leftovers_no_grader_holds() == []
+
+
+def _failing_on(page: str, key: str) -> str:
+    """What a student's feedback page says of test ``key`` where it lists it as failing ("" if
+    it does not)."""
+    name = next(t.name for t in TESTS if t.key == key)
+    found = re.search(f"FAIL: {re.escape(name)}:(.*?)</section>", page, re.S)
+    return found.group(1) if found else ""
+
+
+def _batch_as(
+    graded_as: str, students: Path, out: Path
+) -> tuple[Path, subprocess.CompletedProcess]:
+    """``python -m raykit_grading batch`` of ``students`` with the budgeted tests, one student
+    at a time, each test with its own wall time: as root (``root``), or as a normal user
+    (``user``: as root, uid 65534 through ``setpriv`` with a Python of raykit's dependencies,
+    in a folder of its own, its TMPDIR, which must hold nothing of the graders afterwards);
+    returns OUT and the run."""
+
+    def batch(python: str, students: Path, out: Path) -> list[str]:
+        # a test's own wall time, as an instructor's batch has it: every attack here is
+        # stopped by its budget or let be long before it while its defences hold (and one
+        # that is not shows as its time running out), and the page tables' 20,000 mappings
+        # (4.1, within its budget here) must not be stopped by the time a loaded machine takes
+        return [python, "-m", "raykit_grading", "batch", str(students), "-o", str(out),
+                "--only", *BUDGETED, "--jobs", "1", "--seed", str(SEED)]  # fmt: skip
+
+    if graded_as == "root" and not AS_ROOT:
+        pytest.skip("the root way runs batch as root")
+    if graded_as == "root" or not AS_ROOT:  # as the suite's user
+        run = subprocess.run(batch(sys.executable, students, out), capture_output=True,
+                             text=True, cwd=out.parent, timeout=900)  # fmt: skip
+        return out, run
+    from grader_python import instructor_python
+
+    python, why = instructor_python()
+    if python is None or shutil.which("setpriv") is None:
+        pytest.skip(why or "as root, the user way needs setpriv to become uid 65534")
+    home = Path(tempfile.mkdtemp(prefix="raykit-user-", dir="/tmp"))
+    try:
+        shutil.copytree(students, home / "submissions")
+        (home / "home").mkdir()  # matplotlib's cache and configuration
+        subprocess.run(["chown", "-R", f"{NOBODY}:{NOBODY}", str(home)], check=True)
+        run = subprocess.run(
+            ["setpriv", f"--reuid={NOBODY}", f"--regid={NOBODY}", "--clear-groups",
+             *batch(python, home / "submissions", home / "out")],
+            capture_output=True, text=True, timeout=900, cwd=home,
+            env={"PATH": "/usr/bin:/bin", "PYTHONPATH": str(REPO), "TMPDIR": str(home),
+                 "HOME": str(home / "home")},
+        )  # fmt: skip
+        left = sorted(
+            p.name for p in home.iterdir() if p.name not in ("submissions", "out", "home")
+        )
+        assert left == [], f"the graders left {left} in their TMPDIR"
+        shutil.copytree(home / "out", out)
+    finally:
+        shutil.rmtree(home, ignore_errors=True)
+    return out, run
