@@ -142,13 +142,22 @@ def container_way_runs() -> bool:
 
 
 def grade_as_deployed(
-    autograder: Path, submission: Path, only: list[str], tmp_path: Path, extra: str = ""
+    autograder: Path,
+    submission: Path,
+    only: list[str],
+    tmp_path: Path,
+    extra: str = "",
+    wall: float | None = WALL,
 ) -> tuple[dict, subprocess.CompletedProcess]:
-    """Grade the way an instructor does (see the module's docstring)."""
+    """Grade the way an instructor does (see the module's docstring). ``wall``: each test's
+    wall seconds (:data:`WALL`, so that an attack that holds its test costs little), or None
+    for each test's own, as deployed: an honest submission's renders may take longer than
+    WALL on a loaded machine, and its full marks must not depend on the load."""
     from grader_python import grader_python
 
     python = grader_python()[0]
-    options = f"--only {' '.join(only)} --wall-seconds {WALL} --seed {SEED} {extra}"
+    walls = "" if wall is None else f"--wall-seconds {wall} "
+    options = f"--only {' '.join(only)} {walls}--seed {SEED} {extra}"
     if way(autograder) == "container":
         return _grade_in_a_container(autograder, submission, options, tmp_path)
     if way(autograder) == "prairielearn":
