@@ -50,8 +50,6 @@ IMAGE_LINK = re.compile(r"!\[[^\]]*\]\(([^)\s]+\.png)\)")
 # line-scan sweeps, a pixel a camera pixel and a scan, are as large as their scenes' pixels and
 # scans; made larger, they need scenes with more of both
 TOO_SMALL_RENDERS = {
-    "docs/images/conveyor_sweep.png",
-    "docs/gallery/conveyor_sweep.png",
     "docs/images/passing_car_sweep.png",
     "docs/gallery/passing_car_sweep.png",
     "docs/images/passing_car_2d_sweep.png",

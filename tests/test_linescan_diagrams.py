@@ -76,7 +76,7 @@ def test_sweep_diagram_shows_three_times_and_the_growing_image():
     figure = sweep_diagram(load_line_scene(SCENES / "linescan/conveyor.json"), scans=30)
     assert len(figure.axes) == 6
     images = [ax.images[0].get_array() for ax in figure.axes[3:]]
-    assert all(img.shape == (30, 96, 3) for img in images)
+    assert all(img.shape == (30, 192, 3) for img in images)
     plt.close(figure)
 
 
