@@ -52,7 +52,6 @@ IMAGE_LINK = re.compile(r"!\[[^\]]*\]\(([^)\s]+\.png)\)")
 TOO_SMALL_RENDERS = {
     "docs/images/passing_car_sweep.png",
     "docs/gallery/passing_car_sweep.png",
-    "docs/images/passing_car_2d_sweep.png",
 }
 
 

@@ -45,8 +45,8 @@ def test_misses_are_drawn_to_the_edge_of_the_frame():
 
 
 def test_every_kth_ray_is_drawn_and_at_most_24_by_default():
-    scene = load_line_scene(SCENES / "linescan/passing_car.json")  # 160 pixels
-    figure = ray_diagram(scene, every=10)
+    scene = load_line_scene(SCENES / "linescan/passing_car.json")  # 400 pixels
+    figure = ray_diagram(scene, every=25)
     drawn = sum(
         len(c.get_segments())
         for c in figure.axes[0].collections

@@ -50,7 +50,7 @@ FIGURES = {
     "math_dot_projection": lambda: math_figures.dot_projection(),
     "linescan_slide_rays": lambda: ray_diagram(_linescan("slide")),
     "linescan_conveyor_rays": lambda: ray_diagram(_linescan("conveyor"), every=16),
-    "linescan_car_sweep": lambda: sweep_diagram(_linescan("passing_car"), scans=150),
+    "linescan_car_sweep": lambda: sweep_diagram(_linescan("passing_car"), scans=375),
 }
 
 
