@@ -508,9 +508,9 @@ TESTS = [
         kind="image", mistakes=True,
     ),
     GradingTest(
-        "1.7 a sweep of scenes/linescan/conveyor.json",
+        "1.7 a sweep of scenes/linescan/conveyor_small.json",
         STAGE1, 2, HIDDEN, "sweep",
-        _scene_test(SCENES / "linescan/conveyor.json", scans=160),
+        _scene_test(SCENES / "linescan/conveyor_small.json", scans=160),
         kind="image", mistakes=True,
     ),
     GradingTest(
