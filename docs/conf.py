@@ -151,11 +151,11 @@ def _no_empty_sidebar(app, pagename: str, templatename, context: dict, doctree) 
 # An API page's name is one long word of dotted parts (raykit.engine.compiled.billboards), which
 # the browser, with no other place to break it, broke inside a part wherever it names a page or
 # an object: in the footer's "previous" and "next" links, in the left column ("Section
-# Navigation", "compiled.billbo|ards" at 1280 px), in the page's headings
-# ("raykit.engine.compiled.bil|lboards") and in each signature (a parameter "b|oard"). A break
-# is offered after each dot instead, and in a signature after its opening parenthesis too,
-# before its first parameter (the others break at the space after their comma); raykit.css lets
-# them be taken, and tests/test_site.py checks that no word is broken.
+# Navigation", "compiled.billbo|ards" at 1280 px) and the right one ("On this page"), in the
+# page's headings ("raykit.engine.compiled.bil|lboards") and in each signature (a parameter
+# "b|oard"). A break is offered after each dot instead, and in a signature after its opening
+# parenthesis too, before its first parameter (the others break at the space after their
+# comma); raykit.css lets them be taken, and tests/test_site.py checks that no word is broken.
 #
 # a tag, passed over whole so that no dot inside one (id="raykit.rays") is looked at; or a dot
 # in the text between a name and the next name's first letter, tags allowed between them (a
@@ -188,11 +188,17 @@ def _page_names_break_at_dots(app, pagename, templatename, context: dict, doctre
         link = context.get(key)
         if link and link.get("title"):
             link["title"] = _break_after_dots(link["title"])
-    # the theme's function that draws the left column, set by the theme for each page
+    # the theme's functions that draw the left column and the right one, set by the theme for
+    # each page (the right one's, asked for the HTML it shows, not the tree it reads)
     draw_column = context.get("generate_toctree_html")
     if draw_column is not None:
         context["generate_toctree_html"] = lambda *args, **kwargs: _break_after_dots(
             str(draw_column(*args, **kwargs))
+        )
+    draw_contents = context.get("generate_toc_html")
+    if draw_contents is not None:
+        context["generate_toc_html"] = lambda kind="html": (
+            _break_after_dots(str(draw_contents(kind))) if kind == "html" else draw_contents(kind)
         )
     if context.get("body"):
         context["body"] = _headings_and_signatures_break_at_dots(context["body"])
