@@ -19,12 +19,11 @@ from __future__ import annotations
 import pytest
 
 SLOW_MODULES = {
-    "test_grading.py",
-    "test_batch_class.py",
-    "test_grading_hostile.py",
-    "test_grading_isolation.py",
-    "test_grading_seeds.py",
-    "test_submission_shapes.py",
+    "test_grade.py",
+    "test_batch.py",
+    "test_isolation.py",
+    "test_seeds.py",
+    "test_submissions.py",
     "test_benchmarks.py",
     "test_reproducible.py",
     "test_baselines.py",
@@ -33,6 +32,7 @@ SLOW_MODULES = {
     "test_site.py",
     "test_deck.py",
 }
+SLOW_FOLDERS = {"compiled", "hostile"}  # tests/compiled/: the compiled engine's; the hostile suite
 
 
 # The suite runs on every core (pytest-xdist: ``-n auto`` in pyproject.toml), a test on
@@ -43,17 +43,17 @@ SLOW_MODULES = {
 # xdist's own groups (the xdist_group mark) are lost on pytest 9.2 (pytest-xdist issue 1386), so
 # the scheduler below reads the groups from the tests' ids.
 ONE_WORKER_MODULES = {
-    "test_batch_class.py",
+    "test_batch.py",
     "test_deck.py",
-    "test_grading_seeds.py",
+    "test_seeds.py",
     "test_linescan3d.py",
     "test_site.py",
 }
 SAME_IMAGE = {
-    "test_grading_containers.py": "container",
-    "test_grading_prairielearn.py": "prairielearn",
+    "test_containers.py": "container",
+    "test_prairielearn.py": "prairielearn",
 }
-HOSTILE = "test_grading_hostile.py"  # its tests' ids hold the way they grade: [root-...]
+HOSTILE = "hostile"  # tests/grading/hostile/: its tests' ids hold the way they grade: [root-...]
 WAYS = ("root", "docker", "user", "container", "prairielearn")
 
 
@@ -61,12 +61,12 @@ def worker_group(nodeid: str) -> str | None:
     """The group a test's id puts it in (its worker shared with the group's other tests), or
     None: a test that any worker may run."""
     path, _, test = nodeid.partition("::")
-    name = path.rsplit("/", 1)[-1]
+    folder, _, name = path.rpartition("/")
     if name.endswith(".ipynb") or name in ONE_WORKER_MODULES:
         return path
     if name in SAME_IMAGE:
         return f"grading-{SAME_IMAGE[name]}"
-    if name == HOSTILE and test.endswith("]"):
+    if folder.rsplit("/", 1)[-1] == HOSTILE and test.endswith("]"):
         params = test[test.index("[") + 1 : -1].split("-")
         way = next((way for way in (params[0], params[-1]) if way in WAYS), None)
         return f"grading-{way}" if way else None
@@ -89,8 +89,8 @@ def pytest_xdist_make_scheduler(config, log):
 def pytest_collection_modifyitems(config, items):
     slow = pytest.mark.slow
     for item in items:
-        compiled = item.path.parent.name == "compiled"  # tests/compiled/: the compiled engine's
-        if item.path.suffix == ".ipynb" or item.path.name in SLOW_MODULES or compiled:
+        folder = item.path.parent.name
+        if item.path.suffix == ".ipynb" or item.path.name in SLOW_MODULES or folder in SLOW_FOLDERS:
             item.add_marker(slow)
         callspec = getattr(item, "callspec", None)
         way = callspec.params.get("autograder") if callspec else None

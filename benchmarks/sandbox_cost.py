@@ -7,12 +7,12 @@ Times, in turns (medians, :func:`common.medians_in_turns`), of:
 * ``bare``: the child's interpreter importing numpy and Pillow, as a plain process with the
   child's environment (one BLAS thread, as in every sandbox);
 * ``bubblewrap``: the same command inside the sandbox bubblewrap builds for a test
-  (:func:`raykit_grading.isolation.sandbox_arguments`: mount, pid, network, ipc, uts
+  (:func:`raykit_grading.sandbox.isolation.sandbox_arguments`: mount, pid, network, ipc, uts
   namespaces);
 * ``chroot``: the same command in the sandbox that needs no namespaces (as root only:
-  :func:`raykit_grading.confine.confine_child`: chroot into the minimal tree, a uid of its
+  :func:`raykit_grading.sandbox.confine.confine_child`: chroot into the minimal tree, a uid of its
   own, Landlock where the kernel has it, the seccomp filter);
-* ``test, bubblewrap`` and ``test, chroot``: a whole :meth:`raykit_grading.sandbox.Sandbox.run`
+* ``test, bubblewrap`` and ``test, chroot``: a whole :meth:`raykit_grading.sandbox.base.Sandbox.run`
   of the preflight task on the full solution, as each graded test pays it (work folder, inputs,
   for the chroot a copy of the submission into the tree, the sandbox, results over the pipe,
   killing the uid's processes, clean-up);
@@ -42,8 +42,10 @@ sys.path.insert(0, str(REPO))
 
 from common import arguments, medians_in_turns, parse, timer  # noqa: E402
 
-from raykit_grading import confine  # noqa: E402
-from raykit_grading.isolation import (  # noqa: E402
+from raykit_grading.sandbox import confine  # noqa: E402
+from raykit_grading.sandbox.bubblewrap import Bubblewrap  # noqa: E402
+from raykit_grading.sandbox.chroot import Chroot, _link_or_copy  # noqa: E402
+from raykit_grading.sandbox.isolation import (  # noqa: E402
     SITE,
     child_environment,
     find_bwrap,
@@ -51,8 +53,7 @@ from raykit_grading.isolation import (  # noqa: E402
     sandbox_arguments,
     seccomp_filter,
 )
-from raykit_grading.sandbox import Sandbox, _link_or_copy  # noqa: E402
-from raykit_grading.workspace import Workspace  # noqa: E402
+from raykit_grading.sandbox.workspace import Workspace  # noqa: E402
 
 PAGE = REPO / "docs/benchmarks/sandbox_cost.md"
 IMPORTS = "import sys; sys.path.insert(0, '{site}'); import numpy, PIL.Image"
@@ -84,10 +85,10 @@ def main() -> None:
             "bare": lambda: subprocess.run(bare, check=True, env=child_environment("/tmp")),
             "bubblewrap": lambda: subprocess.run(boxed, check=True),
         }
-        sandboxes = {"bubblewrap": Sandbox(submission, workspace, kind="bubblewrap")}
+        sandboxes = {"bubblewrap": Bubblewrap(submission, workspace)}
         if as_root:
             built = _tree_once(python)
-            sandboxes["chroot"] = Sandbox(submission, workspace, kind="chroot")
+            sandboxes["chroot"] = Chroot(submission, workspace)
             calls["chroot"], cleanup = _chrooted_imports(python, sandboxes["chroot"])
         for kind, sandbox in sandboxes.items():
             sandbox.check()
@@ -142,7 +143,7 @@ def _tree_once(python) -> tuple[int, int, float]:
         shutil.rmtree(trees, ignore_errors=True)
 
 
-def _chrooted_imports(python, sandbox: Sandbox):
+def _chrooted_imports(python, sandbox: Chroot):
     """The import command in the chroot sandbox, as a test's child is confined; and what
     removes its folder and ends its uid's lease."""
     sandbox.check()

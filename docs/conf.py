@@ -149,17 +149,37 @@ def _no_empty_sidebar(app, pagename: str, templatename, context: dict, doctree) 
 
 
 # An API page's name is one long word of dotted parts (raykit.engine.compiled.billboards), which
-# the browser, with no other place to break it, broke inside a part ("billboa|rds") where it names
-# a page: in the footer's "previous" and "next" links and in the left column ("Section
-# Navigation", "compiled.billbo|ards" at 1280 px). A break is offered after each dot instead.
-TAG = re.compile(r"(<[^>]*>)")
+# the browser, with no other place to break it, broke inside a part wherever it names a page or
+# an object: in the footer's "previous" and "next" links, in the left column ("Section
+# Navigation", "compiled.billbo|ards" at 1280 px) and the right one ("On this page"), in the
+# page's headings ("raykit.engine.compiled.bil|lboards") and in each signature (a parameter
+# "b|oard"). A break is offered after each dot instead, and in a signature after its opening
+# parenthesis too, before its first parameter (the others break at the space after their
+# comma); raykit.css lets them be taken, and tests/test_site.py checks that no word is broken.
+#
+# a tag, passed over whole so that no dot inside one (id="raykit.rays") is looked at; or a dot
+# in the text between a name and the next name's first letter, tags allowed between them (a
+# signature's "raykit.rays." and "dot" are two elements), but not a number's (1.5)
+TAG_OR_DOT_IN_A_NAME = re.compile(r"<[^>]*>|(?<=\w)\.(?=(?:<[^>]*>)*[^\W\d])")
 
 
 def _break_after_dots(html: str) -> str:
-    """``html`` with a <wbr> after each dot between two letters of its text (not its tags)."""
-    return "".join(
-        part if TAG.fullmatch(part) else re.sub(r"(?<=\w)\.(?=\w)", ".<wbr>", part)
-        for part in TAG.split(html)
+    """``html`` with a <wbr> after each dot of a dotted name in its text (not in its tags)."""
+    return TAG_OR_DOT_IN_A_NAME.sub(lambda m: m[0] if m[0] != "." else ".<wbr>", html)
+
+
+# a page's headings and the signatures of its API entries (autodoc's <dt class="sig ...">), in
+# the page's body as Sphinx wrote it: neither nests in another of its kind
+HEADING_OR_SIGNATURE = re.compile(r"<(h[1-6])\b.*?</\1>|<dt class=\"sig\b.*?</dt>", re.S)
+OPENING_PARENTHESIS = '<span class="sig-paren">(</span>'
+
+
+def _headings_and_signatures_break_at_dots(body: str) -> str:
+    return HEADING_OR_SIGNATURE.sub(
+        lambda found: _break_after_dots(found.group(0)).replace(
+            OPENING_PARENTHESIS, OPENING_PARENTHESIS + "<wbr>"
+        ),
+        body,
     )
 
 
@@ -168,12 +188,20 @@ def _page_names_break_at_dots(app, pagename, templatename, context: dict, doctre
         link = context.get(key)
         if link and link.get("title"):
             link["title"] = _break_after_dots(link["title"])
-    # the theme's function that draws the left column, set by the theme for each page
+    # the theme's functions that draw the left column and the right one, set by the theme for
+    # each page (the right one's, asked for the HTML it shows, not the tree it reads)
     draw_column = context.get("generate_toctree_html")
     if draw_column is not None:
         context["generate_toctree_html"] = lambda *args, **kwargs: _break_after_dots(
             str(draw_column(*args, **kwargs))
         )
+    draw_contents = context.get("generate_toc_html")
+    if draw_contents is not None:
+        context["generate_toc_html"] = lambda kind="html": (
+            _break_after_dots(str(draw_contents(kind))) if kind == "html" else draw_contents(kind)
+        )
+    if context.get("body"):
+        context["body"] = _headings_and_signatures_break_at_dots(context["body"])
 
 
 # ---- pages written for a repository host, read by Sphinx -------------------------------------

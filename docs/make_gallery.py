@@ -77,7 +77,7 @@ ENTRIES = [
     (
         "A passing car, swept",
         "scenes/linescan3d/passing_car.json",
-        "sweep scenes/linescan3d/passing_car.json -o {out}/passing_car_sweep.png --scans 480",
+        "sweep scenes/linescan3d/passing_car.json -o {out}/passing_car_sweep.png --scans 1200",
         "A camera one pixel high by the road, looking across it: the car drives through its "
         "plane of view, and the scans, stacked, are the car.",
     ),

@@ -27,7 +27,7 @@ COMMANDS = [
     " --diagram {out}/slide_rays.png",
     "sweep scenes/linescan/passing_car.json -o {out}/passing_car_2d_sweep.png"
     " --diagram {out}/passing_car_sweep_diagram.png",
-    "sweep scenes/linescan3d/passing_car.json -o {out}/passing_car_sweep.png --scans 480",
+    "sweep scenes/linescan3d/passing_car.json -o {out}/passing_car_sweep.png --scans 1200",
     "sweep scenes/linescan/conveyor.json -o {out}/conveyor_sweep.png",
     "diagram scenes/classic.json -o {out}/classic_rays_top.png --view top",
     "diagram scenes/cutouts.json -o {out}/cutouts_rays_side.png --view side --rays 60",

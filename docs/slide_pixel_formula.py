@@ -28,7 +28,7 @@ from raykit.camera import region_points  # noqa: E402
 from raykit.io.images import quantize  # noqa: E402
 from raykit.io.scene_json import load_scene  # noqa: E402
 from raykit.render import render  # noqa: E402
-from raykit_grading.compare import compare_images  # noqa: E402
+from raykit_grading.kit.compare import compare_images  # noqa: E402
 
 
 def slide_formula(variant: str, width: int, height: int):

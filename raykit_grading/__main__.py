@@ -18,17 +18,8 @@ import shutil
 import sys
 from pathlib import Path
 
-from raykit_grading.seeds import SeedFileError, assignment_seed, seed_argument
-
-
-def _seconds(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be a number of seconds, got {text!r}") from None
-    if not 0 < value <= 86400:
-        raise argparse.ArgumentTypeError(f"must be between 0 and 86400, got {value:g}")
-    return value
+from raykit_grading.assignment.seeds import SeedFileError, assignment_seed
+from raykit_grading.grading.options import TOTAL_SECONDS, add_grading_arguments, grading_options
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -88,7 +79,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--base-image",
         default="ubuntu:22.04",
         help="the grader image's base (default ubuntu:22.04, from Docker Hub; where it cannot be "
-        "reached: python -m raykit_grading.containers base-image makes "
+        "reached: python -m raykit_grading.platforms.containers base-image makes "
         "raykit/debian-bookworm-base:latest)",
     )
     learn.add_argument(
@@ -142,34 +133,7 @@ def build_parser() -> argparse.ArgumentParser:
             type=Path,
             help="the assignment's secret seed from this file instead, made (mode 600) if missing",
         )
-        sub.add_argument(
-            "--seed",
-            type=seed_argument,
-            help="draw the graded inputs from this seed instead (a whole number; overrides "
-            "--seed-file)",
-        )
-        sub.add_argument(
-            "--child-python",
-            help="Python to run submissions with (default: this one; needs numpy and Pillow)",
-        )
-        sub.add_argument(
-            "--only",
-            nargs="+",
-            metavar="TEST",
-            help="grade only these tests (numbers such as 3.6, or name beginnings)",
-        )
-        sub.add_argument(
-            "--wall-seconds",
-            type=_seconds,
-            default=20.0,
-            help="time one test's code may take before it is stopped (default 20)",
-        )
-        sub.add_argument(
-            "--total-seconds",
-            type=_seconds,
-            default=None,
-            help="time all of one submission's tests may take together (default 480)",
-        )
+        add_grading_arguments(sub, TOTAL_SECONDS)
     return parser
 
 
@@ -177,19 +141,12 @@ def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     if args.command in ("grade", "batch"):
-        from raykit_grading.catalog import by_name
-        from raykit_grading.grade import TOTAL_SECONDS, Options
-        from raykit_grading.sandbox import Limits
-
-        if args.only and not by_name(args.only):
-            parser.error(f"--only {' '.join(args.only)}: no test has that number or name")
-        limits = Limits(wall_seconds=args.wall_seconds, cpu_seconds=int(args.wall_seconds) + 1)
-        options = Options(args.child_python, limits, args.total_seconds or TOTAL_SECONDS)
+        options = grading_options(args, parser)
 
     if args.command == "grade":
         return _grade(args, options)
     if args.command == "batch":
-        from raykit_grading.batch import grade_folder
+        from raykit_grading.grading.batch import grade_folder
 
         return grade_folder(
             args.submissions,
@@ -203,20 +160,20 @@ def main(argv: list[str] | None = None) -> int:
             assignment=args.assignment,
         )
     if args.command == "try-zip":
-        from raykit_grading.containers import try_zip
+        from raykit_grading.platforms.containers import try_zip
 
         return try_zip(
             args.zip, args.submissions, args.base_image, args.output, assignment=args.assignment
         )
     if args.command == "release":
-        from raykit_grading.release import build_release
+        from raykit_grading.assignment.release import build_release
 
         if args.output.exists():
             parser.error(f"{args.output} exists; give a new folder")
         found = _assignment_seed(args.assignment)
         if found is None:
             return 2
-        from raykit_grading.catalog import TESTS, VISIBLE
+        from raykit_grading.assignment.catalog import TESTS, VISIBLE
 
         visible = [t for t in TESTS if t.visibility == VISIBLE]
         bar = _progress(len(visible), "the practice tests' references")
@@ -236,7 +193,7 @@ def main(argv: list[str] | None = None) -> int:
                 bar.close()
         print(found.line(), file=sys.stderr)
     elif args.command == "gradescope":
-        from raykit_grading.autograder import build_zip
+        from raykit_grading.platforms.gradescope import build_zip
 
         found = _assignment_seed(args.assignment, seed_file=args.seed_file)
         if found is None:
@@ -244,7 +201,7 @@ def main(argv: list[str] | None = None) -> int:
         build_zip(args.output, found.seed)
         print(found.line(), file=sys.stderr)
     elif args.command == "prairielearn":
-        from raykit_grading.prairielearn import DEFAULT_IMAGE, write_course_files
+        from raykit_grading.platforms.prairielearn import DEFAULT_IMAGE, write_course_files
 
         found = _assignment_seed(args.assignment, seed_file=args.seed_file)
         if found is None:
@@ -258,15 +215,15 @@ def main(argv: list[str] | None = None) -> int:
             return 2
         print(found.line(), file=sys.stderr)
     elif args.command == "tests":
-        from raykit_grading.catalog import listing
+        from raykit_grading.assignment.catalog import listing
 
         print(listing())
     return 0
 
 
 def _grade(args, options) -> int:
-    from raykit_grading.catalog import by_name
-    from raykit_grading.grade import grade_to_file
+    from raykit_grading.assignment.catalog import by_name
+    from raykit_grading.grading.grade import grade_to_file
 
     if not (args.submission.is_dir() or args.submission.suffix.lower() == ".zip"):
         what = "not a folder or a zip" if args.submission.exists() else "no such folder or zip"
@@ -325,8 +282,8 @@ def _grade(args, options) -> int:
 
 
 def _assignment_seed(assignment: Path | None, **given):
-    """The command's :class:`~raykit_grading.seeds.AssignmentSeed` (found, or made), or None
-    after saying why in one line."""
+    """The command's :class:`~raykit_grading.assignment.seeds.AssignmentSeed` (found, or made), or
+    None after saying why in one line."""
     try:
         return assignment_seed(assignment, make=True, **given)
     except SeedFileError as exc:

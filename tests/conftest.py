@@ -160,7 +160,7 @@ def repo() -> Path:
 @pytest.fixture(scope="session")
 def child_python() -> str:
     """The Python graded submissions run on: this one. The sandbox mounts it (numpy and Pillow
-    only) wherever it lives, as root under /root too (raykit_grading.isolation)."""
+    only) wherever it lives, as root under /root too (raykit_grading.sandbox.isolation)."""
     import sys
 
     return sys.executable
@@ -182,7 +182,7 @@ def grader_python() -> str:
 @pytest.fixture(scope="session")
 def release(tmp_path_factory) -> Path:
     """The student release, built once per session; a test that changes it changes a copy."""
-    from raykit_grading.release import build_release
+    from raykit_grading.assignment.release import build_release
 
     out = tmp_path_factory.mktemp("release") / "student"
     build_release(out)
@@ -211,8 +211,8 @@ def pytest_sessionstart(session):
 
 def pytest_sessionfinish(session, exitstatus):
     """A test that runs a grading command with no seed option in the clone makes the clone an
-    assignment folder (raykit_grading.seeds): every test runs its commands in folders of its
-    own, and the run fails if the clone gained a seed."""
+    assignment folder (raykit_grading.assignment.seeds): every test runs its commands in folders of
+    its own, and the run fails if the clone gained a seed."""
     seed = REPO / "grading-seed"
     if seed.exists() and not session.config.stash.get(_SEED_IN_CLONE, True):
         seed.unlink()

@@ -24,9 +24,8 @@ What is measured, and by whom:
   pictures docs/make_images.py draws in tests/test_reproducible.py, whose fresh record must
   agree with the committed one.
 
-A render has no text: it is held to the size rule only. Renders not yet stored at the rule's
-size are listed in ``TOO_SMALL_RENDERS``, each expected to fail (strictly: one mended must
-leave the list).
+A render has no text: it is held to the size rule only. A line-scan sweep's pixels are its
+camera's pixels by its scans, so the scenes it is made from have as many of both as the rule asks.
 """
 
 from __future__ import annotations
@@ -45,17 +44,6 @@ from raykit.io.legibility import read_layout, size_problems, text_problems
 
 SHOWN_FOLDERS = ("docs/images", "docs/gallery", "docs/benchmarks")
 IMAGE_LINK = re.compile(r"!\[[^\]]*\]\(([^)\s]+\.png)\)")
-
-# renders stored below the rule's size (docs/lecturers.md, "Figures a back row can read"): the
-# line-scan sweeps, a pixel a camera pixel and a scan, are as large as their scenes' pixels and
-# scans; made larger, they need scenes with more of both
-TOO_SMALL_RENDERS = {
-    "docs/images/conveyor_sweep.png",
-    "docs/gallery/conveyor_sweep.png",
-    "docs/images/passing_car_sweep.png",
-    "docs/gallery/passing_car_sweep.png",
-    "docs/images/passing_car_2d_sweep.png",
-}
 
 
 def _pictures() -> dict[str, bytes]:
@@ -99,13 +87,10 @@ def test_the_pictures_shown_are_all_checked():
         for path in (REPO / folder).glob("*.png"):
             assert f"{folder}/{path.name}" in PICTURES
     assert len(_figures()) > 60 and len(NAMES) - len(_figures()) > 15
-    assert TOO_SMALL_RENDERS <= set(NAMES)
 
 
 @pytest.mark.parametrize("name", NAMES)
-def test_picture_is_large_enough_to_project(name, request):
-    if name in TOO_SMALL_RENDERS:
-        request.applymarker(pytest.mark.xfail(strict=True, reason="a render stored too small"))
+def test_picture_is_large_enough_to_project(name):
     image = Image.open(io.BytesIO(PICTURES[name]))
     assert not size_problems(*image.size), f"{name}: {size_problems(*image.size)}"
 

@@ -15,7 +15,7 @@ from raykit.rays import length as vector_length
 from raykit.rays import normalize
 
 CAR = SCENES / "linescan3d" / "passing_car.json"
-CAR_SCANS = 480  # the command's --scans in docs/make_images.py
+CAR_SCANS = 1200  # the command's --scans in docs/make_images.py
 
 
 @pytest.fixture(scope="module")
@@ -30,17 +30,17 @@ def _names(scene) -> list[str]:
 
 def test_car_is_as_many_scans_long_as_its_length_over_its_speed(car_sweep):
     scene, taken = car_sweep
-    # the hand count: the body is 4.2 long and moves 0.01 a scan, so it is in the plane of view
-    # for 4.2 / 0.01 = 420 scans (its ends cross the plane between scans, at 30.5 and 450.5)
+    # the hand count: the body is 4.2 long and moves 0.004 a scan, so it is in the plane of view
+    # for 4.2 / 0.004 = 1050 scans (its ends cross the plane between scans, at 76.25 and 1126.25)
     body = _names(scene).index("body")
     length = float(vector_length(scene.objects[body].upper_right - scene.objects[body].upper_left))
     speed = float(vector_length(scene.velocities[body]))
-    assert round(length / speed) == 420
+    assert round(length / speed) == 1050
     moving = np.flatnonzero(np.any(scene.velocities != 0, axis=1))
-    mid_body = 142  # the row that sees y = 0.675, halfway up the body: 2.1 - (i + 0.5)·0.01
+    mid_body = 356  # the row that sees y = 0.675, halfway up the body: 2.101 - (i + 0.5)·0.004
     seen = np.isin(taken.index[mid_body], moving)
-    assert seen.sum() == 420
-    assert np.flatnonzero(seen)[[0, -1]].tolist() == [31, 450]  # one run, no gap
+    assert seen.sum() == 1050
+    assert np.flatnonzero(seen)[[0, -1]].tolist() == [77, 1126]  # one run, no gap
 
 
 def test_car_sweep_has_a_column_per_scan_with_the_sky_on_top_and_the_road_below(car_sweep):
@@ -50,7 +50,7 @@ def test_car_sweep_has_a_column_per_scan_with_the_sky_on_top_and_the_road_below(
     assert (taken.index[0] == -1).all()  # the sky (the background) in the top row
     assert (taken.index[-1] == road).all()
     wheels = [_names(scene).index(n) for n in ("front wheel", "rear wheel")]
-    bottom_of_car = taken.index[199]  # y = 0.105: the wheels, and the road between them
+    bottom_of_car = taken.index[499]  # y = 0.103: the wheels, and the road between them
     assert set(bottom_of_car.tolist()) == {road, *wheels}
 
 
@@ -82,7 +82,7 @@ def test_sweep_command_writes_the_car_a_column_per_scan(tmp_path, car_sweep):
     out = tmp_path / "car.png"
     assert main(["sweep", str(CAR), "-o", str(out), "--scans", "40", "--engine", "numpy"]) == 0
     picture = np.asarray(Image.open(out))
-    assert picture.shape == (240, 40, 3)
+    assert picture.shape == (600, 40, 3)
 
 
 @pytest.mark.parametrize(

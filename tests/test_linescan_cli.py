@@ -177,6 +177,6 @@ def test_sweep_writes_m_by_n_image(tmp_path, capsys):
     out = tmp_path / "sweep.png"
     scene_file = SCENES / "linescan/conveyor.json"
     assert main(["sweep", str(scene_file), "-o", str(out), "--scans", "40"]) == 0
-    assert "(40 scans x 96 pixels)" in capsys.readouterr().out
+    assert "(40 scans x 192 pixels)" in capsys.readouterr().out
     image = np.asarray(Image.open(out))
     assert np.array_equal(image, quantize(sweep(load_line_scene(scene_file), 40).image))

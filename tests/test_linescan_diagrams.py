@@ -45,8 +45,8 @@ def test_misses_are_drawn_to_the_edge_of_the_frame():
 
 
 def test_every_kth_ray_is_drawn_and_at_most_24_by_default():
-    scene = load_line_scene(SCENES / "linescan/passing_car.json")  # 160 pixels
-    figure = ray_diagram(scene, every=10)
+    scene = load_line_scene(SCENES / "linescan/passing_car.json")  # 400 pixels
+    figure = ray_diagram(scene, every=25)
     drawn = sum(
         len(c.get_segments())
         for c in figure.axes[0].collections
@@ -76,7 +76,7 @@ def test_sweep_diagram_shows_three_times_and_the_growing_image():
     figure = sweep_diagram(load_line_scene(SCENES / "linescan/conveyor.json"), scans=30)
     assert len(figure.axes) == 6
     images = [ax.images[0].get_array() for ax in figure.axes[3:]]
-    assert all(img.shape == (30, 96, 3) for img in images)
+    assert all(img.shape == (30, 192, 3) for img in images)
     plt.close(figure)
 
 

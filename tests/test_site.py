@@ -16,6 +16,10 @@ Chromium at a phone's width (400 px) and a laptop's (1280 px).
 * No page name in the footer's "previous" and "next" links or in the left column ("Section
   Navigation") is broken inside a word ("Benchma|rks", "raykit.engine.compile|d.billboards",
   "compiled.billbo|ards"): a dotted name breaks after a dot.
+* Nor is a word in a page's title ("raykit.engine.compiled.bil|lboards"), in its headings
+  (SHADOW_CANDIDATES) or in an API entry's signature (a parameter "b|oard"): a name breaks after
+  a dot, a signature also between its parameters. In the right column ("On this page") only a
+  word wider than the column may be broken ("grade_in_prairielearn_container()").
 * No inline formula has a scroll bar of its own; a display formula wider than the column may.
 * ``tests/site_measure.html`` measures it all, every page at both widths in one Chromium.
 * No page has an empty left column ("Section Navigation" with nothing under it).
@@ -167,6 +171,18 @@ def test_no_table_is_squeezed_into_the_page_breaking_its_words(measured, width):
 @pytest.mark.parametrize("width", WIDTHS)
 def test_no_footer_link_or_left_column_breaks_a_page_name_inside_a_word(measured, width):
     broken = {r["page"]: r["broken"][:3] for r in measured[width] if r.get("broken")}
+    assert not broken, f"at {width} px: {json.dumps(broken, indent=1, ensure_ascii=False)}"
+
+
+@pytest.mark.parametrize("width", WIDTHS)
+def test_no_heading_or_signature_breaks_a_word_inside(measured, width):
+    broken = {r["page"]: r["headings"][:3] for r in measured[width] if r.get("headings")}
+    assert not broken, f"at {width} px: {json.dumps(broken, indent=1, ensure_ascii=False)}"
+
+
+@pytest.mark.parametrize("width", WIDTHS)
+def test_no_entry_of_on_this_page_breaks_a_word_that_fits_on_a_line(measured, width):
+    broken = {r["page"]: r["contents"][:3] for r in measured[width] if r.get("contents")}
     assert not broken, f"at {width} px: {json.dumps(broken, indent=1, ensure_ascii=False)}"
 
 

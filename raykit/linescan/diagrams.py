@@ -33,6 +33,9 @@ from raykit.linescan.scene import LineScene
 from raykit.rays import dot, length
 
 MAX_RAYS_DRAWN = 24
+# the characters of pixel numbers the scan strip's width holds side by side (24 two-digit
+# ones): a scan of hundreds of pixels labels every other tick, its numbers being longer
+STRIP_LABEL_CHARACTERS = 48
 # where the fov_angle label may go: a wide fov_angle's rays fill the frame in front of the eye,
 # and its label, the longest, may find room only further off, behind the eye
 FAR = (*DISTANCES, 10.0, 13.0, 17.0, 22.0)
@@ -238,8 +241,10 @@ def _draw_strip(ax: Axes, taken: Scan, every: int) -> None:
     )
     for i in range(pixels + 1):
         ax.axvline(i - 0.5, color="black", lw=0.4 if pixels <= 64 else 0)
-    ticks = np.arange(0, pixels, every)
-    ax.set_xticks(ticks)
+    ticks = np.arange(0, pixels, every)  # under the drawn rays' pixels
+    step = math.ceil(len(ticks) * len(str(ticks[-1])) / STRIP_LABEL_CHARACTERS)
+    ax.set_xticks(ticks[::step])
+    ax.set_xticks(ticks, minor=True)
     ax.set_yticks([])
     ax.set_xlabel("pixel i (the scan)")
 

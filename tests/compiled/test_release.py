@@ -7,7 +7,7 @@ from __future__ import annotations
 def test_a_wrong_submission_still_renders_wrong_with_numba_installed(tmp_path, child_python):
     """The grader runs the student's own numpy functions: the compiled engine never stands in."""
     from mistaken_submissions import make_submission
-    from raykit_grading.grade import Options, grade
+    from raykit_grading.grading.grade import Options, grade
 
     submission = make_submission(tmp_path, "rows_flipped")
     assert (submission / "raykit/engine/compiled/spheres.py").exists()  # even with it there
@@ -17,7 +17,7 @@ def test_a_wrong_submission_still_renders_wrong_with_numba_installed(tmp_path, c
 
 
 def test_the_starter_kit_ships_no_compiled_engine(tmp_path):
-    from raykit_grading.release import build_release
+    from raykit_grading.assignment.release import build_release
 
     build_release(tmp_path / "kit")
     assert not (tmp_path / "kit/raykit/engine/compiled").exists()

@@ -131,7 +131,7 @@ def test_the_documentation_names_each_reference_functions_twin():
 
 
 def test_the_student_release_holds_no_twin_line(tmp_path):
-    from raykit_grading.release import build_release
+    from raykit_grading.assignment.release import build_release
 
     build_release(tmp_path / "kit")
     shipped = [path for path in (tmp_path / "kit").rglob("*") if path.is_file()]

@@ -49,8 +49,8 @@ FIGURES = {
     "math_plane_hit": lambda: math_figures.plane_hit(),
     "math_dot_projection": lambda: math_figures.dot_projection(),
     "linescan_slide_rays": lambda: ray_diagram(_linescan("slide")),
-    "linescan_conveyor_rays": lambda: ray_diagram(_linescan("conveyor"), every=8),
-    "linescan_car_sweep": lambda: sweep_diagram(_linescan("passing_car"), scans=150),
+    "linescan_conveyor_rays": lambda: ray_diagram(_linescan("conveyor"), every=16),
+    "linescan_car_sweep": lambda: sweep_diagram(_linescan("passing_car"), scans=375),
 }
 
 

@@ -4,7 +4,7 @@ one graded submission carries them all and each test's score is still exact.
 
 Each entry of :data:`ATTACKS`: the module, the function it replaces (the original is kept as
 ``_function`` and called when the attack wants the right answer, as
-``test_grading_hostile.submission_wrapping`` lays it out), and the code. An attack that needs
+``hostile.deployed.submission_wrapping`` lays it out), and the code. An attack that needs
 something the sandbox must refuse answers right only if it was refused, so a defence that
 failed shows as a lower score; one that must be stopped holds what it can until it is, so a
 budget that was not enforced shows as the test's time running out instead of the budget's

@@ -33,8 +33,8 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO))
 
-from raykit_grading.confine import _cgroup_folders, install_seccomp  # noqa: E402
-from raykit_grading.isolation import SECCOMP_ARCHES, bpf_program  # noqa: E402
+from raykit_grading.sandbox.confine import _cgroup_folders, install_seccomp  # noqa: E402
+from raykit_grading.sandbox.isolation import SECCOMP_ARCHES, bpf_program  # noqa: E402
 
 CANNOT = 77
 DOCKER_CAPABILITIES = {

@@ -11,6 +11,10 @@ Made once per requirements file and Python (kept in ``/tmp``, keyed by both), wi
 the package index; where that cannot be done, :func:`grader_python` says why, and the tests
 that need it skip saying so. ``RAYKIT_USER_PYTHON`` names one to use instead (it must have
 numpy and Pillow, and be runnable by uid 65534).
+
+:func:`instructor_python` is made the same way with raykit's own dependencies instead (those
+``pip install -e .`` installed here, as for an instructor): ``batch`` as a normal user needs
+matplotlib for its class report, which the zip's grader does not have.
 """
 
 from __future__ import annotations
@@ -39,11 +43,25 @@ def grader_python() -> tuple[str | None, str]:
     """(the grader Python's path, "") or (None, why it could not be made)."""
     if os.environ.get("RAYKIT_USER_PYTHON"):
         return os.environ["RAYKIT_USER_PYTHON"], ""
+    return _venv("grader", REQUIREMENTS.read_bytes(), ["-r", str(REQUIREMENTS)])
+
+
+def instructor_python() -> tuple[str | None, str]:
+    """(a Python with raykit's dependencies, that every uid can run, "") or (None, why not)."""
+    from importlib.metadata import requires
+
+    needs = [need for need in requires("raykit") or [] if "extra ==" not in need]
+    return _venv("instructor", "\n".join(needs).encode(), needs)
+
+
+def _venv(kind: str, what: bytes, pip_args: list[str]) -> tuple[str | None, str]:
+    """A venv of the system's Python with ``pip install pip_args``, keyed by ``what`` and that
+    Python, readable by every uid: (its python, "") or (None, why it could not be made)."""
     base = _base_python()
     if base is None:
-        return None, "no system Python outside /root to make the grader's venv from"
-    key = hashlib.sha256(REQUIREMENTS.read_bytes() + os.path.realpath(base).encode())
-    folder = Path("/tmp") / f"raykit-grader-python-{key.hexdigest()[:12]}"
+        return None, f"no system Python outside /root to make the {kind}'s venv from"
+    key = hashlib.sha256(what + os.path.realpath(base).encode())
+    folder = Path("/tmp") / f"raykit-{kind}-python-{key.hexdigest()[:12]}"
     python = folder / "bin" / "python"
     with open(f"{folder}.lock", "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)
@@ -55,12 +73,12 @@ def grader_python() -> tuple[str | None, str]:
             return None, f"{base} -m venv failed (apt-get install python3-venv): {made.stderr}"
         pip = subprocess.run(
             [str(python), "-m", "pip", "install", "-q", "--disable-pip-version-check",
-             "-r", str(REQUIREMENTS)],
+             *pip_args],
             capture_output=True, text=True, timeout=900,
         )  # fmt: skip
         if pip.returncode != 0:
             last = (pip.stderr.strip().splitlines() or ["no output"])[-1]
-            return None, f"cannot install {REQUIREMENTS.name} into a venv: {last}"
+            return None, f"cannot install {' '.join(pip_args)} into a venv: {last}"
         subprocess.run(["chmod", "-R", "a+rX", str(folder)], check=True)
         (folder / "complete").touch()
     return str(python), ""

@@ -2,8 +2,8 @@
 students get it wrong, in the one function where they make it: always a function the student
 writes (the release's stubs; a wrong image plane size is computed in _in_plane, which the
 solution has read from the given Camera.plane_size). Each entry: the mistake's key in
-raykit_grading.mistakes, then (file, the right line, the wrong line) edits applied to a copy of
-raykit/."""
+raykit_grading.assignment.mistakes, then (file, the right line, the wrong line) edits applied to a
+copy of raykit/."""
 
 from __future__ import annotations
 

@@ -1,0 +1,309 @@
+"""A class graded end to end by ``batch``: honest, half-done, mistaken, non-importing and zipped
+submissions beside a Gradescope export; every entry's status and score, the class report and
+each student's feedback page. And the student's side: ``check.py`` on one test, the kit's
+pytest in one line per failing test."""
+
+from __future__ import annotations
+
+import csv
+import html
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import zipfile
+from urllib.parse import unquote
+
+import pytest
+from gradescope_export import make_export
+
+from conftest import REPO
+from mistaken_submissions import make_submission
+from raykit_grading.assignment.catalog import TESTS, VISIBLE
+from raykit_grading.grading.batch import JOBS, jobs_within
+from raykit_grading.grading.results import NOT_IMPORTED
+from raykit_grading.sandbox.confine import ContainerLimits
+
+ONLY = ["2.3", "3.1", "3.6"]  # a ray-sphere array test, the camera frame, a render: 7 points
+
+
+@pytest.fixture(scope="module")
+def graded_class(tmp_path_factory, release):
+    """The class, graded once by the documented command: (its output folder, the run)."""
+    root = tmp_path_factory.mktemp("class")
+    students = root / "submissions"
+    make_submission(students / "ada")  # honest
+    hal = make_submission(students / "hal")  # half-done: spheres.py as the kit gives it
+    shutil.copy(release / "raykit/spheres.py", hal / "raykit/spheres.py")
+    make_submission(students / "mo", "u_v_swapped")
+    make_submission(students / "flo", "rows_flipped")
+    bo = make_submission(students / "bo")  # does not import
+    with open(bo / "raykit/__init__.py", "a") as module:
+        module.write("\ndef broken(:\n")
+    cy = make_submission(students / "cy")  # one module of stage 4 does not import
+    with open(cy / "raykit/mirrors.py", "a") as module:
+        module.write("\ndef broken(:\n")
+    erin = make_submission(root / "erin")  # zipped, beside the folders
+    with zipfile.ZipFile(students / "erin.zip", "w") as archive:
+        for file in sorted((erin / "raykit").rglob("*.py")):
+            archive.write(file, file.relative_to(erin).as_posix())
+    (students / "notes.txt").write_text("grade these by Friday")
+    make_export(
+        students / "gradescope-export.zip",
+        {
+            "submission_241730101": make_submission(root / "grace"),
+            "submission_241730202": make_submission(root / "pair", "u_v_swapped"),
+        },
+    )
+    out = root / "graded"
+    run = subprocess.run(
+        [sys.executable, "-m", "raykit_grading", "batch", str(students), "-o", str(out),
+         "--only", *ONLY, "--jobs", "2"],
+        capture_output=True, text=True, cwd=root, timeout=900,
+    )  # fmt: skip
+    return out, run
+
+
+def test_batch_grades_every_entry_of_a_mixed_class_or_says_why_not(graded_class):
+    out, run = graded_class
+    assert run.returncode == 0, run.stderr[-3000:]  # every submission graded: notes.txt is none
+    rows = {row["student"]: row for row in csv.DictReader((out / "scores.csv").open())}
+    assert {name: (row["status"], row["score"]) for name, row in rows.items()} == {
+        "ada": ("graded", "7.0"),
+        "erin": ("graded", "7.0"),
+        "Grace Hopper": ("graded", "7.0"),
+        "hal": ("graded", "1.0"),  # only the camera frame: no sphere is hit
+        "mo": ("graded", "2.0"),  # the frame and the render show u and v swapped
+        "Alan Turing & Kathleen O'Brien": ("graded", "2.0"),
+        "flo": ("graded", "3.0"),  # the render is upside down
+        "bo": ("does not import", "0.0"),
+        "cy": ("graded", "3.0"),  # what needs mirrors.py (the render) fails, the rest passes
+        "notes.txt": ("not a submission: not a folder or a zip", ""),
+    }
+    said = "9 submissions: 8 graded, 1 whose raykit does not import (0 points); 1 entry is not a"
+    assert f"{said} submission\n" in run.stdout  # in the class report's words
+    assert "left out, not submissions:\n  notes.txt: not a submission: not a folder" in run.stderr
+    assert "not graded:" not in run.stderr
+
+
+def test_the_batch_run_again_grades_no_one_and_exits_0_as_every_submission_is_graded(graded_class):
+    out, first = graded_class
+    graded = {p: p.stat().st_mtime_ns for p in out.glob("feedback/*/results.json")}
+    again = subprocess.run(first.args, capture_output=True, text=True, cwd=out.parent, timeout=600)
+    assert again.returncode == 0, again.stderr[-3000:]
+    assert {p: p.stat().st_mtime_ns for p in graded} == graded  # no one graded again
+    assert "9 submissions: 8 graded, 1 whose raykit does not import" in again.stdout
+
+
+def test_a_submission_that_does_not_import_says_its_error_once_and_runs_no_test(graded_class):
+    out, _ = graded_class
+    results = json.loads((out / "feedback/bo/results.json").read_text())
+    assert [t["output"] for t in results["tests"]] == [NOT_IMPORTED] * len(ONLY)
+    assert results["score"] == 0
+    assert "raykit does not import" in results["output"]
+    assert "SyntaxError" in results["extra_data"]["does_not_import"]
+    assert 'raykit/__init__.py", line' in results["output"]  # where, from the student's file
+    assert "/work/child.py" not in results["output"]  # not the grader's frames
+
+
+def test_a_module_that_does_not_import_is_noted_once_and_fails_only_its_tests(graded_class):
+    out, _ = graded_class
+    results = json.loads((out / "feedback/cy/results.json").read_text())
+    noted = (  # and those importing it, with why: the error, its file and line
+        "Note: raykit.mirrors, raykit.render, raykit.shading: do not import (SyntaxError: "
+        "invalid syntax (in raykit/mirrors.py, line "
+    )
+    line = next(li for li in results["output"].splitlines() if li.startswith(noted))
+    assert line.endswith(")); the tests that use them fail"), line
+    assert {t["number"]: t["score"] for t in results["tests"]} == {"2.3": 2, "3.1": 1, "3.6": 0}
+    assert "SyntaxError" in results["tests"][2]["output"]
+
+
+def test_results_sum_up_each_stage_and_carry_the_diagnosed_mistake(graded_class):
+    out, _ = graded_class
+    mo = json.loads((out / "feedback/mo/results.json").read_text())
+    assert mo["output"].splitlines()[1:] == [
+        "Stage 2 rays, planes and spheres: 2 of 2 points, 1 of 1 visible tests pass",
+        "Stage 3 renderer: 0 of 5 points, 0 of 2 visible tests pass",
+    ]
+    render = next(t for t in mo["tests"] if t["number"] == "3.6")
+    assert render["extra_data"] == {
+        "mistake": "u_v_swapped",
+        "says": "u and v are swapped",
+        "where": render["extra_data"]["where"],  # which function: another change's to make
+    }
+
+
+def test_the_class_report_shows_scores_pass_rates_mistakes_and_who_was_not_graded(graded_class):
+    out, _ = graded_class
+    page = html.unescape((out / "report.html").read_text())
+    for plot in ("report/scores.png", "report/pass_rates.png"):
+        assert f"src='{plot}'" in page
+        assert (out / plot).read_bytes().startswith(b"\x89PNG")
+    assert (
+        "9 submissions: 8 graded, 1 whose raykit does not import (0 points); 1 entry is not a "
+        "submission." in page
+    )
+    assert "Mean 3.6, median 3.0 of 7 points" in page  # 7 7 7 1 2 2 3 3 0
+    rates = dict(re.findall(r"<tr><td>(\d\.\d+) .*?<td class='n'>(\d+%)</td>", page))
+    assert rates == {"2.3": "78%", "3.1": "67%", "3.6": "33%"}  # of the 9 students scored
+    assert page.index("Stage 2 rays") < page.index("2.3 ray-sphere") < page.index("Stage 3")
+    swapped = page.index("u and v are swapped")
+    flipped = page.index("image rows are counted from the bottom")
+    assert swapped < flipped  # two students, then one
+    counts = re.findall(r"<td class='n'>(\d+)</td><td>(u and v|image rows)", page)
+    assert counts == [("2", "u and v"), ("1", "image rows")]
+    example = re.search(r"<img class='example' src='([^']+)'", page[swapped:]).group(1)
+    assert (out / unquote(example)).is_file()  # a URL, relative to the report
+    assert "bo</a>: raykit does not import, so no test ran (0 points)" in page
+    assert re.search(r"SyntaxError[^<]*</code> in raykit/__init__\.py, line \d+</li>", page)
+    assert re.search(
+        r"cy</a>: raykit.mirrors, raykit.render, raykit.shading: do not import "
+        r"\(SyntaxError: invalid syntax \(in raykit/mirrors\.py, line \d+\)\)",
+        page,
+    )
+    assert "notes.txt: not a submission: not a folder or a zip" in page
+
+
+def test_each_student_gets_the_self_checks_page_with_the_grades_numbers(graded_class):
+    out, _ = graded_class
+    mo = html.unescape((out / "feedback/mo/index.html").read_text())
+    assert "1 of 3 tests pass: 2 of 7 points." in mo
+    assert mo.index("FAIL: 3.1") < mo.index("FAIL: 3.6") < mo.index("pass: 2.3")
+    assert '<img src="3.6.png"' in mo and (out / "feedback/mo/3.6.png").is_file()
+    bo = html.unescape((out / "feedback/bo/index.html").read_text())
+    assert bo.count(NOT_IMPORTED) == len(ONLY) and bo.count("SyntaxError") == 2  # said once
+    grace = html.unescape((out / "feedback/Grace Hopper/index.html").read_text())
+    assert "3 of 3 tests pass: 7 of 7 points." in grace
+
+
+def test_the_tests_command_lists_each_stage_with_its_totals():
+    run = subprocess.run(
+        [sys.executable, "-m", "raykit_grading", "tests"], capture_output=True, text=True,
+        cwd=REPO, check=True,
+    )  # fmt: skip
+    lines = run.stdout.splitlines()
+    headings = [line for line in lines if line.startswith("Stage ")]
+    assert [h.split(":")[0] for h in headings] == [
+        "Stage 1 line-scan camera", "Stage 2 rays, planes and spheres", "Stage 3 renderer",
+        "Stage 4 shading, shadows and mirrors", "Stage 5 distributed ray tracing",
+    ]  # fmt: skip
+    total = sum(t.points for t in TESTS)
+    assert lines[-1].startswith(f"Total: {len(TESTS)} tests, {total:g} points")
+    assert sum(line.startswith("  ") for line in lines) == len(TESTS)
+
+
+def test_check_py_runs_the_one_test_asked_for_and_says_how_in_its_help(release, tmp_path):
+    kit = tmp_path / "kit"
+    shutil.copytree(release, kit)
+    shutil.rmtree(kit / "raykit")
+    make_submission(kit, "rows_flipped")
+    env = {"PATH": "/usr/bin:/bin"}
+    one = subprocess.run(
+        [sys.executable, "check.py", "3.6"], cwd=kit, capture_output=True, text=True, env=env
+    )
+    said = [line for line in one.stdout.splitlines() if line.startswith(("pass", "FAIL"))]
+    assert len(said) == 1 and said[0].startswith("FAIL  3.6 render scenes/classic.json")
+    assert "0 of 1 practice tests pass" in one.stdout and one.returncode == 1
+    stage = subprocess.run(
+        [sys.executable, "check.py", "1"], cwd=kit, capture_output=True, text=True, env=env
+    )
+    visible = [t for t in TESTS if t.visibility == VISIBLE and t.key.startswith("1.")]
+    assert f"{len(visible)} of {len(visible)} practice tests pass" in stage.stdout
+    helped = subprocess.run(
+        [sys.executable, "check.py", "--help"], cwd=kit, capture_output=True, text=True, env=env
+    )
+    assert helped.returncode == 0 and "python check.py 3.6" in helped.stdout
+    assert not (kit / "check/index.html").read_text().count("FAIL: 1.")  # --help ran nothing
+    wrong = subprocess.run(
+        [sys.executable, "check.py", "9.9"], cwd=kit, capture_output=True, text=True, env=env
+    )
+    assert wrong.returncode == 2 and "no practice test 9.9: they are 1.1, " in wrong.stderr
+
+
+def test_the_kits_pytest_prints_one_line_per_failing_test(release):
+    run = subprocess.run(
+        [sys.executable, "-m", "pytest", "-p", "no:cacheprovider"],
+        cwd=release, capture_output=True, text=True,
+        env={"PYTHONPATH": str(release), "PATH": "/usr/bin:/bin", "COLUMNS": "100"},
+    )  # fmt: skip
+    visible = sum(t.visibility == VISIBLE for t in TESTS)
+    lines = run.stdout.splitlines()
+    failed = [line for line in lines if line.startswith("FAILED")]
+    assert len(failed) == visible and "Traceback" not in run.stdout
+    assert len(lines) < visible + 15, run.stdout  # the header, the summary, and those lines
+
+
+def test_the_kits_readme_lists_the_functions_under_each_stage(release):
+    readme = (release / "README.md").read_text()
+    headings = re.findall(r"^### (.*)$", readme, re.M)
+    assert headings[:5] == [
+        "Stage 1 line-scan camera", "Stage 2 rays, planes and spheres", "Stage 3 renderer",
+        "Stage 4 shading, shadows and mirrors", "Stage 5 distributed ray tracing",
+    ]  # fmt: skip
+    stage3 = readme.split("### Stage 3")[1].split("###")[0]
+    assert "camera.py: camera_frame`" in stage3 and "hit_sphere" not in stage3
+    assert "python check.py 3.6" in readme
+
+
+def test_a_students_feedback_folder_holds_nothing_of_the_hidden_tests(tmp_path):
+    """feedback/<student>/ may be handed to the student: the hidden tests' pictures are in
+    hidden/<student>/, and the class report takes its example from there if it must."""
+    make_submission(tmp_path / "class/mo", "u_v_swapped")
+    hidden = "3.8"  # render scenes/orthographic.json
+    assert next(t for t in TESTS if t.key == hidden).visibility != VISIBLE
+    out = tmp_path / "graded"
+    run = subprocess.run(
+        [sys.executable, "-m", "raykit_grading", "batch", str(tmp_path / "class"), "-o", str(out),
+         "--only", "3.6", hidden],
+        capture_output=True, text=True, cwd=tmp_path, timeout=900,
+    )  # fmt: skip
+    assert run.returncode == 0, run.stderr[-2000:]
+    assert sorted(p.name for p in (out / "feedback/mo").iterdir()) == [
+        "3.6.png", "index.html", "results.json"
+    ]  # fmt: skip
+    assert (out / f"hidden/mo/{hidden}.png").is_file()
+    said = {t["number"]: t["output"] for t in json.loads((out / "feedback/mo/results.json")
+                                                          .read_text())["tests"]}  # fmt: skip
+    assert "3.6.png" in said["3.6"]  # the picture it gets is named, the hidden one's is not
+    assert "feedback picture" not in said[hidden] and ".png" not in said[hidden], said[hidden]
+    page = html.unescape((out / "report.html").read_text())
+    examples = re.findall(r"<img class='example' src='([^']+)'", page)
+    assert examples and all((out / unquote(src)).is_file() for src in examples)
+
+
+def test_batch_grades_one_student_at_a_time_in_a_container_with_a_memory_limit():
+    no_limit, limit = ContainerLimits(None, None), ContainerLimits(768 << 20, 0.5)
+    assert jobs_within(None, no_limit) == (JOBS, None)
+    assert jobs_within(4, no_limit) == (4, None)
+    assert jobs_within(1, limit) == (1, None)
+    jobs, why = jobs_within(4, limit)
+    assert jobs == 1 and "not 4" in why and "768 MB" in why
+
+
+def test_batch_in_docker_s_confinement_says_it_grades_one_student_at_a_time(tmp_path):
+    """Asked for 4 at once in a container of 768 MB (Docker's confinement emulated), batch
+    grades the two students one after the other, says so, and grades both in full."""
+    if os.geteuid() != 0:
+        pytest.skip("emulating Docker's confinement needs root")
+    students = tmp_path / "submissions"
+    make_submission(students / "ada")
+    make_submission(students / "zoe")
+    out = tmp_path / "graded"
+    run = subprocess.run(
+        [sys.executable, str(REPO / "tests" / "support" / "docker_confinement.py"),
+         "--memory-mb", "768", "--", sys.executable, "-m", "raykit_grading", "batch",
+         str(students), "-o", str(out), "--only", "2.3", "--jobs", "4", "--seed", "7"],
+        capture_output=True, text=True, cwd=REPO, timeout=600,
+    )  # fmt: skip
+    if run.returncode == 77:
+        pytest.skip(run.stderr.strip())
+    assert run.returncode == 0, run.stderr[-3000:]
+    assert "one student at a time, not 4: this container's 768 MB" in run.stderr
+    rows = {row["student"]: row for row in csv.DictReader((out / "scores.csv").open())}
+    assert {k: (r["status"], r["score"] == r["max_score"]) for k, r in rows.items()} == {
+        "ada": ("graded", True),
+        "zoe": ("graded", True),
+    }
