@@ -113,7 +113,7 @@ def test_a_packet_tests_an_object_on_every_lane_its_rectangle_holds(samples, ext
     """lanes_under's runs hold every lane whose image point (as job_points lays the lanes out:
     a pixel's samples together, the centre rays after them) the object's rectangle holds, on
     800 seeded rectangles over a tile of 5 x 7 pixels at (21, 13), some past its edges."""
-    from raykit.engine.compiled.driver import TileJob
+    from raykit.engine.compiled.jobs import TileJob
 
     rng = np.random.default_rng(5)
     job = TileJob(first=0, rows=5, top=13, left=21, across=7, tile=0)

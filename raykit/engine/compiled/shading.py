@@ -111,7 +111,7 @@ class Lanes(NamedTuple):
     ``t (N,)``, whether the light reaches the point, ``lit (N,)``, and the intensity it sends
     there, ``intensity (3, N)`` (a physically based area light's, each point's own). Each worker
     makes its
-    own as its call starts (:func:`new_lanes`; :func:`~raykit.engine.compiled.driver.trace_lit`)."""
+    own as its call starts (:func:`new_lanes`; :func:`~raykit.engine.compiled.render.trace_lit`)."""
 
     p: np.ndarray
     n: np.ndarray

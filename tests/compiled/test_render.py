@@ -1,13 +1,11 @@
-"""The workers' loop (raykit.engine.compiled.driver) against raykit.render.render: whole renders to
-the PNG byte, the workers' jobs, the arguments' kinds and types."""
+"""The renderer's loop (raykit.engine.compiled.render) against raykit.render.render: whole renders
+to the PNG byte, whoever takes which job, the arguments' kinds and types."""
 
 from __future__ import annotations
 
 import contextlib
+import importlib
 import json
-import os
-import signal
-import time
 from dataclasses import replace
 
 import numba
@@ -17,7 +15,6 @@ import pytest
 from conftest import SCENES, shifted_scene
 from raykit.engine import compiled
 from raykit.engine.choice import compiled_refuses
-from raykit.engine.compiled import driver
 from raykit.io.scene_json import load_scene, scene_from_dict
 from raykit.lights import AreaLight
 from raykit.render import render
@@ -31,8 +28,14 @@ from .harness import (
     packet_scenes,
     run_python,
     same_render,
+    small_render,
     twin_test,
+    two_threads,
 )
+
+render_module = importlib.import_module(
+    "raykit.engine.compiled.render"
+)  # compiled.render: the function
 
 EXAMPLES = sorted(SCENES.glob("*.json"))  # motion_blur.json among them
 
@@ -157,70 +160,7 @@ def test_far_tiny_sphere_and_a_scene_at_1e6_render_the_same_with_both_engines():
     same_render(replace(moved, camera=replace(moved.camera, width=120, height=90)))
 
 
-@numba.njit(nogil=True)
-def _take_jobs(jobs, grain, taken, arrived, times):
-    """One worker taking ``grain`` of ``jobs`` at a time from the counter ``taken``, as a call of
-    compiled.trace_flat does, counting in its own row of ``times (workers, jobs)`` how often it
-    took each (so that two workers' counts of one job never share a write)."""
-    worker = compiled.take(arrived, 1)
-    for _ in range(10**9):  # wait (a while at most) for the other workers: all take at once
-        if compiled.take(arrived, 0) >= len(times):
-            break
-    while True:
-        first = compiled.take(taken, grain)
-        if first >= jobs:
-            break
-        for j in range(first, min(jobs, first + grain)):
-            times[worker, j] += 1
-
-
-def _times_taken(jobs, grain, workers):
-    """How often each of ``workers`` workers, run as the driver runs them (_run_workers), takes
-    each of ``jobs``: ``(workers, jobs)``."""
-    times = np.zeros((workers, jobs), dtype=np.int64)
-    arguments = (jobs, grain, np.zeros(1, np.int64), np.zeros(1, np.int64), times)
-    driver._run_workers(_take_jobs, arguments, workers)
-    return times
-
-
-_TWO_CORES = pytest.mark.skipif(
-    numba.config.NUMBA_NUM_THREADS < 2, reason="needs two threads to share the work"
-)
-
-
-@_TWO_CORES
-@pytest.mark.parametrize("grain", [1, 7])
-def test_cores_taking_jobs_from_one_counter_take_each_job_exactly_once(grain):
-    # with a plain add for take, both workers took every job (measured)
-    assert (_times_taken(1_000_000, grain, 2).sum(axis=0) == 1).all()
-
-
-@_TWO_CORES
-def test_a_process_forked_after_a_render_renders_with_worker_threads_of_its_own():
-    # a child forked from a process whose pool of workers' threads exists has none of those
-    # threads: handed the parent's pool, it would wait for ever on work no thread runs
-    scene = load_scene(SCENES / "classic.json")
-    scene = replace(scene, camera=replace(scene.camera, width=64, height=48))
-    prepared = compiled.prepare(scene)
-    rgb = compiled.render(prepared)[0]  # two workers: the parent's pool is made
-    assert driver._pool.cache_info().currsize >= 1
-    child = os.fork()
-    if child == 0:  # pragma: no cover (the child's result is its exit status)
-        try:
-            os._exit(0 if np.array_equal(compiled.render(prepared)[0], rgb) else 1)
-        finally:
-            os._exit(2)
-    deadline = time.monotonic() + 120
-    while (status := os.waitpid(child, os.WNOHANG))[0] == 0 and time.monotonic() < deadline:
-        time.sleep(0.05)
-    if status[0] == 0:
-        os.kill(child, signal.SIGKILL)
-        os.waitpid(child, 0)
-        pytest.fail("the forked child's render did not end within 120 s")
-    assert os.waitstatus_to_exitcode(status[1]) == 0
-
-
-@_TWO_CORES
+@two_threads()
 def test_the_image_does_not_depend_on_which_core_takes_which_tile():
     scenes = [packet_scenes()["classic_lit_at_1e6"], crowd(np.random.default_rng(11), 200)]
     mirrors = load_scene(SCENES / "mirror_balls.json")
@@ -355,14 +295,13 @@ def test_a_lit_scene_without_mirrors_never_types_the_mirror_rays():
     from numba.core.analysis import dead_branch_prune
     from numba.core.compiler import run_frontend
 
-    from raykit.engine.compiled import driver
     from raykit.engine.compiled import shading as kernels
 
-    parameters = list(inspect.signature(driver.lit_job.py_func).parameters)
+    parameters = list(inspect.signature(render_module.lit_job.py_func).parameters)
 
     def calls_mirror_rays(bounces) -> bool:
         kind = types.none if bounces is None else types.boolean
-        lit_job = run_frontend(driver.lit_job.py_func)
+        lit_job = run_frontend(render_module.lit_job.py_func)
         dead_branch_prune(lit_job, tuple(kind if p == "bounces" else types.pyobject
                                          for p in parameters))  # fmt: skip
         return any(
@@ -374,7 +313,7 @@ def test_a_lit_scene_without_mirrors_never_types_the_mirror_rays():
     seen = []
     for name in ("classic", "classic_lit", "mirror_balls"):
         scene = load_scene(SCENES / f"{name}.json")
-        entry, _, leading = driver._entry(compiled.prepare(scene))
+        entry, _, leading = render_module._entry(compiled.prepare(scene))
         seen.append((entry, calls_mirror_rays(leading[-1]) if entry != "trace_flat" else None))
     assert seen == [("trace_flat", None), ("trace_lit", False), ("trace_mirrors", True)]
 
@@ -390,7 +329,6 @@ def test_a_still_distributed_scene_never_types_the_moving_scenes_or_mirrors_kern
     from numba.core.analysis import dead_branch_prune
     from numba.core.compiler import run_frontend
 
-    from raykit.engine.compiled import driver
     from raykit.engine.compiled import shading as kernels
 
     def globals_called(kernel, bounces) -> set:
@@ -408,11 +346,17 @@ def test_a_still_distributed_scene_never_types_the_moving_scenes_or_mirrors_kern
 
     seen = []
     for name in ("soft_shadows", "glossy", "motion_blur"):
-        entry, trace, leading = driver._entry(compiled.prepare(load_scene(SCENES / f"{name}.json")))
-        called = globals_called(trace, leading[-1] if trace is driver.trace_sampled else None)
-        lanes = driver.sampled_lanes in called
-        bounces = lanes and kernels.bounce_on in globals_called(driver.sampled_lanes, leading[-1])
-        seen.append((entry, driver.sampled_job in called, lanes, bounces))
+        entry, trace, leading = render_module._entry(
+            compiled.prepare(load_scene(SCENES / f"{name}.json"))
+        )
+        called = globals_called(
+            trace, leading[-1] if trace is render_module.trace_sampled else None
+        )
+        lanes = render_module.sampled_lanes in called
+        bounces = lanes and kernels.bounce_on in globals_called(
+            render_module.sampled_lanes, leading[-1]
+        )
+        seen.append((entry, render_module.sampled_job in called, lanes, bounces))
     assert seen == [
         ("trace_sampled", False, True, False),
         ("trace_sampled_mirrors", False, True, True),
@@ -475,13 +419,6 @@ def test_random_scenes_of_every_kind_render_the_same_with_both_engines(tmp_path)
     assert KINDS_NEVER_RENDERED_ELSEWHERE <= kinds and adaptive
 
 
-def _small(name, **options):
-    scene = load_scene(SCENES / f"{name}.json")
-    return lambda rng: same_render(
-        replace(scene, camera=replace(scene.camera, width=48, height=32)), **options
-    )
-
-
 def _distributed(sampler, **effects):
     return lambda rng: same_render(distributed_scene(rng, sampler, **effects))
 
@@ -495,18 +432,17 @@ def _in_lanes(rng):
 
 
 CHECKS = {
-    "driver.trace_sampled": _distributed("jittered", lens=True, mirrors=True),
-    "driver.trace_moving": _distributed("jittered", lights=False, moving=True),
-    "driver.sampled_job": _distributed("sobol", mirrors=True, glossy=True, moving=True),
-    "driver.sampled_lanes": _in_lanes,
-    "driver.cast_lanes": _distributed("jittered", lens=True, lights=False),
-    "driver.cast_each": _in_lanes,
-    "driver.cast_rays": caster_answers_what_cast_answers,
-    "driver.trace_flat": _small("classic"),
-    "driver.flat_job": _small("cutouts"),
-    "driver.trace_lit": _small("classic_lit"),
-    "driver.lit_job": _small("mirror_balls"),
-    "driver.pixel_means": _small("classic", samples=3),
-    "driver.spheres_at": _distributed("random", lens=True, mirrors=True, moving=True),
+    "render.trace_sampled": _distributed("jittered", lens=True, mirrors=True),
+    "render.trace_moving": _distributed("jittered", lights=False, moving=True),
+    "render.sampled_job": _distributed("sobol", mirrors=True, glossy=True, moving=True),
+    "render.sampled_lanes": _in_lanes,
+    "render.cast_lanes": _distributed("jittered", lens=True, lights=False),
+    "render.cast_each": _in_lanes,
+    "render.cast_rays": caster_answers_what_cast_answers,
+    "render.trace_flat": small_render("classic"),
+    "render.flat_job": small_render("cutouts"),
+    "render.trace_lit": small_render("classic_lit"),
+    "render.lit_job": small_render("mirror_balls"),
+    "render.spheres_at": _distributed("random", lens=True, mirrors=True, moving=True),
 }
-test_the_twin_repeats_its_reference = twin_test("driver", CHECKS)
+test_the_twin_repeats_its_reference = twin_test("render", CHECKS)
