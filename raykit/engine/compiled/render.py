@@ -45,6 +45,7 @@ from raykit.engine.compiled.sampling import point_in_pixel, shutter_times
 from raykit.engine.compiled.scene import (
     _NO_TREE,
     Arrays,
+    CompiledScene,
     Motion,
     Shading,
     Tree,
@@ -326,6 +327,7 @@ def lit_job(arrays, tiles, tree, shading, camera, bounces, film, job, room, shad
     (:func:`mirror_rays`), and the pixels' means (:func:`pixel_means`) into ``film``
     (:class:`Film`). ``bounces`` is an argument of its own, not a field of a tuple: numba drops
     the branch it decides only for an argument's type."""
+    scene = CompiledScene(arrays, tree, shading)
     tile = job.tile
     xy, rays, best, best_t, colors = room.xy, room.rays, room.best, room.best_t, room.colors
     made, holding = room.made, room.holding
@@ -352,8 +354,7 @@ def lit_job(arrays, tiles, tree, shading, camera, bounces, film, job, room, shad
         pad = 2.0 * OFFSET_FACTOR * largest
         shadow_lists(arrays, tree, shading, stack, box, pad, volume, candidates, counts)
     if shading.lit:
-        light_lanes(arrays, tree, shading, stack, rays, best, shaded, lanes, candidates, counts,
-                    xy[:0])  # fmt: skip
+        light_lanes(scene, stack, rays, best, shaded, lanes, candidates, counts, xy[:0])
     total = lanes.total
     for i in range(shaded):  # as shade weighs them: 1 x the colour, added to nothing
         if not made[i]:
@@ -364,7 +365,7 @@ def lit_job(arrays, tiles, tree, shading, camera, bounces, film, job, room, shad
             c0, c1, c2 = total[0, i], total[1, i], total[2, i]
         colors[0, i], colors[1, i], colors[2, i] = 0.0 + 1.0 * c0, 0.0 + 1.0 * c1, 0.0 + 1.0 * c2
     if bounces is not None:  # None in a scene with no mirror: this branch is not compiled
-        mirror_rays(arrays, tree, shading, stack, lanes, rays, best, made, shaded, colors)
+        mirror_rays(scene, stack, lanes, rays, best, made, shaded, colors)
     pixel_means(film, job, colors, best, best_t)
 
 
@@ -443,6 +444,7 @@ def sampled_job(arrays, at_time, tree, shading, camera, lens, noise, motion, wid
     ``arrays``, ``at_time``, whose centres it moves to each ray's time in a scene that moves
     (:class:`Motion`), and every ray reads."""
     count, wanted, reads = noise.count, noise.wanted, noise.reads
+    moved = CompiledScene(at_time, tree, shading)
     for p in range(first, min(first + SAMPLED_PIXELS, len(t))):
         row, col = p // width, p % width
         r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
@@ -464,9 +466,8 @@ def sampled_job(arrays, at_time, tree, shading, camera, lens, noise, motion, wid
             hit = nearest_hit(at_time, tree, stack, ray.o0, ray.o1, ray.o2, ray.d0, ray.d1,
                               ray.d2, np.inf)  # fmt: skip
             if shading.shaded:
-                c0, c1, c2 = shade(at_time, tree, shading, stack, ray.o0, ray.o1, ray.o2, ray.d0,
-                                   ray.d1, ray.d2, hit.index, hit.t, hit.r, hit.g, hit.b,
-                                   numbers)  # fmt: skip
+                c0, c1, c2 = shade(moved, stack, (ray.o0, ray.o1, ray.o2),
+                                   (ray.d0, ray.d1, ray.d2), hit, numbers)  # fmt: skip
             else:  # no light: the object's flat colour
                 c0, c1, c2 = hit.r, hit.g, hit.b
             r_sum += c0
@@ -578,6 +579,7 @@ def sampled_lanes(arrays, tree, shading, camera, lens, noise, width, first, boun
     is a loop the compiler turns into vector instructions, where one sample at a time waited on
     its divisions and branches. Each ray's operations are :func:`shade`'s, in its order, so the
     bits are :func:`sampled_job`'s."""
+    scene = CompiledScene(arrays, tree, shading)
     count, wanted, reads = noise.count, noise.wanted, noise.reads
     xy, rays, best, best_t, colors = room.xy, room.rays, room.best, room.best_t, room.colors
     lanes, box, stack = shading_room.lanes, shading_room.box, shading_room.stack
@@ -615,8 +617,8 @@ def sampled_lanes(arrays, tree, shading, camera, lens, noise, width, first, boun
             if shading.shaded:
                 surface_lanes(arrays, shading, rays, best, best_t, colors, shaded, lanes, box)
                 if shading.lit:
-                    light_lanes(arrays, tree, shading, stack, rays, best, shaded, lanes,
-                                shading_room.candidates, shading_room.counts, columns)  # fmt: skip
+                    light_lanes(scene, stack, rays, best, shaded, lanes, shading_room.candidates,
+                                shading_room.counts, columns)  # fmt: skip
             for i in range(shaded):  # each pixel's samples summed in order
                 p, k = p_first + i // samples, k_first + i % samples
                 if k == 0:
@@ -630,10 +632,10 @@ def sampled_lanes(arrays, tree, shading, camera, lens, noise, width, first, boun
                 if bounces is not None:  # None in a scene with no mirror: not compiled
                     if shading.shaded and hit >= 0:
                         c0, c1, c2 = bounce_on(
-                            arrays, tree, shading, stack, 0, hit, point[0, i], point[1, i],
-                            point[2, i], normal[0, i], normal[1, i], normal[2, i], rays[3, i],
-                            rays[4, i], rays[5, i], error[i], c0, c1, c2, 1.0, 1.0, 1.0,
-                            numbers[i],
+                            scene, stack, 0, hit, (point[0, i], point[1, i], point[2, i]),
+                            (normal[0, i], normal[1, i], normal[2, i]),
+                            (rays[3, i], rays[4, i], rays[5, i]), error[i], (c0, c1, c2),
+                            (1.0, 1.0, 1.0), numbers[i],
                         )  # fmt: skip
                 r_sum += c0
                 g_sum += c1

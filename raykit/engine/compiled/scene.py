@@ -158,6 +158,16 @@ class Shading(NamedTuple):
     light_normals: np.ndarray
 
 
+class CompiledScene(NamedTuple):
+    """What a ray of a shaded scene may meet and read, as one argument of the kernels that shade:
+    its objects (:class:`Arrays`), the BVH its shadow and mirror rays walk (:class:`Tree`), and
+    its lights and materials (:class:`Shading`)."""
+
+    arrays: Arrays
+    tree: Tree
+    shading: Shading
+
+
 def scene_shading(scene: Scene) -> Shading:
     """The scene's :class:`Shading`, from the reference's own functions and tables."""
     table = scene.materials
