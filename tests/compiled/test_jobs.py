@@ -23,7 +23,7 @@ def _take_jobs(jobs, grain, taken, arrived, times):
     for _ in range(10**9):  # wait (a while at most) for the other workers: all take at once
         if compiled.take(arrived, 0) >= len(times):
             break
-    for j in compiled.jobs_taken(taken, grain, jobs):
+    for j in compiled.jobs_taken(compiled.Work(jobs, grain, taken)):
         times[worker, j] += 1
 
 
@@ -31,7 +31,7 @@ def _times_taken(jobs, grain, workers):
     """How often each of ``workers`` workers, run as a render runs them (pool.run_workers), takes
     each of ``jobs``: ``(workers, jobs)``."""
     times = np.zeros((workers, jobs), dtype=np.int64)
-    arguments = (jobs, grain, np.zeros(1, np.int64), np.zeros(1, np.int64), times)
+    arguments = (np.arange(jobs), grain, np.zeros(1, np.int64), np.zeros(1, np.int64), times)
     pool.run_workers(_take_jobs, arguments, workers)
     return times
 

@@ -96,7 +96,16 @@ from raykit.engine.compiled.camera import (
 )
 from raykit.engine.compiled.compiling import KERNEL
 from raykit.engine.compiled.hits import NearestHit, keep_nearer
-from raykit.engine.compiled.jobs import CHUNK, RayRoom, ShadingRoom, jobs_taken, take
+from raykit.engine.compiled.jobs import (
+    CHUNK,
+    Film,
+    RayRoom,
+    SampleRoom,
+    ShadingRoom,
+    Work,
+    jobs_taken,
+    take,
+)
 from raykit.engine.compiled.mirrors import reflect
 from raykit.engine.compiled.noise import Noise, scene_noise
 from raykit.engine.compiled.rays import Ray
@@ -149,14 +158,15 @@ from raykit.engine.compiled.tiles import (
 from raykit.surfaces import OFFSET_FACTOR
 
 __all__ = [
-    "CHUNK", "CROWDED_SIDE", "CameraNumbers", "CompiledScene", "DIRECT_HITS", "DIRECT_LISTS",
-    "HOLDING_CHUNK", "KERNEL", "OFFSET_FACTOR", "PACKET_SIDE", "SHADOW_CANDIDATES", "WIDE_SIDE",
-    "Arrays", "Lanes", "NearestHit", "Noise", "Prepared", "Ray", "RayRoom", "Shading",
-    "ShadingRoom", "Tiles", "Tree", "billboard_color_at", "blinn_phong", "bounce_on",
-    "camera_tuple", "cast_rays", "caster", "hit_billboard", "hit_sphere", "jobs_taken",
-    "keep_nearer", "lambert", "lens_tuple", "light_lanes", "mirror_rays", "nearest_hit",
-    "new_lanes", "new_stack", "prepare", "primary_ray", "primary_rays", "rays_through", "reflect",
-    "render", "scene_arrays", "scene_noise", "scene_shading", "scene_tree", "screen_tiles", "shade",
-    "shadow_lists", "start", "surface_color", "surface_lanes", "surface_points", "take",
-    "thin_lens_rays", "tile_side", "trace_flat", "trace_lit", "trace_moving", "trace_sampled",
+    "CHUNK", "CROWDED_SIDE", "CameraNumbers", "DIRECT_HITS", "DIRECT_LISTS", "HOLDING_CHUNK",
+    "CompiledScene", "Film", "KERNEL", "OFFSET_FACTOR", "PACKET_SIDE", "SHADOW_CANDIDATES",
+    "WIDE_SIDE", "Arrays", "Lanes", "NearestHit", "Noise", "Prepared", "Ray", "RayRoom",
+    "SampleRoom", "Shading", "ShadingRoom", "Tiles", "Tree", "Work", "billboard_color_at",
+    "blinn_phong", "bounce_on", "camera_tuple", "cast_rays", "caster", "hit_billboard",
+    "hit_sphere", "jobs_taken", "keep_nearer", "lambert", "lens_tuple", "light_lanes",
+    "mirror_rays", "nearest_hit", "new_lanes", "new_stack", "prepare", "primary_ray",
+    "primary_rays", "rays_through", "reflect", "render", "scene_arrays", "scene_noise",
+    "scene_shading", "scene_tree", "screen_tiles", "shade", "shadow_lists", "start",
+    "surface_color", "surface_lanes", "surface_points", "take", "thin_lens_rays", "tile_side",
+    "trace_flat", "trace_lit", "trace_moving", "trace_sampled",
 ]  # fmt: skip

@@ -38,28 +38,42 @@ def take(typingctx, taken, count):
 # never cached on disk: numba registers a generator's code only in the process that compiles it,
 # and a kernel compiled in a process that loaded the generator from the cache cannot call it
 @njit(**dict(KERNEL, cache=False))
-def jobs_taken(taken, grain, count):
-    """The jobs ``0 .. count - 1`` that one worker takes, in turn, as a generator: ``grain`` at a
-    time from the counter ``taken (1,)`` that every worker of the call shares (:func:`take`),
-    whenever it is free, so that a worker slowed by other work takes fewer; each job is taken by
-    exactly one worker. Every entry point of :mod:`.render` loops over it."""
+def jobs_taken(work):
+    """The jobs of ``work`` (a :class:`Work`) that one worker takes, by their place in
+    ``work.jobs``, as a generator: ``work.grain`` at a time from the counter ``work.taken`` that
+    every worker of the call shares (:func:`take`), whenever it is free, so that a worker slowed
+    by other work takes fewer; each job is taken by exactly one worker. Every entry point of
+    :mod:`.render` loops over it."""
+    count, grain = len(work.jobs), work.grain
     while True:
-        first = take(taken, grain)
+        first = take(work.taken, grain)
         if first >= count:
             return
         for j in range(first, min(count, first + grain)):  # noqa: UP028 (numba has no yield from)
             yield j
 
 
+class Work(NamedTuple):
+    """The jobs of one call of an entry point and how its workers share them
+    (:func:`~.pool.shares`): ``jobs (J,)`` (tile numbers, CHUNKs of image points, or a
+    distributed render's first pixels), the ``grain`` of jobs a worker takes at a time, and the
+    counter ``taken (1,)`` of the jobs taken so far (:func:`jobs_taken`)."""
+
+    jobs: np.ndarray
+    grain: int
+    taken: np.ndarray
+
+
 class Film(NamedTuple):
     """The image a call of :func:`~.render.trace_flat` or :func:`~.render.trace_lit` exposes: its
-    ``width``, the image points ``xs``, ``ys`` (empty: whole tiles' pixels, see
+    ``width`` and ``height``, the image points ``xs``, ``ys`` (empty: whole tiles' pixels, see
     :func:`~.render.trace_flat`), the sample ``offsets (S, 2)`` and the ``centre`` sample (-1: a ray
     of its own), and where the results go, ``rgb (P, 3)``, ``index`` and ``t (P,)``. The scene's
     arrays travel beside it, not in it: a kernel called once a job is passed only what it reads
     (every array is a handful of numbers at each call). Made by each worker as its call starts."""
 
     width: int
+    height: int
     xs: np.ndarray
     ys: np.ndarray
     offsets: np.ndarray
@@ -95,17 +109,19 @@ def job_pixel(film, job, down, along):
 
 
 @njit(**KERNEL)
-def job_of(jobs, j, points, tiles, width, height):
-    """Job ``jobs[j]`` of :func:`~.render.trace_flat` or :func:`~.render.trace_lit`, a
-    :class:`TileJob`: a tile's pixels, or a row of CHUNK of the ``points``."""
+def job_of(work, j, tiles, film):
+    """Job ``work.jobs[j]`` (:class:`Work`) of :func:`~.render.trace_flat` or
+    :func:`~.render.trace_lit`, a :class:`TileJob`: a tile's pixels, or a row of CHUNK of the
+    image points of ``film`` (:class:`Film`)."""
+    points = len(film.xs)
     if points:
-        first = jobs[j] * CHUNK
+        first = work.jobs[j] * CHUNK
         return TileJob(first, 1, 0, 0, min(CHUNK, points - first), -1)
     size = tiles.size
-    tile = jobs[j]
+    tile = work.jobs[j]
     top = (tile // tiles.tiles_x) * size
     left = (tile % tiles.tiles_x) * size
-    return TileJob(0, min(size, height - top), top, left, min(size, width - left), tile)
+    return TileJob(0, min(size, film.height - top), top, left, min(size, film.width - left), tile)
 
 
 @njit(**KERNEL)
@@ -186,6 +202,27 @@ def pixel_means(film, job, colors, best, best_t):
             rgb[p, 2] = b_sum / samples
             i = pixels * samples + q if centre < 0 else q * samples + centre
             index[p], t[p] = best[i], best_t[i]
+
+
+class SampleRoom(NamedTuple):
+    """Room for a distributed render's samples' uniform numbers: each sample's ``numbers``
+    (a row each, ``(N, D)``, or ``(D,)`` for one sample at a time), the wanted ones copied into
+    ``columns (D, N)`` (no columns for one at a time), and what a pixel's samples share,
+    ``keys`` (:func:`~.noise.pixel_keys`). Each worker makes its own as its call starts
+    (:func:`new_sample_room`)."""
+
+    numbers: np.ndarray
+    columns: np.ndarray
+    keys: np.ndarray
+
+
+@njit(**MAKES_ARRAYS)
+def new_sample_room(n, dimensions):
+    """A :class:`SampleRoom` for ``n`` samples in lanes of ``dimensions`` numbers each, or, ``n``
+    0, for one sample at a time."""
+    numbers = np.empty((max(n, 1), dimensions))
+    keys = np.zeros((dimensions // 2 + 2, 6), dtype=np.uint64)
+    return SampleRoom(numbers, np.empty((dimensions, n)), keys)
 
 
 class RayRoom(NamedTuple):

@@ -14,6 +14,7 @@ import numba
 import numpy as np
 
 from raykit.engine.compiled.compiling import compile_clock, finished, marked
+from raykit.engine.compiled.jobs import Work
 
 GRAINS_PER_WORKER = 16  # takes of jobs per worker: few enough that taking costs nothing, and
 # many enough that a worker slowed by other work leaves little for the others to wait on
@@ -25,30 +26,30 @@ def worker_count(jobs: np.ndarray) -> int:
     return max(1, min(numba.get_num_threads(), len(jobs)))
 
 
-def shares(jobs: np.ndarray) -> tuple[int, np.ndarray]:
-    """How the workers of one call share ``jobs`` (:func:`~.render.trace_flat`): ``(grain, taken)``,
-    the jobs a worker takes at a time, and the counter ``taken (1,)`` of the jobs taken so far."""
-    return max(1, len(jobs) // (worker_count(jobs) * GRAINS_PER_WORKER)), np.zeros(
-        1, dtype=np.int64
-    )
+def shares(jobs: np.ndarray) -> Work:
+    """How the workers of one call share ``jobs (J,)``: a :class:`~.jobs.Work` with the jobs a
+    worker takes at a time, GRAINS_PER_WORKER takes a worker, and a counter of none taken yet."""
+    grain = max(1, len(jobs) // (worker_count(jobs) * GRAINS_PER_WORKER))
+    return Work(jobs, grain, np.zeros(1, dtype=np.int64))
 
 
 READY: set[str] = set()  # entry points compiled or loaded from the cache in this process
 
 
-def run(name, entry, jobs, *arguments) -> None:
+def run(name, entry, *arguments) -> None:
     """``entry(*arguments)`` on :func:`worker_count` threads at once (:func:`run_workers`), sharing
-    ``jobs``. The first time in a process whose cache has no marker for ``name``
-    (:func:`~raykit.engine.compiled.compiling.marked`), it is compiled first, in this thread,
-    with the progress line of its compile
-    (:func:`~raykit.engine.compiled.compiling.compile_clock`), and then marked."""
+    the jobs of its last argument, a :class:`~.jobs.Work` (:func:`shares`). The first time in a
+    process whose cache has no marker for ``name``
+    (:func:`~raykit.engine.compiled.compiling.marked`), it is compiled first, in this thread, with
+    the progress line of its compile (:func:`~raykit.engine.compiled.compiling.compile_clock`), and
+    then marked."""
     if name not in READY and not marked(name):
         started = time.perf_counter()
         with compile_clock(name):
             entry.compile(tuple(entry.typeof_pyval(argument) for argument in arguments))
         finished(name, time.perf_counter() - started)
     READY.add(name)
-    run_workers(entry, arguments, worker_count(jobs))
+    run_workers(entry, arguments, worker_count(arguments[-1].jobs))
 
 
 def run_workers(entry, arguments, workers: int) -> None:

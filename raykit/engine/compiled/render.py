@@ -36,6 +36,7 @@ from raykit.engine.compiled.jobs import (
     job_points,
     jobs_taken,
     new_ray_room,
+    new_sample_room,
     new_shading_room,
     pixel_means,
 )
@@ -150,10 +151,17 @@ def render(scene: Scene | Prepared, samples: int = 1, *, adaptive: bool = False,
     # starts every worker anew, and waits for the slowest)
     band = max(1, ROWS_PER_CALL // size) * tiles_x if progress is not None else tile_count
     nothing = np.zeros(0)
+    film = Film(width, height, nothing, nothing, offsets, -1 if centre is None else centre, rgb,
+                index, t)  # fmt: skip
     for first in range(0, tile_count, band):
-        jobs = np.arange(first, min(first + band, tile_count))
-        run(name, trace, jobs, *kernels, width, height, jobs, *shares(jobs), nothing, nothing,
-              offsets, -1 if centre is None else centre, empty, rgb, index, t)  # fmt: skip
+        run(
+            name,
+            trace,
+            *kernels,
+            film,
+            empty,
+            shares(np.arange(first, min(first + band, tile_count))),
+        )
         if progress is not None:
             rows = min(height, (first + band) // tiles_x * size) - first // tiles_x * size
             progress(rows * width)
@@ -169,10 +177,9 @@ def render(scene: Scene | Prepared, samples: int = 1, *, adaptive: bool = False,
         def colors(region, x, y):
             x, y = np.asarray(x, float), np.asarray(y, float)
             out = np.empty((len(x), 3))
-            jobs = np.arange(-(-len(x) // CHUNK))
-            run(name, trace, jobs, *kernels, width, height, jobs, *shares(jobs), x, y,
-                  at_the_point, 0, empty, out, np.empty(len(x), np.int64),
-                  np.empty(len(x)))  # fmt: skip
+            points = Film(width, height, x, y, at_the_point, 0, out, np.empty(len(x), np.int64),
+                          np.empty(len(x)))  # fmt: skip
+            run(name, trace, *kernels, points, empty, shares(np.arange(-(-len(x) // CHUNK))))
             return out
 
         refine(regions(scene, skip_hidden=False), colors, rgb, edge, samples)
@@ -190,9 +197,11 @@ def _render_sampled(prepared: Prepared, progress=None):
     t = np.empty(pixels)
     starts = np.arange(0, pixels, SAMPLED_PIXELS)
     band = -(-ROWS_PER_CALL * width // SAMPLED_PIXELS) if progress is not None else len(starts)
+    nothing = np.zeros(0)  # no image points, no sample offsets: each pixel takes its own samples
+    film = Film(width, height, nothing, nothing, np.zeros((0, 2)), -1, rgb, index, t)
     for first in range(0, len(starts), band):
         jobs = starts[first : first + band]
-        run(name, trace, jobs, *kernels, width, jobs, *shares(jobs), rgb, index, t)
+        run(name, trace, *kernels, film, shares(jobs))
         if progress is not None:
             progress(min(pixels, jobs[-1] + SAMPLED_PIXELS) - jobs[0])
     return rgb.reshape(height, width, 3), index.reshape(height, width), t.reshape(height, width)
@@ -209,17 +218,17 @@ def _mean_of_samples(color: np.ndarray, count: int) -> np.ndarray:
 
 def _entry(prepared: Prepared) -> tuple:
     """``(name, entry point, its leading arguments)`` for a prepared scene, the name
-    :func:`raykit.engine.choice.entry_point` gave it (``prepared.entry``): :func:`trace_flat`
-    for a flat scene, which compiles no shading, else :func:`trace_lit` with the tree and
-    :class:`Shading`, and ``bounces``: True for ``trace_mirrors`` (a ray may bounce off a
-    mirror), else None, a type of its own to numba, for which :func:`lit_job` compiles no mirror
-    code. The two are compiled apart, and named apart for the cache's markers and the progress
-    line. A distributed scene's: :func:`trace_moving` for one whose spheres move, else
+    :func:`raykit.engine.choice.entry_point` gave it (``prepared.entry``): :func:`trace_flat` for a
+    flat scene, which compiles no shading, else :func:`trace_lit` with the tree and :class:`Shading`
+    (in a :class:`CompiledScene`), and ``bounces``: True for ``trace_mirrors`` (a ray may bounce off
+    a mirror), else None, a type of its own to numba, for which :func:`lit_job` compiles no mirror
+    code. The two are compiled apart, and named apart for the cache's markers and the progress line.
+    A distributed scene's: :func:`trace_moving` for one whose spheres move, else
     :func:`trace_sampled` with ``bounces`` as above (``trace_sampled_mirrors``, or
     ``trace_sampled``)."""
     name = prepared.entry
-    distributed = (prepared.arrays, prepared.tree, prepared.shading, prepared.camera,
-                   prepared.lens, prepared.noise)  # fmt: skip
+    scene = CompiledScene(prepared.arrays, prepared.tree, prepared.shading)
+    distributed = (scene, prepared.camera, prepared.lens, prepared.noise)
     if name == "trace_moving":
         return name, trace_moving, (*distributed, prepared.motion)
     if name in ("trace_sampled", "trace_sampled_mirrors"):
@@ -228,36 +237,33 @@ def _entry(prepared: Prepared) -> tuple:
     if name == "trace_flat":
         return name, trace_flat, (prepared.arrays, prepared.tiles, prepared.camera)
     bounces = True if name == "trace_mirrors" else None
-    return name, trace_lit, (prepared.arrays, prepared.tiles, prepared.tree, prepared.shading,
-                             prepared.camera, bounces)  # fmt: skip
+    return name, trace_lit, (scene, prepared.tiles, prepared.camera, bounces)
 
 
 @njit(**MAKES_ARRAYS)
-def trace_flat(arrays, tiles, camera, width, height, jobs, grain, taken, xs, ys, offsets, centre,
-               empty, rgb, index, t):  # fmt: skip
-    """The lecture's loop for a flat scene: for each pixel, per sample offset ``offsets (S, 2)``
-    in order, the viewing ray and its nearest hit (:func:`primary_ray`, or a packet of them:
-    :func:`primary_rays`) and its flat colour, summed and divided by S as
-    :class:`raykit.engine.regions.Image` takes the mean; and the object index and t of the ray
-    through the pixel centre, which is sample ``centre`` (-1: cast one more ray there).
+def trace_flat(arrays, tiles, camera, film, empty, work):
+    """The lecture's loop for a flat scene, into ``film`` (:class:`~.jobs.Film`): for each pixel,
+    per sample offset ``offsets (S, 2)`` in order, the viewing ray and its nearest hit
+    (:func:`primary_ray`, or a packet of them: :func:`primary_rays`) and its flat colour, summed and
+    divided by S as :class:`raykit.engine.regions.Image` takes the mean; and the object index and t
+    of the ray through the pixel centre, which is sample ``centre`` (-1: cast one more ray there).
     Results go to ``rgb (P, 3)``, ``index``, ``t (P,)``. Which pixels, either way:
 
-    * whole tiles (``xs`` empty): ``jobs (J,)`` are tile numbers (:func:`screen_tiles`), and
-      their pixels are the image's, row by row (P = ``height`` x ``width``) with their upper-left
-      corners at (column, row). A tile that no object's screen rectangle meets sees only the
-      background: its pixels are given ``empty (3,)`` (the background's mean over the samples,
-      :func:`_mean_of_samples`), index -1 and t = inf, and no ray;
-    * points (``xs``, ``ys (P,)``, the upper-left corners): ``jobs`` are CHUNKs of them.
+    * whole tiles (``xs`` empty): ``work.jobs (J,)`` are tile numbers (:func:`screen_tiles`),
+      and their pixels are the image's, row by row (P = ``height`` x ``width``) with their
+      upper-left corners at (column, row). A tile that no object's screen rectangle meets sees
+      only the background: its pixels are given ``empty (3,)`` (the background's mean over the
+      samples, :func:`_mean_of_samples`), index -1 and t = inf, and no ray;
+    * points (``xs``, ``ys (P,)``, the upper-left corners): ``work.jobs`` are CHUNKs of them.
 
     A call is one worker (:func:`~.pool.run_workers` makes one a thread, each with the same
     arguments): with its own room for a job's rays (making it for each job cost more than a
-    small tile's rays), it takes ``grain`` jobs at a time from the counter ``taken (1,)``
+    small tile's rays), it takes the jobs of ``work`` a grain at a time
     (:func:`~.jobs.jobs_taken`). Each job runs on one core, whole (:func:`flat_job`)."""
-    points = len(xs)
-    room = new_ray_room((CHUNK if points else tiles.size * tiles.size) * (len(offsets) + 1))
-    film = Film(width, xs, ys, offsets, centre, rgb, index, t)
-    for j in jobs_taken(taken, grain, len(jobs)):
-        job = job_of(jobs, j, points, tiles, width, height)
+    points = len(film.xs)
+    room = new_ray_room((CHUNK if points else tiles.size * tiles.size) * (len(film.offsets) + 1))
+    for j in jobs_taken(work):
+        job = job_of(work, j, tiles, film)
         if points or tiles.start[job.tile] < tiles.start[job.tile + 1]:
             flat_job(arrays, tiles, camera, film, job, room)
         else:
@@ -300,25 +306,24 @@ def flat_job(arrays, tiles, camera, film, job, room):
 
 
 @njit(**MAKES_ARRAYS)
-def trace_lit(arrays, tiles, tree, shading, camera, bounces, width, height, jobs, grain, taken, xs,
-              ys, offsets, centre, empty, rgb, index, t):  # fmt: skip
-    """:func:`trace_flat` for a shaded scene (:func:`raykit.shading.needs_shading`), with its
-    BVH ``tree`` and its :class:`Shading`: each job's pixels (:func:`lit_job`) take the
-    colour :func:`raykit.shading.shade` gives them. A call is one worker, as there."""
-    points = len(xs)
-    n = (CHUNK if points else tiles.size * tiles.size) * (len(offsets) + 1)
-    room, shading_room = new_ray_room(n), new_shading_room(n, shading)
-    film = Film(width, xs, ys, offsets, centre, rgb, index, t)
-    for j in jobs_taken(taken, grain, len(jobs)):
-        job = job_of(jobs, j, points, tiles, width, height)
+def trace_lit(scene, tiles, camera, bounces, film, empty, work):
+    """:func:`trace_flat` for a shaded ``scene`` (:func:`raykit.shading.needs_shading`; a
+    :class:`CompiledScene`, with its BVH and its :class:`Shading`): each job's pixels
+    (:func:`lit_job`) take the colour :func:`raykit.shading.shade` gives them. A call is one
+    worker, as there."""
+    points = len(film.xs)
+    n = (CHUNK if points else tiles.size * tiles.size) * (len(film.offsets) + 1)
+    room, shading_room = new_ray_room(n), new_shading_room(n, scene.shading)
+    for j in jobs_taken(work):
+        job = job_of(work, j, tiles, film)
         if points or tiles.start[job.tile] < tiles.start[job.tile + 1]:
-            lit_job(arrays, tiles, tree, shading, camera, bounces, film, job, room, shading_room)
+            lit_job(scene, tiles, camera, bounces, film, job, room, shading_room)
         else:
             background_job(film, job, empty)
 
 
 @njit(**KERNEL)
-def lit_job(arrays, tiles, tree, shading, camera, bounces, film, job, room, shading_room):
+def lit_job(scene, tiles, camera, bounces, film, job, room, shading_room):
     """One job of :func:`trace_lit` (a :class:`TileJob`), with the worker's ``room``
     (:class:`RayRoom`) and ``shading_room`` (:class:`ShadingRoom`): all its viewing rays' hits
     first, then each light's :func:`shadow_lists` for the box their surface points lie in, each
@@ -327,7 +332,7 @@ def lit_job(arrays, tiles, tree, shading, camera, bounces, film, job, room, shad
     (:func:`mirror_rays`), and the pixels' means (:func:`pixel_means`) into ``film``
     (:class:`Film`). ``bounces`` is an argument of its own, not a field of a tuple: numba drops
     the branch it decides only for an argument's type."""
-    scene = CompiledScene(arrays, tree, shading)
+    arrays, tree, shading = scene
     tile = job.tile
     xy, rays, best, best_t, colors = room.xy, room.rays, room.best, room.best_t, room.colors
     made, holding = room.made, room.holding
@@ -370,39 +375,35 @@ def lit_job(arrays, tiles, tree, shading, camera, bounces, film, job, room, shad
 
 
 @njit(**MAKES_ARRAYS)
-def trace_sampled(arrays, tree, shading, camera, lens, noise, bounces, width, jobs, grain, taken,
-                  rgb, index, t):  # fmt: skip
-    """The lecture's loop for a distributed scene (stage 5, as
-    :class:`raykit.engine.regions.Plan` batches it) whose spheres stand still: for each pixel,
-    each of its ``noise.count`` samples in order, from the sample's uniform numbers
-    (:func:`~raykit.engine.compiled.noise.sample_numbers`), a point in the pixel, a ray through
-    the pinhole or from the lens (``lens``: :func:`lens_tuple`), its nearest hit, and its colour,
-    flat or shaded (its points on the area lights and its glossy perturbations from the same
-    numbers), summed and divided by the count as :class:`raykit.engine.regions.Image` takes the
-    mean; and the object index and t of the pinhole ray through the pixel centre. ``jobs
-    (J,)``: the first pixel of each job of SAMPLED_PIXELS (row-major, P = ``len(t)``); results
-    into ``rgb (P, 3)``, ``index``, ``t (P,)``. No screen tile bounds a ray: a lens's rays do not
-    start at the eye (as the reference tests every object then), and the answer is
-    :func:`raykit.render.cast`'s either way. A job's samples go in lanes
-    (:func:`sampled_lanes`); ``bounces``, True in a scene with mirrors, else None (a type of
-    its own to numba, for which no mirror ray is compiled), as :func:`trace_lit` takes it. A
-    scene whose spheres move renders by :func:`trace_moving`, compiled apart, so that a still
-    scene never compiles its kernels. A call is one worker, taking grains of jobs as
-    :func:`trace_flat`'s does; a pixel's numbers depend on it alone, so the image does not
+def trace_sampled(scene, camera, lens, noise, bounces, film, work):
+    """The lecture's loop for a distributed scene (stage 5, as :class:`raykit.engine.regions.Plan`
+    batches it) whose spheres stand still: for each pixel, each of its ``noise.count`` samples in
+    order, from the sample's uniform numbers (:func:`~raykit.engine.compiled.noise.sample_numbers`),
+    a point in the pixel, a ray through the pinhole or from the lens (``lens``: :func:`lens_tuple`),
+    its nearest hit, and its colour, flat or shaded (its points on the area lights and its glossy
+    perturbations from the same numbers), summed and divided by the count as
+    :class:`raykit.engine.regions.Image` takes the mean; and the object index and t of the pinhole
+    ray through the pixel centre. ``work.jobs (J,)``: the first pixel of each job of SAMPLED_PIXELS
+    (row-major, P = ``len(film.t)``); results into ``film`` (:class:`~.jobs.Film`: ``rgb (P, 3)``,
+    ``index``, ``t (P,)``). No screen tile bounds a ray: a lens's rays do not start at the eye (as
+    the reference tests every object then), and the answer is :func:`raykit.render.cast`'s either
+    way. A job's samples go in lanes (:func:`sampled_lanes`); ``bounces``, True in a scene with
+    mirrors, else None (a type of its own to numba, for which no mirror ray is compiled), as
+    :func:`trace_lit` takes it. A scene whose spheres move renders by :func:`trace_moving`, compiled
+    apart, so that a still scene never compiles its kernels. A call is one worker, taking grains of
+    jobs as :func:`trace_flat`'s does; a pixel's numbers depend on it alone, so the image does not
     depend on which takes which."""
-    room, shading_room = new_ray_room(SAMPLED_LANES), new_shading_room(SAMPLED_LANES, shading)
-    every_object(tree, shading, shading_room)
-    numbers = np.empty((SAMPLED_LANES, noise.dimensions))
-    columns = np.empty((noise.dimensions, SAMPLED_LANES))
-    keys = np.zeros((noise.dimensions // 2 + 2, 6), dtype=np.uint64)
-    for j in jobs_taken(taken, grain, len(jobs)):
-        sampled_lanes(arrays, tree, shading, camera, lens, noise, width, jobs[j], bounces,
-                      numbers, columns, keys, room, shading_room, rgb, index, t)  # fmt: skip
+    room = new_ray_room(SAMPLED_LANES)
+    shading_room = new_shading_room(SAMPLED_LANES, scene.shading)
+    every_object(scene.tree, scene.shading, shading_room)
+    sample_room = new_sample_room(SAMPLED_LANES, noise.dimensions)
+    for j in jobs_taken(work):
+        sampled_lanes(scene, camera, lens, noise, bounces, film, work.jobs[j], sample_room, room,
+                      shading_room)  # fmt: skip
 
 
 @njit(**MAKES_ARRAYS)
-def trace_moving(arrays, tree, shading, camera, lens, noise, motion, width, jobs, grain, taken,
-                 rgb, index, t):  # fmt: skip
+def trace_moving(scene, camera, lens, noise, motion, film, work):
     """:func:`trace_sampled` for a scene whose spheres move (``motion``: :class:`Motion`): each
     sample's ray has its own time (:func:`shutter_times`), and its viewing, shadow and mirror
     rays and its normals see the moving spheres there (:func:`center_at`): each worker keeps its
@@ -410,15 +411,16 @@ def trace_moving(arrays, tree, shading, camera, lens, noise, motion, width, jobs
     (:func:`spheres_at`), and the tree is :func:`every_object_tree`, as the reference tests
     every object then. A job is one sample at a time (:func:`sampled_job`)."""
     stack = new_stack()
-    numbers = np.empty(noise.dimensions)
-    keys = np.zeros((noise.dimensions // 2 + 2, 6), dtype=np.uint64)
+    sample_room = new_sample_room(0, noise.dimensions)
+    arrays = scene.arrays
     at_time = Arrays(arrays.centers.copy(), arrays.radii, arrays.sphere_colors,
                      arrays.corners, arrays.n, arrays.alpha_axes, arrays.beta_axes,
                      arrays.board_colors, arrays.texture_start, arrays.texture_width,
                      arrays.texture_height, arrays.texels, arrays.background)  # fmt: skip
-    for j in jobs_taken(taken, grain, len(jobs)):
-        sampled_job(arrays, at_time, tree, shading, camera, lens, noise, motion, width, jobs[j],
-                    stack, numbers, keys, rgb, index, t)  # fmt: skip
+    moved = CompiledScene(at_time, scene.tree, scene.shading)
+    for j in jobs_taken(work):
+        sampled_job(scene, moved, camera, lens, noise, motion, film, work.jobs[j], stack,
+                    sample_room)  # fmt: skip
 
 
 @njit(**KERNEL)
@@ -436,15 +438,16 @@ def spheres_at(arrays, motion, centers, T):
 
 
 @njit(**KERNEL)
-def sampled_job(arrays, at_time, tree, shading, camera, lens, noise, motion, width, first,
-                stack, numbers, keys, rgb, index, t):  # fmt: skip
-    """One job of :func:`trace_moving`: the SAMPLED_PIXELS pixels from pixel ``first``, with the
-    worker's ``stack`` (:func:`new_stack`), room for a sample's uniform numbers, ``numbers (D,)``,
-    and for what its pixel's samples share, ``keys`` (:func:`pixel_keys`), and the worker's copy of
-    ``arrays``, ``at_time``, whose centres it moves to each ray's time in a scene that moves
-    (:class:`Motion`), and every ray reads."""
+def sampled_job(scene, moved, camera, lens, noise, motion, film, first, stack, sample_room):
+    """One job of :func:`trace_moving`: the SAMPLED_PIXELS pixels from pixel ``first`` into
+    ``film``, with the worker's ``stack`` (:func:`new_stack`), room for a sample's uniform
+    numbers and what its pixel's samples share (:class:`~.jobs.SampleRoom`), and the worker's
+    copy of ``scene``, ``moved``, whose sphere centres it moves to each ray's time in a scene that
+    moves (:class:`Motion`), and every ray reads."""
     count, wanted, reads = noise.count, noise.wanted, noise.reads
-    moved = CompiledScene(at_time, tree, shading)
+    arrays, at_time, tree = scene.arrays, moved.arrays, moved.tree
+    numbers, keys = sample_room.numbers[0], sample_room.keys
+    width, rgb, index, t = film.width, film.rgb, film.index, film.t
     for p in range(first, min(first + SAMPLED_PIXELS, len(t))):
         row, col = p // width, p % width
         r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
@@ -465,7 +468,7 @@ def sampled_job(arrays, at_time, tree, shading, camera, lens, noise, motion, wid
                 ray = rays_through(camera, x, y)
             hit = nearest_hit(at_time, tree, stack, ray.o0, ray.o1, ray.o2, ray.d0, ray.d1,
                               ray.d2, np.inf)  # fmt: skip
-            if shading.shaded:
+            if moved.shading.shaded:
                 c0, c1, c2 = shade(moved, stack, (ray.o0, ray.o1, ray.o2),
                                    (ray.d0, ray.d1, ray.d2), hit, numbers)  # fmt: skip
             else:  # no light: the object's flat colour
@@ -562,13 +565,15 @@ def cast_lanes(arrays, tree, rays, count, best, best_t, colors, t):
 
 
 @njit(**KERNEL)
-def sampled_lanes(arrays, tree, shading, camera, lens, noise, width, first, bounces, numbers,
-                  columns, keys, room, shading_room, rgb, index, t):  # fmt: skip
+def sampled_lanes(
+    scene, camera, lens, noise, bounces, film, first, sample_room, room, shading_room
+):
     """:func:`sampled_job` for a scene where nothing moves, its samples in lanes: SAMPLED_LANES
     samples at a time, of one pixel, or of as many whole pixels as they hold (each batch calls
     kernels of its own, whose arguments cost as much as a few rays: a batch of one pixel's few
-    samples paid them for too few), each sample with its row of ``numbers (SAMPLED_LANES, D)``,
-    the wanted ones copied into the columns of ``columns (D, SAMPLED_LANES)``; their viewing rays,
+    samples paid them for too few), each sample with its row of ``sample_room.numbers
+    (SAMPLED_LANES, D)``, the wanted ones copied into the columns of its ``columns (D,
+    SAMPLED_LANES)`` (:class:`~.jobs.SampleRoom`); their viewing rays,
     their nearest hits (:func:`cast_lanes` in a scene of DIRECT_HITS objects or fewer, each ray
     through the tree in a larger one), into ``room`` (:class:`RayRoom`), then all of them
     shaded at once as :func:`lit_job` shades a tile's rays (:func:`surface_lanes`,
@@ -579,8 +584,10 @@ def sampled_lanes(arrays, tree, shading, camera, lens, noise, width, first, boun
     is a loop the compiler turns into vector instructions, where one sample at a time waited on
     its divisions and branches. Each ray's operations are :func:`shade`'s, in its order, so the
     bits are :func:`sampled_job`'s."""
-    scene = CompiledScene(arrays, tree, shading)
+    arrays, tree, shading = scene
     count, wanted, reads = noise.count, noise.wanted, noise.reads
+    numbers, columns, keys = sample_room.numbers, sample_room.columns, sample_room.keys
+    width, rgb, index, t = film.width, film.rgb, film.index, film.t
     xy, rays, best, best_t, colors = room.xy, room.rays, room.best, room.best_t, room.colors
     lanes, box, stack = shading_room.lanes, shading_room.box, shading_room.stack
     total, point, normal, error = lanes.total, lanes.p, lanes.n, lanes.error

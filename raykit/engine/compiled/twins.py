@@ -233,6 +233,7 @@ OWN = {
     "shading.new_lanes": "room for shading a job's rays in lanes",
     "jobs.new_ray_room": "room for a job's rays",
     "jobs.new_shading_room": "room for shading a job's rays",
+    "jobs.new_sample_room": "room for a distributed render's samples' uniform numbers",
     "jobs.take": "an atomic add: how workers take jobs",
     "jobs.jobs_taken": "the jobs a worker takes: the workers' loop",
     "jobs.job_of": "a job's pixels: the workers' own cut of the image",
