@@ -9,6 +9,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 import zipfile
 from pathlib import Path
@@ -18,8 +19,9 @@ import tomllib
 
 from conftest import REPO
 from raykit_grading.grading.submissions import MAX_BYTES, SubmissionError, stage
+from raykit_grading.sandbox import isolation
 from raykit_grading.sandbox.confine import ContainerLimits, container_limits, landlock_abi
-from raykit_grading.sandbox.isolation import SANDBOX_UIDS, UidPool
+from raykit_grading.sandbox.isolation import SANDBOX_UIDS, UidPool, kill_uid
 from raykit_grading.sandbox.workspace import PREFIX, Workspace, clean_stale
 
 AS_ROOT = os.geteuid() == 0
@@ -35,6 +37,30 @@ def test_two_graders_never_lease_the_same_uid(tmp_path):
         second.lease()
     leases[1].release()
     assert second.lease().uid == leases[1].uid
+
+
+def _unreaped_process_of(uid: int, reap_after: float) -> subprocess.Popen:
+    """A process of ``uid`` that, once killed, stays in /proc as a zombie until this test
+    reaps it, ``reap_after`` seconds from now (as a process slow to die would)."""
+    child = subprocess.Popen(["sleep", "60"], user=uid, group=uid)
+    threading.Timer(reap_after, child.wait).start()
+    return child
+
+
+@pytest.mark.skipif(not AS_ROOT, reason="sandbox uids are leased only when grading as root")
+def test_a_uid_is_given_back_only_once_its_processes_have_left_proc():
+    child = _unreaped_process_of(61010, reap_after=0.5)
+    kill_uid(61010)
+    assert child.returncode == -9 and not Path(f"/proc/{child.pid}").exists()
+
+
+@pytest.mark.skipif(not AS_ROOT, reason="sandbox uids are leased only when grading as root")
+def test_processes_that_outlast_the_kill_wait_are_reported(monkeypatch, capfd):
+    monkeypatch.setattr(isolation, "KILL_WAIT_SECONDS", 0.2)
+    child = _unreaped_process_of(61011, reap_after=1.0)
+    kill_uid(61011)
+    assert f"sandbox uid 61011 still has processes ['{child.pid}']" in capfd.readouterr().err
+    child.wait()
 
 
 def test_a_killed_graders_workspace_is_removed_by_the_next_one(tmp_path):
