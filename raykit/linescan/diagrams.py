@@ -7,7 +7,8 @@ colour of what it hit (solid), or faded and dashed to the edge of the frame wher
 nothing; beside it, the scan as a strip of pixels. :func:`sweep_diagram` shows the world at a
 few scan times above the sweep image as far as it has grown. :func:`paths_of_light` draws
 photons leaving a light, most of them never reaching the image. :func:`pixel_formulas` sets the
-slide's second pixel formula, u_i = i·2/N, beside the pixel centres x_i that the cameras use.
+slide's second pixel formula, u_i = i·2/N_cols, i = 0, ±1, ±2, …, ±N_cols/2, beside the pixel
+centres x_i that the cameras use.
 
 Nothing here computes geometry of its own: rays and hits come from
 :mod:`raykit.linescan.scan`. Figures stay readable in grey: misses are dashed, objects outlined.
@@ -319,10 +320,17 @@ def sweep_diagram(
     return fig
 
 
+# the slide's own TeX, set by matplotlib's mathtext, with the kit's N for its N_cols
+SLIDE_FORMULA = (
+    r"$u_i = i \cdot 2/N_{cols}, \quad i = 0, \pm 1, \pm 2, \dots, \pm N_{cols}/2$:"
+    r" the slide, with $N_{cols} = N$"
+)
+
+
 def pixel_formulas(counts: tuple[int, ...] = (8, 7), ax: Axes | None = None) -> Figure:
     """The image line from -1 to 1 cut into N pixels, once per N in ``counts``: the centres
     x_i = -1 + (i + 0.5)·2/N (:func:`raykit.linescan.camera.pixel_x`, what raykit uses) as
-    dots, and the slide's u_i = i·2/N, i = 0, ±1, …, ±N/2
+    dots, and the slide's u_i = i·2/N_cols, i = 0, ±1, ±2, …, ±N_cols/2 for N_cols = N
     (:func:`raykit.linescan.camera.slide_pixel_positions`) as crosses, each row counted."""
     if ax is None:
         _, ax = plt.subplots(figsize=(8, 1.1 + 0.9 * len(counts)), layout="constrained")
@@ -338,7 +346,7 @@ def pixel_formulas(counts: tuple[int, ...] = (8, 7), ax: Axes | None = None) -> 
             "o",
             color="tab:blue",
             ms=7,
-            label="x_i = -1 + (i + 0.5)·2/N: pixel centres" if row == 0 else None,
+            label=r"$x_i = -1 + (i + 0.5) \cdot 2/N$: the pixel centres" if row == 0 else None,
         )
         ax.plot(
             slide,
@@ -347,7 +355,7 @@ def pixel_formulas(counts: tuple[int, ...] = (8, 7), ax: Axes | None = None) -> 
             color="tab:red",
             ms=10,
             mew=2.2,
-            label="u_i = i·2/N, i = 0, ±1, …, ±N/2 (the slide)" if row == 0 else None,
+            label=SLIDE_FORMULA if row == 0 else None,
         )
         ax.text(
             1.08, y, f"N = {n}: {n} centres, {len(slide)} slide positions", va="center", fontsize=10
@@ -360,7 +368,7 @@ def pixel_formulas(counts: tuple[int, ...] = (8, 7), ax: Axes | None = None) -> 
     ax.set_xticks([-1, -0.5, 0, 0.5, 1])
     ax.set_xlabel("position on the image line (u)")
     # under the axes: over them it lay on the image line's ends
-    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.35), fontsize=10, ncol=2, frameon=False)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.35), fontsize=10, ncol=1, frameon=False)
     for side in ("top", "right", "left"):
         ax.spines[side].set_visible(False)
     ax.set_title("the slide's second pixel formula against the pixel centres", fontsize=10)
