@@ -158,17 +158,7 @@ def _draw_camera(ax: Axes, scene: LineScene, taken: Scan, annotate: bool) -> Non
         ax.plot(*centres.T, "o", color="white", mec="black", ms=2.5, mew=0.6, zorder=6)
     if not annotate:
         return
-    # past the line's end along u; the first and last pixel's i beside the ends, on the eye's
-    # side of the line, where no ray has fanned out yet
-    clear_label(ax, ends[1] + 0.3 * u, "image line", toward=_degrees(u), fontsize=10)
-    for i, end in ((0, ends[0]), (cam.pixels - 1, ends[1])):
-        clear_label(ax, end, f"i={i}", toward=behind, fontsize=10)
     if cam.projection == "perspective":
-        side = -0.35 * u  # the D dimension line, set off to the right of w
-        arrow(ax, e + side, line_centre + side, arrowstyle="<->", color="0.25", lw=1)
-        clear_label(
-            ax, e + side + 0.5 * cam.D * w, "D", toward=_degrees(-u), fontsize=11, style="italic"
-        )
         heading = math.degrees(math.atan2(w[1], w[0]))
         radius = 0.45 * cam.D
         # over the rays, which hid it under them
@@ -185,7 +175,8 @@ def _draw_camera(ax: Axes, scene: LineScene, taken: Scan, annotate: bool) -> Non
                 zorder=6,
             )
         )
-        # off the rays, or further off where a wide fov_angle's rays leave no room near
+        # off the rays, or further off where a wide fov_angle's rays leave no room near; the
+        # longest label, placed first, so that the shorter ones after it keep off its leader
         edge = math.radians(heading + cam.fov_angle / 2)
         clear_label(
             ax,
@@ -194,6 +185,17 @@ def _draw_camera(ax: Axes, scene: LineScene, taken: Scan, annotate: bool) -> Non
             toward=_degrees(u),
             distances=FAR,
             fontsize=10,
+        )
+    # past the line's end along u; the first and last pixel's i beside the ends, on the eye's
+    # side of the line, where no ray has fanned out yet
+    clear_label(ax, ends[1] + 0.3 * u, "image line", toward=_degrees(u), fontsize=10)
+    for i, end in ((0, ends[0]), (cam.pixels - 1, ends[1])):
+        clear_label(ax, end, f"i={i}", toward=behind, fontsize=10)
+    if cam.projection == "perspective":
+        side = -0.35 * u  # the D dimension line, set off to the right of w
+        arrow(ax, e + side, line_centre + side, arrowstyle="<->", color="0.25", lw=1)
+        clear_label(
+            ax, e + side + 0.5 * cam.D * w, "D", toward=_degrees(-u), fontsize=11, style="italic"
         )
 
 
