@@ -32,8 +32,8 @@ DIRECTIONS = 16  # tried round the point at each distance, the preferred one fir
 CLEARANCE_PX = 3.0  # room kept between a label and the lines and markers round it
 UNDER = 3.0  # _cost's least for something under a label's box (a line in the room round it: 1)
 LEADER_FROM = 1.5  # a label further from its point than this (font sizes) gets a leader line
-# a leader through another label costs as much as a label off the axes: a label with lines under
-# it, which a back row still reads, is better than one whose leader strikes through another
+# a leader through another label, either way round, costs as much as a label off the axes: a
+# label with lines under it, which a back row still reads, is better than one struck through
 LEADER_ON_LABEL = 100.0
 
 
@@ -142,6 +142,7 @@ class _Placer(Artist):
             if id(t) not in ours and t.get_visible() and t.get_text().strip()
         ]
         inside = self.ax.bbox
+        leaders = np.zeros((0, 2, 2))  # of the labels placed so far
         for label, point, toward, distances in self.labels:
             anchor = self._display(point)
             label.xy = tuple(anchor)
@@ -158,7 +159,11 @@ class _Placer(Artist):
             for (dx, dy), distance in _candidates(toward, size, half, distances):
                 centre = anchor + (dx, dy)
                 rect = (*(centre - half), *(centre + half))
-                cost = under = _cost(rect, segments, points, reach, areas, taken, inside)
+                under = _cost(rect, segments, points, reach, areas, taken, inside)
+                room = (rect[0] - CLEARANCE_PX, rect[1] - CLEARANCE_PX)
+                room += (rect[2] + CLEARANCE_PX, rect[3] + CLEARANCE_PX)
+                under += LEADER_ON_LABEL * float(np.count_nonzero(segments_cross(leaders, room)))
+                cost = under
                 if distance > LEADER_FROM:  # its leader: over no other label, few lines
                     leader = np.array([[anchor, centre]])
                     cost += LEADER_ON_LABEL * sum(
@@ -179,9 +184,8 @@ class _Placer(Artist):
             label.update_positions(renderer)
             label.arrow_patch.set_visible(far)
             taken.append(_box(label, renderer))
-            if far:  # its leader is a line the labels after it keep off
-                leader = np.array([[anchor, anchor + best]])
-                segments = np.concatenate([segments, leader])
+            if far:  # its leader, which the labels after it keep off
+                leaders = np.concatenate([leaders, [[anchor, anchor + best]]])
 
     def _display(self, point: np.ndarray) -> np.ndarray:
         if len(point) == 3:  # 3D axes: the point as their projection now shows it

@@ -36,7 +36,7 @@ from raykit.rays import dot, length
 MAX_RAYS_DRAWN = 24
 # where the fov_angle label may go: a wide fov_angle's rays fill the frame in front of the eye,
 # and its label, the longest, may find room only further off, behind the eye
-FAR = (*DISTANCES, 10.0, 13.0, 17.0, 22.0)
+FAR = (*DISTANCES, 8.5, 10.0, 11.5, 13.0, 15.0, 17.0, 19.5, 22.0)
 
 
 def _frame_limits(scene: LineScene, hits: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -158,6 +158,11 @@ def _draw_camera(ax: Axes, scene: LineScene, taken: Scan, annotate: bool) -> Non
         ax.plot(*centres.T, "o", color="white", mec="black", ms=2.5, mew=0.6, zorder=6)
     if not annotate:
         return
+    # past the line's end along u; the first and last pixel's i beside the ends, on the eye's
+    # side of the line, where no ray has fanned out yet
+    clear_label(ax, ends[1] + 0.3 * u, "image line", toward=_degrees(u), fontsize=10)
+    for i, end in ((0, ends[0]), (cam.pixels - 1, ends[1])):
+        clear_label(ax, end, f"i={i}", toward=behind, fontsize=10)
     if cam.projection == "perspective":
         heading = math.degrees(math.atan2(w[1], w[0]))
         radius = 0.45 * cam.D
@@ -175,8 +180,8 @@ def _draw_camera(ax: Axes, scene: LineScene, taken: Scan, annotate: bool) -> Non
                 zorder=6,
             )
         )
-        # off the rays, or further off where a wide fov_angle's rays leave no room near; the
-        # longest label, placed first, so that the shorter ones after it keep off its leader
+        # off the rays, or further off where a wide fov_angle's rays leave no room near; before
+        # D, which then keeps off its leader (the two share the room beside the eye)
         edge = math.radians(heading + cam.fov_angle / 2)
         clear_label(
             ax,
@@ -186,12 +191,6 @@ def _draw_camera(ax: Axes, scene: LineScene, taken: Scan, annotate: bool) -> Non
             distances=FAR,
             fontsize=10,
         )
-    # past the line's end along u; the first and last pixel's i beside the ends, on the eye's
-    # side of the line, where no ray has fanned out yet
-    clear_label(ax, ends[1] + 0.3 * u, "image line", toward=_degrees(u), fontsize=10)
-    for i, end in ((0, ends[0]), (cam.pixels - 1, ends[1])):
-        clear_label(ax, end, f"i={i}", toward=behind, fontsize=10)
-    if cam.projection == "perspective":
         side = -0.35 * u  # the D dimension line, set off to the right of w
         arrow(ax, e + side, line_centre + side, arrowstyle="<->", color="0.25", lw=1)
         clear_label(
