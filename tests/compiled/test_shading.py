@@ -139,7 +139,7 @@ def _grazing_tiles(rng, scene, lights, tiles, count):
             tangent = sphere.center + sphere.radius * across
             start = light.position + (tangent - light.position) * rng.uniform(1.05, 3)
         else:
-            l = -normalize(light.direction)  # noqa: E741  (the slide's l, toward the light)
+            l = -normalize(light.direction)  # FOCG's l, toward the light
             across = normalize(np.cross(l, rng.normal(size=3)))
             tangent = sphere.center + sphere.radius * across
             start = tangent - l * rng.uniform(0.1, 5)
@@ -190,7 +190,7 @@ def test_lit_crowds_with_awkward_lights_render_the_same_with_both_engines(sample
 def _lambert(rng):
     count = 4000
     kd = rng.uniform(size=(count, 3))
-    n, l = normalize(rng.normal(size=(2, count, 3)))  # noqa: E741 (the slides' l)
+    n, l = normalize(rng.normal(size=(2, count, 3)))  # FOCG's n and l
     intensity = rng.uniform(size=3)
     n_dot_l = dot(n, l)
     got = [kernels.lambert(*kd[i], *intensity, n_dot_l[i]) for i in range(count)]
