@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import copy
 import json
+import os
 from pathlib import Path
 
 import numpy as np
@@ -11,6 +12,7 @@ import pytest
 
 REPO = Path(__file__).resolve().parent.parent
 SCENES = REPO / "scenes"
+AS_ROOT = os.geteuid() == 0  # the sandbox's uids, the chroot, Docker's emulation need root
 
 
 def scene_dict(**overrides) -> dict:

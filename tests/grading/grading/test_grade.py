@@ -3,6 +3,7 @@ is named, and results.json follows Gradescope's specification."""
 
 import html
 import json
+import shutil
 import subprocess
 import sys
 import zipfile
@@ -10,6 +11,7 @@ import zipfile
 import jsonschema
 import numpy as np
 import pytest
+import tomllib
 
 from conftest import REPO
 from mistaken_submissions import EDITS, make_rewritten, make_submission
@@ -177,7 +179,6 @@ def test_release_visible_tests_fail_with_not_implemented_only(release):
 
 
 def test_solution_dropped_into_the_release_passes_its_visible_tests(release, tmp_path):
-    import shutil
 
     copy = tmp_path / "student"
     shutil.copytree(release, copy)
@@ -318,7 +319,6 @@ def test_batch_grades_a_folder_into_a_csv_and_a_feedback_folder_each(
     tmp_path, child_python, release
 ):
     import csv
-    import shutil
 
     from raykit_grading.grading.batch import grade_folder
 
@@ -427,7 +427,6 @@ def test_graded_draws_differ_from_the_public_ones_and_repeat_under_their_seed():
 
 
 def test_release_self_check_judges_like_the_grader_and_draws_the_pictures(release, tmp_path):
-    import shutil
 
     def check(key):
         copy = tmp_path / (key or "solution")
@@ -487,3 +486,23 @@ def test_release_render_names_the_function_to_write_next_in_one_line(release, tm
     assert run.stderr.startswith("raykit: error: not written yet: ")
     assert "write this function" in run.stderr and run.stderr.count("\n") == 1
     assert not (tmp_path / "c.png").exists()
+
+
+def test_the_wheel_holds_raykit_and_its_grader_but_no_hidden_scenes():
+    from setuptools import find_packages
+
+    config = tomllib.loads((REPO / "pyproject.toml").read_text())["tool"]["setuptools"]
+    packages = find_packages(str(REPO), include=config["packages"]["find"]["include"])
+    assert "grading" not in packages and "raykit_grading" in packages
+    assert {p.split(".")[0] for p in packages} == {"raykit", "raykit_grading"}
+    data = config.get("package-data", {})
+    assert all("scenes" not in pattern for patterns in data.values() for pattern in patterns)
+    assert not list((REPO / "raykit_grading").rglob("*.json"))
+
+
+def test_the_grader_says_plainly_when_it_has_no_clone_to_read_scenes_from(monkeypatch, tmp_path):
+    import raykit_grading.grading.grade as grade
+
+    monkeypatch.setattr(grade, "HIDDEN_SCENES", tmp_path / "nowhere")
+    with pytest.raises(grade.GradingImpossible, match="needs a clone of the course repository"):
+        grade.check_clone()
