@@ -195,34 +195,6 @@ def test_the_tests_command_lists_each_stage_with_its_totals():
     assert sum(line.startswith("  ") for line in lines) == len(TESTS)
 
 
-def test_check_py_runs_the_one_test_asked_for_and_says_how_in_its_help(release, tmp_path):
-    kit = tmp_path / "kit"
-    shutil.copytree(release, kit)
-    shutil.rmtree(kit / "raykit")
-    make_submission(kit, "rows_flipped")
-    env = {"PATH": "/usr/bin:/bin"}
-    one = subprocess.run(
-        [sys.executable, "check.py", "3.6"], cwd=kit, capture_output=True, text=True, env=env
-    )
-    said = [line for line in one.stdout.splitlines() if line.startswith(("pass", "FAIL"))]
-    assert len(said) == 1 and said[0].startswith("FAIL  3.6 render scenes/classic.json")
-    assert "0 of 1 practice tests pass" in one.stdout and one.returncode == 1
-    stage = subprocess.run(
-        [sys.executable, "check.py", "1"], cwd=kit, capture_output=True, text=True, env=env
-    )
-    visible = [t for t in TESTS if t.visibility == VISIBLE and t.key.startswith("1.")]
-    assert f"{len(visible)} of {len(visible)} practice tests pass" in stage.stdout
-    helped = subprocess.run(
-        [sys.executable, "check.py", "--help"], cwd=kit, capture_output=True, text=True, env=env
-    )
-    assert helped.returncode == 0 and "python check.py 3.6" in helped.stdout
-    assert not (kit / "check/index.html").read_text().count("FAIL: 1.")  # --help ran nothing
-    wrong = subprocess.run(
-        [sys.executable, "check.py", "9.9"], cwd=kit, capture_output=True, text=True, env=env
-    )
-    assert wrong.returncode == 2 and "no practice test 9.9: they are 1.1, " in wrong.stderr
-
-
 def test_the_kits_pytest_prints_one_line_per_failing_test(release):
     run = subprocess.run(
         [sys.executable, "-m", "pytest", "-p", "no:cacheprovider"],
