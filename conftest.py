@@ -30,6 +30,8 @@ SLOW_MODULES = {
     "test_gradescope.py",
     "test_seeds.py",
     "test_submissions.py",
+    "test_markers.py",
+    "test_release.py",
     "test_benchmarks.py",
     "test_reproducible.py",
     "test_baselines.py",

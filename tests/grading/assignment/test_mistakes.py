@@ -5,6 +5,10 @@ from __future__ import annotations
 
 import re
 
+import numpy as np
+import pytest
+
+from conftest import REPO
 from raykit_grading.assignment.mistakes import MISTAKES
 
 
@@ -21,3 +25,18 @@ def test_every_mistake_is_blamed_on_a_function_the_student_writes():
     for mistake in MISTAKES:
         named = re.findall(r"(raykit/[\w/]+\.py: [\w.]+)", mistake.where)
         assert named and set(named) <= stubs, (mistake.key, named)
+
+
+@pytest.mark.slow
+def test_mistakes_apply_to_a_camera_that_has_already_computed_its_frame():
+    from dataclasses import replace
+
+    from raykit.io.scene_json import load_scene
+    from raykit.render import render
+
+    scene = load_scene(REPO / "scenes/classic.json")
+    scene = replace(scene, camera=replace(scene.camera, width=80, height=60))
+    right = render(scene).rgb  # the camera caches its u, v, w here
+    for key in ("u_v_swapped", "u_negated"):
+        with next(m for m in MISTAKES if m.key == key).active():
+            assert not np.array_equal(render(scene).rgb, right), key

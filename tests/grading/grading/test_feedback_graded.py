@@ -6,8 +6,6 @@ chose into their messages."""
 
 import html
 import re
-import subprocess
-import sys
 
 import pytest
 
@@ -104,20 +102,3 @@ def test_a_hidden_test_carries_nothing_the_submission_chose(attack, tmp_path, ch
     assert FINGERPRINTS[attack] in visible["output"]  # the attack reaches a visible message
     assert FINGERPRINTS[attack] not in hidden["output"], hidden["output"]
     assert "hidden test" in hidden["output"]
-
-
-def test_the_starter_kits_compiled_engine_says_what_the_kit_can_do_instead(release, tmp_path):
-    run = subprocess.run(
-        [sys.executable, "-m", "raykit.cli", "render", "scenes/classic.json", "-o",
-         str(tmp_path / "x.png"), "--engine", "compiled"],
-        cwd=release, capture_output=True, text=True,
-        env={"PATH": "/usr/bin:/bin", "PYTHONPATH": str(release)},
-    )  # fmt: skip
-    assert run.returncode == 2
-    assert run.stderr.strip().splitlines() == [
-        "raykit: error: --engine compiled is not in the starter kit (it would give the "
-        "solutions away): render with your own functions, --engine numpy (what auto picks "
-        "here); for a quicker look, make the picture smaller (the camera's width and height "
-        "in the scene file)"
-    ]
-    assert "raykit[fast]" not in run.stderr and not (tmp_path / "x.png").exists()

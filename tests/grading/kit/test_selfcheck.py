@@ -46,6 +46,7 @@ def test_the_self_check_page_starts_with_the_summary_and_lists_failures_first(mo
 
 @pytest.mark.slow
 def test_release_self_check_judges_like_the_grader_and_draws_the_pictures(release, tmp_path):
+    import shutil
 
     def check(key):
         copy = tmp_path / (key or "solution")
