@@ -32,6 +32,7 @@ SLOW_MODULES = {
     "test_submissions.py",
     "test_markers.py",
     "test_release.py",
+    "test_main.py",
     "test_benchmarks.py",
     "test_reproducible.py",
     "test_baselines.py",

@@ -191,6 +191,14 @@ def release(tmp_path_factory) -> Path:
     return out
 
 
+@pytest.fixture(scope="session")
+def solution(tmp_path_factory) -> Path:
+    """The course's solution, submitted as a student would (tests/support/mistaken_submissions)."""
+    from mistaken_submissions import make_submission
+
+    return make_submission(tmp_path_factory.mktemp("solution"))
+
+
 def pytest_collection_modifyitems(config, items):
     """Grading runs submissions in bubblewrap sandboxes; where bwrap is not installed, say so
     and skip those tests (but never in CI, which installs it: there they must run)."""

@@ -23,6 +23,7 @@ from conftest import REPO
 from mistaken_submissions import make_submission
 from raykit_grading.assignment.catalog import TESTS, VISIBLE
 from raykit_grading.grading.batch import JOBS, jobs_within
+from raykit_grading.grading.grade import Options
 from raykit_grading.grading.results import NOT_IMPORTED
 from raykit_grading.sandbox.confine import ContainerLimits
 
@@ -179,22 +180,6 @@ def test_each_student_gets_the_self_checks_page_with_the_grades_numbers(graded_c
     assert "3 of 3 tests pass: 7 of 7 points." in grace
 
 
-def test_the_tests_command_lists_each_stage_with_its_totals():
-    run = subprocess.run(
-        [sys.executable, "-m", "raykit_grading", "tests"], capture_output=True, text=True,
-        cwd=REPO, check=True,
-    )  # fmt: skip
-    lines = run.stdout.splitlines()
-    headings = [line for line in lines if line.startswith("Stage ")]
-    assert [h.split(":")[0] for h in headings] == [
-        "Stage 1 line-scan camera", "Stage 2 rays, planes and spheres", "Stage 3 renderer",
-        "Stage 4 shading, shadows and mirrors", "Stage 5 distributed ray tracing",
-    ]  # fmt: skip
-    total = sum(t.points for t in TESTS)
-    assert lines[-1].startswith(f"Total: {len(TESTS)} tests, {total:g} points")
-    assert sum(line.startswith("  ") for line in lines) == len(TESTS)
-
-
 def test_a_students_feedback_folder_holds_nothing_of_the_hidden_tests(tmp_path):
     """feedback/<student>/ may be handed to the student: the hidden tests' pictures are in
     hidden/<student>/, and the class report takes its example from there if it must."""
@@ -254,3 +239,34 @@ def test_batch_in_docker_s_confinement_says_it_grades_one_student_at_a_time(tmp_
         "ada": ("graded", True),
         "zoe": ("graded", True),
     }
+
+
+def test_batch_grades_a_folder_into_a_csv_and_a_feedback_folder_each(
+    tmp_path, child_python, release
+):
+    import csv
+    import shutil
+
+    from raykit_grading.grading.batch import grade_folder
+
+    students = tmp_path / "submissions"
+    make_submission(students / "ada")
+    make_submission(students / "bob", "u_v_swapped")
+    shutil.copytree(release / "raykit", students / "cy" / "raykit")
+    status = grade_folder(
+        students,
+        tmp_path / "out",
+        jobs=2,
+        options=Options(child_python),
+        names=["2.1", "3.6"],
+        assignment=tmp_path,
+    )
+    assert status == 0
+    rows = {row["student"]: row for row in csv.DictReader((tmp_path / "out/scores.csv").open())}
+    assert set(rows) == {"ada", "bob", "cy"}
+    assert float(rows["ada"]["score"]) == float(rows["ada"]["max_score"]) == 6
+    assert float(rows["bob"]["score"]) == 2 and float(rows["cy"]["score"]) == 0
+    assert rows["bob"]["3.6"] == "0.0" and rows["bob"]["2.1"] == "2"
+    bob = json.loads((tmp_path / "out/feedback/bob/results.json").read_text())
+    assert "u and v are swapped" in bob["tests"][1]["output"]
+    assert (tmp_path / "out/feedback/bob/3.6.png").is_file()

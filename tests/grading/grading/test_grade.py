@@ -1,19 +1,22 @@
-"""The autograder: the solution scores full marks, the student release 0, each classic mistake
-is named, and results.json follows Gradescope's specification."""
+"""Grading one submission (raykit_grading.grading.grade), through the sandbox: the solution
+scores full marks, the student release 0; each classic mistake, made in the one function where
+students make it, is named in the test of that function (and in a render that shows it), no
+other mistake is named, and every message's percentages are the ones its score comes from;
+hidden tests carry nothing a hostile submission chose into their messages; results.json follows
+Gradescope's specification; without a clone (the wheel holds no hidden scenes) it says so."""
 
 import html
 import json
-import subprocess
-import sys
-import zipfile
+import re
 
 import jsonschema
 import pytest
 import tomllib
 
 from conftest import REPO
+from mistake_table import NAMED_IN, _says
 from mistaken_submissions import EDITS, make_rewritten, make_submission
-from raykit_grading.assignment.catalog import TESTS, VISIBLE
+from raykit_grading.assignment.catalog import TESTS, VISIBLE, by_name
 from raykit_grading.assignment.mistakes import MISTAKES
 from raykit_grading.grading.grade import Options, grade, grade_to_file
 
@@ -50,11 +53,6 @@ RESULTS_SCHEMA = {
     },
 }
 TOTAL = sum(t.points for t in TESTS)
-
-
-@pytest.fixture(scope="session")
-def solution(tmp_path_factory):
-    return make_submission(tmp_path_factory.mktemp("solution"))
 
 
 def test_solution_scores_full_marks_in_a_valid_results_file(solution, child_python, tmp_path):
@@ -164,77 +162,6 @@ def test_no_mistake_is_named_for_the_solution(solution, child_python):
     assert not any("Diagnosis:" in t["output"] for t in results["tests"])
 
 
-def test_batch_grades_a_folder_into_a_csv_and_a_feedback_folder_each(
-    tmp_path, child_python, release
-):
-    import csv
-    import shutil
-
-    from raykit_grading.grading.batch import grade_folder
-
-    students = tmp_path / "submissions"
-    make_submission(students / "ada")
-    make_submission(students / "bob", "u_v_swapped")
-    shutil.copytree(release / "raykit", students / "cy" / "raykit")
-    status = grade_folder(
-        students,
-        tmp_path / "out",
-        jobs=2,
-        options=Options(child_python),
-        names=["2.1", "3.6"],
-        assignment=tmp_path,
-    )
-    assert status == 0
-    rows = {row["student"]: row for row in csv.DictReader((tmp_path / "out/scores.csv").open())}
-    assert set(rows) == {"ada", "bob", "cy"}
-    assert float(rows["ada"]["score"]) == float(rows["ada"]["max_score"]) == 6
-    assert float(rows["bob"]["score"]) == 2 and float(rows["cy"]["score"]) == 0
-    assert rows["bob"]["3.6"] == "0.0" and rows["bob"]["2.1"] == "2"
-    bob = json.loads((tmp_path / "out/feedback/bob/results.json").read_text())
-    assert "u and v are swapped" in bob["tests"][1]["output"]
-    assert (tmp_path / "out/feedback/bob/3.6.png").is_file()
-
-
-@pytest.mark.parametrize("as_zip", [False, True], ids=["folder", "zip"])
-def test_grading_command_line_writes_results(tmp_path, child_python, solution, as_zip):
-    """``grade`` takes the student's folder, or their zip as the student README makes it."""
-    submission = solution
-    if as_zip:
-        submission = tmp_path / "ada.zip"
-        with zipfile.ZipFile(submission, "w") as archive:
-            for path in sorted((solution / "raykit").rglob("*.py")):
-                archive.write(path, path.relative_to(solution).as_posix())
-    run = subprocess.run(
-        [sys.executable, "-m", "raykit_grading", "grade", str(submission),
-         "-o", str(tmp_path / "r.json"), "--child-python", child_python, "--only", "1.1", "2.1"],
-        capture_output=True, text=True, cwd=tmp_path,
-    )  # fmt: skip
-    assert run.returncode == 0, run.stderr
-    assert run.stdout.strip() == f"wrote {tmp_path / 'r.json'}: 3 of 3 points"
-
-
-@pytest.mark.parametrize(
-    "arguments, status, says",
-    [
-        (["batch", "no/such/folder", "-o", "out"], 2, "no/such/folder: no such folder"),
-        (["grade", "no/such/folder", "-o", "r.json"], 2, "no/such/folder: no such folder or zip"),
-        (["grade", "no/such.zip", "-o", "r.json"], 2, "no/such.zip: no such zip"),
-        (["grade", ".", "-o", "r.json", "--only", "9.9"], 2, "--only 9.9: no test has that"),
-        (["grade", ".", "-o", "r.json", "--wall", "3"], 2, "unrecognized arguments: --wall"),
-    ],
-)
-def test_grading_command_line_refuses_bad_input_in_one_line(tmp_path, arguments, status, says):
-    run = subprocess.run(
-        [sys.executable, "-m", "raykit_grading", *arguments],
-        capture_output=True,
-        text=True,
-        cwd=tmp_path,
-    )
-    assert run.returncode == status
-    assert says in run.stderr and "Traceback" not in run.stderr
-    assert not (tmp_path / "out").exists() and not (tmp_path / "r.json").exists()
-
-
 def test_the_wheel_holds_raykit_and_its_grader_but_no_hidden_scenes():
     from setuptools import find_packages
 
@@ -253,3 +180,95 @@ def test_the_grader_says_plainly_when_it_has_no_clone_to_read_scenes_from(monkey
     monkeypatch.setattr(grade, "HIDDEN_SCENES", tmp_path / "nowhere")
     with pytest.raises(grade.GradingImpossible, match="needs a clone of the course repository"):
         grade.check_clone()
+
+
+SEED = 3
+
+
+FAIR = re.compile(r"([\d.]+)% of pixels match the reference, so this test gives (\d+)% of")
+
+
+def _where(key):
+    return next(m.where for m in MISTAKES if m.key == key)
+
+
+def _text(output: str) -> str:
+    return html.unescape(re.sub(r"<[^>]+>", "", output))
+
+
+@pytest.mark.parametrize("key", sorted(NAMED_IN))
+def test_each_mistake_is_named_in_its_functions_test_with_the_scores_percentages(
+    key, tmp_path, child_python
+):
+    submission = make_submission(tmp_path / "submission", key)
+    results = grade(submission, names=NAMED_IN[key], options=Options(child_python), seed=SEED)
+    assert [t["number"] for t in results["tests"]] == NAMED_IN[key]
+    made_in = [
+        name.split(": ")[1] for name in re.findall(r"raykit/[\w/]+\.py: [\w.]+", _where(key))
+    ]
+    for entry in results["tests"]:
+        text = _text(entry["output"])
+        assert f"when {_says(key)}" in text, (entry["number"], text)
+        # the function the mistake was planted in, which the student writes, is named
+        assert any(name in text for name in made_in), (entry["number"], made_in, text)
+        assert "plane_size" not in text and "sample_offsets" not in text
+        others = [m.key for m in MISTAKES if m.key != key and f"when {m.says}" in text]
+        assert others == [], (entry["number"], others)
+        assert entry["score"] == 0.0
+        if by_name([entry["number"]])[0].kind == "image":
+            assert FAIR.search(text) is None  # no "100% match" beside a score of 0
+            assert "this test gives 0% of its points" in text
+
+
+def test_an_imperfect_render_states_the_percentage_its_score_comes_from(tmp_path, child_python):
+    submission = make_submission(tmp_path / "submission")
+    lambert = submission / "raykit/shading.py"  # a slightly wrong brightness: rounding-sized
+    source = lambert.read_text()
+    assert source.count("return kd * intensity *") == 1
+    lambert.write_text(source.replace("return kd * intensity *", "return 0.985 * kd * intensity *"))
+    results = grade(submission, names=["4.8"], options=Options(child_python), seed=SEED)
+    entry = results["tests"][0]
+    fraction, share = FAIR.search(_text(entry["output"])).groups()
+    expected = min(1.0, max(0.0, (float(fraction) / 100 - 0.9) / 0.095))
+    assert entry["score"] / entry["max_score"] == pytest.approx(expected, abs=0.001)
+    assert int(share) == round(100 * entry["score"] / entry["max_score"])
+
+
+# A hostile pixel_x, graded on visible 1.1 and hidden 1.2: what it chose (a member name, a
+# shape, values, an error message) reaches 1.1's message (so each attack works) and never
+# 1.2's.
+SMUGGLERS = {
+    "member name": (
+        "    import io, json, os, sys, zipfile\n"
+        "    from pathlib import Path\n"
+        "    order = json.loads((Path(sys.argv[1]) / 'task.json').read_text())\n"
+        "    packed = io.BytesIO()\n"
+        "    with zipfile.ZipFile(packed, 'w') as z:\n"
+        "        z.writestr(f'SMUGGLED{pixels}x{samples}.txt', 'x')\n"
+        "    os.write(order['outputs_fd'], packed.getvalue())\n"
+        "    os._exit(0)\n"
+    ),
+    "shape": "    return np.zeros((pixels * samples, 4242))\n",
+    "values": "    return np.full(pixels * samples, 313370.0 + samples)\n",
+    "error message": "    raise ValueError(f'SMUGGLED{pixels}x{samples}')\n",
+}
+
+
+FINGERPRINTS = {"member name": "SMUGGLED", "shape": "4242", "values": "31337",
+                "error message": "SMUGGLED"}  # fmt: skip
+
+
+@pytest.mark.parametrize("attack", sorted(SMUGGLERS))
+def test_a_hidden_test_carries_nothing_the_submission_chose(attack, tmp_path, child_python):
+    submission = make_submission(tmp_path / "submission")
+    camera = submission / "raykit/linescan/camera.py"
+    source = camera.read_text()
+    body = "    i = np.repeat(np.arange(pixels), samples)\n"
+    assert source.count(body) == 1
+    camera.write_text(source.replace(body, SMUGGLERS[attack] + body))
+    results = grade(submission, names=["1.1", "1.2"], options=Options(child_python), seed=SEED)
+    visible, hidden = results["tests"]
+    assert visible["score"] == hidden["score"] == 0.0
+    assert FINGERPRINTS[attack] in visible["output"]  # the attack reaches a visible message
+    assert FINGERPRINTS[attack] not in hidden["output"], hidden["output"]
+    assert "hidden test" in hidden["output"]
