@@ -27,7 +27,6 @@ SLOW_MODULES = {
     "test_confine.py",
     "test_kinds.py",
     "test_workspace.py",
-    "test_gradescope.py",
     "test_seeds.py",
     "test_submissions.py",
     "test_markers.py",
