@@ -70,3 +70,16 @@ def test_what_numpy_writes_is_read_and_what_it_never_writes_is_refused():
     zip64 = good.getvalue()[:-22] + locator + good.getvalue()[-22:]
     with pytest.raises(ValueError, match="zip64"):
         read_returned(zip64, 16 * MB)
+
+
+def test_read_returned_refuses_what_is_not_plain_stored_arrays():
+    good = io.BytesIO()
+    np.savez(good, t=np.arange(4.0))
+    assert read_returned(good.getvalue(), 2**20)["t"].tolist() == [0, 1, 2, 3]
+    squeezed = io.BytesIO()
+    np.savez_compressed(squeezed, t=np.zeros(10))
+    for bad in (squeezed.getvalue(), b"PK" + b"\0" * 100, good.getvalue()[:-30]):
+        with pytest.raises(ValueError):
+            read_returned(bad, 2**20)
+    with pytest.raises(ValueError):
+        read_returned(good.getvalue(), 10)
