@@ -1,4 +1,6 @@
-"""What the zip's setup.sh installs exists for every base image's Python, and grades alike.
+"""The Gradescope autograder zip (raykit_grading.platforms.gradescope): at its top, what Gradescope
+puts in /autograder/source; what its setup.sh installs exists for every base image's Python, and
+grades alike.
 
 ``raykit_grading/grader-requirements.txt`` pins the grader's numpy, Pillow and tqdm. Gradescope's
 base images run Python 3.10 (Ubuntu 22.04, its default) and 3.12 (Ubuntu 24.04): pip must find
@@ -11,6 +13,7 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+import zipfile
 
 import pytest
 
@@ -65,3 +68,21 @@ def test_the_pinned_versions_grade_as_this_machines_versions(grader_python, tmp_
             results = json.loads(out.read_text())
             graded[label] = [(t["number"], t["score"], t["output"]) for t in results["tests"]]
         assert graded["pinned"] == graded["here"], name
+
+
+def test_the_zip_holds_at_its_top_what_gradescope_puts_in_autograder_source(tmp_path):
+    """Gradescope extracts the zip into /autograder/source: setup.sh, run_autograder, the
+    requirements, the seed and the grader's packages are at the zip's top, not in a folder."""
+    from raykit_grading.platforms.gradescope import REQUIREMENTS, build_zip
+
+    with zipfile.ZipFile(build_zip(tmp_path / "ag.zip")) as archive:
+        setup = archive.read("setup.sh").decode()
+        names = archive.namelist()
+        pinned = archive.read("grader-requirements.txt")
+    tops = {name.split("/", 1)[0] for name in names}
+    assert tops == {"setup.sh", "run_autograder", "grader-requirements.txt", "grading-seed",
+                    "raykit", "raykit_grading", "scenes", "grading"}  # fmt: skip
+    assert "raykit_grading/__main__.py" in names and "grading/hidden-scenes/odd.json" in names
+    assert pinned == REQUIREMENTS.read_bytes()
+    assert '-r "$source/grader-requirements.txt"' in setup and "bubblewrap" in setup
+    assert not any("__pycache__" in name for name in names)
