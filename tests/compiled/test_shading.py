@@ -150,7 +150,7 @@ def _grazing_tiles(rng, scene, lights, tiles, count):
 
 
 @pytest.mark.parametrize("offset", [0.0, 1e6])
-@pytest.mark.parametrize("crowd", [40, 60])  # 54 objects, each tested for the lists; 79: a tree
+@pytest.mark.parametrize("crowd", [40, 80])  # 54 objects, each tested for the lists; 104: a tree
 def test_shading_in_lanes_gives_every_surface_point_the_colour_surface_color_gives(crowd, offset):
     rng = np.random.default_rng(77 + crowd)
     people = lit_crowd(rng, crowd)
