@@ -193,3 +193,36 @@ def test_a_moving_line_moves_on_a_terminal_and_elsewhere_writes_two_lines(fake_c
         "compiling: started, about 00:30",
         "compiling: ended after 01:15",
     ]
+
+
+def test_a_kernel_inlined_always_is_typed_once_and_leaves_no_call_in_the_machine_code():
+    """An INLINED kernel is numba's to compile once, a kernel of its own, and LLVM's to copy
+    where it is called: numba's own inline="always" copied it into its caller at each call and
+    typed each copy anew, which was most of a distributed scene's first use."""
+    import re
+
+    import numpy as np
+    from numba.core import ir, types
+
+    from raykit.engine.compiled.bvh import enters
+
+    @numba.njit(cache=False)
+    def nearer_of_two(lower, upper, node, t_max):  # enters at two places
+        entered_a, near_a = enters(-2.0, 0.0, 0.0, 1.0, np.inf, np.inf, lower, upper, node, t_max)
+        entered_b, near_b = enters(2.0, 0.0, 0.0, -1.0, np.inf, np.inf, lower, upper, node, t_max)
+        return entered_a and entered_b, min(near_a, near_b)
+
+    box = np.array([[-1.0, -1.0, -1.0]]), np.array([[1.0, 1.0, 1.0]])
+    assert nearer_of_two(*box, 0, np.inf) == (True, 1.0)
+    signature = nearer_of_two.signatures[0]
+    typed = nearer_of_two.overloads[signature].type_annotation
+    called = [
+        typed.typemap[call.func.name]
+        for call in typed.calltypes
+        if isinstance(call, ir.Expr) and call.op == "call"
+    ]
+    kernels = [f for f in called if isinstance(f, types.Dispatcher) and f.dispatcher is enters]
+    assert len(kernels) == 2  # called, not its operations copied in
+    symbols = {enters.overloads[each].fndesc.mangled_name for each in enters.signatures}
+    left = re.findall(r'call [^@\n]*@"?(_ZN[^"(\s]+)', nearer_of_two.inspect_llvm(signature))
+    assert symbols and not symbols & set(left)  # and in the machine code, no call of it

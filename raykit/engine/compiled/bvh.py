@@ -101,8 +101,8 @@ def nearest_hit(arrays, tree, stack, o0, o1, o2, d0, d1, d2, t_max, any_blocker=
                     top += 1
                 continue
             first, count = tree.first[node], tree.count[node]
-        # one call site for keep_nearer: numba inlines it at each (INLINED), so a second loop
-        # for DIRECT_HITS would compile it twice
+        # one call site for keep_nearer: LLVM inlines it at each (INLINED), so a second loop
+        # for DIRECT_HITS would make its code twice
         for k in range(first, first + count):
             hit = keep_nearer(arrays, tree.order[k], ray, hit)
             if any_blocker and hit.t < t_max:

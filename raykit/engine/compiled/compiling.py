@@ -3,7 +3,8 @@
 Repeats no reference module: this is the machinery the others share. A kernel run once per job
 or per tile is its own numba function (``@njit(**KERNEL)``), compiled the first time a render
 needs it, with the kernels it calls, each once, and cached on disk by itself; a kernel run once
-per ray is inlined into those, by LLVM (``ONE_RAY``) or by numba (``INLINED``). So a flat
+per ray is compiled once too, and LLVM copies its code into the kernels that call it where its
+own rule finds that it pays (``ONE_RAY``), or always (``INLINED``). So a flat
 scene compiles only the flat scene's kernels (:func:`raykit.engine.compiled.driver.trace_flat`
 names no shading kernel), a lit scene adds its own, and a scene with mirrors its mirror rays
 (:func:`raykit.engine.compiled.shading.mirror_rays`).
@@ -52,16 +53,19 @@ MAKES_ARRAYS = dict(cache=CACHE is not None, error_model="numpy", nogil=True)
 KERNEL = dict(MAKES_ARRAYS, _nrt=False)
 # a kernel run once per ray, or per object a ray meets, must not stay a call in the loops: a
 # call passes the scene's arrays as a hundred numbers or more, more work than such a kernel
-# does, and inlined, a loop of it becomes vector instructions. Most are compiled once, as
-# kernels of their own, and LLVM inlines them where they are called (ONE_RAY; no call of one
-# is left in the kernels a render runs: benchmarks/compile_time.py checks). numba's own
-# inlining (INLINED) copies the kernel and types it anew at each place it is called, which was
-# most of the compile: it is kept for those LLVM leaves as calls, the large ones (nearest_hit,
-# keep_nearer, primary_ray, surface_color, bounce_on, and shade and sample_numbers, which a
-# distributed render calls once a sample, shade with every array of the scene) and the box
-# tests (enters, box_apart, sphere_apart)
+# does, and inlined, a loop of it becomes vector instructions. Each is compiled once, a kernel
+# of its own, and LLVM inlines its code where it is called: where LLVM's rule finds that it pays
+# (ONE_RAY; benchmarks/compile_time.py lists the calls it leaves), or always (INLINED, numba's
+# forceinline: LLVM's alwaysinline) for those LLVM would leave as calls in a hot loop, the large
+# ones (nearest_hit, keep_nearer, primary_ray, surface_color, bounce_on, and shade and
+# sample_numbers, which a distributed render calls once a sample) and the box tests (enters,
+# box_apart, sphere_apart). Not numba's inline="always", which copies the callee's code into
+# its caller at each place it is called, its own callees' copies with it, in time that grows as
+# the square of the callee's size (numba issue 8989), and types every copy anew: shade holds
+# bounce_on, which holds surface_color, each with the tree walk, and their copies were most of
+# a distributed scene's first use
 ONE_RAY = KERNEL
-INLINED = dict(KERNEL, inline="always")
+INLINED = dict(KERNEL, forceinline=True)
 SECONDS_TABLE = Path(__file__).with_name("compile_seconds.json")
 MESSAGE = "compiling raykit's fast kernels, once"
 PRIOR_SECONDS = 5.0  # how long the table's own pace counts in the time left (seconds_left)
