@@ -23,11 +23,12 @@ What it prints is its page, docs/benchmarks/compile_time.md (--page; not with --
    REV's whole tree (git archive) unpacked under ~/.cache/raykit and put first on the child's
    sys.path, so that raykit, the engine and the reference it repeats all come from REV, with
    its own cache folder beside it (the first run compiles it), and this one, each in a child
-   process of its own, rendering every example scene and the benchmark scenes prepared: medians
-   of --repeats renders and their ratio, on every core, then on one (which a neighbour's work
-   on the other core slows less), then on one timed by the CPU time the child process took
-   (time.process_time: a while in which a neighbour held the core is not counted, so on a
-   busy machine these ratios hold best; on every core they would count the threads' waits).
+   process of its own, rendering every example scene REV reads and the benchmark scenes
+   prepared: medians of --repeats renders and their ratio, on every core, then on one (which a
+   neighbour's work on the other core slows less), then on one timed by the CPU time the child
+   process took (time.process_time: a while in which a neighbour held the core is not
+   counted, so on a busy machine these ratios hold best; on every core they would count the
+   threads' waits).
    Not in one process: both engines pass NamedTuples of the same
    names and fields (Arrays, Tiles, Tree) to their kernels, and numba's dispatcher, which finds
    the compiled code for a call's arguments by a fingerprint of their types, gives two such
@@ -38,7 +39,7 @@ What it prints is its page, docs/benchmarks/compile_time.md (--page; not with --
    engine made either, so in rounds of every scene an engine whose small scene came right after
    the other engine's large one lost, by the order alone. With --before-compile, part 1 times
    REV's first uses too, in turns with this tree's, each from a new empty cache folder of its
-   own (of the scenes of format v1, which REV reads).
+   own (of the scenes REV reads: its own tree has them, of the same scene format version).
 3. With --cpus NAME,NAME (e.g. native,haswell): the compiled engine's prepared renders of the
    benchmark scenes (CPU_SCENES) compiled for each CPU, in one child process per CPU
    (NUMBA_CPU_NAME=NAME and NUMBA_CPU_FEATURES empty, so that the features are NAME's own and
@@ -191,7 +192,7 @@ def first_use(repeats: int, folder: Path, revision: str | None = None) -> tuple[
     turns = [
         (name, engine)
         for name in FIRST_USE
-        for engine in ["now"] + ([revision] if revision and every_revision_reads(name) else [])
+        for engine in ["now"] + ([revision] if revision and revision_reads(name, revision) else [])
     ]  # fmt: skip
     runs: dict = {(name, when + label[engine]): [] for name, engine in turns
                   for when in ("empty", "cached")}  # fmt: skip
@@ -232,10 +233,16 @@ def first_use(repeats: int, folder: Path, revision: str | None = None) -> tuple[
     return medians, table, sorted(left)
 
 
-def every_revision_reads(name: str) -> bool:
-    """Whether scene ``name`` is of scene format v1, which every revision of raykit reads (an
-    older one refuses a later version's file)."""
-    return json.loads((SCENES / f"{name}.json").read_text()).get("version", 1) == 1
+def revision_reads(name: str, revision: str) -> bool:
+    """Whether git ``revision`` of raykit reads scene ``name`` as this tree has it: its own tree
+    (:func:`revision_tree`) has the scene, of the same scene format version (an older revision
+    refuses a later version's file)."""
+
+    def version(path: Path) -> int | None:
+        return json.loads(path.read_text()).get("version", 1) if path.exists() else None
+
+    ours = version(SCENES / f"{name}.json")
+    return ours == version(revision_tree(revision) / "scenes" / f"{name}.json")
 
 
 def revision_tree(revision: str) -> Path:
@@ -283,7 +290,11 @@ def before_and_after(revision: str, repeats: int, quick: bool) -> None:
     import numba
     from engines import benchmark_scenes
 
-    names = list(benchmark_scenes(quick, format_v1_only=True))  # what both revisions read
+    names = [  # what both revisions read: the generated scenes, and the example scenes REV has
+        name
+        for name in benchmark_scenes(quick)
+        if not (SCENES / f"{name}.json").exists() or revision_reads(name, revision)
+    ]
     children = {
         engine: render_child(engine, names, [None], None, quick) for engine in (revision, "now")
     }
@@ -346,6 +357,10 @@ import numba
 from engines import benchmark_scenes
 from raykit.engine import compiled as engine
 scenes = benchmark_scenes({quick!r}, format_v1_only=True)
+if set({names!r}) - set(scenes):  # example scenes of a later format, which this revision reads
+    from raykit.io.scene_json import load_scene
+    scenes.update({{name: load_scene({scenes_folder!r} + "/" + name + ".json")
+                   for name in set({names!r}) - set(scenes)}})
 prepared = {{}}
 for name in {names!r}:
     base = engine.prepare(scenes[name])
@@ -382,7 +397,7 @@ def render_child(engine: str, names: list[str], layouts: list, cache: str | None
     packet loop (empty unless compiled in the child) and the tiles chosen."""
     imports, environment = engine_environment(engine, cache)
     code = _RENDER_CHILD.format(imports=imports, quick=quick, names=names, layouts=layouts,
-                                untimed=UNTIMED)  # fmt: skip
+                                untimed=UNTIMED, scenes_folder=str(SCENES))  # fmt: skip
     errors = tempfile.TemporaryFile()  # a file, not a pipe: nobody reads it while it renders
     child = subprocess.Popen(
         [sys.executable, "-c", code],
@@ -526,7 +541,7 @@ def all_parts(args) -> None:
         )
     if revision:
         ratios = []
-        for name in filter(every_revision_reads, FIRST_USE):
+        for name in (name for name in FIRST_USE if revision_reads(name, revision)):
             now, then = medians[(name, "empty")], medians[(name, f"empty, at {revision}")]
             ratios.append(
                 f"{name} {now['wall'] / then['wall']:.2f} (CPU time {now['cpu'] / then['cpu']:.2f})"

@@ -10,7 +10,7 @@ caster :func:`raykit.shading.shade` is given in a :class:`raykit.diagrams.rays.R
 
 Table 2, secondary rays through the BVH against brute force (``cast`` over every object), on
 lit sphereflakes with every ball a weak mirror: the renderer picks the BVH from
-``raykit.render.BVH_FROM`` objects on.
+``raykit.engine.regions.BVH_FROM`` objects on.
 
 Times are medians of ``--repeats`` renders (not loading). ``--quick`` uses small images.
 ``--plot`` draws table 1's times as bars per scene.

@@ -2,8 +2,8 @@
 
     python docs/slide_pixel_formula.py
 
-The slide's u_i = i·2/N_cols, i = 0, ±1, …, ±N_cols/2 gives N_cols + 1 positions for N_cols
-pixels (:func:`raykit.linescan.camera.slide_pixel_positions`). Fitting them to N pixels, a
+The slide's u_i = i·2/N_cols, i = 0, ±1, ±2, …, ±N_cols/2 gives N_cols + 1 positions for
+N_cols pixels (:func:`raykit.linescan.camera.slide_pixel_positions`). Fitting them to N pixels, a
 student keeps the first N (u = -1 + c·2/N: every ray through a pixel's left/top edge, the image
 shifted half a pixel), the last N (the other edge), or spreads all N + 1 over the N pixels
 (u from -1 to 1 inclusive: stretched by N/(N - 1)). Each is rendered here with the renderer's

@@ -87,7 +87,7 @@ def render_object_order(scene: Scene) -> Render:
             t, alpha, beta = hit_billboard(origins, directions, obj)
         else:
             t = hit_sphere(origins, directions, obj.center, obj.radius)
-        # "if (object affects pixel) {": its ray meets it nearer than what the pixel holds
+        # "if (object affects pixel)": its ray meets it nearer than what the pixel holds
         nearer = np.flatnonzero(t < depth[rows, cols])  # strictly: ties keep the lower index
         if len(nearer) == 0:
             continue
@@ -97,7 +97,7 @@ def render_object_order(scene: Scene) -> Render:
         else:
             colors = obj.color
         r, c = rows[nearer], cols[nearer]
-        depth[r, c] = t[nearer]  # "do something": store its t, index and colour
+        depth[r, c] = t[nearer]  # the if's body, "do something": store its t, index and colour
         object_index[r, c] = index
         rgb[r, c] = colors
     return Render(rgb, object_index, depth)

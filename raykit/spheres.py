@@ -1,4 +1,4 @@
-"""Spheres, and where a ray meets one: the quadratic and its discriminant, in the slide's letters.
+"""Spheres, where a ray meets one: the quadratic, its discriminant, the slides' letters (d for r).
 
 A point p is on the sphere with centre c and radius R when (p - c)·(p - c) - R² = 0. With the
 ray p(t) = o + t·d (see :mod:`raykit.rays`) this is the lecture's quadratic A·t² + B·t + C = 0,
@@ -8,13 +8,17 @@ ray p(t) = o + t·d (see :mod:`raykit.rays`) this is the lecture's quadratic A·
 with discriminant D = B² - 4AC and roots t = (-B ± √D) / 2A. D < 0: the ray misses; D = 0: it
 grazes; D > 0: two roots, of which the lower positive one is the hit (:mod:`raykit.rays`: t > 0).
 
+The letter d. The slides write the ray's direction r in the ray, p(t) = o + t r, and in
+A = (r · r), but d in the rearranged equation and in B = 2 * d · (o - c): one vector, two
+letters. raykit writes d throughout, the direction of :mod:`raykit.rays`.
+
 The letter D. The slides use D twice: here it is the discriminant; in the line-scan camera it is
 the distance from the eye to the image line (:mod:`raykit.linescan.camera`). They never meet in
 one formula, so raykit keeps the slide's letter in both places and names it in full where the two
 could be confused: ``discriminant`` in code, ``camera.D`` for the distance.
 
-The stable form, from the same letters. :func:`hit_sphere_textbook` is the formula above as
-written. It is exact on paper but loses digits in floating point in two places, and
+The stable form, from the same letters. :func:`hit_sphere_textbook` computes the formula above just
+as it stands. It is exact on paper but loses digits in floating point in two places, and
 :func:`sphere_roots` (the renderer's) avoids both. Write B = 2b', so b' = d·(o - c) = B/2; then
 
     D = B² - 4AC = 4(b'² - AC) = 4Δ,   Δ = b'² - AC,   t = (-B ± √D) / 2A = (-b' ± √Δ) / A.
@@ -193,8 +197,10 @@ def sphere_normals(points: np.ndarray, center: np.ndarray, radius) -> np.ndarray
 def hit_sphere_textbook(
     origins: np.ndarray, directions: np.ndarray, center: np.ndarray, radius: float
 ) -> np.ndarray:
-    """The slide's formula as written: A = d·d, B = 2 d·(o - c), C = (o - c)·(o - c) - R²,
-    D = B² - 4AC, t = (-B ± √D) / 2A, the lower positive root preferred.
+    """The slides' formula, with d for their r (see the module docstring): A = d·d,
+    B = 2 d·(o - c), C = (o - c)·(o - c) - R², D = B² - 4AC, t = (-B ± √D) / 2A; of two
+    solutions the one with the lower t, which raykit takes among those with t > 0
+    (:mod:`raykit.rays`).
 
     Same arguments and result as :func:`hit_sphere` (``(N, k)`` rays, ``(k,)`` centre, ``t
     (N,)`` or ``MISS``); kept to show where it loses digits, never used by the renderer.

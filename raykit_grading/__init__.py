@@ -19,6 +19,8 @@ import), and each module is listed here:
 :mod:`~raykit_grading.sandbox`: the sandbox itself, on the grader's side
     * :mod:`~raykit_grading.sandbox.base`: one task in a child process, its results taken back
       as untrusted: the run every kind of sandbox shares.
+    * :mod:`~raykit_grading.sandbox.returned`: the arrays a test returns, read as hostile input
+      (the ``.npz`` bounded before it is parsed).
     * :mod:`~raykit_grading.sandbox.bubblewrap`: the kind in namespaces of its own (bubblewrap).
     * :mod:`~raykit_grading.sandbox.chroot`: the kind for where no namespaces can be made (a
       chroot, a uid of its own, as root).

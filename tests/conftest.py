@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import copy
 import json
+import os
 from pathlib import Path
 
 import numpy as np
@@ -11,6 +12,7 @@ import pytest
 
 REPO = Path(__file__).resolve().parent.parent
 SCENES = REPO / "scenes"
+AS_ROOT = os.geteuid() == 0  # the sandbox's uids, the chroot, Docker's emulation need root
 
 
 def scene_dict(**overrides) -> dict:
@@ -187,6 +189,14 @@ def release(tmp_path_factory) -> Path:
     out = tmp_path_factory.mktemp("release") / "student"
     build_release(out)
     return out
+
+
+@pytest.fixture(scope="session")
+def solution(tmp_path_factory) -> Path:
+    """The course's solution, submitted as a student would (tests/support/mistaken_submissions)."""
+    from mistaken_submissions import make_submission
+
+    return make_submission(tmp_path_factory.mktemp("solution"))
 
 
 def pytest_collection_modifyitems(config, items):

@@ -19,7 +19,7 @@ from raykit.diagrams.camera import camera_diagram, camera_diagrams, coarse  # no
 from raykit.diagrams.rays import chosen_pixels, ray_diagram  # noqa: E402
 from raykit.diagrams.views import view_for  # noqa: E402
 from raykit.engine.noise import Dimensions, PixelSamples  # noqa: E402
-from raykit.io.images import figure_png  # noqa: E402
+from raykit.io.images import NOTEBOOK_DPI, figure_png  # noqa: E402
 from raykit.io.legibility import legibility_problems, measuring, read_layout  # noqa: E402
 from raykit.io.linescan_json import load_line_scene  # noqa: E402
 from raykit.io.scene_json import (
@@ -273,6 +273,60 @@ def test_lecture_figures_have_no_text_under_10_points(name):
         if text.get_visible() and text.get_text().strip() and text.get_fontsize() < 10
     ]
     assert not small, f"{name}: {small}"
+
+
+# lecture figures as a notebook shows them (raykit.io.images.show_figures_legibly) and as the
+# site stores them (docs/make_images.py; tests/test_reproducible.py measures all of those): where
+# the labels go depends on the size they are drawn at. Each of these had a label on a line
+STORED_AS = {"notebook": {"dpi": NOTEBOOK_DPI, "bbox_inches": "tight"}, "docs": {}}
+LABELS_ONCE_ON_LINES = [
+    ("line_scan_rays", "notebook"),  # the fov_angle label's leader through "image line"
+    ("line_scan_rays", "docs"),  # ... and through "D" (docs/images/slide_rays.png)
+    ("camera_diagrams", "notebook"),  # a 3D gridline through "d", "fov_angle", "lookat"
+    ("math_plane_sides", "notebook"),  # the 3D box's x axis under "a" and "p", gridlines
+]
+
+
+@pytest.mark.parametrize("name, stored", LABELS_ONCE_ON_LINES)
+def test_lecture_figures_labels_are_clear_as_stored(name, stored):
+    # no two texts on each other, none on a drawn line, nor on a 3D box's edge or gridline,
+    # and no leader through another text (raykit.io.legibility)
+    figure = _lecture_figures()[name]()
+    layout = read_layout(figure_png(figure, **STORED_AS[stored]))
+    assert not layout.problems, layout.problems
+
+
+def test_a_leader_through_another_text_is_a_layout_problem():
+    fig, ax = plt.subplots(figsize=(4, 3))
+    ax.set_xlim(0, 10)
+    ax.set_ylim(0, 10)
+    ax.text(5, 5, "in the way", ha="center", va="center")
+    ax.annotate("far", (5, 1), xytext=(5, 9), ha="center", arrowprops={"arrowstyle": "-"})
+    ax.annotate("beside", (1, 1), xytext=(1, 9), ha="center", arrowprops={"arrowstyle": "-"})
+    layout = read_layout(figure_png(fig))
+    assert layout.problems == ["the leader of 'far' runs through 'in the way'"]
+
+
+@pytest.mark.parametrize("grid", [True, False])
+def test_a_3d_box_edge_or_gridline_through_a_text_is_a_layout_problem(grid):
+    fig = plt.figure(figsize=(4, 4))
+    ax = fig.add_subplot(projection="3d")
+    ax.set_xlim(0, 1)
+    ax.set_ylim(0, 1)
+    ax.set_zlim(0, 1)
+    ax.grid(grid)
+    ax.figure.canvas.draw()  # where the box's x axis runs: its middle, in data coordinates
+    (x0, y0), (x1, y1) = ax.xaxis.line.get_xydata()[[0, -1]]
+    ax.text2D((x0 + x1) / 2, (y0 + y1) / 2, "on the edge", ha="center", va="center")
+    ax.text(0.5, 0.5, 1.0, "on the grid", ha="center", va="center")
+    problems = read_layout(figure_png(fig)).problems
+    assert any(
+        p.startswith("'on the edge' is drawn on a line of the 3D box's x axis") for p in problems
+    )
+    assert (
+        any(p.startswith("'on the grid' is drawn on a line of the 3D box's") for p in problems)
+        == grid
+    )
 
 
 def _drawn_points(ax):

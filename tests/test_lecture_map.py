@@ -30,8 +30,8 @@ def test_map_has_the_twenty_six_slide_items_in_order():
 
 
 def _place(notebook: str) -> tuple[str, int]:
-    """(notebook path, index of the first cell holding the quoted words) of a map row's cell."""
-    path, words = re.fullmatch(r'`([^`]+)` "(.+)"', notebook).groups()
+    """(notebook path, index of the first cell holding the heading's words) of a map row's cell."""
+    path, words = re.fullmatch(r"`([^`]+)`, at `([^`]+)`", notebook).groups()
     cells = json.loads((REPO / path).read_text())["cells"]
     found = [k for k, cell in enumerate(cells) if words in "".join(cell["source"])]
     assert found, (path, words)

@@ -107,6 +107,8 @@ def camera_diagram(camera: Camera, *, ax: Axes | None = None) -> Figure:
     ax.view_init(elev=18, azim=-62)
     # draw in zorder, not by depth: the labels are placed after the lines and markers are drawn
     ax.computed_zorder = False
+    # no gridlines across the box, where the labels are set: the ticks give the coordinates
+    ax.grid(False)
     ax.set_title(
         f"{camera.projection}: {camera.width} x {camera.height} pixels\n"
         f"(drawn {grid.width} x {grid.height}), fov_angle = {camera.fov_angle:g}°",

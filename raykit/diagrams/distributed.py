@@ -126,7 +126,7 @@ def _shadow_rays(scene: Scene, rows: np.ndarray, cols: np.ndarray) -> dict:
     on_light = numbers[..., first : first + 2].reshape(-1, 2)
     targets = point_on_parallelogram(light.corner, light.edge1, light.edge2, on_light)
     which = np.repeat(np.arange(len(pixels)), count)
-    l = normalize(targets - surface.points[which])  # noqa: E741 (the slides' l)
+    l = normalize(targets - surface.points[which])  # FOCG's l, toward the light
     starts = surface.take(which).start(l)
     blockers = cast(scene, starts, l)
     blocked = blockers.t < length(targets - starts)

@@ -1,9 +1,11 @@
 """Labels that sit beside what they name, never on a ray, an edge, a marker or another label.
 
 A label made by :func:`clear_label` is placed each time its axes are drawn, after their lines,
-patches and markers and before their texts: at the size the figure is drawn at, it takes the
-first place round its point, nearest first and its preferred side first, whose box crosses none
-of them (as :mod:`raykit.io.legibility` measures them) and lies inside the axes. So a diagram's
+patches and markers (and a 3D box's edges and gridlines) and before their texts: at the size
+the figure is drawn at, it takes the first place round its point, nearest first and its
+preferred side first, whose box crosses none of them (as :mod:`raykit.io.legibility` measures
+them), nor the leader of a label placed before it, and lies inside the axes; a label sent far
+off gets a leader line, which runs through no other label. So a diagram's
 labels stay clear whatever the scene, and wherever the figure is shrunk or stored at more dpi.
 
 A log axis's tick labels keep apart by :func:`decade_ticks`: powers of ten only, at least two
@@ -22,7 +24,7 @@ from matplotlib.text import Annotation, Text
 from matplotlib.ticker import LogLocator, NullFormatter
 from matplotlib.transforms import IdentityTransform
 
-from raykit.io.legibility import drawing_of, segments_cross
+from raykit.io.legibility import box_edges_3d, drawing_of, segments_cross
 
 # how far from its point a label may go, in multiples of its font size, nearest first
 DISTANCES = (0.3, 0.7, 1.2, 1.9, 2.8, 4.0, 5.5, 7.5)
@@ -30,6 +32,9 @@ DIRECTIONS = 16  # tried round the point at each distance, the preferred one fir
 CLEARANCE_PX = 3.0  # room kept between a label and the lines and markers round it
 UNDER = 3.0  # _cost's least for something under a label's box (a line in the room round it: 1)
 LEADER_FROM = 1.5  # a label further from its point than this (font sizes) gets a leader line
+# a leader through another label, either way round, costs as much as a label off the axes: a
+# label with lines under it, which a back row still reads, is better than one struck through
+LEADER_ON_LABEL = 100.0
 
 
 def clear_label(
@@ -122,7 +127,7 @@ class _Placer(Artist):
         self.set_zorder(2.99)
 
     def draw(self, renderer) -> None:
-        drawings = drawing_of(self.ax)
+        drawings = drawing_of(self.ax) + box_edges_3d(self.ax)
         segments = np.concatenate([d.segments for d in drawings] + [np.zeros((0, 2, 2))])
         points = np.concatenate([d.points for d in drawings] + [np.zeros((0, 2))])
         # each marker's half width, and room to spare round it
@@ -137,6 +142,7 @@ class _Placer(Artist):
             if id(t) not in ours and t.get_visible() and t.get_text().strip()
         ]
         inside = self.ax.bbox
+        leaders = np.zeros((0, 2, 2))  # of the labels placed so far
         for label, point, toward, distances in self.labels:
             anchor = self._display(point)
             label.xy = tuple(anchor)
@@ -153,10 +159,16 @@ class _Placer(Artist):
             for (dx, dy), distance in _candidates(toward, size, half, distances):
                 centre = anchor + (dx, dy)
                 rect = (*(centre - half), *(centre + half))
-                cost = under = _cost(rect, segments, points, reach, areas, taken, inside)
+                under = _cost(rect, segments, points, reach, areas, taken, inside)
+                room = (rect[0] - CLEARANCE_PX, rect[1] - CLEARANCE_PX)
+                room += (rect[2] + CLEARANCE_PX, rect[3] + CLEARANCE_PX)
+                under += LEADER_ON_LABEL * float(np.count_nonzero(segments_cross(leaders, room)))
+                cost = under
                 if distance > LEADER_FROM:  # its leader: over no other label, few lines
                     leader = np.array([[anchor, centre]])
-                    cost += 10 * sum(bool(segments_cross(leader, box)[0]) for box in taken)
+                    cost += LEADER_ON_LABEL * sum(
+                        bool(segments_cross(leader, box)[0]) for box in taken
+                    )
                     cost += 0.2 * float(np.count_nonzero(_crossings(leader[0], segments)))
                 if distance > DISTANCES[-1]:
                     if under == 0 and cost < further_cost:
@@ -172,6 +184,8 @@ class _Placer(Artist):
             label.update_positions(renderer)
             label.arrow_patch.set_visible(far)
             taken.append(_box(label, renderer))
+            if far:  # its leader, which the labels after it keep off
+                leaders = np.concatenate([leaders, [[anchor, anchor + best]]])
 
     def _display(self, point: np.ndarray) -> np.ndarray:
         if len(point) == 3:  # 3D axes: the point as their projection now shows it

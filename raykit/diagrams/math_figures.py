@@ -276,9 +276,11 @@ def plane_sides(axes: list[Axes] | None = None) -> Figure:
         ax3.scatter(*point, color="black", s=12)
         # away from the triangle's middle, where its edges and the normals are
         clear_label(ax3, point, name, toward=225 if name == "a" else -45, fontsize=12)
-    ax3.text(
-        *(centre + np.array([0.1, 0, 0.8 * n3[2]])),
+    clear_label(
+        ax3,
+        centre + 0.8 * n3,
         f"n = (p - a) × (q - a)\n|n| = {length(n3):g}",
+        toward=180,  # the side of the normal away from the box's back edges
         color="tab:red",
         fontsize=SMALLEST_FONT + 1,
     )
@@ -295,6 +297,7 @@ def plane_sides(axes: list[Axes] | None = None) -> Figure:
     ax3.set_zlim(0, 3.2)
     ax3.set_box_aspect((3.0, 2.5, 3.2))
     ax3.view_init(elev=18, azim=-65)
+    ax3.grid(False)  # the labels are set inside the box, where gridlines would cross them
     for axis in (ax3.xaxis, ax3.yaxis, ax3.zaxis):
         axis.set_ticklabels([])
     ax3.set_title("normal from three points:\nnormal does not mean normalized", fontsize=11)

@@ -84,6 +84,7 @@ def finish_axes(ax: Axes, view: View, points: np.ndarray, camera: Camera) -> Non
         ax.set_ylabel(AXIS_NAMES[view.axes[1]])
         ax.set_zlabel(AXIS_NAMES[view.axes[2]])
         fewer_ticks_3d(ax)
+        ax.grid(False)  # gridlines would cross the box where its labels are set; ticks stay
         eye, lookat = view.project(camera.eye), view.project(camera.lookat)
         if eye[1] > lookat[1]:  # depth grows away from the viewer of the 3D box
             ax.invert_yaxis()

@@ -59,7 +59,7 @@ from raykit.scene import Scene
 from raykit.shading import needs_shading
 from raykit.shadows import Caster
 
-BVH_FROM = 24  # objects from which shadow and mirror rays walk a BVH, not every object they
+BVH_FROM = 96  # objects from which shadow and mirror rays walk a BVH, not every object they
 # can reach: timed on either side by python benchmarks/thresholds.py
 # (docs/benchmarks/thresholds.md)
 TIMES_PER_BAND = 1 << 20  # a motion-blurred band's ray times (pixels x samples): bounds memory

@@ -12,9 +12,11 @@ so a render is stored at that size by rendering that many pixels, never by enlar
 one. A figure's text is measured while the figure is drawn into the PNG (:func:`measuring`):
 each text artist matplotlib draws, its box in the stored picture (its window extent, with the
 ground behind it), and the height of its lines as the renderer lays them out. The same draw
-gives what :func:`layout_problems` checks: no text cut off at the picture's edge, no two texts
-on each other, and no text on a drawn line, a patch's edge or a marker (the figure's own
-drawing; not the axes' frame, ticks and grid, which text is laid out beside).
+gives the problems a :class:`Layout` lists: no text cut off at the picture's edge, no two texts
+on each other, no label's leader line through another text, and no text on a drawn line, a
+patch's edge or a marker (the figure's own drawing; not a 2D axes' frame, ticks and grid, which
+text is laid out beside), nor a 3D axes' text on the edges and gridlines of its box, which run
+through the space its labels are set in (:func:`box_edges_3d`).
 """
 
 from __future__ import annotations
@@ -96,7 +98,7 @@ class DrawnImage:
 @dataclass
 class Layout:
     """What one draw of a figure put into the picture: its ``size`` (width, height) in pixels,
-    its texts and images, and :func:`layout_problems` found."""
+    its texts and images, and the problems :func:`measuring` found in them."""
 
     size: tuple[int, int] = (0, 0)
     texts: list[DrawnText] = field(default_factory=list)
@@ -229,9 +231,40 @@ def _measure(figure, renderer, drawn):
         if image.get_visible() and image.get_array() is not None
     ]
     problems = _cut(labels, width, height) + _overlaps(labels)
+    problems += _leaders_through(drawn, labels, in_legend, height)
     drawings = [d for ax in figure.axes if ax.get_visible() for d in drawing_of(ax)]
     problems += _on_drawing(labels, [_flipped(d, height) for d in drawings], width, height)
+    for ax in figure.axes:  # a 3D axes' own texts, set among the edges and gridlines of its box
+        edges = box_edges_3d(ax) if ax.get_visible() else []
+        if edges:
+            own = {id(t) for t in ax.texts}
+            inside = [(_short(t.get_text()), down(box)) for t, box, _ in drawn if id(t) in own]
+            problems += _on_drawing(inside, [_flipped(d, height) for d in edges], width, height)
     return (width, height), texts, images, problems
+
+
+def _leaders_through(drawn, labels, in_legend, height) -> list[str]:
+    """A label's leader line (an annotation's visible arrow) that runs through another text."""
+    from matplotlib.text import Annotation
+
+    problems = []
+    for text, box, _ in drawn:
+        leader = getattr(text, "arrow_patch", None) if isinstance(text, Annotation) else None
+        if leader is None or not leader.get_visible() or id(text) in in_legend:
+            continue
+        path = leader.get_transform().transform_path(leader.get_path())
+        segments = np.concatenate(_path_segments(path) or [np.zeros((0, 2, 2))])
+        segments = segments * np.array([1.0, -1.0]) + np.array([0.0, height])  # y down
+        name = _short(text.get_text())
+        own = (float(box.x0), float(height - box.y1), float(box.x1), float(height - box.y0))
+        for other, (x0, y0, x1, y1) in labels:
+            if (x0, y0, x1, y1) == own:
+                continue
+            # a leader touching a text's box passes beside it, as a line does (_on_drawing)
+            inner = (x0 + TOUCH_PX, y0 + TOUCH_PX, x1 - TOUCH_PX, y1 - TOUCH_PX)
+            if segments_cross(segments, inner).any():
+                problems.append(f"the leader of {name!r} runs through {other!r}")
+    return problems
 
 
 def _short(text: str) -> str:
@@ -277,66 +310,84 @@ class Drawing:
 def drawing_of(ax) -> list[Drawing]:
     """The lines, patch edges and markers ``ax`` draws, as last drawn: its own drawing, not its
     frame, ticks or grid, nor a legend's or a text's own arrow and ground."""
+    found = [_drawing(a) for a in [*ax.lines, *ax.collections, *ax.patches]]
+    return [d for d in found if d is not None]
+
+
+def box_edges_3d(ax) -> list[Drawing]:
+    """The lines of a 3D axes' box as last drawn: its three axis lines and, with its grid on,
+    its gridlines ([] for a 2D axes, or a 3D one drawn without its box). A 2D axes' frame and
+    grid lie round and behind its data; a 3D box's edges and grid cross the space its labels
+    are set in, and a label there keeps off them as off any other line."""
+    if getattr(ax, "name", "") != "3d" or not getattr(ax, "_axis3don", True):
+        return []
+    found = []
+    for axis, letter in ((ax.xaxis, "x"), (ax.yaxis, "y"), (ax.zaxis, "z")):
+        if not axis.get_visible():
+            continue
+        found.append(_drawing(axis.line, f"the 3D box's {letter} axis"))
+        if getattr(ax, "_draw_grid", True):  # Axes3D.grid's switch, which has no getter
+            found.append(_drawing(axis.gridlines, f"the 3D box's {letter} gridlines"))
+    return [d for d in found if d is not None]
+
+
+def _drawing(artist, name: str | None = None) -> Drawing | None:
+    """One artist's lines, markers and filled area as last drawn; None if it draws none."""
     from matplotlib.collections import LineCollection, PathCollection
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
-    found = []
-    pixels_a_point = ax.figure.dpi / 72
-    for artist in [*ax.lines, *ax.collections, *ax.patches]:
-        if not artist.get_visible() or artist.get_alpha() == 0:
-            continue
-        segments, points, area, marker_px = [], [], None, 0.0
-        if isinstance(artist, Line2D):
-            path = artist.get_transform().transform_path(_line_path(artist))
-            if _draws_line(artist.get_linestyle(), artist.get_linewidth()):
-                segments += _path_segments(path)
-            if artist.get_marker() not in (None, "None", "none", "", " "):
-                points.append(path.vertices)
-                marker_px = artist.get_markersize() / 2 * pixels_a_point
-        elif isinstance(artist, PathCollection):
-            offsets = np.asarray(artist.get_offsets(), float).reshape(-1, 2)
-            points.append(artist.get_offset_transform().transform(offsets))
-            sizes = artist.get_sizes()  # the markers' areas, in points squared
-            marker_px = float(np.sqrt(sizes.max())) / 2 * pixels_a_point if len(sizes) else 0.0
-        elif isinstance(artist, LineCollection):
-            if _edges_drawn(artist.get_linewidths(), artist.get_edgecolors()):
-                transform = artist.get_transform()
-                for segment in artist.get_segments():
-                    line = np.asarray(segment, float)[:, :2]
-                    if len(line) > 1:
-                        xy = transform.transform(line)
-                        segments.append(np.stack([xy[:-1], xy[1:]], axis=1))
-        elif isinstance(artist, Patch):
-            path = artist.get_transform().transform_path(artist.get_path())
-            if _edges_drawn([artist.get_linewidth()], [artist.get_edgecolor()]):
-                segments += _path_segments(path)
-            if artist.get_fill() and artist.get_facecolor()[3] > 0:
-                area = path
-        elif _edges_drawn(
-            getattr(artist, "get_linewidths", lambda: [0])(),
-            getattr(artist, "get_edgecolors", lambda: [])(),
-        ) and not len(getattr(artist, "get_offsets", lambda: [])()):
+    if not artist.get_visible() or artist.get_alpha() == 0:
+        return None
+    pixels_a_point = artist.figure.dpi / 72
+    segments, points, area, marker_px = [], [], None, 0.0
+    if isinstance(artist, Line2D):
+        path = artist.get_transform().transform_path(_line_path(artist))
+        if _draws_line(artist.get_linestyle(), artist.get_linewidth()):
+            segments += _path_segments(path)
+        if artist.get_marker() not in (None, "None", "none", "", " "):
+            points.append(path.vertices)
+            marker_px = artist.get_markersize() / 2 * pixels_a_point
+    elif isinstance(artist, PathCollection):
+        offsets = np.asarray(artist.get_offsets(), float).reshape(-1, 2)
+        points.append(artist.get_offset_transform().transform(offsets))
+        sizes = artist.get_sizes()  # the markers' areas, in points squared
+        marker_px = float(np.sqrt(sizes.max())) / 2 * pixels_a_point if len(sizes) else 0.0
+    elif isinstance(artist, LineCollection):
+        if _edges_drawn(artist.get_linewidths(), artist.get_edgecolors()):
             transform = artist.get_transform()
-            for path in artist.get_paths():
-                segments += _path_segments(transform.transform_path(path))
-        if not segments and not points and area is None:
-            continue
-        clip = None
-        if artist.get_clip_on() and artist.get_clip_box() is not None:
-            box = artist.get_clip_box()
-            clip = (box.x0, box.y0, box.x1, box.y1)
-        found.append(
-            Drawing(
-                _name(artist),
-                np.concatenate(segments) if segments else np.zeros((0, 2, 2)),
-                np.concatenate(points) if points else np.zeros((0, 2)),
-                clip,
-                area,
-                marker_px,
-            )
-        )
-    return found
+            for segment in artist.get_segments():
+                line = np.asarray(segment, float)[:, :2]
+                if len(line) > 1:
+                    xy = transform.transform(line)
+                    segments.append(np.stack([xy[:-1], xy[1:]], axis=1))
+    elif isinstance(artist, Patch):
+        path = artist.get_transform().transform_path(artist.get_path())
+        if _edges_drawn([artist.get_linewidth()], [artist.get_edgecolor()]):
+            segments += _path_segments(path)
+        if artist.get_fill() and artist.get_facecolor()[3] > 0:
+            area = path
+    elif _edges_drawn(
+        getattr(artist, "get_linewidths", lambda: [0])(),
+        getattr(artist, "get_edgecolors", lambda: [])(),
+    ) and not len(getattr(artist, "get_offsets", lambda: [])()):
+        transform = artist.get_transform()
+        for path in artist.get_paths():
+            segments += _path_segments(transform.transform_path(path))
+    if not segments and not points and area is None:
+        return None
+    clip = None
+    if artist.get_clip_on() and artist.get_clip_box() is not None:
+        box = artist.get_clip_box()
+        clip = (box.x0, box.y0, box.x1, box.y1)
+    return Drawing(
+        name or _name(artist),
+        np.concatenate(segments) if segments else np.zeros((0, 2, 2)),
+        np.concatenate(points) if points else np.zeros((0, 2)),
+        clip,
+        area,
+        marker_px,
+    )
 
 
 def _line_path(line):

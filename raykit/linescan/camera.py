@@ -12,7 +12,7 @@ Conventions (owned here; every line-scan module refers to this page)
   p_i = e + x_i·u + D·w. Pixel 0 is at x = -1, the end of the line on your *right*; the scan
   lists pixels in that order (index i), and so do sweep images (column i).
 * With n samples per pixel, sample k of pixel i sits at x = -1 + (i + (k + 0.5)/n)·2/N.
-* The slides give a second pixel formula (from 2D to 3D), u_i = i·2/N_cols for i = 0, ±1, …,
+* The slides give a second pixel formula (from 2D to 3D), u_i = i·2/N_cols, i = 0, ±1, ±2, …,
   ±N_cols/2. raykit keeps it only to show it (:func:`slide_pixel_positions`): for even N_cols
   it lists N_cols + 1 positions, not N_cols, the outer two exactly on the ends of the image
   line (pixel edges, not centres), and it leaves no position at a pixel centre of x_i above
@@ -76,7 +76,7 @@ def pixel_x(pixels: int, samples: int = 1) -> np.ndarray:
 
 
 def slide_pixel_positions(n_cols: int) -> np.ndarray:
-    """The slide's second formula as written: u_i = i·2/N_cols for i = 0, ±1, …, ±N_cols/2,
+    """The slide's second formula as written, u_i = i·2/N_cols, i = 0, ±1, ±2, …, ±N_cols/2,
     in increasing order, ``(2·(N_cols // 2) + 1,)``: N_cols + 1 positions for even N_cols (from
     -1 to 1, both ends included), N_cols for odd (i up to ±(N_cols - 1)/2). Not used by any
     camera; compare :func:`pixel_x` (see the module conventions)."""

@@ -7,7 +7,8 @@ colour of what it hit (solid), or faded and dashed to the edge of the frame wher
 nothing; beside it, the scan as a strip of pixels. :func:`sweep_diagram` shows the world at a
 few scan times above the sweep image as far as it has grown. :func:`paths_of_light` draws
 photons leaving a light, most of them never reaching the image. :func:`pixel_formulas` sets the
-slide's second pixel formula, u_i = i·2/N, beside the pixel centres x_i that the cameras use.
+slide's second pixel formula, u_i = i·2/N_cols, i = 0, ±1, ±2, …, ±N_cols/2, beside the pixel
+centres x_i that the cameras use.
 
 Nothing here computes geometry of its own: rays and hits come from
 :mod:`raykit.linescan.scan`. Figures stay readable in grey: misses are dashed, objects outlined.
@@ -38,7 +39,7 @@ MAX_RAYS_DRAWN = 24
 STRIP_LABEL_CHARACTERS = 48
 # where the fov_angle label may go: a wide fov_angle's rays fill the frame in front of the eye,
 # and its label, the longest, may find room only further off, behind the eye
-FAR = (*DISTANCES, 10.0, 13.0, 17.0, 22.0)
+FAR = (*DISTANCES, 8.5, 10.0, 11.5, 13.0, 15.0, 17.0, 19.5, 22.0)
 
 
 def _frame_limits(scene: LineScene, hits: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -166,11 +167,6 @@ def _draw_camera(ax: Axes, scene: LineScene, taken: Scan, annotate: bool) -> Non
     for i, end in ((0, ends[0]), (cam.pixels - 1, ends[1])):
         clear_label(ax, end, f"i={i}", toward=behind, fontsize=10)
     if cam.projection == "perspective":
-        side = -0.35 * u  # the D dimension line, set off to the right of w
-        arrow(ax, e + side, line_centre + side, arrowstyle="<->", color="0.25", lw=1)
-        clear_label(
-            ax, e + side + 0.5 * cam.D * w, "D", toward=_degrees(-u), fontsize=11, style="italic"
-        )
         heading = math.degrees(math.atan2(w[1], w[0]))
         radius = 0.45 * cam.D
         # over the rays, which hid it under them
@@ -187,7 +183,8 @@ def _draw_camera(ax: Axes, scene: LineScene, taken: Scan, annotate: bool) -> Non
                 zorder=6,
             )
         )
-        # off the rays, or further off where a wide fov_angle's rays leave no room near
+        # off the rays, or further off where a wide fov_angle's rays leave no room near; before
+        # D, which then keeps off its leader (the two share the room beside the eye)
         edge = math.radians(heading + cam.fov_angle / 2)
         clear_label(
             ax,
@@ -196,6 +193,11 @@ def _draw_camera(ax: Axes, scene: LineScene, taken: Scan, annotate: bool) -> Non
             toward=_degrees(u),
             distances=FAR,
             fontsize=10,
+        )
+        side = -0.35 * u  # the D dimension line, set off to the right of w
+        arrow(ax, e + side, line_centre + side, arrowstyle="<->", color="0.25", lw=1)
+        clear_label(
+            ax, e + side + 0.5 * cam.D * w, "D", toward=_degrees(-u), fontsize=11, style="italic"
         )
 
 
@@ -324,10 +326,17 @@ def sweep_diagram(
     return fig
 
 
+# the slide's own TeX, set by matplotlib's mathtext, with the kit's N for its N_cols
+SLIDE_FORMULA = (
+    r"$u_i = i \cdot 2/N_{cols}, \quad i = 0, \pm 1, \pm 2, \dots, \pm N_{cols}/2$:"
+    r" the slide, with $N_{cols} = N$"
+)
+
+
 def pixel_formulas(counts: tuple[int, ...] = (8, 7), ax: Axes | None = None) -> Figure:
     """The image line from -1 to 1 cut into N pixels, once per N in ``counts``: the centres
     x_i = -1 + (i + 0.5)·2/N (:func:`raykit.linescan.camera.pixel_x`, what raykit uses) as
-    dots, and the slide's u_i = i·2/N, i = 0, ±1, …, ±N/2
+    dots, and the slide's u_i = i·2/N_cols, i = 0, ±1, ±2, …, ±N_cols/2 for N_cols = N
     (:func:`raykit.linescan.camera.slide_pixel_positions`) as crosses, each row counted."""
     if ax is None:
         _, ax = plt.subplots(figsize=(8, 1.1 + 0.9 * len(counts)), layout="constrained")
@@ -343,7 +352,7 @@ def pixel_formulas(counts: tuple[int, ...] = (8, 7), ax: Axes | None = None) -> 
             "o",
             color="tab:blue",
             ms=7,
-            label="x_i = -1 + (i + 0.5)·2/N: pixel centres" if row == 0 else None,
+            label=r"$x_i = -1 + (i + 0.5) \cdot 2/N$: the pixel centres" if row == 0 else None,
         )
         ax.plot(
             slide,
@@ -352,7 +361,7 @@ def pixel_formulas(counts: tuple[int, ...] = (8, 7), ax: Axes | None = None) -> 
             color="tab:red",
             ms=10,
             mew=2.2,
-            label="u_i = i·2/N, i = 0, ±1, …, ±N/2 (the slide)" if row == 0 else None,
+            label=SLIDE_FORMULA if row == 0 else None,
         )
         ax.text(
             1.08, y, f"N = {n}: {n} centres, {len(slide)} slide positions", va="center", fontsize=10
@@ -365,7 +374,7 @@ def pixel_formulas(counts: tuple[int, ...] = (8, 7), ax: Axes | None = None) -> 
     ax.set_xticks([-1, -0.5, 0, 0.5, 1])
     ax.set_xlabel("position on the image line (u)")
     # under the axes: over them it lay on the image line's ends
-    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.35), fontsize=10, ncol=2, frameon=False)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.35), fontsize=10, ncol=1, frameon=False)
     for side in ("top", "right", "left"):
         ax.spines[side].set_visible(False)
     ax.set_title("the slide's second pixel formula against the pixel centres", fontsize=10)

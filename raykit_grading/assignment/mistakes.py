@@ -332,7 +332,7 @@ MISTAKES = [
     ),
     Mistake(
         "slide_second_formula",
-        "pixels are placed by the slide's second formula u_i = i·2/N_cols, i = 0, ±1, …, "
+        "pixels are placed by the slide's second formula u_i = i·2/N_cols, i = 0, ±1, ±2, …, "
         "±N_cols/2 (N_cols + 1 positions spread over N_cols pixels: the picture is stretched)",
         patches=_patch((raykit.camera, "_in_plane", _stretched)),
         where=CAMERA,

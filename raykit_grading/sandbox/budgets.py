@@ -20,7 +20,7 @@ process's.
 
 * G = :data:`GRADER_MEMORY`, the grader's own. Its peak is measured and printed at the end of
   every grading (``the grader's peak memory: N MB of the 320 MB it keeps``); what it does with
-  what a test returns is bounded (:func:`raykit_grading.sandbox.base.read_returned`: 16 arrays,
+  what a test returns is bounded (:func:`raykit_grading.sandbox.returned.read_returned`: 16 arrays,
   16 MB). What the grader does not use of G is the room for what a test can add between two of
   the grader's looks (below).
 * K = :func:`kernel_share`, rounded up to a whole 16 MB: what the test's process can make the

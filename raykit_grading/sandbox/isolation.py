@@ -50,6 +50,8 @@ import shutil
 import signal
 import struct
 import subprocess
+import sys
+import time
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -57,6 +59,7 @@ SITE = "/sandbox/site"  # where numpy and Pillow appear in the sandbox
 WORK = "/work"  # where the task's work folder appears, read-only
 SANDBOX_UIDS = range(50000, 60000)  # the uids tasks run as, when grading as root
 UID_LOCKS = Path("/run/raykit-grading/uids")
+KILL_WAIT_SECONDS = 10.0  # for a killed task's processes to leave /proc
 LIBRARIES = ("numpy", "PIL", "numpy.libs", "pillow.libs")
 INSTALL_BWRAP = "install bubblewrap (Debian/Ubuntu: apt-get install bubblewrap)"
 
@@ -434,18 +437,28 @@ def kill_as(uid: int) -> None:
 
 def kill_uid(uid: int) -> None:
     """SIGKILL every process of ``uid`` (as root): all at once, then sweeping /proc until
-    none is left."""
+    none is left. A killed process stays in /proc until it has given back its memory and its
+    parent has reaped it, so the sweeps wait for that, a little longer each time, up to
+    :data:`KILL_WAIT_SECONDS`; a uid whose processes outlast that is reported (the next lease
+    of the uid kills them again), so its lock is never given back in silence."""
     kill_as(uid)
-    for _ in range(50):
-        found = False
+    pause, deadline = 0.001, time.monotonic() + KILL_WAIT_SECONDS
+    while True:
+        found = []
         for proc in Path("/proc").iterdir():
             if not proc.name.isdigit():
                 continue
             try:
                 if proc.stat().st_uid == uid:
-                    found = True
+                    found.append(proc.name)
                     os.kill(int(proc.name), signal.SIGKILL)
             except (FileNotFoundError, ProcessLookupError, PermissionError):
                 pass
         if not found:
             return
+        if time.monotonic() > deadline:
+            print(f"raykit_grading: sandbox uid {uid} still has processes {found} "
+                  f"{KILL_WAIT_SECONDS:.0f} s after SIGKILL", file=sys.stderr)  # fmt: skip
+            return
+        time.sleep(pause)
+        pause = min(2 * pause, 0.05)

@@ -22,7 +22,7 @@ def _point_light_reach(rng):
     surface = SurfacePoints(points, normals, rng.uniform(0, 1e-12, size=count))
     position = rng.normal(size=3) * 20
     light = PointLight(position, np.ones(3))
-    l = normalize(position - points)  # noqa: E741 (the slides' l)
+    l = normalize(position - points)  # FOCG's l, toward the light
     expected = light_reach(surface, l, light)
     starts = surface.start(l)
     got = [kernels.point_light_reach(*position, *s) for s in starts]

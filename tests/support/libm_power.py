@@ -17,7 +17,7 @@ from raykit.rays import dot, normalize
 _libm_pow = np.frompyfunc(math.pow, 2, 1)
 
 
-def _blinn_phong_with_libm_pow(ks, intensity, n, l, v, p):  # noqa: E741  (the slide's l)
+def _blinn_phong_with_libm_pow(ks, intensity, n, l, v, p):  # FOCG's letters
     """raykit.shading.blinn_phong with the C library's pow in place of numpy's power."""
     h = normalize(l + v)
     power = _libm_pow(np.maximum(0.0, dot(n, h)), p).astype(float)

@@ -127,7 +127,7 @@ class Lanes(NamedTuple):
     error: np.ndarray
     k: np.ndarray
     total: np.ndarray
-    l: np.ndarray  # noqa: E741 (the slides' l)
+    l: np.ndarray  # FOCG's l, toward the light
     n_dot_l: np.ndarray
     s: np.ndarray
     reach: np.ndarray

@@ -26,7 +26,7 @@ def point_light_reach(v0, v1, v2, s0, s1, s2):
 
 
 SHADOW_CANDIDATES = 16  # objects a tile lists per light; with more, its shadow rays walk the BVH
-DIRECT_LISTS = 64  # objects in a scene up to which the lists test each object, not the tree's
+DIRECT_LISTS = 96  # objects in a scene up to which the lists test each object, not the tree's
 # nodes (both timed on either side by python benchmarks/thresholds.py,
 # docs/benchmarks/thresholds.md)
 CULL_MARGIN = 1e-9  # of the scene's largest coordinate: rounding that the cull leaves room for

@@ -275,11 +275,6 @@ def test_grade_refuses_a_bad_seed_file_in_one_line_before_grading(tmp_path, solu
 
 
 @pytest.fixture(scope="module")
-def solution(tmp_path_factory):
-    return make_submission(tmp_path_factory.mktemp("solution"))
-
-
-@pytest.fixture(scope="module")
 def borderline(tmp_path_factory):
     """Half right: the line-scan camera's samples a fifth of a pixel off centre (0.3 for 0.5),
     so test 1.6's scan matches at some camera positions and not at others."""

@@ -23,6 +23,7 @@ from conftest import REPO
 from mistaken_submissions import make_submission
 from raykit_grading.assignment.catalog import TESTS, VISIBLE
 from raykit_grading.grading.batch import JOBS, jobs_within
+from raykit_grading.grading.grade import Options
 from raykit_grading.grading.results import NOT_IMPORTED
 from raykit_grading.sandbox.confine import ContainerLimits
 
@@ -179,75 +180,6 @@ def test_each_student_gets_the_self_checks_page_with_the_grades_numbers(graded_c
     assert "3 of 3 tests pass: 7 of 7 points." in grace
 
 
-def test_the_tests_command_lists_each_stage_with_its_totals():
-    run = subprocess.run(
-        [sys.executable, "-m", "raykit_grading", "tests"], capture_output=True, text=True,
-        cwd=REPO, check=True,
-    )  # fmt: skip
-    lines = run.stdout.splitlines()
-    headings = [line for line in lines if line.startswith("Stage ")]
-    assert [h.split(":")[0] for h in headings] == [
-        "Stage 1 line-scan camera", "Stage 2 rays, planes and spheres", "Stage 3 renderer",
-        "Stage 4 shading, shadows and mirrors", "Stage 5 distributed ray tracing",
-    ]  # fmt: skip
-    total = sum(t.points for t in TESTS)
-    assert lines[-1].startswith(f"Total: {len(TESTS)} tests, {total:g} points")
-    assert sum(line.startswith("  ") for line in lines) == len(TESTS)
-
-
-def test_check_py_runs_the_one_test_asked_for_and_says_how_in_its_help(release, tmp_path):
-    kit = tmp_path / "kit"
-    shutil.copytree(release, kit)
-    shutil.rmtree(kit / "raykit")
-    make_submission(kit, "rows_flipped")
-    env = {"PATH": "/usr/bin:/bin"}
-    one = subprocess.run(
-        [sys.executable, "check.py", "3.6"], cwd=kit, capture_output=True, text=True, env=env
-    )
-    said = [line for line in one.stdout.splitlines() if line.startswith(("pass", "FAIL"))]
-    assert len(said) == 1 and said[0].startswith("FAIL  3.6 render scenes/classic.json")
-    assert "0 of 1 practice tests pass" in one.stdout and one.returncode == 1
-    stage = subprocess.run(
-        [sys.executable, "check.py", "1"], cwd=kit, capture_output=True, text=True, env=env
-    )
-    visible = [t for t in TESTS if t.visibility == VISIBLE and t.key.startswith("1.")]
-    assert f"{len(visible)} of {len(visible)} practice tests pass" in stage.stdout
-    helped = subprocess.run(
-        [sys.executable, "check.py", "--help"], cwd=kit, capture_output=True, text=True, env=env
-    )
-    assert helped.returncode == 0 and "python check.py 3.6" in helped.stdout
-    assert not (kit / "check/index.html").read_text().count("FAIL: 1.")  # --help ran nothing
-    wrong = subprocess.run(
-        [sys.executable, "check.py", "9.9"], cwd=kit, capture_output=True, text=True, env=env
-    )
-    assert wrong.returncode == 2 and "no practice test 9.9: they are 1.1, " in wrong.stderr
-
-
-def test_the_kits_pytest_prints_one_line_per_failing_test(release):
-    run = subprocess.run(
-        [sys.executable, "-m", "pytest", "-p", "no:cacheprovider"],
-        cwd=release, capture_output=True, text=True,
-        env={"PYTHONPATH": str(release), "PATH": "/usr/bin:/bin", "COLUMNS": "100"},
-    )  # fmt: skip
-    visible = sum(t.visibility == VISIBLE for t in TESTS)
-    lines = run.stdout.splitlines()
-    failed = [line for line in lines if line.startswith("FAILED")]
-    assert len(failed) == visible and "Traceback" not in run.stdout
-    assert len(lines) < visible + 15, run.stdout  # the header, the summary, and those lines
-
-
-def test_the_kits_readme_lists_the_functions_under_each_stage(release):
-    readme = (release / "README.md").read_text()
-    headings = re.findall(r"^### (.*)$", readme, re.M)
-    assert headings[:5] == [
-        "Stage 1 line-scan camera", "Stage 2 rays, planes and spheres", "Stage 3 renderer",
-        "Stage 4 shading, shadows and mirrors", "Stage 5 distributed ray tracing",
-    ]  # fmt: skip
-    stage3 = readme.split("### Stage 3")[1].split("###")[0]
-    assert "camera.py: camera_frame`" in stage3 and "hit_sphere" not in stage3
-    assert "python check.py 3.6" in readme
-
-
 def test_a_students_feedback_folder_holds_nothing_of_the_hidden_tests(tmp_path):
     """feedback/<student>/ may be handed to the student: the hidden tests' pictures are in
     hidden/<student>/, and the class report takes its example from there if it must."""
@@ -307,3 +239,34 @@ def test_batch_in_docker_s_confinement_says_it_grades_one_student_at_a_time(tmp_
         "ada": ("graded", True),
         "zoe": ("graded", True),
     }
+
+
+def test_batch_grades_a_folder_into_a_csv_and_a_feedback_folder_each(
+    tmp_path, child_python, release
+):
+    import csv
+    import shutil
+
+    from raykit_grading.grading.batch import grade_folder
+
+    students = tmp_path / "submissions"
+    make_submission(students / "ada")
+    make_submission(students / "bob", "u_v_swapped")
+    shutil.copytree(release / "raykit", students / "cy" / "raykit")
+    status = grade_folder(
+        students,
+        tmp_path / "out",
+        jobs=2,
+        options=Options(child_python),
+        names=["2.1", "3.6"],
+        assignment=tmp_path,
+    )
+    assert status == 0
+    rows = {row["student"]: row for row in csv.DictReader((tmp_path / "out/scores.csv").open())}
+    assert set(rows) == {"ada", "bob", "cy"}
+    assert float(rows["ada"]["score"]) == float(rows["ada"]["max_score"]) == 6
+    assert float(rows["bob"]["score"]) == 2 and float(rows["cy"]["score"]) == 0
+    assert rows["bob"]["3.6"] == "0.0" and rows["bob"]["2.1"] == "2"
+    bob = json.loads((tmp_path / "out/feedback/bob/results.json").read_text())
+    assert "u and v are swapped" in bob["tests"][1]["output"]
+    assert (tmp_path / "out/feedback/bob/3.6.png").is_file()

@@ -1,28 +1,24 @@
-"""The autograder: the solution scores full marks, the student release 0, each classic mistake
-is named, and results.json follows Gradescope's specification."""
+"""Grading one submission (raykit_grading.grading.grade), through the sandbox: the solution
+scores full marks, the student release 0; each classic mistake, made in the one function where
+students make it, is named in the test of that function (and in a render that shows it), no
+other mistake is named, and every message's percentages are the ones its score comes from;
+hidden tests carry nothing a hostile submission chose into their messages; results.json follows
+Gradescope's specification; without a clone (the wheel holds no hidden scenes) it says so."""
 
 import html
 import json
-import subprocess
-import sys
-import zipfile
+import re
 
 import jsonschema
-import numpy as np
 import pytest
+import tomllib
 
 from conftest import REPO
+from mistake_table import NAMED_IN, _says
 from mistaken_submissions import EDITS, make_rewritten, make_submission
-from raykit_grading.assignment.catalog import HIDDEN, HIDDEN_SCENES, TESTS, VISIBLE
-from raykit_grading.assignment.markers import MarkerError, strip_solutions
+from raykit_grading.assignment.catalog import TESTS, VISIBLE, by_name
 from raykit_grading.assignment.mistakes import MISTAKES
 from raykit_grading.grading.grade import Options, grade, grade_to_file
-from raykit_grading.kit.compare import (
-    check_arrays,
-    compare_images,
-    feedback_picture,
-    strict_fraction,
-)
 
 # Gradescope's results.json, as its autograder specification documents it
 RESULTS_SCHEMA = {
@@ -57,43 +53,6 @@ RESULTS_SCHEMA = {
     },
 }
 TOTAL = sum(t.points for t in TESTS)
-
-
-@pytest.fixture(scope="session")
-def solution(tmp_path_factory):
-    return make_submission(tmp_path_factory.mktemp("solution"))
-
-
-def _student_pytest(folder):
-    """The release's own test command, run in ``folder`` with its raykit first on the path."""
-    return subprocess.run(
-        [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "tests"],
-        cwd=folder,
-        capture_output=True,
-        text=True,
-        env={"PYTHONPATH": str(folder), "PATH": "/usr/bin:/bin", "COLUMNS": "400"},
-    )
-
-
-def test_mistakes_apply_to_a_camera_that_has_already_computed_its_frame():
-    from dataclasses import replace
-
-    from raykit.io.scene_json import load_scene
-    from raykit.render import render
-
-    scene = load_scene(REPO / "scenes/classic.json")
-    scene = replace(scene, camera=replace(scene.camera, width=80, height=60))
-    right = render(scene).rgb  # the camera caches its u, v, w here
-    for key in ("u_v_swapped", "u_negated"):
-        with next(m for m in MISTAKES if m.key == key).active():
-            assert not np.array_equal(render(scene).rgb, right), key
-
-
-def test_catalog_has_points_visibility_and_every_stage():
-    assert {t.visibility for t in TESTS} == {VISIBLE, HIDDEN}
-    assert {t.stage.split()[0] for t in TESTS} == {"1", "2", "3", "4", "5"}
-    assert len({t.name.split()[0] for t in TESTS}) == len(TESTS)
-    assert all(t.points > 0 for t in TESTS)
 
 
 def test_solution_scores_full_marks_in_a_valid_results_file(solution, child_python, tmp_path):
@@ -144,57 +103,6 @@ def test_execution_time_ends_at_the_last_visible_test(tmp_path, monkeypatch):
     results = grade(tmp_path, names=["2.4", "2.3", "2.5", "2.6"])  # 2.4, 2.5 hidden
     assert [t["number"] for t in results["tests"]] == ["2.3", "2.4", "2.5", "2.6"]
     assert now[0] == 202.0 and results["execution_time"] == 2.0
-
-
-def test_release_imports_cleanly_and_its_stubs_raise(release):
-    code = (
-        "import importlib, pkgutil, raykit\n"
-        "names = [m.name for m in pkgutil.walk_packages(raykit.__path__, 'raykit.')]\n"
-        "[importlib.import_module(n) for n in names if 'diagrams' not in n and 'main' not in n]\n"
-        "from raykit.planes import hit_plane\n"
-        "import numpy as np\n"
-        "try:\n    hit_plane(np.zeros((1, 3)), np.ones((1, 3)), np.zeros(3), np.ones(3))\n"
-        "except NotImplementedError as e:\n    print('stub:', e)\n"
-    )
-    run = subprocess.run(
-        [sys.executable, "-c", code],
-        cwd=release,
-        capture_output=True,
-        text=True,
-        env={"PYTHONPATH": str(release), "PATH": "/usr/bin:/bin"},
-    )
-    assert run.returncode == 0, run.stderr
-    assert run.stdout.startswith("stub: hit_plane: write this function. Hint: t = ((a - o)·n)")
-
-
-def test_release_visible_tests_fail_with_not_implemented_only(release):
-    run = _student_pytest(release)
-    visible = sum(t.visibility == VISIBLE for t in TESTS)
-    assert f"{visible} failed" in run.stdout
-    failures = [line for line in run.stdout.splitlines() if line.startswith("FAILED")]
-    assert len(failures) == visible
-    assert all("NotImplementedError" in line for line in failures), failures
-
-
-def test_solution_dropped_into_the_release_passes_its_visible_tests(release, tmp_path):
-    import shutil
-
-    copy = tmp_path / "student"
-    shutil.copytree(release, copy)
-    shutil.rmtree(copy / "raykit")
-    shutil.copytree(REPO / "raykit", copy / "raykit")
-    run = _student_pytest(copy)
-    assert run.returncode == 0, run.stdout[-2000:]
-
-
-def test_release_hides_the_solutions_and_the_hidden_scenes(release):
-    sources = "".join(p.read_text() for p in (release / "raykit").rglob("*.py"))
-    assert "BEGIN SOLUTION" not in sources
-    assert "(a - origins) @ n" not in sources  # the ray-plane solution line
-    hidden = sorted(p.name for p in HIDDEN_SCENES.glob("*.json"))
-    assert {"odd.json", "overlaps.json", "lens_and_panel.json"} <= set(hidden)
-    assert not [name for name in hidden if list(release.rglob(name))]
-    assert (release / "tests/expected/3_6/reference.png").is_file()
 
 
 def test_grader_scores_the_bare_release_zero_and_says_what_to_write(release, child_python):
@@ -254,236 +162,113 @@ def test_no_mistake_is_named_for_the_solution(solution, child_python):
     assert not any("Diagnosis:" in t["output"] for t in results["tests"])
 
 
-def test_markers_become_stubs_with_the_hint_and_must_balance():
-    source = (
-        'def f(x):\n    """Doc."""\n    # BEGIN SOLUTION\n    # hint: add one\n'
-        "    #       to x\n    return x + 1\n    # END SOLUTION\n"
-    )
-    stripped, names = strip_solutions(source)
-    assert names == ["f"]
-    assert stripped == (
-        'def f(x):\n    """Doc."""\n    raise NotImplementedError('
-        "'f: write this function. Hint: add one to x')\n"
-    )
-    with pytest.raises(MarkerError):
-        strip_solutions("def f():\n    # BEGIN SOLUTION\n    pass\n")
-    with pytest.raises(MarkerError):
-        strip_solutions("def f():\n    pass\n    # END SOLUTION\n")
+def test_the_wheel_holds_raykit_and_its_grader_but_no_hidden_scenes():
+    from setuptools import find_packages
+
+    config = tomllib.loads((REPO / "pyproject.toml").read_text())["tool"]["setuptools"]
+    packages = find_packages(str(REPO), include=config["packages"]["find"]["include"])
+    assert "grading" not in packages and "raykit_grading" in packages
+    assert {p.split(".")[0] for p in packages} == {"raykit", "raykit_grading"}
+    data = config.get("package-data", {})
+    assert all("scenes" not in pattern for patterns in data.values() for pattern in patterns)
+    assert not list((REPO / "raykit_grading").rglob("*.json"))
 
 
-def test_every_marked_function_in_raykit_has_a_hint():
-    for path in (REPO / "raykit").rglob("*.py"):
-        stripped, _ = strip_solutions(path.read_text(), str(path))
-        assert "Hint: see the lecture slides" not in stripped, path
+def test_the_grader_says_plainly_when_it_has_no_clone_to_read_scenes_from(monkeypatch, tmp_path):
+    import raykit_grading.grading.grade as grade
+
+    monkeypatch.setattr(grade, "HIDDEN_SCENES", tmp_path / "nowhere")
+    with pytest.raises(grade.GradingImpossible, match="needs a clone of the course repository"):
+        grade.check_clone()
 
 
-def test_image_comparison_forgives_a_silhouette_pixel_but_not_a_wrong_colour():
-    reference = np.zeros((20, 20, 3), np.uint8)
-    reference[5:15, 5:15] = 200
-    shifted_edge = reference.copy()
-    shifted_edge[5, 5:15] = 0  # the silhouette one pixel in
-    assert compare_images(shifted_edge, reference).fraction == 1.0
-    assert strict_fraction(shifted_edge, reference) < 1.0
-    recoloured = reference.copy()
-    recoloured[5:15, 5:15] = 150
-    result = compare_images(recoloured, reference)
-    assert result.fraction == pytest.approx(1 - 100 / 400)  # no neighbour has the new colour
-    assert result.score() == 0.0
-    assert np.isfinite(result.psnr) and result.psnr < 30
-    picture = feedback_picture(recoloured, reference, result.matched)
-    # each panel drawn 12 times larger (a small image made visible), captions above
-    assert picture.shape == (240 + 22, 3 * 240 + 2 * 6, 3) and picture.dtype == np.uint8
+SEED = 3
 
 
-def test_score_is_linear_between_the_thresholds():
-    from raykit_grading.kit.compare import Comparison
-
-    assert Comparison(None, 0.995, 0).score() == 1.0
-    assert Comparison(None, 0.9475, 0).score() == pytest.approx(0.5)
-    assert Comparison(None, 0.89, 0).score() == 0.0
+FAIR = re.compile(r"([\d.]+)% of pixels match the reference, so this test gives (\d+)% of")
 
 
-def test_array_check_accepts_nan_or_inf_for_a_miss_and_names_the_first_difference():
-    want = {"t": np.array([1.0, np.inf, 2.0])}
-    assert check_arrays({"t": np.array([1.0, np.nan, 2.0])}, want)[0]
-    ok, message = check_arrays({"t": np.array([1.0, np.inf, 2.5])}, want)
-    assert (
-        not ok and "t: 1 of 3 values differ" in message and "t[2]: yours 2.5, expected 2" in message
-    )
-    assert not check_arrays({"t": np.ones(4)}, want)[0]
-    assert not check_arrays({"t": np.array(["a", "b", "c"])}, want)[0]
+def _where(key):
+    return next(m.where for m in MISTAKES if m.key == key)
 
 
-def test_batch_grades_a_folder_into_a_csv_and_a_feedback_folder_each(
-    tmp_path, child_python, release
+def _text(output: str) -> str:
+    return html.unescape(re.sub(r"<[^>]+>", "", output))
+
+
+@pytest.mark.parametrize("key", sorted(NAMED_IN))
+def test_each_mistake_is_named_in_its_functions_test_with_the_scores_percentages(
+    key, tmp_path, child_python
 ):
-    import csv
-    import shutil
-
-    from raykit_grading.grading.batch import grade_folder
-
-    students = tmp_path / "submissions"
-    make_submission(students / "ada")
-    make_submission(students / "bob", "u_v_swapped")
-    shutil.copytree(release / "raykit", students / "cy" / "raykit")
-    status = grade_folder(
-        students,
-        tmp_path / "out",
-        jobs=2,
-        options=Options(child_python),
-        names=["2.1", "3.6"],
-        assignment=tmp_path,
-    )
-    assert status == 0
-    rows = {row["student"]: row for row in csv.DictReader((tmp_path / "out/scores.csv").open())}
-    assert set(rows) == {"ada", "bob", "cy"}
-    assert float(rows["ada"]["score"]) == float(rows["ada"]["max_score"]) == 6
-    assert float(rows["bob"]["score"]) == 2 and float(rows["cy"]["score"]) == 0
-    assert rows["bob"]["3.6"] == "0.0" and rows["bob"]["2.1"] == "2"
-    bob = json.loads((tmp_path / "out/feedback/bob/results.json").read_text())
-    assert "u and v are swapped" in bob["tests"][1]["output"]
-    assert (tmp_path / "out/feedback/bob/3.6.png").is_file()
-
-
-@pytest.mark.parametrize("as_zip", [False, True], ids=["folder", "zip"])
-def test_grading_command_line_writes_results(tmp_path, child_python, solution, as_zip):
-    """``grade`` takes the student's folder, or their zip as the student README makes it."""
-    submission = solution
-    if as_zip:
-        submission = tmp_path / "ada.zip"
-        with zipfile.ZipFile(submission, "w") as archive:
-            for path in sorted((solution / "raykit").rglob("*.py")):
-                archive.write(path, path.relative_to(solution).as_posix())
-    run = subprocess.run(
-        [sys.executable, "-m", "raykit_grading", "grade", str(submission),
-         "-o", str(tmp_path / "r.json"), "--child-python", child_python, "--only", "1.1", "2.1"],
-        capture_output=True, text=True, cwd=tmp_path,
-    )  # fmt: skip
-    assert run.returncode == 0, run.stderr
-    assert run.stdout.strip() == f"wrote {tmp_path / 'r.json'}: 3 of 3 points"
-
-
-def test_release_readme_lists_the_functions_in_the_lectures_order(release):
-    listed = [
-        line
-        for line in (release / "README.md").read_text().splitlines()
-        if line.startswith("- `raykit/")
+    submission = make_submission(tmp_path / "submission", key)
+    results = grade(submission, names=NAMED_IN[key], options=Options(child_python), seed=SEED)
+    assert [t["number"] for t in results["tests"]] == NAMED_IN[key]
+    made_in = [
+        name.split(": ")[1] for name in re.findall(r"raykit/[\w/]+\.py: [\w.]+", _where(key))
     ]
-    names = [line.split(": ")[1].rstrip("`") for line in listed]
-    assert names[0] == "pixel_x" and names[-1] == "center_at"
-    assert names.index("hit_plane") < names.index("camera_frame") < names.index("cast")
-    assert names.index("cast") < names.index("lambert") < names.index("reflect")
-    # stage 5 in FOCG 13.4's order, its camera and light functions among the sample patterns
-    stage5 = names[names.index("reflect") + 1 :]
-    assert stage5[:4] == ["point_in_pixel", "random_set", "jittered_point", "jittered_set"]
-    assert stage5.index("sampled") < stage5.index("point_on_lens") < stage5.index("thin_lens_rays")
-    assert stage5.index("thin_lens_rays") < stage5.index("basis_around")
-    assert stage5[-5:] == [
-        "basis_around",
-        "perturbed_direction",
-        "glossy_reflect",
-        "shutter_times",
-        "center_at",
-    ]
+    for entry in results["tests"]:
+        text = _text(entry["output"])
+        assert f"when {_says(key)}" in text, (entry["number"], text)
+        # the function the mistake was planted in, which the student writes, is named
+        assert any(name in text for name in made_in), (entry["number"], made_in, text)
+        assert "plane_size" not in text and "sample_offsets" not in text
+        others = [m.key for m in MISTAKES if m.key != key and f"when {m.says}" in text]
+        assert others == [], (entry["number"], others)
+        assert entry["score"] == 0.0
+        if by_name([entry["number"]])[0].kind == "image":
+            assert FAIR.search(text) is None  # no "100% match" beside a score of 0
+            assert "this test gives 0% of its points" in text
 
 
-@pytest.mark.parametrize(
-    "arguments, status, says",
-    [
-        (["batch", "no/such/folder", "-o", "out"], 2, "no/such/folder: no such folder"),
-        (["grade", "no/such/folder", "-o", "r.json"], 2, "no/such/folder: no such folder or zip"),
-        (["grade", "no/such.zip", "-o", "r.json"], 2, "no/such.zip: no such zip"),
-        (["grade", ".", "-o", "r.json", "--only", "9.9"], 2, "--only 9.9: no test has that"),
-        (["grade", ".", "-o", "r.json", "--wall", "3"], 2, "unrecognized arguments: --wall"),
-    ],
-)
-def test_grading_command_line_refuses_bad_input_in_one_line(tmp_path, arguments, status, says):
-    run = subprocess.run(
-        [sys.executable, "-m", "raykit_grading", *arguments],
-        capture_output=True,
-        text=True,
-        cwd=tmp_path,
-    )
-    assert run.returncode == status
-    assert says in run.stderr and "Traceback" not in run.stderr
-    assert not (tmp_path / "out").exists() and not (tmp_path / "r.json").exists()
+def test_an_imperfect_render_states_the_percentage_its_score_comes_from(tmp_path, child_python):
+    submission = make_submission(tmp_path / "submission")
+    lambert = submission / "raykit/shading.py"  # a slightly wrong brightness: rounding-sized
+    source = lambert.read_text()
+    assert source.count("return kd * intensity *") == 1
+    lambert.write_text(source.replace("return kd * intensity *", "return 0.985 * kd * intensity *"))
+    results = grade(submission, names=["4.8"], options=Options(child_python), seed=SEED)
+    entry = results["tests"][0]
+    fraction, share = FAIR.search(_text(entry["output"])).groups()
+    expected = min(1.0, max(0.0, (float(fraction) / 100 - 0.9) / 0.095))
+    assert entry["score"] / entry["max_score"] == pytest.approx(expected, abs=0.001)
+    assert int(share) == round(100 * entry["score"] / entry["max_score"])
 
 
-def test_graded_draws_differ_from_the_public_ones_and_repeat_under_their_seed():
-    for test in TESTS:
-        public, graded = test.public_inputs(), test.graded_inputs(7)
-        again = test.graded_inputs(7)
-        assert json.dumps(graded[0]) == json.dumps(again[0]), test.name
-        assert all(np.array_equal(graded[1][k], again[1][k]) for k in graded[1]), test.name
-        differs = json.dumps(public[0], default=str) != json.dumps(graded[0], default=str) or any(
-            not np.array_equal(public[1][k], graded[1][k]) for k in public[1]
-        )
-        assert differs, test.name
-        if test.kind == "image":  # a shipped reference picture cannot even have the shape
-            camera = graded[0]["scene"]["camera"]
-            shipped = public[0]["scene"]["camera"]
-            size = ("width", "height") if "eye" in camera else ("pixels",)
-            assert [camera[k] for k in size] != [shipped[k] for k in size], test.name
+# A hostile pixel_x, graded on visible 1.1 and hidden 1.2: what it chose (a member name, a
+# shape, values, an error message) reaches 1.1's message (so each attack works) and never
+# 1.2's.
+SMUGGLERS = {
+    "member name": (
+        "    import io, json, os, sys, zipfile\n"
+        "    from pathlib import Path\n"
+        "    order = json.loads((Path(sys.argv[1]) / 'task.json').read_text())\n"
+        "    packed = io.BytesIO()\n"
+        "    with zipfile.ZipFile(packed, 'w') as z:\n"
+        "        z.writestr(f'SMUGGLED{pixels}x{samples}.txt', 'x')\n"
+        "    os.write(order['outputs_fd'], packed.getvalue())\n"
+        "    os._exit(0)\n"
+    ),
+    "shape": "    return np.zeros((pixels * samples, 4242))\n",
+    "values": "    return np.full(pixels * samples, 313370.0 + samples)\n",
+    "error message": "    raise ValueError(f'SMUGGLED{pixels}x{samples}')\n",
+}
 
 
-def test_release_self_check_judges_like_the_grader_and_draws_the_pictures(release, tmp_path):
-    import shutil
-
-    def check(key):
-        copy = tmp_path / (key or "solution")
-        shutil.copytree(release, copy)
-        shutil.rmtree(copy / "raykit")
-        make_submission(copy, key)
-        return subprocess.run(
-            [sys.executable, "check.py"],
-            cwd=copy,
-            capture_output=True,
-            text=True,
-            env={"PATH": "/usr/bin:/bin"},
-        ), copy
-
-    right, folder = check(None)
-    assert right.returncode == 0, right.stdout[-2000:]
-    visible = [t for t in TESTS if t.visibility == VISIBLE]
-    assert f"{len(visible)} of {len(visible)} practice tests pass" in right.stdout
-    pictures = sorted(p.name for p in (folder / "check").glob("*.png"))
-    assert pictures == sorted(
-        f"{t.key.replace('.', '_')}.png" for t in visible if t.kind == "image"
-    )
-    assert "<a href='3_6.png'>the picture</a>" in (folder / "check/index.html").read_text()
-    wrong, _ = check("pixel_corners")
-    assert wrong.returncode == 1
-    assert "FAIL  3.6 render scenes/classic.json (320 x 240)" in wrong.stdout
-    assert "rays go through pixel corners instead of pixel centres" in wrong.stdout
+FINGERPRINTS = {"member name": "SMUGGLED", "shape": "4242", "values": "31337",
+                "error message": "SMUGGLED"}  # fmt: skip
 
 
-def test_release_pyproject_carries_only_what_the_release_uses(release):
-    import tomllib
-
-    project = tomllib.loads((release / "pyproject.toml").read_text())
-    assert project["project"]["optional-dependencies"] == {"test": ["pytest>=7.4"]}
-    kit = tomllib.loads((REPO / "pyproject.toml").read_text())["project"]
-    assert project["project"]["dependencies"] == kit["dependencies"]
-    assert "ruff" not in project.get("tool", {}) and "nbval" not in str(project)
-
-
-def test_release_render_names_the_function_to_write_next_in_one_line(release, tmp_path):
-    run = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "raykit",
-            "render",
-            "scenes/classic.json",
-            "-o",
-            str(tmp_path / "c.png"),
-        ],
-        cwd=release,
-        capture_output=True,
-        text=True,
-        env={"PYTHONPATH": str(release), "PATH": "/usr/bin:/bin"},
-    )
-    assert run.returncode == 2
-    assert run.stderr.startswith("raykit: error: not written yet: ")
-    assert "write this function" in run.stderr and run.stderr.count("\n") == 1
-    assert not (tmp_path / "c.png").exists()
+@pytest.mark.parametrize("attack", sorted(SMUGGLERS))
+def test_a_hidden_test_carries_nothing_the_submission_chose(attack, tmp_path, child_python):
+    submission = make_submission(tmp_path / "submission")
+    camera = submission / "raykit/linescan/camera.py"
+    source = camera.read_text()
+    body = "    i = np.repeat(np.arange(pixels), samples)\n"
+    assert source.count(body) == 1
+    camera.write_text(source.replace(body, SMUGGLERS[attack] + body))
+    results = grade(submission, names=["1.1", "1.2"], options=Options(child_python), seed=SEED)
+    visible, hidden = results["tests"]
+    assert visible["score"] == hidden["score"] == 0.0
+    assert FINGERPRINTS[attack] in visible["output"]  # the attack reaches a visible message
+    assert FINGERPRINTS[attack] not in hidden["output"], hidden["output"]
+    assert "hidden test" in hidden["output"]

@@ -7,6 +7,7 @@ one-line note saying where it was found; a shape the grader cannot take without 
 saying what it found and what it expected, on every test and at the top of results.json."""
 
 import json
+import os
 import shutil
 import subprocess
 import sys
@@ -16,6 +17,7 @@ from pathlib import Path
 import pytest
 
 from conftest import REPO
+from raykit_grading.grading.submissions import MAX_BYTES, SubmissionError, stage
 
 EXPECTED = "expected raykit/__init__.py: upload your raykit/ folder itself, or a zip of it"
 SOLUTION = sorted(
@@ -266,3 +268,39 @@ def test_a_zip_in_a_zip_is_held_to_the_same_bounds_and_names(tmp_path):
         with pytest.raises(SubmissionError, match="^inner.zip inside outer.zip[: ]"):
             stage(source, tmp_path / f"{name}-staged")
     assert not list(tmp_path.rglob("evil.py"))
+
+
+def test_staging_copies_plain_files_and_names_what_it_leaves_out(tmp_path):
+    source = tmp_path / "submission"
+    (source / "raykit" / "sub").mkdir(parents=True)
+    (source / "raykit" / "__init__.py").write_text("")
+    (source / "raykit" / "sub" / "x.py").write_text("X = 1\n")
+    (source / "raykit" / "link.py").symlink_to("/etc/passwd")
+    os.mkfifo(source / "raykit" / "pipe.py")
+    staged = stage(source, tmp_path / "staged")
+    assert staged.package == tmp_path / "staged" / "raykit"
+    assert (staged.package / "sub" / "x.py").read_text() == "X = 1\n"
+    assert not (staged.package / "link.py").exists()
+    assert not (staged.package / "pipe.py").exists()
+    assert staged.notes == [
+        "raykit/link.py is a symbolic link: left out (only plain files count)",
+        "raykit/pipe.py is a named pipe (FIFO): left out (only plain files count)",
+    ]
+
+
+def test_staging_refuses_a_zip_that_escapes_or_inflates(tmp_path):
+    for name, members in {
+        "escape": {"raykit/../../evil.py": b"x"},
+        "bomb": {
+            "raykit/__init__.py": b"",
+            **{f"raykit/big{i}.py": b"\0" * (MAX_BYTES // 2) for i in range(3)},
+        },
+    }.items():
+        source = tmp_path / name
+        source.mkdir()
+        with zipfile.ZipFile(source / "work.zip", "w", zipfile.ZIP_DEFLATED) as archive:
+            for member, data in members.items():
+                archive.writestr(member, data)
+        with pytest.raises(SubmissionError):
+            stage(source, tmp_path / f"{name}-staged")
+    assert not (tmp_path / "evil.py").exists()

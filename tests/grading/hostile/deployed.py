@@ -11,6 +11,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 import pytest
@@ -355,6 +356,36 @@ def leftovers_no_grader_holds() -> list[str]:
         if folder.name != "raykit-grading-quarantine" and not held_by_a_grader(folder / ".lock"):
             found.append(str(folder))
     return found
+
+
+def sandbox_processes_no_grader_holds(looks: int = 3, pause: float = 1.0) -> list[str]:
+    """The pids of processes of a sandbox uid whose uid no running grader holds, found at each
+    of ``looks`` looks ``pause`` seconds apart. A grader on another worker may end between
+    reading a process's uid and reading its lock, killing the process and giving back its uid
+    meanwhile; a process left behind is still there at every look."""
+    from raykit_grading.sandbox.isolation import SANDBOX_UIDS, UID_LOCKS
+
+    def unheld() -> set[str]:
+        found = set()
+        for proc in Path("/proc").iterdir():
+            if not proc.name.isdigit():
+                continue
+            try:
+                uid = proc.stat().st_uid
+                if uid in SANDBOX_UIDS and not held_by_a_grader(UID_LOCKS / str(uid)):
+                    if proc.stat().st_uid == uid:  # still there, its uid free
+                        found.add(proc.name)
+            except FileNotFoundError:  # a process of this machine that ended meanwhile
+                continue
+        return found
+
+    left = unheld()
+    for _ in range(looks - 1):
+        if not left:
+            break
+        time.sleep(pause)
+        left &= unheld()
+    return sorted(left, key=int)
 
 
 def held_by_a_grader(lock: Path) -> bool:
