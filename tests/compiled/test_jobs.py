@@ -16,15 +16,17 @@ from .harness import small_render, twin_test, two_threads
 @numba.njit(nogil=True)
 def _take_jobs(jobs, grain, taken, arrived, times):
     """One worker taking ``grain`` of ``jobs`` at a time from the counter ``taken``, by the loop
-    every entry point runs (compiled.jobs_taken), counting in its own row of ``times (workers,
+    every entry point runs (compiled.grain_taken), counting in its own row of ``times (workers,
     jobs)`` how often it took each (so that two workers' counts of one job never share a
     write)."""
     worker = compiled.take(arrived, 1)
     for _ in range(10**9):  # wait (a while at most) for the other workers: all take at once
         if compiled.take(arrived, 0) >= len(times):
             break
-    for j in compiled.jobs_taken(compiled.Work(jobs, grain, taken)):
-        times[worker, j] += 1
+    work, mine = compiled.Work(jobs, grain, taken), np.zeros(2, np.int64)
+    while compiled.grain_taken(work, mine):
+        for j in range(mine[0], mine[1]):
+            times[worker, j] += 1
 
 
 def _times_taken(jobs, grain, workers):

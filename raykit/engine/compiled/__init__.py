@@ -103,7 +103,7 @@ from raykit.engine.compiled.jobs import (
     SampleRoom,
     ShadingRoom,
     Work,
-    jobs_taken,
+    grain_taken,
     take,
 )
 from raykit.engine.compiled.mirrors import reflect
@@ -162,8 +162,8 @@ __all__ = [
     "CompiledScene", "Film", "KERNEL", "OFFSET_FACTOR", "PACKET_SIDE", "SHADOW_CANDIDATES",
     "WIDE_SIDE", "Arrays", "Lanes", "NearestHit", "Noise", "Prepared", "Ray", "RayRoom",
     "SampleRoom", "Shading", "ShadingRoom", "Tiles", "Tree", "Work", "billboard_color_at",
-    "blinn_phong", "bounce_on", "camera_tuple", "cast_rays", "caster", "hit_billboard",
-    "hit_sphere", "jobs_taken", "keep_nearer", "lambert", "lens_tuple", "light_lanes",
+    "blinn_phong", "bounce_on", "camera_tuple", "cast_rays", "caster", "grain_taken",
+    "hit_billboard", "hit_sphere", "keep_nearer", "lambert", "lens_tuple", "light_lanes",
     "mirror_rays", "nearest_hit", "new_lanes", "new_stack", "prepare", "primary_ray",
     "primary_rays", "rays_through", "reflect", "render", "scene_arrays", "scene_noise",
     "scene_shading", "scene_tree", "screen_tiles", "shade", "shadow_lists", "start",

@@ -1,5 +1,5 @@
 """The workers' jobs: how a render's pixels are cut into jobs (a screen tile's pixels, or a row of
-image points), how a worker takes them (:func:`jobs_taken`, the one loop every entry point of
+image points), how a worker takes them (:func:`grain_taken`, the one loop every entry point of
 :mod:`.render` runs), where each job's results go (:class:`Film`) and the room a worker keeps
 for its rays (:class:`RayRoom`, :class:`ShadingRoom`); and the mean of a pixel's samples
 (:func:`pixel_means`, which repeats :meth:`raykit.engine.regions.Image.mean`). The threads that
@@ -35,29 +35,27 @@ def take(typingctx, taken, count):
     return types.int64(taken, types.int64), codegen
 
 
-# never cached on disk: numba registers a generator's code only in the process that compiles it,
-# and a kernel compiled in a process that loaded the generator from the cache cannot call it
-@njit(**dict(KERNEL, cache=False))
-def jobs_taken(work):
-    """The jobs of ``work`` (a :class:`Work`) that one worker takes, by their place in
-    ``work.jobs``, as a generator: ``work.grain`` at a time from the counter ``work.taken`` that
-    every worker of the call shares (:func:`take`), whenever it is free, so that a worker slowed
-    by other work takes fewer; each job is taken by exactly one worker. Every entry point of
-    :mod:`.render` loops over it."""
-    count, grain = len(work.jobs), work.grain
-    while True:
-        first = take(work.taken, grain)
-        if first >= count:
-            return
-        for j in range(first, min(count, first + grain)):  # noqa: UP028 (numba has no yield from)
-            yield j
+@njit(**KERNEL)
+def grain_taken(work, grain):
+    """The next grain of jobs of ``work`` (a :class:`Work`) that one worker takes, into
+    ``grain (2,)``: the jobs ``work.jobs[grain[0]:grain[1]]``, ``work.grain`` of them (fewer at
+    the end), taken from the counter ``work.taken`` that every worker of the call shares
+    (:func:`take`) whenever the worker is free, so that a worker slowed by other work takes fewer;
+    each job is taken by exactly one worker. False once no job is left. Every entry point of
+    :mod:`.render` loops over it, as ``while grain_taken(work, grain): for j in range(grain[0],
+    grain[1])``, its ``grain`` made once per worker (a plain kernel, not a generator: numba caches
+    no generator on disk, and compiled it again in every process)."""
+    count = len(work.jobs)
+    first = take(work.taken, work.grain)
+    grain[0], grain[1] = first, min(count, first + work.grain)
+    return first < count
 
 
 class Work(NamedTuple):
     """The jobs of one call of an entry point and how its workers share them
     (:func:`~.pool.shares`): ``jobs (J,)`` (tile numbers, CHUNKs of image points, or a
     distributed render's first pixels), the ``grain`` of jobs a worker takes at a time, and the
-    counter ``taken (1,)`` of the jobs taken so far (:func:`jobs_taken`)."""
+    counter ``taken (1,)`` of the jobs taken so far (:func:`grain_taken`)."""
 
     jobs: np.ndarray
     grain: int

@@ -31,10 +31,10 @@ from raykit.engine.compiled.jobs import (
     CHUNK,
     Film,
     background_job,
+    grain_taken,
     job_of,
     job_pixel,
     job_points,
-    jobs_taken,
     new_ray_room,
     new_sample_room,
     new_shading_room,
@@ -259,15 +259,17 @@ def trace_flat(arrays, tiles, camera, film, empty, work):
     A call is one worker (:func:`~.pool.run_workers` makes one a thread, each with the same
     arguments): with its own room for a job's rays (making it for each job cost more than a
     small tile's rays), it takes the jobs of ``work`` a grain at a time
-    (:func:`~.jobs.jobs_taken`). Each job runs on one core, whole (:func:`flat_job`)."""
+    (:func:`~.jobs.grain_taken`). Each job runs on one core, whole (:func:`flat_job`)."""
     points = len(film.xs)
     room = new_ray_room((CHUNK if points else tiles.size * tiles.size) * (len(film.offsets) + 1))
-    for j in jobs_taken(work):
-        job = job_of(work, j, tiles, film)
-        if points or tiles.start[job.tile] < tiles.start[job.tile + 1]:
-            flat_job(arrays, tiles, camera, film, job, room)
-        else:
-            background_job(film, job, empty)
+    grain = np.zeros(2, np.int64)
+    while grain_taken(work, grain):
+        for j in range(grain[0], grain[1]):
+            job = job_of(work, j, tiles, film)
+            if points or tiles.start[job.tile] < tiles.start[job.tile + 1]:
+                flat_job(arrays, tiles, camera, film, job, room)
+            else:
+                background_job(film, job, empty)
 
 
 @njit(**KERNEL)
@@ -314,12 +316,14 @@ def trace_lit(scene, tiles, camera, bounces, film, empty, work):
     points = len(film.xs)
     n = (CHUNK if points else tiles.size * tiles.size) * (len(film.offsets) + 1)
     room, shading_room = new_ray_room(n), new_shading_room(n, scene.shading)
-    for j in jobs_taken(work):
-        job = job_of(work, j, tiles, film)
-        if points or tiles.start[job.tile] < tiles.start[job.tile + 1]:
-            lit_job(scene, tiles, camera, bounces, film, job, room, shading_room)
-        else:
-            background_job(film, job, empty)
+    grain = np.zeros(2, np.int64)
+    while grain_taken(work, grain):
+        for j in range(grain[0], grain[1]):
+            job = job_of(work, j, tiles, film)
+            if points or tiles.start[job.tile] < tiles.start[job.tile + 1]:
+                lit_job(scene, tiles, camera, bounces, film, job, room, shading_room)
+            else:
+                background_job(film, job, empty)
 
 
 @njit(**KERNEL)
@@ -397,9 +401,11 @@ def trace_sampled(scene, camera, lens, noise, bounces, film, work):
     shading_room = new_shading_room(SAMPLED_LANES, scene.shading)
     every_object(scene.tree, scene.shading, shading_room)
     sample_room = new_sample_room(SAMPLED_LANES, noise.dimensions)
-    for j in jobs_taken(work):
-        sampled_lanes(scene, camera, lens, noise, bounces, film, work.jobs[j], sample_room, room,
-                      shading_room)  # fmt: skip
+    grain = np.zeros(2, np.int64)
+    while grain_taken(work, grain):
+        for j in range(grain[0], grain[1]):
+            sampled_lanes(scene, camera, lens, noise, bounces, film, work.jobs[j], sample_room,
+                          room, shading_room)  # fmt: skip
 
 
 @njit(**MAKES_ARRAYS)
@@ -418,9 +424,11 @@ def trace_moving(scene, camera, lens, noise, motion, film, work):
                      arrays.board_colors, arrays.texture_start, arrays.texture_width,
                      arrays.texture_height, arrays.texels, arrays.background)  # fmt: skip
     moved = CompiledScene(at_time, scene.tree, scene.shading)
-    for j in jobs_taken(work):
-        sampled_job(scene, moved, camera, lens, noise, motion, film, work.jobs[j], stack,
-                    sample_room)  # fmt: skip
+    grain = np.zeros(2, np.int64)
+    while grain_taken(work, grain):
+        for j in range(grain[0], grain[1]):
+            sampled_job(scene, moved, camera, lens, noise, motion, film, work.jobs[j], stack,
+                        sample_room)  # fmt: skip
 
 
 @njit(**KERNEL)

@@ -235,7 +235,7 @@ OWN = {
     "jobs.new_shading_room": "room for shading a job's rays",
     "jobs.new_sample_room": "room for a distributed render's samples' uniform numbers",
     "jobs.take": "an atomic add: how workers take jobs",
-    "jobs.jobs_taken": "the jobs a worker takes: the workers' loop",
+    "jobs.grain_taken": "the jobs a worker takes next: the workers' loop",
     "jobs.job_of": "a job's pixels: the workers' own cut of the image",
     "jobs.job_pixel": "a pixel of a job",
     "jobs.job_points": "a job's image points",
