@@ -427,33 +427,35 @@ def trace_moving(scene, camera, lens, noise, motion, film, work):
     grain = np.zeros(2, np.int64)
     while grain_taken(work, grain):
         for j in range(grain[0], grain[1]):
-            sampled_job(scene, moved, camera, lens, noise, motion, film, work.jobs[j], stack,
-                        sample_room)  # fmt: skip
+            sampled_job(arrays.centers, moved, camera, lens, noise, motion, film, work.jobs[j],
+                        stack, sample_room)  # fmt: skip
 
 
 @njit(**KERNEL)
-def spheres_at(arrays, motion, centers, T):
+def spheres_at(standing, motion, centers, T):
     """The centres ``centers (S, 3)`` of the scene's spheres at one ray's time T, as
-    :func:`raykit.render.cast` offers them: a sphere with a velocity at :func:`center_at`, the
-    others where they stand."""
+    :func:`raykit.render.cast` offers them: a sphere with a velocity at :func:`center_at` from
+    where it stands at the shutter's opening, ``standing (S, 3)``, the others there."""
     for i in range(len(centers)):
         if motion.moves[i]:
             velocity = motion.velocities
             centers[i, 0], centers[i, 1], centers[i, 2] = center_at(
-                arrays.centers[i, 0], arrays.centers[i, 1], arrays.centers[i, 2],
+                standing[i, 0], standing[i, 1], standing[i, 2],
                 velocity[i, 0], velocity[i, 1], velocity[i, 2], T,
             )  # fmt: skip
 
 
 @njit(**KERNEL)
-def sampled_job(scene, moved, camera, lens, noise, motion, film, first, stack, sample_room):
+def sampled_job(standing, moved, camera, lens, noise, motion, film, first, stack, sample_room):
     """One job of :func:`trace_moving`: the SAMPLED_PIXELS pixels from pixel ``first`` into
     ``film``, with the worker's ``stack`` (:func:`new_stack`), room for a sample's uniform
     numbers and what its pixel's samples share (:class:`~.jobs.SampleRoom`), and the worker's
-    copy of ``scene``, ``moved``, whose sphere centres it moves to each ray's time in a scene that
-    moves (:class:`Motion`), and every ray reads."""
+    copy of the scene, ``moved``, whose sphere centres it moves from where they stand,
+    ``standing (S, 3)``, to each ray's time in a scene that moves (:class:`Motion`), and every ray
+    reads. (Not the scene itself: each tuple a kernel takes is compiled into it whole, read or
+    not.)"""
     count, wanted, reads = noise.count, noise.wanted, noise.reads
-    arrays, at_time, tree = scene.arrays, moved.arrays, moved.tree
+    at_time, tree = moved.arrays, moved.tree
     numbers, keys = sample_room.numbers[0], sample_room.keys
     width, rgb, index, t = film.width, film.rgb, film.index, film.t
     for p in range(first, min(first + SAMPLED_PIXELS, len(t))):
@@ -467,7 +469,7 @@ def sampled_job(scene, moved, camera, lens, noise, motion, film, first, stack, s
                 if motion.time >= 0:
                     T = shutter_times(motion.shutter_open, motion.shutter_close,
                                       numbers[motion.time])  # fmt: skip
-                spheres_at(arrays, motion, at_time.centers, T)
+                spheres_at(standing, motion, at_time.centers, T)
             x, y = point_in_pixel(row, col, numbers[noise.pixel], numbers[noise.pixel + 1])
             if lens[0] > 0:
                 ray = thin_lens_rays(camera, lens, x, y, numbers[noise.lens],
@@ -489,7 +491,7 @@ def sampled_job(scene, moved, camera, lens, noise, motion, film, first, stack, s
         rgb[p, 2] = b_sum / count
         ray = rays_through(camera, col + 0.5, row + 0.5)  # the pinhole's, with a lens
         if motion.moving:  # at the shutter's opening
-            spheres_at(arrays, motion, at_time.centers, motion.shutter_open)
+            spheres_at(standing, motion, at_time.centers, motion.shutter_open)
         hit = nearest_hit(at_time, tree, stack, ray.o0, ray.o1, ray.o2, ray.d0, ray.d1, ray.d2,
                           np.inf)  # fmt: skip
         index[p], t[p] = hit.index, hit.t
