@@ -25,12 +25,12 @@ def test_a_process_forked_after_a_render_renders_with_worker_threads_of_its_own(
     scene = load_scene(SCENES / "classic.json")
     scene = replace(scene, camera=replace(scene.camera, width=64, height=48))
     prepared = compiled.prepare(scene)
-    rgb = compiled.render(prepared)[0]  # two workers: the parent's pool is made
+    rgb = compiled.render.render(prepared)[0]  # two workers: the parent's pool is made
     assert pool.thread_pool.cache_info().currsize >= 1
     child = os.fork()
     if child == 0:  # pragma: no cover (the child's result is its exit status)
         try:
-            os._exit(0 if np.array_equal(compiled.render(prepared)[0], rgb) else 1)
+            os._exit(0 if np.array_equal(compiled.render.render(prepared)[0], rgb) else 1)
         finally:
             os._exit(2)
     deadline = time.monotonic() + 120

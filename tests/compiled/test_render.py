@@ -4,7 +4,7 @@ to the PNG byte, whoever takes which job, the arguments' kinds and types."""
 from __future__ import annotations
 
 import contextlib
-import importlib
+import inspect
 import json
 from dataclasses import replace
 
@@ -33,11 +33,14 @@ from .harness import (
     two_threads,
 )
 
-render_module = importlib.import_module(
-    "raykit.engine.compiled.render"
-)  # compiled.render: the function
-
 EXAMPLES = sorted(SCENES.glob("*.json"))  # motion_blur.json among them
+
+
+def test_the_renderers_loop_is_a_module_as_the_reference_is():
+    import raykit.engine.compiled.render as loop  # the module, not a function of its name
+
+    assert inspect.ismodule(loop) and loop is compiled.render
+    assert loop.render.__module__ == "raykit.engine.compiled.render"
 
 
 @pytest.mark.parametrize("path", EXAMPLES, ids=lambda p: p.stem)
@@ -126,9 +129,9 @@ def test_a_distributed_scene_refuses_the_n_by_n_grid_in_one_line_with_either_eng
 def test_a_distributed_render_tells_progress_of_every_pixel_once():
     scene = distributed_scene(np.random.default_rng(3), "random", lens=True)
     told = []
-    rgb, _, _ = compiled.render(scene, progress=told.append)
+    rgb, _, _ = compiled.render.render(scene, progress=told.append)
     assert sum(told) == 48 * 36 and len(told) > 1
-    exactly(rgb, compiled.render(scene)[0])
+    exactly(rgb, compiled.render.render(scene)[0])
 
 
 @pytest.mark.parametrize("samples,adaptive", [(2, False), (3, False), (3, True)])
@@ -175,10 +178,10 @@ def test_the_image_does_not_depend_on_which_core_takes_which_tile():
             prepared = compiled.prepare(scene)
             numba.set_num_threads(1)
             samples = 1 if scene.distributed else 2
-            rgb, index, t = compiled.render(prepared, samples)
+            rgb, index, t = compiled.render.render(prepared, samples)
             numba.set_num_threads(threads)
             for progress in (None, lambda rows: None) * 3:  # one call, or one per band of rows
-                again = compiled.render(prepared, samples, progress=progress)
+                again = compiled.render.render(prepared, samples, progress=progress)
                 assert np.array_equal(again[1], index)
                 exactly(again[2], t)
                 exactly(again[0], rgb)
@@ -260,9 +263,9 @@ def test_numba_types_in_python_a_namedtuple_whose_name_and_fields_another_class_
 @pytest.mark.parametrize("name", ["classic.json", "shadow_on_billboard.json"])
 def test_a_prepared_render_finds_its_kernels_without_typing_an_argument_in_python(name):
     prepared = compiled.prepare(load_scene(SCENES / name))
-    compiled.render(prepared)  # loads the kernels (their first call types its arguments)
+    compiled.render.render(prepared)  # loads the kernels (their first call types its arguments)
     with arguments_typed_in_python() as typed:
-        compiled.render(prepared)
+        compiled.render.render(prepared)
     assert typed == []
 
 
@@ -272,14 +275,14 @@ def test_a_prepared_render_asks_nothing_more_of_every_object(monkeypatch):
     from raykit.materials import MaterialTable
 
     prepared = compiled.prepare(load_scene(SCENES / "classic.json"))
-    compiled.render(prepared)
+    compiled.render.render(prepared)
 
     def asked_again(table):
         raise AssertionError("a material column was read again")
 
     for question in ("any_glossy", "any_mirror", "any_shiny"):
         monkeypatch.setattr(MaterialTable, question, property(asked_again))
-    compiled.render(prepared)
+    compiled.render.render(prepared)
 
 
 def test_a_lit_scene_without_mirrors_never_types_the_mirror_rays():
@@ -289,19 +292,17 @@ def test_a_lit_scene_without_mirrors_never_types_the_mirror_rays():
     its entry point is named apart (its own marker and progress line), as
     :func:`raykit.engine.choice.entry_point` names it. (Checked on the IR: which kernels a
     process compiles depends on what its cache already holds.)"""
-    import inspect
-
     from numba.core import ir, types
     from numba.core.analysis import dead_branch_prune
     from numba.core.compiler import run_frontend
 
     from raykit.engine.compiled import shading as kernels
 
-    parameters = list(inspect.signature(render_module.lit_job.py_func).parameters)
+    parameters = list(inspect.signature(compiled.render.lit_job.py_func).parameters)
 
     def calls_mirror_rays(bounces) -> bool:
         kind = types.none if bounces is None else types.boolean
-        lit_job = run_frontend(render_module.lit_job.py_func)
+        lit_job = run_frontend(compiled.render.lit_job.py_func)
         dead_branch_prune(lit_job, tuple(kind if p == "bounces" else types.pyobject
                                          for p in parameters))  # fmt: skip
         return any(
@@ -313,7 +314,7 @@ def test_a_lit_scene_without_mirrors_never_types_the_mirror_rays():
     seen = []
     for name in ("classic", "classic_lit", "mirror_balls"):
         scene = load_scene(SCENES / f"{name}.json")
-        entry, _, leading = render_module._entry(compiled.prepare(scene))
+        entry, _, leading = compiled.render._entry(compiled.prepare(scene))
         seen.append((entry, calls_mirror_rays(leading[-1]) if entry != "trace_flat" else None))
     assert seen == [("trace_flat", None), ("trace_lit", False), ("trace_mirrors", True)]
 
@@ -346,17 +347,17 @@ def test_a_still_distributed_scene_never_types_the_moving_scenes_or_mirrors_kern
 
     seen = []
     for name in ("soft_shadows", "glossy", "motion_blur"):
-        entry, trace, leading = render_module._entry(
+        entry, trace, leading = compiled.render._entry(
             compiled.prepare(load_scene(SCENES / f"{name}.json"))
         )
         called = globals_called(
-            trace, leading[-1] if trace is render_module.trace_sampled else None
+            trace, leading[-1] if trace is compiled.render.trace_sampled else None
         )
-        lanes = render_module.sampled_lanes in called
+        lanes = compiled.render.sampled_lanes in called
         bounces = lanes and kernels.bounce_on in globals_called(
-            render_module.sampled_lanes, leading[-1]
+            compiled.render.sampled_lanes, leading[-1]
         )
-        seen.append((entry, render_module.sampled_job in called, lanes, bounces))
+        seen.append((entry, compiled.render.sampled_job in called, lanes, bounces))
     assert seen == [
         ("trace_sampled", False, True, False),
         ("trace_sampled_mirrors", False, True, True),
@@ -378,7 +379,7 @@ def test_a_second_render_reuses_the_first_ones_memory():
         "prepared = compiled.prepare(scene)\n"
         "for _ in range(3):\n"
         "    before = resource.getrusage(resource.RUSAGE_SELF).ru_minflt\n"
-        "    image = compiled.render(prepared)\n"
+        "    image = compiled.render.render(prepared)\n"
         "    del image\n"
         "print(resource.getrusage(resource.RUSAGE_SELF).ru_minflt - before)\n"
     )

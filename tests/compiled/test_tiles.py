@@ -49,7 +49,7 @@ def test_packets_and_rays_one_at_a_time_render_what_the_numpy_engine_renders(nam
             # and one ray at a time reads lists of several chunks (compiled.primary_ray)
             assert np.diff(tiles.start).max() > 2 * compiled.HOLDING_CHUNK
         for listed in (tiles, reversed_ties):
-            rgb, index, t = compiled.render(prepared._replace(tiles=listed), samples)
+            rgb, index, t = compiled.render.render(prepared._replace(tiles=listed), samples)
             assert np.array_equal(index, reference.object_index), (side, packets)
             exactly(t, reference.t)
             exactly(rgb, reference.rgb)
@@ -184,7 +184,7 @@ def _tiled(side, packets):
             reference = render(scene, engine="numpy")
         prepared = compiled.prepare(scene)
         tiles = compiled.screen_tiles(scene, prepared.arrays, side, packets)
-        rgb, index, t = compiled.render(prepared._replace(tiles=tiles))
+        rgb, index, t = compiled.render.render(prepared._replace(tiles=tiles))
         assert np.array_equal(index, reference.object_index)
         exactly(t, reference.t)
         exactly(rgb, reference.rgb)

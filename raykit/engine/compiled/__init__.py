@@ -40,7 +40,9 @@ leaving every box that starts beyond the nearest hit found, or in a scene of a f
 each (:data:`.bvh.DIRECT_HITS`); a shadow ray stops at its first blocker. Either way a tie keeps
 the lower object index, whatever order objects come in, and a cut-out texel is no hit: the
 answer is :func:`raykit.render.cast`'s. All of it is made once per scene by :func:`prepare`,
-which a caller may keep and render many times.
+which a caller may keep and render many times with :func:`.render.render` (named as the
+reference names its loop, :func:`raykit.render.render`; the package binds no ``render`` of its
+own, which would hide the module of that name).
 
 Lit scenes. :func:`.shading.shade` and :func:`.shading.surface_color` repeat
 :mod:`raykit.shading` for one ray: ambient, Lambert and Blinn-Phong per light, shadow rays
@@ -114,7 +116,6 @@ from raykit.engine.compiled.render import (
     cast_rays,
     caster,
     prepare,
-    render,
     trace_flat,
     trace_lit,
     trace_moving,
@@ -165,7 +166,7 @@ __all__ = [
     "blinn_phong", "bounce_on", "camera_tuple", "cast_rays", "caster", "grain_taken",
     "hit_billboard", "hit_sphere", "keep_nearer", "lambert", "lens_tuple", "light_lanes",
     "mirror_rays", "nearest_hit", "new_lanes", "new_stack", "prepare", "primary_ray",
-    "primary_rays", "rays_through", "reflect", "render", "scene_arrays", "scene_noise",
+    "primary_rays", "rays_through", "reflect", "scene_arrays", "scene_noise",
     "scene_shading", "scene_tree", "screen_tiles", "shade", "shadow_lists", "start",
     "surface_color", "surface_lanes", "surface_points", "take", "thin_lens_rays", "tile_side",
     "trace_flat", "trace_lit", "trace_moving", "trace_sampled",
