@@ -356,6 +356,9 @@ import json, re, time
 import numba
 from engines import benchmark_scenes
 from raykit.engine import compiled as engine
+# the render function: engine.render.render since the renderer's loop is a module of that
+# stem; a revision before it bound the function itself on the package
+render = getattr(engine.render, "render", engine.render)
 scenes = benchmark_scenes({quick!r}, format_v1_only=True)
 if set({names!r}) - set(scenes):  # example scenes of a later format, which this revision reads
     from raykit.io.scene_json import load_scene
@@ -368,7 +371,7 @@ for name in {names!r}:
         tiles = base.tiles if layout is None else engine.screen_tiles(
             scenes[name], base.arrays, *layout)
         prepared[name, layout] = base._replace(tiles=tiles)
-        engine.render(prepared[name, layout])
+        render(prepared[name, layout])
 registers = {{}}
 for asm in engine.primary_rays.inspect_asm().values():
     for kind in ("xmm", "ymm", "zmm"):
@@ -382,9 +385,9 @@ for line in sys.stdin:
     numba.set_num_threads(threads)
     each = prepared[name, None if layout is None else tuple(layout)]
     for _ in range({untimed}):
-        engine.render(each)
+        render(each)
     started = clock()
-    engine.render(each)
+    render(each)
     print(clock() - started, flush=True)
 """
 

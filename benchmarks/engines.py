@@ -254,10 +254,13 @@ def tile_sides(args) -> None:
             for layout in choices
         }
         for each in with_tiles.values():
-            compiled.render(each)  # warm-up
+            compiled.render.render(each)  # warm-up
         # in turns, so that a burst of load from the machine's neighbours falls on every choice
         took = interleaved_medians(
-            {layout: (lambda p=each: compiled.render(p)) for layout, each in with_tiles.items()},
+            {
+                layout: (lambda p=each: compiled.render.render(p))
+                for layout, each in with_tiles.items()
+            },
             args.repeats,
         )
         cells = [seconds(took[layout], 1) + ("*" if layout == chosen else "") for layout in choices]

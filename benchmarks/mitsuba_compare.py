@@ -969,7 +969,7 @@ def set_up_raykit(engine: str, data: dict, folder: Path) -> tuple:
     from raykit.engine import compiled
 
     start = time.perf_counter()
-    picture = compiled.render(loaded)
+    picture = compiled.render.render(loaded)
     first = time.perf_counter() - start
     preparing = []
     for _ in range(3):
@@ -978,7 +978,7 @@ def set_up_raykit(engine: str, data: dict, folder: Path) -> tuple:
         prepared = compiled.prepare(fresh)
         preparing.append(time.perf_counter() - start)
     prepare = statistics.median(preparing)
-    return load, prepare, first, timer(lambda: compiled.render(prepared)), picture
+    return load, prepare, first, timer(lambda: compiled.render.render(prepared)), picture
 
 
 def cold_prepare(path: Path) -> float:

@@ -210,7 +210,8 @@ def raykit_reference(effect: Effect, spp: int, cache: Path) -> np.ndarray:
     if path.exists():
         return np.load(path)
     scene = scene_from_dict(effect.data, effect.source, SCENES)
-    image = compiled.render(replace(scene, sampling=Sampling(spp, "sobol", REFERENCE_SEED)))[0]
+    sampled = replace(scene, sampling=Sampling(spp, "sobol", REFERENCE_SEED))
+    image = compiled.render.render(sampled)[0]
     cache.mkdir(parents=True, exist_ok=True)
     np.save(path, image)
     return image
@@ -262,7 +263,7 @@ def raykit_timers(effect: Effect, scene, path: Path, curve: Curve, truth: np.nda
             sampled = replace(scene, sampling=Sampling(n, curve.sampler, next(seeds)))
             start = time.perf_counter()  # the seed's own sampling (at 1 sample a pixel,
             noise = compiled.scene_noise(sampled) if sampled.distributed else None  # none)
-            image = compiled.render(prepared[n]._replace(scene=sampled, noise=noise))[0]
+            image = compiled.render.render(prepared[n]._replace(scene=sampled, noise=noise))[0]
             took = time.perf_counter() - start
             curve.squared[n].append(float(np.mean((image - truth) ** 2)))
             return took
@@ -388,7 +389,7 @@ def race(effect: Effect, args, child_of, folder: Path, version: str) -> dict | N
         def once(n, sampler=sampler):
             from raykit.engine import compiled
 
-            image = compiled.render(replace(scene, sampling=Sampling(n, sampler, 0)))[0]
+            image = compiled.render.render(replace(scene, sampling=Sampling(n, sampler, 0)))[0]
             return float(np.sqrt(np.mean((image - truth) ** 2)))
 
         counts["raykit", sampler] = counts_reaching(once, lowest, args.most)

@@ -219,7 +219,7 @@ def raykit_timer(effect: Effect, curve: Curve, spp: int, engine: str, converged:
         else:  # the seed's own sampling (None: a scene without one, as prepare leaves it)
             start = time.perf_counter()
             noise = compiled.scene_noise(scene) if scene.distributed else None
-            image = compiled.render(prepared._replace(scene=scene, noise=noise))[0]
+            image = compiled.render.render(prepared._replace(scene=scene, noise=noise))[0]
         took = time.perf_counter() - start
         curve.squared[spp].append(float(np.mean((image - converged) ** 2)))
         return took

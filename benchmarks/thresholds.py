@@ -275,7 +275,7 @@ with open({scenes!r}, "rb") as file:
     scenes = pickle.load(file)
 prepared = {{name: compiled.prepare(scenes[name][0]) for name in {names!r}}}
 for each in prepared.values():
-    compiled.render(each)
+    compiled.render.render(each)
 print(json.dumps({{name: [each.tiles.size, each.tiles.packets]
                   for name, each in prepared.items()}}), flush=True)
 for line in sys.stdin:
@@ -283,9 +283,9 @@ for line in sys.stdin:
     clock = time.process_time if clock == "cpu" else time.perf_counter
     numba.set_num_threads(threads)
     for _ in range({untimed}):
-        compiled.render(prepared[name])
+        compiled.render.render(prepared[name])
     started = clock()
-    compiled.render(prepared[name])
+    compiled.render.render(prepared[name])
     print(clock() - started, flush=True)
 """
 

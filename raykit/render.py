@@ -91,7 +91,7 @@ def render(
     if choose(engine, scene, samples, dtype) == "compiled":
         from raykit.engine import compiled  # imports numba: only when it is used
 
-        return Render(*compiled.render(scene, samples, adaptive=adaptive, progress=progress))
+        return Render(*compiled.render.render(scene, samples, adaptive=adaptive, progress=progress))
     plan = Plan(scene, cast, samples, skip_hidden=skip_hidden, dtype=dtype, progress=progress)
     if adaptive and samples > 1:
         return _adaptive(scene, plan)

@@ -169,7 +169,7 @@ def test_a_distributed_scene_takes_no_n_by_n_grid_besides():
 
 
 def test_the_compiled_engine_takes_a_distributed_scene_and_auto_keeps_a_small_one_on_numpy():
-    # the engines' bytes compared: tests/compiled/test_driver.py
+    # the engines' bytes compared: tests/compiled/test_render.py
     scene = _small("soft_shadows.json")
     assert choose("auto", scene) == "numpy"  # numba's load would cost more than it saves
     if not compiled_available():

@@ -612,11 +612,12 @@ import thresholds
 thresholds.set_constants({{"raykit.engine.compiled.bvh.DIRECT_HITS": 0,
                           "raykit.engine.compiled.tiles.HOLDING_CHUNK": 3, "_nrt": True}})
 from raykit.engine import compiled
-from raykit.engine.compiled import bvh, compiling, driver, shadows, tiles
-assert bvh.DIRECT_HITS == driver.DIRECT_HITS == compiled.DIRECT_HITS == 0
-assert tiles.HOLDING_CHUNK == driver.HOLDING_CHUNK == compiled.HOLDING_CHUNK == 3
+from raykit.engine.compiled import bvh, compiling, jobs, shadows, tiles
+render = sys.modules["raykit.engine.compiled.render"]  # the package's render is the function
+assert bvh.DIRECT_HITS == render.DIRECT_HITS == compiled.DIRECT_HITS == 0
+assert tiles.HOLDING_CHUNK == jobs.HOLDING_CHUNK == compiled.HOLDING_CHUNK == 3
 assert shadows.shadow_lists.targetoptions["_nrt"] is True
-assert "_nrt" not in driver.trace_flat.targetoptions  # one that makes arrays: left alone
+assert "_nrt" not in render.trace_flat.targetoptions  # one that makes arrays: left alone
 assert compiling.KERNEL["_nrt"] is thresholds.code_value(thresholds.CONSTANTS[-1])
 """
     run = subprocess.run(

@@ -139,7 +139,7 @@ def test_a_glossy_render_is_the_same_bytes_for_the_same_seed_whatever_the_tiles(
 
 
 def test_the_compiled_engine_takes_a_glossy_scene_and_auto_keeps_a_small_one_on_numpy():
-    # the engines' bytes compared: tests/compiled/test_driver.py
+    # the engines' bytes compared: tests/compiled/test_render.py
     scene = _small("glossy.json", samples_per_pixel=1)  # one sample: distributed by the gloss
     assert scene.distributed and choose("auto", scene) == "numpy"
     if not compiled_available():

@@ -140,6 +140,24 @@ def same_render(scene, **options):
     assert png(fast.rgb) == png(numpy_image.rgb)
 
 
+def small_render(name, **options):
+    """A check that example scene ``name``, 48 x 32 pixels, renders the same with both engines
+    (:func:`same_render`, with ``options``); it takes a generator, as a twin's check does."""
+    scene = load_scene(SCENES / f"{name}.json")
+    return lambda rng: same_render(
+        replace(scene, camera=replace(scene.camera, width=48, height=32)), **options
+    )
+
+
+def two_threads() -> pytest.MarkDecorator:
+    """Skips a test where numba has fewer than two threads to share the work."""
+    import numba
+
+    return pytest.mark.skipif(
+        numba.config.NUMBA_NUM_THREADS < 2, reason="needs two threads to share the work"
+    )
+
+
 def run_python(code, cwd=REPO, **env):
     return subprocess.run(
         [sys.executable, "-c", code],
@@ -230,7 +248,7 @@ def twin_test(module: str, checks: dict[str, Callable[[np.random.Generator], Non
 
 
 def caster_answers_what_cast_answers(rng):
-    """The compiled engine's caster (:func:`raykit.engine.compiled.driver.cast_rays`, a
+    """The compiled engine's caster (:func:`raykit.engine.compiled.render.cast_rays`, a
     :func:`raykit.engine.compiled.bvh.nearest_hit` per ray) against raykit.render.cast."""
     from raykit.render import cast
 

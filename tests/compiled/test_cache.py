@@ -86,7 +86,7 @@ def _home(name: str, value) -> set[str]:
 
 def test_the_cache_key_holds_every_raykit_module_whose_globals_a_kernel_reads():
     kernels = _kernels()
-    assert "spheres.hit_sphere" in kernels and "driver.lit_job" in kernels
+    assert "spheres.hit_sphere" in kernels and "render.lit_job" in kernels
     key = set(choice.frozen_modules())
     missing = {}
     for kernel_name, kernel in kernels.items():

@@ -21,7 +21,7 @@ def fake_compile(monkeypatch):
     monkeypatch.setattr(compiling.time, "perf_counter", lambda: now[0])
 
     def event(name):
-        kernel = SimpleNamespace(__name__=name, __module__="raykit.engine.compiled.driver")
+        kernel = SimpleNamespace(__name__=name, __module__="raykit.engine.compiled.render")
         return SimpleNamespace(data={"dispatcher": SimpleNamespace(py_func=kernel)})
 
     return compiling, now, event

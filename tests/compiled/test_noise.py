@@ -103,7 +103,7 @@ def _samples(sampler, seed, pixels, k, n, table, wanted):
 
 def _pixel_sample(rng):
     """Every sampler's numbers, all dimensions wanted, then some of them only (pairs and the
-    last single number left out, as :func:`~raykit.engine.compiled.driver.wanted_dimensions`
+    last single number left out, as :func:`~raykit.engine.compiled.noise.wanted_dimensions`
     leaves what a scene does not read): the wanted ones the reference's, the others not
     written."""
     for name, count in (("random", 5), ("jittered", 16), ("jittered", 9), ("sobol", 8),

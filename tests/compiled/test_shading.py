@@ -37,13 +37,14 @@ def _shade(arrays, tree, shading, origins, directions, index, t, color, uniforms
     out = np.empty((len(origins), 3))
     stack = compiled.new_stack()
     none = np.empty(0)
+    scene = compiled.CompiledScene(arrays, tree, shading)
     for i in range(len(origins)):
         o, d, c = origins[i], directions[i], color[i]
         numbers = none if uniforms is None else np.ascontiguousarray(uniforms[i])
+        nearest = compiled.NearestHit(index[i], t[i], c[0], c[1], c[2])
         out[i, 0], out[i, 1], out[i, 2] = compiled.shade(
-            arrays, tree, shading, stack, o[0], o[1], o[2], d[0], d[1], d[2],
-            index[i], t[i], c[0], c[1], c[2], numbers,
-        )  # fmt: skip
+            scene, stack, (o[0], o[1], o[2]), (d[0], d[1], d[2]), nearest, numbers
+        )
     return out
 
 
@@ -97,6 +98,7 @@ def _in_lanes_and_one_by_one(arrays, tree, shading, p, n, d, error, lists):
     rays, best = np.zeros((6, count)), np.zeros(count, dtype=np.int64)
     k = shading.diffuse[0] if shading.has_diffuse[0] else np.full(3, 0.5)
     none = np.empty(0)  # no sample's uniform numbers: no area light to sample
+    scene = compiled.CompiledScene(arrays, tree, shading)
     for tile in range(tiles):
         for axis in range(3):
             box[0, axis], box[1, axis] = p[tile, :, axis].min(), p[tile, :, axis].max()
@@ -108,15 +110,16 @@ def _in_lanes_and_one_by_one(arrays, tree, shading, p, n, d, error, lists):
             pad = 2.0 * compiled.OFFSET_FACTOR * error[tile].max()
             compiled.shadow_lists(arrays, tree, shading, stack, box, pad, volume, candidates,
                                   counts[tile])  # fmt: skip
-        compiled.light_lanes(arrays, tree, shading, stack, rays, best, count, lanes, candidates,
-                             counts[tile], np.empty((0, 0)))  # fmt: skip
+        compiled.light_lanes(scene, stack, rays, best, count, lanes, candidates, counts[tile],
+                             np.empty((0, 0)))  # fmt: skip
         for i in range(count):
             in_lanes[tile, i] = lane_total[:, i]
             one_by_one[tile, i, 0], one_by_one[tile, i, 1], one_by_one[tile, i, 2] = \
                 compiled.surface_color(
-                    arrays, tree, shading, stack, 0, p[tile, i, 0], p[tile, i, 1], p[tile, i, 2],
-                    n[tile, i, 0], n[tile, i, 1], n[tile, i, 2], d[tile, i, 0], d[tile, i, 1],
-                    d[tile, i, 2], error[tile, i], 0.5, 0.5, 0.5, none, 0,
+                    scene, stack, 0, (p[tile, i, 0], p[tile, i, 1], p[tile, i, 2]),
+                    (n[tile, i, 0], n[tile, i, 1], n[tile, i, 2]),
+                    (d[tile, i, 0], d[tile, i, 1], d[tile, i, 2]), error[tile, i],
+                    (0.5, 0.5, 0.5), none, 0,
                 )  # fmt: skip
     return in_lanes, one_by_one, counts
 
@@ -193,7 +196,7 @@ def _lambert(rng):
     n, l = normalize(rng.normal(size=(2, count, 3)))  # FOCG's n and l
     intensity = rng.uniform(size=3)
     n_dot_l = dot(n, l)
-    got = [kernels.lambert(*kd[i], *intensity, n_dot_l[i]) for i in range(count)]
+    got = [kernels.lambert(tuple(kd[i]), tuple(intensity), n_dot_l[i]) for i in range(count)]
     exactly(got, shading.lambert(kd, intensity, n, l))
 
 
@@ -201,7 +204,11 @@ def _blinn_phong(rng):
     count = 4000
     ks, n, l, v = rng.uniform(size=(count, 3)), *normalize(rng.normal(size=(3, count, 3)))
     intensity, p = rng.uniform(size=3), rng.choice([1.0, 8.0, 32.0, 100.0], size=count)
-    got = [kernels.blinn_phong(*ks[i], *intensity, *n[i], *l[i], *v[i], p[i]) for i in range(count)]
+    got = [
+        kernels.blinn_phong(tuple(ks[i]), tuple(intensity), tuple(n[i]), tuple(l[i]), tuple(v[i]),
+                            p[i])
+        for i in range(count)
+    ]  # fmt: skip
     with libm_power():  # the one operation that differs: the pow (raykit.engine.compiled)
         exactly(got, shading.blinn_phong(ks, intensity, n, l, v, p))
 

@@ -49,7 +49,7 @@ def test_packets_and_rays_one_at_a_time_render_what_the_numpy_engine_renders(nam
             # and one ray at a time reads lists of several chunks (compiled.primary_ray)
             assert np.diff(tiles.start).max() > 2 * compiled.HOLDING_CHUNK
         for listed in (tiles, reversed_ties):
-            rgb, index, t = compiled.render(prepared._replace(tiles=listed), samples)
+            rgb, index, t = compiled.render.render(prepared._replace(tiles=listed), samples)
             assert np.array_equal(index, reference.object_index), (side, packets)
             exactly(t, reference.t)
             exactly(rgb, reference.rgb)
@@ -113,7 +113,7 @@ def test_a_packet_tests_an_object_on_every_lane_its_rectangle_holds(samples, ext
     """lanes_under's runs hold every lane whose image point (as job_points lays the lanes out:
     a pixel's samples together, the centre rays after them) the object's rectangle holds, on
     800 seeded rectangles over a tile of 5 x 7 pixels at (21, 13), some past its edges."""
-    from raykit.engine.compiled.driver import TileJob
+    from raykit.engine.compiled.jobs import TileJob
 
     rng = np.random.default_rng(5)
     job = TileJob(first=0, rows=5, top=13, left=21, across=7, tile=0)
@@ -184,7 +184,7 @@ def _tiled(side, packets):
             reference = render(scene, engine="numpy")
         prepared = compiled.prepare(scene)
         tiles = compiled.screen_tiles(scene, prepared.arrays, side, packets)
-        rgb, index, t = compiled.render(prepared._replace(tiles=tiles))
+        rgb, index, t = compiled.render.render(prepared._replace(tiles=tiles))
         assert np.array_equal(index, reference.object_index)
         exactly(t, reference.t)
         exactly(rgb, reference.rgb)

@@ -94,7 +94,7 @@ def test_every_lecture_function_the_numpy_engine_runs_has_a_twin_or_is_shared():
 
     numpy_calls = _calls(lambda: [render(s, samples(s), engine="numpy") for s in scenes()])
     # what the compiled engine runs itself, in Python, as it prepares a scene: shared, not copied
-    shared = _calls(lambda: [compiled.render(s, samples(s)) for s in scenes()])
+    shared = _calls(lambda: [compiled.render.render(s, samples(s)) for s in scenes()])
     # properties and methods of the scene's classes are its data, read by both engines
     shared |= {name for name in numpy_calls if resolve(name) is None}
     twinned = {twin.reference for twin in twins.TWINS} | set(twins.WITHIN) | set(twins.EVERYWHERE)

@@ -1,6 +1,6 @@
 """Random scene files of every kind the scene format allows, from a seeded numpy Generator, for
 the two engines' agreement campaign (``benchmarks/engine_agreement.py``) and its test
-(``tests/compiled/test_driver.py``).
+(``tests/compiled/test_render.py``).
 
 :func:`random_scene` gives a scene file's contents (read by ``scene_from_dict``, whose checks
 it passes), the render's options and the kinds of thing the scene has; :func:`make_textures`

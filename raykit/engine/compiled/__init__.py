@@ -5,8 +5,9 @@ arrays), :mod:`.rays`, :mod:`.spheres`, :mod:`.billboards`, :mod:`.camera`, :mod
 :mod:`.bvh` (the tree walk), :mod:`.surfaces`, :mod:`.lights`, :mod:`.shadows` (and the shadow
 lists), :mod:`.shading` (per ray and in lanes), :mod:`.mirrors`, :mod:`.sampling` and
 :mod:`.noise` (stage 5's sample patterns and uniform numbers), :mod:`.tiles` (screen tiles and
-packets) and :mod:`.driver` (the workers' loop, :mod:`raykit.render` repeated); :mod:`.compiling`
-is the machinery.
+packets) and :mod:`.render` (the renderer's loop, :mod:`raykit.render` repeated, as jobs,
+:mod:`.jobs`, that workers take on the threads of :mod:`.pool`); :mod:`.compiling` is the
+machinery.
 
 Install with ``pip install "raykit[fast]"``; :func:`raykit.render.render` takes it with
 ``engine="compiled"``, or by itself for large renders (``engine="auto"``,
@@ -39,7 +40,9 @@ leaving every box that starts beyond the nearest hit found, or in a scene of a f
 each (:data:`.bvh.DIRECT_HITS`); a shadow ray stops at its first blocker. Either way a tie keeps
 the lower object index, whatever order objects come in, and a cut-out texel is no hit: the
 answer is :func:`raykit.render.cast`'s. All of it is made once per scene by :func:`prepare`,
-which a caller may keep and render many times.
+which a caller may keep and render many times with :func:`.render.render` (named as the
+reference names its loop, :func:`raykit.render.render`; the package binds no ``render`` of its
+own, which would hide the module of that name).
 
 Lit scenes. :func:`.shading.shade` and :func:`.shading.surface_color` repeat
 :mod:`raykit.shading` for one ray: ambient, Lambert and Blinn-Phong per light, shadow rays
@@ -55,7 +58,7 @@ cent of points; with the reference given the same pow, the two engines agree
 bit for bit, and as they stand, within 4 units in the last place and to the PNG byte (tests).
 
 Distributed scenes (stage 5). A scene with area lights, a thin lens, glossy mirrors or many
-samples per pixel renders in a loop of its own (:func:`.driver.trace_sampled`): each job a few
+samples per pixel renders in a loop of its own (:func:`.render.trace_sampled`): each job a few
 pixels, each pixel all its samples in order, every ray (viewing, shadow, mirror) through the
 tree. A sample's uniform numbers are :mod:`raykit.engine.noise`'s, hashed from (seed, pixel,
 sample, dimension) in wrapping uint64 arithmetic (:mod:`.noise`; the Sobol' points and their
@@ -65,10 +68,10 @@ rays (:func:`.camera.thin_lens_rays`) and a glossy mirror's ray
 (:func:`.mirrors.glossy_reflect`) repeat the reference's operations in its order. Motion
 blur: each sample's ray has its own time in the shutter interval (:func:`.sampling.shutter_times`),
 and each worker moves its copy of the sphere centres there (:func:`.spheres.center_at`,
-:func:`.driver.spheres_at`) before the ray, its shadow and mirror rays and its normals read
+:func:`.render.spheres_at`) before the ray, its shadow and mirror rays and its normals read
 them; the tree is then one leaf of every object (:func:`.scene.every_object_tree`), as the
 reference tests every object of a scene that moves. Such a scene renders by an entry point of
-its own (:func:`.driver.trace_moving`), and a still scene's compiles its mirror rays only where
+its own (:func:`.render.trace_moving`), and a still scene's compiles its mirror rays only where
 it has mirrors, so that no scene compiles the kernels of another kind. One corner differs: the
 reference takes a still sphere's normal from c + T·0, which turns a centre coordinate of -0.0
 into +0.0 where its hit test keeps -0.0; the engine keeps c for both, so a normal's component
@@ -94,28 +97,33 @@ from raykit.engine.compiled.camera import (
     thin_lens_rays,
 )
 from raykit.engine.compiled.compiling import KERNEL
-from raykit.engine.compiled.driver import (
+from raykit.engine.compiled.hits import NearestHit, keep_nearer
+from raykit.engine.compiled.jobs import (
     CHUNK,
-    Noise,
-    Prepared,
+    Film,
     RayRoom,
+    SampleRoom,
     ShadingRoom,
+    Work,
+    grain_taken,
+    take,
+)
+from raykit.engine.compiled.mirrors import reflect
+from raykit.engine.compiled.noise import Noise, scene_noise
+from raykit.engine.compiled.rays import Ray
+from raykit.engine.compiled.render import (
+    Prepared,
     cast_rays,
     caster,
     prepare,
-    render,
-    scene_noise,
-    take,
     trace_flat,
     trace_lit,
     trace_moving,
     trace_sampled,
 )
-from raykit.engine.compiled.hits import NearestHit, keep_nearer
-from raykit.engine.compiled.mirrors import reflect
-from raykit.engine.compiled.rays import Ray
 from raykit.engine.compiled.scene import (
     Arrays,
+    CompiledScene,
     Shading,
     Tree,
     scene_arrays,
@@ -152,14 +160,14 @@ from raykit.surfaces import OFFSET_FACTOR
 
 __all__ = [
     "CHUNK", "CROWDED_SIDE", "CameraNumbers", "DIRECT_HITS", "DIRECT_LISTS", "HOLDING_CHUNK",
-    "KERNEL", "OFFSET_FACTOR", "PACKET_SIDE", "SHADOW_CANDIDATES", "WIDE_SIDE", "Arrays",
-    "Lanes", "NearestHit", "Noise", "Prepared", "Ray", "RayRoom", "Shading", "ShadingRoom",
-    "Tiles", "Tree", "billboard_color_at", "blinn_phong", "bounce_on", "camera_tuple",
-    "cast_rays", "caster", "hit_billboard", "hit_sphere", "keep_nearer", "lambert",
-    "lens_tuple", "light_lanes", "mirror_rays", "nearest_hit", "new_lanes", "new_stack",
-    "prepare", "primary_ray", "primary_rays", "rays_through", "reflect", "render",
-    "scene_arrays", "scene_noise", "scene_shading", "scene_tree", "screen_tiles", "shade",
-    "shadow_lists", "start", "surface_color", "surface_lanes", "surface_points", "take",
-    "thin_lens_rays", "tile_side", "trace_flat", "trace_lit", "trace_moving",
-    "trace_sampled",
+    "CompiledScene", "Film", "KERNEL", "OFFSET_FACTOR", "PACKET_SIDE", "SHADOW_CANDIDATES",
+    "WIDE_SIDE", "Arrays", "Lanes", "NearestHit", "Noise", "Prepared", "Ray", "RayRoom",
+    "SampleRoom", "Shading", "ShadingRoom", "Tiles", "Tree", "Work", "billboard_color_at",
+    "blinn_phong", "bounce_on", "camera_tuple", "cast_rays", "caster", "grain_taken",
+    "hit_billboard", "hit_sphere", "keep_nearer", "lambert", "lens_tuple", "light_lanes",
+    "mirror_rays", "nearest_hit", "new_lanes", "new_stack", "prepare", "primary_ray",
+    "primary_rays", "rays_through", "reflect", "scene_arrays", "scene_noise",
+    "scene_shading", "scene_tree", "screen_tiles", "shade", "shadow_lists", "start",
+    "surface_color", "surface_lanes", "surface_points", "take", "thin_lens_rays", "tile_side",
+    "trace_flat", "trace_lit", "trace_moving", "trace_sampled",
 ]  # fmt: skip

@@ -5,7 +5,7 @@ or per tile is its own numba function (``@njit(**KERNEL)``), compiled the first 
 needs it, with the kernels it calls, each once, and cached on disk by itself; a kernel run once
 per ray is compiled once too, and LLVM copies its code into the kernels that call it where its
 own rule finds that it pays (``ONE_RAY``), or always (``INLINED``). So a flat
-scene compiles only the flat scene's kernels (:func:`raykit.engine.compiled.driver.trace_flat`
+scene compiles only the flat scene's kernels (:func:`raykit.engine.compiled.render.trace_flat`
 names no shading kernel), a lit scene adds its own, and a scene with mirrors its mirror rays
 (:func:`raykit.engine.compiled.shading.mirror_rays`).
 

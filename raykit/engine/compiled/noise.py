@@ -6,7 +6,7 @@ its shuffles' round keys and its Sobol' scrambling seeds. :func:`pixel_keys` mak
 pixel, and :func:`sample_numbers` each sample's numbers from them, and only the numbers the scene
 reads (a pinhole camera reads no point on the lens, a scene without mirrors no light's point past
 the first surface): the same operations on the same integers as the reference's, fewer of them per
-sample.
+sample. A scene's sampling reaches the kernels as one :class:`Noise` (:func:`scene_noise`).
 
 Every integer here is uint64 and every constant is made one (``np.uint64(...)``): numba, like
 numpy, wraps uint64 arithmetic, but it turns uint64 mixed with a signed integer into float64,
@@ -14,9 +14,12 @@ which would round the hash."""
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 from numba import njit
 
+from raykit.engine.compiled.camera import lens_tuple
 from raykit.engine.compiled.compiling import INLINED, ONE_RAY
 from raykit.engine.compiled.sampling import jittered_point, owen_hash, reverse_bits
 from raykit.engine.noise import (
@@ -27,9 +30,12 @@ from raykit.engine.noise import (
     SHUFFLE_SAMPLE,
     STRATUM_SAMPLE,
     UNIT,
+    Dimensions,
+    PixelSamples,
 )
 from raykit.sampling import SOBOL_BITS, sobol_points
 from raykit.sampling import reverse_bits as mirrored
+from raykit.scene import Scene
 
 # the samplers' numbers, as the kernels take them (raykit.sampling.SAMPLERS' order)
 RANDOM, JITTERED, SOBOL = 0, 1, 2
@@ -213,3 +219,55 @@ def sobol_table(count: int) -> np.ndarray:
     own :func:`raykit.sampling.sobol_points` and :func:`raykit.sampling.reverse_bits`, the same
     for every pixel (each scrambles its own copy)."""
     return np.require(mirrored(sobol_points(np.arange(count))), np.uint64, "CAW")
+
+
+class Noise(NamedTuple):
+    """A distributed render's sampling (:mod:`raykit.engine.noise`) as
+    :func:`~.render.trace_sampled` takes it: the ``sampler`` (:data:`RANDOM`, ``JITTERED`` or
+    ``SOBOL``), the ``seed``, the samples per pixel ``count`` (``n`` x ``n`` for the jittered
+    sampler), the Sobol' points ``table (count, 2)`` (:func:`sobol_table`; no rows for the other
+    samplers), the ``dimensions`` D of a sample, where in them the point in the pixel and on the
+    lens lie (``pixel``, ``lens``: :class:`raykit.engine.noise.Dimensions`), and which of them a ray
+    of the scene may read, ``wanted (D,)`` (:func:`wanted_dimensions`), and their indices,
+    ``reads``."""
+
+    sampler: int
+    seed: int
+    count: int
+    n: int
+    table: np.ndarray
+    dimensions: int
+    pixel: int
+    lens: int
+    wanted: np.ndarray
+    reads: np.ndarray
+
+
+def wanted_dimensions(scene: Scene, dimensions: Dimensions) -> np.ndarray:
+    """Which of a sample's numbers ``(D,)`` a ray of ``scene`` may read: all but the point on
+    the lens through a pinhole, and, in a scene without mirrors, where no ray goes past its
+    first surface, the area lights' points at a mirror depth past 0 and the glossy bounces'
+    numbers. The reference makes them all; each is a hash of its own counter, so the numbers
+    read are the same either way."""
+    wanted = np.ones(dimensions.count, dtype=np.bool_)
+    if not lens_tuple(scene)[0] > 0:  # thin_lens_rays only where the aperture is open
+        wanted[Dimensions.lens : Dimensions.lens + 2] = False
+    if not scene.materials.mirror.any():  # Shading.is_mirror, without making the rest of it
+        deeper = dimensions.light(1, 0)  # from the first light's point at depth 1 to the time
+        wanted[deeper : dimensions.time] = False
+    return wanted
+
+
+def scene_noise(scene: Scene) -> Noise:
+    """The scene's :class:`Noise`, checked by the reference's own
+    :class:`raykit.engine.noise.PixelSamples` (which refuses a jittered count that is not n x n,
+    and a Sobol' count that is not a power of two, before any work)."""
+    sampling = scene.sampling
+    dimensions = Dimensions.of(scene)
+    samples = PixelSamples(sampling, dimensions.count)
+    sampler = {"random": RANDOM, "jittered": JITTERED, "sobol": SOBOL}[sampling.sampler]
+    wanted = wanted_dimensions(scene, dimensions)
+    count = sampling.samples_per_pixel
+    table = sobol_table(count if sampler == SOBOL else 0)
+    return Noise(sampler, sampling.seed, count, samples.n, table, dimensions.count,
+                 Dimensions.pixel, Dimensions.lens, wanted, np.flatnonzero(wanted))  # fmt: skip

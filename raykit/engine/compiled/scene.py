@@ -158,6 +158,16 @@ class Shading(NamedTuple):
     light_normals: np.ndarray
 
 
+class CompiledScene(NamedTuple):
+    """What a ray of a shaded scene may meet and read, as one argument of the kernels that shade:
+    its objects (:class:`Arrays`), the BVH its shadow and mirror rays walk (:class:`Tree`), and
+    its lights and materials (:class:`Shading`)."""
+
+    arrays: Arrays
+    tree: Tree
+    shading: Shading
+
+
 def scene_shading(scene: Scene) -> Shading:
     """The scene's :class:`Shading`, from the reference's own functions and tables."""
     table = scene.materials
@@ -223,7 +233,7 @@ _NO_TREE = Tree(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 2), np.int64),
 
 class Motion(NamedTuple):
     """A scene's moving spheres (motion blur, :mod:`raykit.sampling`) as :func:`trace_sampled
-    <raykit.engine.compiled.driver.trace_sampled>` moves them: ``moving``, whether any does
+    <raykit.engine.compiled.render.trace_sampled>` moves them: ``moving``, whether any does
     (:attr:`raykit.scene.Scene.moving`); the spheres' ``velocities (S, 3)`` and ``moves (S,)``,
     whether each has a velocity (:func:`raykit.render.cast` moves only those); the shutter's
     ``shutter_open`` and ``shutter_close``; and ``time``, the dimension of a sample's uniform

@@ -24,40 +24,47 @@ from raykit.engine.compiled.surfaces import start, surface_points
 
 
 @njit(**ONE_RAY)
-def lambert(k0, k1, k2, I0, I1, I2, n_dot_l):
-    """Repeats :func:`raykit.shading.lambert` for one point: kd·I·max(0, n·l), given n·l (which
-    its caller has computed already, to know whether the light faces the point)."""
+def lambert(k, I, n_dot_l):  # noqa: E741 (the slides' I)
+    """Repeats :func:`raykit.shading.lambert` for one point: kd·I·max(0, n·l), with ``k`` and
+    ``I`` (r, g, b) tuples, given n·l (which its caller has computed already, to know whether
+    the light faces the point)."""
     facing = 0.0 if n_dot_l <= 0 else n_dot_l  # np.maximum(0.0, n·l), NaN kept
-    return k0 * I0 * facing, k1 * I1 * facing, k2 * I2 * facing
+    return k[0] * I[0] * facing, k[1] * I[1] * facing, k[2] * I[2] * facing
 
 
 @njit(**ONE_RAY)
-def blinn_phong(ks0, ks1, ks2, I0, I1, I2, n0, n1, n2, l0, l1, l2, v0, v1, v2, p):
-    """Repeats :func:`raykit.shading.blinn_phong` for one point: ks·I·max(0, n·h)^p with
-    h = (l + v)/|l + v| (the caller leaves out l + v = 0, as :func:`raykit.shading.surface_color`
-    does). The one operation that may differ from the reference: the power is the C library's
-    pow here and numpy's own (vectorised) power there; they differ by at most one unit in the
-    last place, on a few per cent of highlight points, which no 8-bit pixel shows
-    (tests/compiled/test_shading.py bounds it)."""
-    h0, h1, h2 = l0 + v0, l1 + v1, l2 + v2
+def blinn_phong(ks, I, n, l, v, p):  # noqa: E741 (the slides' I and l)
+    """Repeats :func:`raykit.shading.blinn_phong` for one point: ks·I·max(0, n·h)^p with h = (l +
+    v)/|l + v|, each vector and colour a tuple of three (the caller leaves out l + v = 0, as
+    :func:`raykit.shading.surface_color` does). The one operation that may differ from the
+    reference: the power is the C library's pow here and numpy's own (vectorised) power there; they
+    differ by at most one unit in the last place, on a few per cent of highlight points, which no
+    8-bit pixel shows (tests/compiled/test_shading.py bounds it)."""
+    h0, h1, h2 = l[0] + v[0], l[1] + v[1], l[2] + v[2]
     length = math.sqrt(h0 * h0 + h1 * h1 + h2 * h2)
-    n_dot_h = n0 * (h0 / length) + n1 * (h1 / length) + n2 * (h2 / length)
+    n_dot_h = n[0] * (h0 / length) + n[1] * (h1 / length) + n[2] * (h2 / length)
     power = (n_dot_h if n_dot_h > 0 else 0.0) ** p
-    return ks0 * I0 * power, ks1 * I1 * power, ks2 * I2 * power
+    return ks[0] * I[0] * power, ks[1] * I[1] * power, ks[2] * I[2] * power
 
 
 @njit(**INLINED)
-def surface_color(arrays, tree, shading, stack, hit, p0, p1, p2, n0, n1, n2, d0, d1, d2, error,
-                  r, g, b, uniforms, depth):  # fmt: skip
-    """Repeats :func:`raykit.shading.surface_color` for one hit: object ``hit`` at point p
-    with unit normal n, seen along d, its flat colour (r, g, b); ``error`` is the point's
-    rounding bound (:func:`surface_points`). Shadow rays (:mod:`raykit.shadows`) walk the tree.
+def surface_color(scene, stack, hit, p, n, d, error, color, uniforms, depth):
+    """Repeats :func:`raykit.shading.surface_color` for one hit of ``scene`` (a
+    :class:`~raykit.engine.compiled.scene.CompiledScene`): object ``hit`` at point ``p`` with
+    unit normal ``n``, seen along ``d`` (each a tuple of three), its flat ``color`` (r, g, b);
+    ``error`` is the point's rounding bound (:func:`surface_points`); ``stack`` is room for a
+    tree walk. Shadow rays (:mod:`raykit.shadows`) walk the tree.
     An area light is a point light at this point's own point of it (:func:`sampled`), by the
     ray's sample's uniform numbers ``uniforms (D,)`` for mirror depth ``depth``
     (``shading.light_dims``; empty: at the light's centre). A tile's viewing rays are shaded in
     lanes instead (:func:`light_lanes`), the same operations in the same order for each."""
+    arrays, tree, shading = scene
     if not shading.lit:
-        return r, g, b
+        return color
+    p0, p1, p2 = p
+    n0, n1, n2 = n
+    d0, d1, d2 = d
+    r, g, b = color
     if shading.has_diffuse[hit]:
         k0, k1, k2 = shading.diffuse[hit, 0], shading.diffuse[hit, 1], shading.diffuse[hit, 2]
     else:
@@ -91,13 +98,15 @@ def surface_color(arrays, tree, shading, stack, hit, p0, p1, p2, n0, n1, n2, d0,
         I0, I1, I2 = intensity[j, 0], intensity[j, 1], intensity[j, 2]
         if area >= 0:  # raykit.lights.area_intensity: a physically based light's falls off
             I0, I1, I2 = area_intensity(shading, j, l0, l1, l2, distance)
-        a0, a1, a2 = lambert(k0, k1, k2, I0, I1, I2, n_dot_l)
+        a0, a1, a2 = lambert((k0, k1, k2), (I0, I1, I2), n_dot_l)
         total0, total1, total2 = total0 + a0, total1 + a1, total2 + a2
         v0, v1, v2 = -d0, -d1, -d2
         if shading.is_shiny[hit] and (l0 + v0 != 0 or l1 + v1 != 0 or l2 + v2 != 0):
             ks = shading.specular  # no highlight where l + v = 0, as the reference leaves it
-            s0, s1, s2 = blinn_phong(ks[hit, 0], ks[hit, 1], ks[hit, 2], I0, I1, I2, n0, n1, n2,
-                                     l0, l1, l2, v0, v1, v2, shading.shininess[hit])  # fmt: skip
+            s0, s1, s2 = blinn_phong(
+                (ks[hit, 0], ks[hit, 1], ks[hit, 2]), (I0, I1, I2), n, (l0, l1, l2), (v0, v1, v2),
+                shading.shininess[hit],
+            )  # fmt: skip
             total0, total1, total2 = total0 + s0, total1 + s1, total2 + s2
     return total0, total1, total2
 
@@ -111,7 +120,7 @@ class Lanes(NamedTuple):
     ``t (N,)``, whether the light reaches the point, ``lit (N,)``, and the intensity it sends
     there, ``intensity (3, N)`` (a physically based area light's, each point's own). Each worker
     makes its
-    own as its call starts (:func:`new_lanes`; :func:`~raykit.engine.compiled.driver.trace_lit`)."""
+    own as its call starts (:func:`new_lanes`; :func:`~raykit.engine.compiled.render.trace_lit`)."""
 
     p: np.ndarray
     n: np.ndarray
@@ -182,8 +191,7 @@ def surface_lanes(arrays, shading, rays, best, best_t, colors, count, lanes, box
 
 
 @njit(**KERNEL)  # called once a job: compiled apart, which keeps trace's compile shorter
-def light_lanes(arrays, tree, shading, stack, rays, best, count, lanes, candidates, counts,
-                uniforms):  # fmt: skip
+def light_lanes(scene, stack, rays, best, count, lanes, candidates, counts, uniforms):
     """The lights' part of :func:`surface_color` for ``count`` surface points in ``lanes``
     (:func:`surface_lanes`; those of ``best`` >= 0), seen along the directions in ``rays (6,
     N)``, light by light, each step for all points at once: l and n·l (toward an area light,
@@ -197,6 +205,7 @@ def light_lanes(arrays, tree, shading, stack, rays, best, count, lanes, candidat
     or a billboard's plane tested against every shadow ray, the Lambert term, kept or not) is one
     loop the compiler turns into vector instructions, as many points at a time as the processor's
     vectors hold. A point with no hit or facing away from the light takes nothing from them."""
+    arrays, tree, shading = scene
     spheres = len(arrays.radii)
     centers, radii, corners, planes = arrays.centers, arrays.radii, arrays.corners, arrays.n
     p, n, error, k, total = lanes.p, lanes.n, lanes.error, lanes.k, lanes.total
@@ -285,7 +294,7 @@ def light_lanes(arrays, tree, shading, stack, rays, best, count, lanes, candidat
             J0 = each[0, i] if falls_off else I0
             J1 = each[1, i] if falls_off else I1
             J2 = each[2, i] if falls_off else I2
-            a0, a1, a2 = lambert(k[0, i], k[1, i], k[2, i], J0, J1, J2, n_dot_l[i])
+            a0, a1, a2 = lambert((k[0, i], k[1, i], k[2, i]), (J0, J1, J2), n_dot_l[i])
             sum0, sum1, sum2 = total[0, i] + a0, total[1, i] + a1, total[2, i] + a2
             total[0, i] = sum0 if lit[i] else total[0, i]
             total[1, i] = sum1 if lit[i] else total[1, i]
@@ -301,8 +310,8 @@ def light_lanes(arrays, tree, shading, stack, rays, best, count, lanes, candidat
                 if falls_off:
                     J0, J1, J2 = each[0, i], each[1, i], each[2, i]
                 s0, s1, s2 = blinn_phong(
-                    ks[hit, 0], ks[hit, 1], ks[hit, 2], J0, J1, J2, n[0, i], n[1, i], n[2, i],
-                    l[0, i], l[1, i], l[2, i], v0, v1, v2, shading.shininess[hit],
+                    (ks[hit, 0], ks[hit, 1], ks[hit, 2]), (J0, J1, J2), (n[0, i], n[1, i], n[2, i]),
+                    (l[0, i], l[1, i], l[2, i]), (v0, v1, v2), shading.shininess[hit],
                 )  # fmt: skip
                 total[0, i] += s0
                 total[1, i] += s1
@@ -310,16 +319,23 @@ def light_lanes(arrays, tree, shading, stack, rays, best, count, lanes, candidat
 
 
 @njit(**INLINED)
-def bounce_on(arrays, tree, shading, stack, depth, hit, p0, p1, p2, n0, n1, n2, d0, d1, d2, error,
-              c0, c1, c2, w0, w1, w2, uniforms):  # fmt: skip
-    """The rest of :func:`shade` after the surface at ``depth`` (object ``hit`` at p, normal
-    n, seen along d, rounding bound ``error``) has added its colour to the pixel's (c0, c1, c2):
+def bounce_on(scene, stack, depth, hit, p, n, d, error, color, weight, uniforms):
+    """The rest of :func:`shade` after the surface at ``depth`` (object ``hit`` at ``p``, normal
+    ``n``, seen along ``d``, rounding bound ``error``) has added its colour to the pixel's
+    ``color`` (each a tuple of three):
     mirror rays (:func:`raykit.engine.compiled.mirrors.reflect`, started off the surface,
     :func:`raykit.engine.compiled.surfaces.start`) up to max_depth, each
-    surface's colour weighted by the mirrors' km on the way (w), with the ray's ``uniforms``
+    surface's colour weighted by the mirrors' km on the way (``weight``, from the caller's), with
+    the ray's ``uniforms``
     (:func:`surface_color`), which also perturb a glossy mirror's ray
     (:func:`raykit.engine.compiled.mirrors.glossy_reflect`) in a scene whose samples take them
     (``shading.gloss_dims``)."""
+    arrays, tree, shading = scene
+    p0, p1, p2 = p
+    n0, n1, n2 = n
+    d0, d1, d2 = d
+    c0, c1, c2 = color
+    w0, w1, w2 = weight
     while depth < shading.max_depth and shading.is_mirror[hit]:
         if len(shading.gloss_dims) and len(uniforms):  # raykit.mirrors.glossy_reflect
             first = shading.gloss_dims[depth]
@@ -339,14 +355,14 @@ def bounce_on(arrays, tree, shading, stack, depth, hit, p0, p1, p2, n0, n1, n2, 
             return c0 + w0 * r, c1 + w1 * g, c2 + w2 * b  # the background
         p0, p1, p2, n0, n1, n2, error = surface_points(arrays, shading, o0, o1, o2, d0, d1, d2,
                                                       hit, t)  # fmt: skip
-        s0, s1, s2 = surface_color(arrays, tree, shading, stack, hit, p0, p1, p2, n0, n1, n2,
-                                   d0, d1, d2, error, r, g, b, uniforms, depth)  # fmt: skip
+        s0, s1, s2 = surface_color(scene, stack, hit, (p0, p1, p2), (n0, n1, n2), (d0, d1, d2),
+                                   error, (r, g, b), uniforms, depth)  # fmt: skip
         c0, c1, c2 = c0 + w0 * s0, c1 + w1 * s1, c2 + w2 * s2
     return c0, c1, c2
 
 
 @njit(**KERNEL)
-def mirror_rays(arrays, tree, shading, stack, lanes, rays, best, made, count, colors):
+def mirror_rays(scene, stack, lanes, rays, best, made, count, colors):
     """The mirror rays of a job's ``count`` viewing rays ``rays (6, N)`` (origins, then
     directions), each ray that ``made`` a hit on a mirror (object ``best``, at the surface
     point of ``lanes``, :func:`surface_lanes`): :func:`bounce_on` from its colour so far,
@@ -355,26 +371,29 @@ def mirror_rays(arrays, tree, shading, stack, lanes, rays, best, made, count, co
     point, normal, error = lanes.p, lanes.n, lanes.error
     for i in range(count):
         hit = best[i]
-        if not made[i] or hit < 0 or not shading.is_mirror[hit]:
+        if not made[i] or hit < 0 or not scene.shading.is_mirror[hit]:
             continue
         colors[0, i], colors[1, i], colors[2, i] = bounce_on(
-            arrays, tree, shading, stack, 0, hit, point[0, i], point[1, i], point[2, i],
-            normal[0, i], normal[1, i], normal[2, i], rays[3, i], rays[4, i], rays[5, i],
-            error[i], colors[0, i], colors[1, i], colors[2, i], 1.0, 1.0, 1.0, lanes.t[:0],
+            scene, stack, 0, hit, (point[0, i], point[1, i], point[2, i]),
+            (normal[0, i], normal[1, i], normal[2, i]), (rays[3, i], rays[4, i], rays[5, i]),
+            error[i], (colors[0, i], colors[1, i], colors[2, i]), (1.0, 1.0, 1.0), lanes.t[:0],
         )  # fmt: skip
 
 
 @njit(**INLINED)
-def shade(arrays, tree, shading, stack, o0, o1, o2, d0, d1, d2, hit, t, r, g, b, uniforms):
-    """Repeats :func:`raykit.shading.shade` for one viewing ray and its nearest hit: the surface
-    point (:func:`surface_points`), its colour (:func:`surface_color`), and mirror rays up to
-    max_depth (:func:`bounce_on`); a distributed sample's ``uniforms (D,)`` choose its points
-    on the area lights (empty: their centres)."""
+def shade(scene, stack, o, d, nearest, uniforms):
+    """Repeats :func:`raykit.shading.shade` for one viewing ray of ``scene`` (a
+    :class:`~raykit.engine.compiled.scene.CompiledScene`), from ``o`` along ``d`` (tuples of
+    three), and its ``nearest`` hit (:class:`~raykit.engine.compiled.hits.NearestHit`): the
+    surface point (:func:`surface_points`), its colour (:func:`surface_color`), and mirror rays
+    up to max_depth (:func:`bounce_on`); a distributed sample's ``uniforms (D,)`` choose its
+    points on the area lights (empty: their centres)."""
+    hit, t, r, g, b = nearest.index, nearest.t, nearest.r, nearest.g, nearest.b
     if hit < 0:
         return 0.0 + 1.0 * r, 0.0 + 1.0 * g, 0.0 + 1.0 * b  # the background, weighted 1
-    p0, p1, p2, n0, n1, n2, error = surface_points(arrays, shading, o0, o1, o2, d0, d1, d2, hit, t)
-    s0, s1, s2 = surface_color(arrays, tree, shading, stack, hit, p0, p1, p2, n0, n1, n2, d0, d1,
-                               d2, error, r, g, b, uniforms, 0)  # fmt: skip
+    p0, p1, p2, n0, n1, n2, error = surface_points(scene.arrays, scene.shading, o[0], o[1], o[2],
+                                                  d[0], d[1], d[2], hit, t)  # fmt: skip
+    p, n = (p0, p1, p2), (n0, n1, n2)
+    s0, s1, s2 = surface_color(scene, stack, hit, p, n, d, error, (r, g, b), uniforms, 0)
     c0, c1, c2 = 0.0 + 1.0 * s0, 0.0 + 1.0 * s1, 0.0 + 1.0 * s2  # weighted 1, added to nothing
-    return bounce_on(arrays, tree, shading, stack, 0, hit, p0, p1, p2, n0, n1, n2, d0, d1, d2,
-                     error, c0, c1, c2, 1.0, 1.0, 1.0, uniforms)  # fmt: skip
+    return bounce_on(scene, stack, 0, hit, p, n, d, error, (c0, c1, c2), (1.0, 1.0, 1.0), uniforms)

@@ -168,7 +168,7 @@ def lanes_under(entry, job, samples, extra):
     """The lanes of a packet (:func:`primary_rays`) that the rectangle of ``entry`` (x0, x1, y0,
     y1, closest) can hold, as one run ``first:end`` of each of its two parts, ``(first, end,
     first_centre, end_centre)``: the pixels of ``job`` (a
-    :class:`~raykit.engine.compiled.driver.TileJob`) whose square [px, px + 1) x [py, py + 1)
+    :class:`~raykit.engine.compiled.jobs.TileJob`) whose square [px, px + 1) x [py, py + 1)
     meets the rectangle lie in its rows and columns from the first such pixel to the last,
     and a pixel's ``samples`` lanes lie together (lane q·S + s), its ray through the centre,
     if cast apart (``extra`` 1), after all those (lane P·S + q). Every image point lies in
@@ -224,7 +224,7 @@ NOT_HELD = -2.0  # for a lane the rectangle does not hold (a hit taken is t > 0)
 def take_nearer(ts, start, end, obj, r, g, b, room):
     """Each lane of ``start:end`` whose ``ts`` is a hit (t >= 0, not HELD or NOT_HELD) takes it:
     object ``obj``, that t and the colour (r, g, b), into ``room`` (a
-    :class:`~raykit.engine.compiled.driver.RayRoom`); a lane held is ``made``. Returns how many
+    :class:`~raykit.engine.compiled.jobs.RayRoom`); a lane held is ``made``. Returns how many
     lanes had no hit before, and how many took one. One loop per array written, each turned
     into vector instructions (a loop that writes several arrays is not: the compiler cannot
     tell that they do not overlap)."""
@@ -253,10 +253,10 @@ def take_nearer(ts, start, end, obj, r, g, b, room):
 @njit(**KERNEL)
 def primary_rays(arrays, tiles, camera, job, samples, extra, room):
     """:func:`primary_ray` for every image point of ``room`` at once, all in the tile of ``job``
-    (a :class:`~raykit.engine.compiled.driver.TileJob`), laid out as
-    :func:`~raykit.engine.compiled.driver.job_points` lays them out (``samples`` a pixel, and
+    (a :class:`~raykit.engine.compiled.jobs.TileJob`), laid out as
+    :func:`~raykit.engine.compiled.jobs.job_points` lays them out (``samples`` a pixel, and
     ``extra`` 1 for a ray through each pixel's centre after those): a packet of rays, each a
-    lane of arrays (a :class:`~raykit.engine.compiled.driver.RayRoom`'s: points ``xy (2, L)`` in,
+    lane of arrays (a :class:`~raykit.engine.compiled.jobs.RayRoom`'s: points ``xy (2, L)`` in,
     ``rays (6, L)``, ``best (L,)``, ``best_t``, ``colors (3, L)``, ``made`` out; ``ts``,
     ``alphas``, ``betas`` room). The tile's objects are taken in turn, and each is tested
     against the lanes its screen rectangle can hold (:func:`lanes_under`), with one loop that

@@ -1,13 +1,11 @@
-"""The workers' loop (raykit.engine.compiled.driver) against raykit.render.render: whole renders to
-the PNG byte, the workers' jobs, the arguments' kinds and types."""
+"""The renderer's loop (raykit.engine.compiled.render) against raykit.render.render: whole renders
+to the PNG byte, whoever takes which job, the arguments' kinds and types."""
 
 from __future__ import annotations
 
 import contextlib
+import inspect
 import json
-import os
-import signal
-import time
 from dataclasses import replace
 
 import numba
@@ -17,7 +15,6 @@ import pytest
 from conftest import SCENES, shifted_scene
 from raykit.engine import compiled
 from raykit.engine.choice import compiled_refuses
-from raykit.engine.compiled import driver
 from raykit.io.scene_json import load_scene, scene_from_dict
 from raykit.lights import AreaLight
 from raykit.render import render
@@ -31,10 +28,19 @@ from .harness import (
     packet_scenes,
     run_python,
     same_render,
+    small_render,
     twin_test,
+    two_threads,
 )
 
 EXAMPLES = sorted(SCENES.glob("*.json"))  # motion_blur.json among them
+
+
+def test_the_renderers_loop_is_a_module_as_the_reference_is():
+    import raykit.engine.compiled.render as loop  # the module, not a function of its name
+
+    assert inspect.ismodule(loop) and loop is compiled.render
+    assert loop.render.__module__ == "raykit.engine.compiled.render"
 
 
 @pytest.mark.parametrize("path", EXAMPLES, ids=lambda p: p.stem)
@@ -123,9 +129,9 @@ def test_a_distributed_scene_refuses_the_n_by_n_grid_in_one_line_with_either_eng
 def test_a_distributed_render_tells_progress_of_every_pixel_once():
     scene = distributed_scene(np.random.default_rng(3), "random", lens=True)
     told = []
-    rgb, _, _ = compiled.render(scene, progress=told.append)
+    rgb, _, _ = compiled.render.render(scene, progress=told.append)
     assert sum(told) == 48 * 36 and len(told) > 1
-    exactly(rgb, compiled.render(scene)[0])
+    exactly(rgb, compiled.render.render(scene)[0])
 
 
 @pytest.mark.parametrize("samples,adaptive", [(2, False), (3, False), (3, True)])
@@ -157,70 +163,7 @@ def test_far_tiny_sphere_and_a_scene_at_1e6_render_the_same_with_both_engines():
     same_render(replace(moved, camera=replace(moved.camera, width=120, height=90)))
 
 
-@numba.njit(nogil=True)
-def _take_jobs(jobs, grain, taken, arrived, times):
-    """One worker taking ``grain`` of ``jobs`` at a time from the counter ``taken``, as a call of
-    compiled.trace_flat does, counting in its own row of ``times (workers, jobs)`` how often it
-    took each (so that two workers' counts of one job never share a write)."""
-    worker = compiled.take(arrived, 1)
-    for _ in range(10**9):  # wait (a while at most) for the other workers: all take at once
-        if compiled.take(arrived, 0) >= len(times):
-            break
-    while True:
-        first = compiled.take(taken, grain)
-        if first >= jobs:
-            break
-        for j in range(first, min(jobs, first + grain)):
-            times[worker, j] += 1
-
-
-def _times_taken(jobs, grain, workers):
-    """How often each of ``workers`` workers, run as the driver runs them (_run_workers), takes
-    each of ``jobs``: ``(workers, jobs)``."""
-    times = np.zeros((workers, jobs), dtype=np.int64)
-    arguments = (jobs, grain, np.zeros(1, np.int64), np.zeros(1, np.int64), times)
-    driver._run_workers(_take_jobs, arguments, workers)
-    return times
-
-
-_TWO_CORES = pytest.mark.skipif(
-    numba.config.NUMBA_NUM_THREADS < 2, reason="needs two threads to share the work"
-)
-
-
-@_TWO_CORES
-@pytest.mark.parametrize("grain", [1, 7])
-def test_cores_taking_jobs_from_one_counter_take_each_job_exactly_once(grain):
-    # with a plain add for take, both workers took every job (measured)
-    assert (_times_taken(1_000_000, grain, 2).sum(axis=0) == 1).all()
-
-
-@_TWO_CORES
-def test_a_process_forked_after_a_render_renders_with_worker_threads_of_its_own():
-    # a child forked from a process whose pool of workers' threads exists has none of those
-    # threads: handed the parent's pool, it would wait for ever on work no thread runs
-    scene = load_scene(SCENES / "classic.json")
-    scene = replace(scene, camera=replace(scene.camera, width=64, height=48))
-    prepared = compiled.prepare(scene)
-    rgb = compiled.render(prepared)[0]  # two workers: the parent's pool is made
-    assert driver._pool.cache_info().currsize >= 1
-    child = os.fork()
-    if child == 0:  # pragma: no cover (the child's result is its exit status)
-        try:
-            os._exit(0 if np.array_equal(compiled.render(prepared)[0], rgb) else 1)
-        finally:
-            os._exit(2)
-    deadline = time.monotonic() + 120
-    while (status := os.waitpid(child, os.WNOHANG))[0] == 0 and time.monotonic() < deadline:
-        time.sleep(0.05)
-    if status[0] == 0:
-        os.kill(child, signal.SIGKILL)
-        os.waitpid(child, 0)
-        pytest.fail("the forked child's render did not end within 120 s")
-    assert os.waitstatus_to_exitcode(status[1]) == 0
-
-
-@_TWO_CORES
+@two_threads()
 def test_the_image_does_not_depend_on_which_core_takes_which_tile():
     scenes = [packet_scenes()["classic_lit_at_1e6"], crowd(np.random.default_rng(11), 200)]
     mirrors = load_scene(SCENES / "mirror_balls.json")
@@ -235,10 +178,10 @@ def test_the_image_does_not_depend_on_which_core_takes_which_tile():
             prepared = compiled.prepare(scene)
             numba.set_num_threads(1)
             samples = 1 if scene.distributed else 2
-            rgb, index, t = compiled.render(prepared, samples)
+            rgb, index, t = compiled.render.render(prepared, samples)
             numba.set_num_threads(threads)
             for progress in (None, lambda rows: None) * 3:  # one call, or one per band of rows
-                again = compiled.render(prepared, samples, progress=progress)
+                again = compiled.render.render(prepared, samples, progress=progress)
                 assert np.array_equal(again[1], index)
                 exactly(again[2], t)
                 exactly(again[0], rgb)
@@ -320,9 +263,9 @@ def test_numba_types_in_python_a_namedtuple_whose_name_and_fields_another_class_
 @pytest.mark.parametrize("name", ["classic.json", "shadow_on_billboard.json"])
 def test_a_prepared_render_finds_its_kernels_without_typing_an_argument_in_python(name):
     prepared = compiled.prepare(load_scene(SCENES / name))
-    compiled.render(prepared)  # loads the kernels (their first call types its arguments)
+    compiled.render.render(prepared)  # loads the kernels (their first call types its arguments)
     with arguments_typed_in_python() as typed:
-        compiled.render(prepared)
+        compiled.render.render(prepared)
     assert typed == []
 
 
@@ -332,14 +275,14 @@ def test_a_prepared_render_asks_nothing_more_of_every_object(monkeypatch):
     from raykit.materials import MaterialTable
 
     prepared = compiled.prepare(load_scene(SCENES / "classic.json"))
-    compiled.render(prepared)
+    compiled.render.render(prepared)
 
     def asked_again(table):
         raise AssertionError("a material column was read again")
 
     for question in ("any_glossy", "any_mirror", "any_shiny"):
         monkeypatch.setattr(MaterialTable, question, property(asked_again))
-    compiled.render(prepared)
+    compiled.render.render(prepared)
 
 
 def test_a_lit_scene_without_mirrors_never_types_the_mirror_rays():
@@ -349,20 +292,17 @@ def test_a_lit_scene_without_mirrors_never_types_the_mirror_rays():
     its entry point is named apart (its own marker and progress line), as
     :func:`raykit.engine.choice.entry_point` names it. (Checked on the IR: which kernels a
     process compiles depends on what its cache already holds.)"""
-    import inspect
-
     from numba.core import ir, types
     from numba.core.analysis import dead_branch_prune
     from numba.core.compiler import run_frontend
 
-    from raykit.engine.compiled import driver
     from raykit.engine.compiled import shading as kernels
 
-    parameters = list(inspect.signature(driver.lit_job.py_func).parameters)
+    parameters = list(inspect.signature(compiled.render.lit_job.py_func).parameters)
 
     def calls_mirror_rays(bounces) -> bool:
         kind = types.none if bounces is None else types.boolean
-        lit_job = run_frontend(driver.lit_job.py_func)
+        lit_job = run_frontend(compiled.render.lit_job.py_func)
         dead_branch_prune(lit_job, tuple(kind if p == "bounces" else types.pyobject
                                          for p in parameters))  # fmt: skip
         return any(
@@ -374,7 +314,7 @@ def test_a_lit_scene_without_mirrors_never_types_the_mirror_rays():
     seen = []
     for name in ("classic", "classic_lit", "mirror_balls"):
         scene = load_scene(SCENES / f"{name}.json")
-        entry, _, leading = driver._entry(compiled.prepare(scene))
+        entry, _, leading = compiled.render._entry(compiled.prepare(scene))
         seen.append((entry, calls_mirror_rays(leading[-1]) if entry != "trace_flat" else None))
     assert seen == [("trace_flat", None), ("trace_lit", False), ("trace_mirrors", True)]
 
@@ -390,7 +330,6 @@ def test_a_still_distributed_scene_never_types_the_moving_scenes_or_mirrors_kern
     from numba.core.analysis import dead_branch_prune
     from numba.core.compiler import run_frontend
 
-    from raykit.engine.compiled import driver
     from raykit.engine.compiled import shading as kernels
 
     def globals_called(kernel, bounces) -> set:
@@ -408,11 +347,17 @@ def test_a_still_distributed_scene_never_types_the_moving_scenes_or_mirrors_kern
 
     seen = []
     for name in ("soft_shadows", "glossy", "motion_blur"):
-        entry, trace, leading = driver._entry(compiled.prepare(load_scene(SCENES / f"{name}.json")))
-        called = globals_called(trace, leading[-1] if trace is driver.trace_sampled else None)
-        lanes = driver.sampled_lanes in called
-        bounces = lanes and kernels.bounce_on in globals_called(driver.sampled_lanes, leading[-1])
-        seen.append((entry, driver.sampled_job in called, lanes, bounces))
+        entry, trace, leading = compiled.render._entry(
+            compiled.prepare(load_scene(SCENES / f"{name}.json"))
+        )
+        called = globals_called(
+            trace, leading[-1] if trace is compiled.render.trace_sampled else None
+        )
+        lanes = compiled.render.sampled_lanes in called
+        bounces = lanes and kernels.bounce_on in globals_called(
+            compiled.render.sampled_lanes, leading[-1]
+        )
+        seen.append((entry, compiled.render.sampled_job in called, lanes, bounces))
     assert seen == [
         ("trace_sampled", False, True, False),
         ("trace_sampled_mirrors", False, True, True),
@@ -434,7 +379,7 @@ def test_a_second_render_reuses_the_first_ones_memory():
         "prepared = compiled.prepare(scene)\n"
         "for _ in range(3):\n"
         "    before = resource.getrusage(resource.RUSAGE_SELF).ru_minflt\n"
-        "    image = compiled.render(prepared)\n"
+        "    image = compiled.render.render(prepared)\n"
         "    del image\n"
         "print(resource.getrusage(resource.RUSAGE_SELF).ru_minflt - before)\n"
     )
@@ -475,13 +420,6 @@ def test_random_scenes_of_every_kind_render_the_same_with_both_engines(tmp_path)
     assert KINDS_NEVER_RENDERED_ELSEWHERE <= kinds and adaptive
 
 
-def _small(name, **options):
-    scene = load_scene(SCENES / f"{name}.json")
-    return lambda rng: same_render(
-        replace(scene, camera=replace(scene.camera, width=48, height=32)), **options
-    )
-
-
 def _distributed(sampler, **effects):
     return lambda rng: same_render(distributed_scene(rng, sampler, **effects))
 
@@ -495,18 +433,17 @@ def _in_lanes(rng):
 
 
 CHECKS = {
-    "driver.trace_sampled": _distributed("jittered", lens=True, mirrors=True),
-    "driver.trace_moving": _distributed("jittered", lights=False, moving=True),
-    "driver.sampled_job": _distributed("sobol", mirrors=True, glossy=True, moving=True),
-    "driver.sampled_lanes": _in_lanes,
-    "driver.cast_lanes": _distributed("jittered", lens=True, lights=False),
-    "driver.cast_each": _in_lanes,
-    "driver.cast_rays": caster_answers_what_cast_answers,
-    "driver.trace_flat": _small("classic"),
-    "driver.flat_job": _small("cutouts"),
-    "driver.trace_lit": _small("classic_lit"),
-    "driver.lit_job": _small("mirror_balls"),
-    "driver.pixel_means": _small("classic", samples=3),
-    "driver.spheres_at": _distributed("random", lens=True, mirrors=True, moving=True),
+    "render.trace_sampled": _distributed("jittered", lens=True, mirrors=True),
+    "render.trace_moving": _distributed("jittered", lights=False, moving=True),
+    "render.sampled_job": _distributed("sobol", mirrors=True, glossy=True, moving=True),
+    "render.sampled_lanes": _in_lanes,
+    "render.cast_lanes": _distributed("jittered", lens=True, lights=False),
+    "render.cast_each": _in_lanes,
+    "render.cast_rays": caster_answers_what_cast_answers,
+    "render.trace_flat": small_render("classic"),
+    "render.flat_job": small_render("cutouts"),
+    "render.trace_lit": small_render("classic_lit"),
+    "render.lit_job": small_render("mirror_balls"),
+    "render.spheres_at": _distributed("random", lens=True, mirrors=True, moving=True),
 }
-test_the_twin_repeats_its_reference = twin_test("driver", CHECKS)
+test_the_twin_repeats_its_reference = twin_test("render", CHECKS)

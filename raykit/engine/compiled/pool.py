@@ -1,0 +1,78 @@
+"""The threads that run a render's workers: how many (:func:`worker_count`), how they share the
+jobs (:func:`shares`), the pool (:func:`thread_pool`), and one call of an entry point of
+:mod:`.render` on all of them (:func:`run`), compiled first where the cache has none. Plain
+Python: the workers are the kernels, each taking its jobs (:func:`.jobs.grain_taken`)."""
+
+from __future__ import annotations
+
+import functools
+import os
+import time
+from concurrent.futures import ThreadPoolExecutor
+
+import numba
+import numpy as np
+
+from raykit.engine.compiled.compiling import compile_clock, finished, marked
+from raykit.engine.compiled.jobs import Work
+
+GRAINS_PER_WORKER = 16  # takes of jobs per worker: few enough that taking costs nothing, and
+# many enough that a worker slowed by other work leaves little for the others to wait on
+
+
+def worker_count(jobs: np.ndarray) -> int:
+    """How many workers share ``jobs`` (one at least): one per numba thread
+    (numba.get_num_threads(), which numba.set_num_threads sets), and not more than the jobs."""
+    return max(1, min(numba.get_num_threads(), len(jobs)))
+
+
+def shares(jobs: np.ndarray) -> Work:
+    """How the workers of one call share ``jobs (J,)``: a :class:`~.jobs.Work` with the jobs a
+    worker takes at a time, GRAINS_PER_WORKER takes a worker, and a counter of none taken yet."""
+    grain = max(1, len(jobs) // (worker_count(jobs) * GRAINS_PER_WORKER))
+    return Work(jobs, grain, np.zeros(1, dtype=np.int64))
+
+
+READY: set[str] = set()  # entry points compiled or loaded from the cache in this process
+
+
+def run(name, entry, *arguments) -> None:
+    """``entry(*arguments)`` on :func:`worker_count` threads at once (:func:`run_workers`), sharing
+    the jobs of its last argument, a :class:`~.jobs.Work` (:func:`shares`). The first time in a
+    process whose cache has no marker for ``name``
+    (:func:`~raykit.engine.compiled.compiling.marked`), it is compiled first, in this thread, with
+    the progress line of its compile (:func:`~raykit.engine.compiled.compiling.compile_clock`), and
+    then marked."""
+    if name not in READY and not marked(name):
+        started = time.perf_counter()
+        with compile_clock(name):
+            entry.compile(tuple(entry.typeof_pyval(argument) for argument in arguments))
+        finished(name, time.perf_counter() - started)
+    READY.add(name)
+    run_workers(entry, arguments, worker_count(arguments[-1].jobs))
+
+
+def run_workers(entry, arguments, workers: int) -> None:
+    """``entry(*arguments)`` in ``workers`` threads at once, this one and others of a pool: the
+    kernels hold no lock of Python's (nogil), so each runs on a core of its own. Threads of
+    Python's, not numba's parallel loop (prange): numba compiles such a loop into a function of
+    its own, and a kernel's code is made again in each function that calls it, so that the
+    loop made the largest part of a first use's compile twice. Returns when every worker has;
+    a worker's error is raised here."""
+    if workers == 1:
+        entry(*arguments)
+        return
+    others = [thread_pool(os.getpid()).submit(entry, *arguments) for _ in range(workers - 1)]
+    try:
+        entry(*arguments)
+    finally:  # even on a Ctrl-C: no worker writes into the arrays once this returns
+        for other in others:
+            other.result()
+
+
+@functools.cache
+def thread_pool(process: int) -> ThreadPoolExecutor:
+    """The threads of :func:`run_workers`' workers but the caller's, made once a ``process``
+    (its id: a child forked from a process that made them has none of their threads): one
+    fewer than numba's most threads, which numba.set_num_threads cannot exceed."""
+    return ThreadPoolExecutor(max(1, numba.config.NUMBA_NUM_THREADS - 1), "raykit-worker")
