@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 import os
+import resource
 import subprocess
 import sys
 import sysconfig
@@ -66,6 +67,34 @@ def test_the_child_starts_in_a_session_of_its_own_first_to_go_under_the_tasks_li
         "NOFILE": [40, 40], "SIGPENDING": [SIGNALS_PENDING] * 2, "NPROC": [16, 16],
         "leads its session": True, "oom": "1000",
     }  # fmt: skip
+
+
+class _NoHardLimitOfProcesses:
+    """The resource module as a user with no hard limit of processes sees it (as in a
+    container started with none), for a child forked from this test."""
+
+    def __getattr__(self, name: str):
+        return getattr(resource, name)
+
+    @staticmethod
+    def getrlimit(which: int) -> tuple[int, int]:
+        if which == resource.RLIMIT_NPROC:
+            return resource.RLIM_INFINITY, resource.RLIM_INFINITY
+        return resource.getrlimit(which)
+
+
+def test_a_normal_users_child_may_run_its_processes_beside_the_users_under_any_hard_limit(
+    monkeypatch,
+):
+    """Processes count per user: a normal user's child gets room for the task's 16 besides
+    the user's own (a cap below this user's own limit), and such a cap where the user has no
+    limit at all."""
+    here = resource.getrlimit(resource.RLIMIT_NPROC)[1]
+    for unlimited in (False, True):
+        if unlimited:
+            monkeypatch.setattr(bubblewrap, "resource", _NoHardLimitOfProcesses())
+        soft, hard = _limited(as_root=False)["NPROC"]
+        assert 16 < soft == hard and (soft < here or here == resource.RLIM_INFINITY), unlimited
 
 
 def test_bwrap_reads_its_arguments_and_seccomp_program_from_files_it_alone_is_given(
