@@ -21,6 +21,7 @@ import pytest
 SLOW_MODULES = {
     "test_grade.py",
     "test_batch.py",
+    "test_report.py",
     "test_isolation.py",
     "test_base.py",
     "test_chroot.py",
@@ -46,17 +47,18 @@ SLOW_FOLDERS = {"compiled", "hostile"}  # tests/compiled/: the compiled engine's
 # The suite runs on every core (pytest-xdist: ``-n auto`` in pyproject.toml), a test on
 # whichever worker is free, except these groups, each kept on one worker in its order: a
 # notebook's cells (each runs on the kernel the cells before it left); the tests of a module
-# whose costly fixture is made once a module; and the hostile suite one way of grading at a time
-# (its autograder is made once a way), with the module that builds the same image for that way.
+# whose costly fixture is made once a module; the modules of the class tests/conftest.py grades
+# once a session (graded_class); and the hostile suite one way of grading at a time (its
+# autograder is made once a way), with the module that builds the same image for that way.
 # xdist's own groups (the xdist_group mark) are lost on pytest 9.2 (pytest-xdist issue 1386), so
 # the scheduler below reads the groups from the tests' ids.
 ONE_WORKER_MODULES = {
-    "test_batch.py",
     "test_deck.py",
     "test_seeds.py",
     "test_linescan3d.py",
     "test_site.py",
 }
+SAME_CLASS = {"test_batch.py", "test_report.py"}  # the grading/ modules using graded_class
 SAME_IMAGE = {
     "test_containers.py": "container",
     "test_prairielearn.py": "prairielearn",
@@ -72,6 +74,8 @@ def worker_group(nodeid: str) -> str | None:
     folder, _, name = path.rpartition("/")
     if name.endswith(".ipynb") or name in ONE_WORKER_MODULES:
         return path
+    if name in SAME_CLASS:
+        return "grading-class"
     if name in SAME_IMAGE:
         return f"grading-{SAME_IMAGE[name]}"
     if folder.rsplit("/", 1)[-1] == HOSTILE and test.endswith("]"):

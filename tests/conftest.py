@@ -199,6 +199,59 @@ def solution(tmp_path_factory) -> Path:
     return make_submission(tmp_path_factory.mktemp("solution"))
 
 
+# the tests the class is graded on: a ray-sphere array test, the camera frame, a render: 7 points
+CLASS_TESTS = ["2.3", "3.1", "3.6"]
+
+
+@pytest.fixture(scope="session")
+def graded_class(tmp_path_factory, release):
+    """A class graded end to end by ``batch``, once: honest, half-done, mistaken, non-importing
+    and zipped submissions beside a Gradescope export, graded on :data:`CLASS_TESTS` by the
+    documented command: (its output folder, the run). Its users, grading/test_batch.py and
+    grading/test_report.py, share one worker (conftest.py at the top), so it is made once."""
+    import shutil
+    import subprocess
+    import sys
+    import zipfile
+
+    from gradescope_export import make_export
+
+    from mistaken_submissions import make_submission
+
+    root = tmp_path_factory.mktemp("class")
+    students = root / "submissions"
+    make_submission(students / "ada")  # honest
+    hal = make_submission(students / "hal")  # half-done: spheres.py as the kit gives it
+    shutil.copy(release / "raykit/spheres.py", hal / "raykit/spheres.py")
+    make_submission(students / "mo", "u_v_swapped")
+    make_submission(students / "flo", "rows_flipped")
+    bo = make_submission(students / "bo")  # does not import
+    with open(bo / "raykit/__init__.py", "a") as module:
+        module.write("\ndef broken(:\n")
+    cy = make_submission(students / "cy")  # one module of stage 4 does not import
+    with open(cy / "raykit/mirrors.py", "a") as module:
+        module.write("\ndef broken(:\n")
+    erin = make_submission(root / "erin")  # zipped, beside the folders
+    with zipfile.ZipFile(students / "erin.zip", "w") as archive:
+        for file in sorted((erin / "raykit").rglob("*.py")):
+            archive.write(file, file.relative_to(erin).as_posix())
+    (students / "notes.txt").write_text("grade these by Friday")
+    make_export(
+        students / "gradescope-export.zip",
+        {
+            "submission_241730101": make_submission(root / "grace"),
+            "submission_241730202": make_submission(root / "pair", "u_v_swapped"),
+        },
+    )
+    out = root / "graded"
+    run = subprocess.run(
+        [sys.executable, "-m", "raykit_grading", "batch", str(students), "-o", str(out),
+         "--only", *CLASS_TESTS, "--jobs", "2"],
+        capture_output=True, text=True, cwd=root, timeout=900,
+    )  # fmt: skip
+    return out, run
+
+
 def pytest_collection_modifyitems(config, items):
     """Grading runs submissions in bubblewrap sandboxes; where bwrap is not installed, say so
     and skip those tests (but never in CI, which installs it: there they must run)."""

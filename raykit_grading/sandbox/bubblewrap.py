@@ -92,9 +92,11 @@ class Bubblewrap(Sandbox):
                     running += proc.name.isdigit() and proc.stat().st_uid == uid
                 except OSError:
                     pass
-            cap = min(running + limits.processes, resource.getrlimit(resource.RLIMIT_NPROC)[1])
-            if cap > 0:
-                resource.setrlimit(resource.RLIMIT_NPROC, (cap, cap))
+            cap = running + limits.processes
+            hard = resource.getrlimit(resource.RLIMIT_NPROC)[1]
+            if hard != resource.RLIM_INFINITY:  # min() would take RLIM_INFINITY (-1) as less
+                cap = min(cap, hard)
+            resource.setrlimit(resource.RLIMIT_NPROC, (cap, cap))
 
 
 def _prefer_me_when_memory_runs_out() -> None:

@@ -1,6 +1,7 @@
 """The grader laid out by where its code runs (raykit_grading/__init__.py): what ships to
 students imports nothing else of the grader, what runs inside the sandbox nothing of it, each
-subpackage only those below it, and every module is in the index and in docs/layout.md."""
+subpackage only those below it, and every module is in the index and in docs/layout.md and has
+a test file of its name, laid out as the grader is."""
 
 from __future__ import annotations
 
@@ -131,3 +132,17 @@ def test_every_module_is_in_the_index_and_the_layout_page():
                 missing.append(f"docs/layout.md: {role}/{path.name}")
     assert not missing
     assert {p.name for p in GRADER.iterdir() if p.suffix == ".py"} == {"__init__.py", "__main__.py"}
+
+
+def test_every_module_has_a_test_file_of_its_name_and_every_test_file_a_module():
+    """tests/grading/<role>/test_<module>.py for each module of raykit_grading/<role>/ (and
+    __main__.py's in tests/grading/test_main.py), as docs/layout.md says."""
+    tests = REPO / "tests" / "grading"
+    wanted = {
+        f"{role}/test_{p.stem}.py" for role in ROLES for p in modules(role) if p.stem != "__init__"
+    }
+    found = {
+        p.relative_to(tests).as_posix() for role in ROLES for p in (tests / role).glob("test_*.py")
+    }
+    assert (sorted(wanted - found), sorted(found - wanted)) == ([], [])
+    assert (tests / "test_main.py").is_file()

@@ -1,7 +1,8 @@
-"""A class graded end to end by ``batch``: honest, half-done, mistaken, non-importing and zipped
-submissions beside a Gradescope export; every entry's status and score, the class report and
-each student's feedback page. And the student's side: ``check.py`` on one test, the kit's
-pytest in one line per failing test."""
+"""A class graded by ``batch`` (raykit_grading.grading.batch), end to end by the documented
+command (tests/conftest.py's ``graded_class``): every entry's status and score or why not, a
+submission or a module that does not import, each stage summed up, a run again grading no one;
+the hidden tests' pictures kept out of what a student may be handed; one student at a time in
+a container's memory. The class report and the students' pages it writes are test_report.py's."""
 
 from __future__ import annotations
 
@@ -10,61 +11,19 @@ import html
 import json
 import os
 import re
-import shutil
 import subprocess
 import sys
-import zipfile
 from urllib.parse import unquote
 
 import pytest
-from gradescope_export import make_export
 
-from conftest import REPO
+from conftest import CLASS_TESTS, REPO
 from mistaken_submissions import make_submission
 from raykit_grading.assignment.catalog import TESTS, VISIBLE
 from raykit_grading.grading.batch import JOBS, jobs_within
 from raykit_grading.grading.grade import Options
 from raykit_grading.grading.results import NOT_IMPORTED
 from raykit_grading.sandbox.confine import ContainerLimits
-
-ONLY = ["2.3", "3.1", "3.6"]  # a ray-sphere array test, the camera frame, a render: 7 points
-
-
-@pytest.fixture(scope="module")
-def graded_class(tmp_path_factory, release):
-    """The class, graded once by the documented command: (its output folder, the run)."""
-    root = tmp_path_factory.mktemp("class")
-    students = root / "submissions"
-    make_submission(students / "ada")  # honest
-    hal = make_submission(students / "hal")  # half-done: spheres.py as the kit gives it
-    shutil.copy(release / "raykit/spheres.py", hal / "raykit/spheres.py")
-    make_submission(students / "mo", "u_v_swapped")
-    make_submission(students / "flo", "rows_flipped")
-    bo = make_submission(students / "bo")  # does not import
-    with open(bo / "raykit/__init__.py", "a") as module:
-        module.write("\ndef broken(:\n")
-    cy = make_submission(students / "cy")  # one module of stage 4 does not import
-    with open(cy / "raykit/mirrors.py", "a") as module:
-        module.write("\ndef broken(:\n")
-    erin = make_submission(root / "erin")  # zipped, beside the folders
-    with zipfile.ZipFile(students / "erin.zip", "w") as archive:
-        for file in sorted((erin / "raykit").rglob("*.py")):
-            archive.write(file, file.relative_to(erin).as_posix())
-    (students / "notes.txt").write_text("grade these by Friday")
-    make_export(
-        students / "gradescope-export.zip",
-        {
-            "submission_241730101": make_submission(root / "grace"),
-            "submission_241730202": make_submission(root / "pair", "u_v_swapped"),
-        },
-    )
-    out = root / "graded"
-    run = subprocess.run(
-        [sys.executable, "-m", "raykit_grading", "batch", str(students), "-o", str(out),
-         "--only", *ONLY, "--jobs", "2"],
-        capture_output=True, text=True, cwd=root, timeout=900,
-    )  # fmt: skip
-    return out, run
 
 
 def test_batch_grades_every_entry_of_a_mixed_class_or_says_why_not(graded_class):
@@ -101,7 +60,7 @@ def test_the_batch_run_again_grades_no_one_and_exits_0_as_every_submission_is_gr
 def test_a_submission_that_does_not_import_says_its_error_once_and_runs_no_test(graded_class):
     out, _ = graded_class
     results = json.loads((out / "feedback/bo/results.json").read_text())
-    assert [t["output"] for t in results["tests"]] == [NOT_IMPORTED] * len(ONLY)
+    assert [t["output"] for t in results["tests"]] == [NOT_IMPORTED] * len(CLASS_TESTS)
     assert results["score"] == 0
     assert "raykit does not import" in results["output"]
     assert "SyntaxError" in results["extra_data"]["does_not_import"]
@@ -135,49 +94,6 @@ def test_results_sum_up_each_stage_and_carry_the_diagnosed_mistake(graded_class)
         "says": "u and v are swapped",
         "where": render["extra_data"]["where"],  # which function: another change's to make
     }
-
-
-def test_the_class_report_shows_scores_pass_rates_mistakes_and_who_was_not_graded(graded_class):
-    out, _ = graded_class
-    page = html.unescape((out / "report.html").read_text())
-    for plot in ("report/scores.png", "report/pass_rates.png"):
-        assert f"src='{plot}'" in page
-        assert (out / plot).read_bytes().startswith(b"\x89PNG")
-    assert (
-        "9 submissions: 8 graded, 1 whose raykit does not import (0 points); 1 entry is not a "
-        "submission." in page
-    )
-    assert "Mean 3.6, median 3.0 of 7 points" in page  # 7 7 7 1 2 2 3 3 0
-    rates = dict(re.findall(r"<tr><td>(\d\.\d+) .*?<td class='n'>(\d+%)</td>", page))
-    assert rates == {"2.3": "78%", "3.1": "67%", "3.6": "33%"}  # of the 9 students scored
-    assert page.index("Stage 2 rays") < page.index("2.3 ray-sphere") < page.index("Stage 3")
-    swapped = page.index("u and v are swapped")
-    flipped = page.index("image rows are counted from the bottom")
-    assert swapped < flipped  # two students, then one
-    counts = re.findall(r"<td class='n'>(\d+)</td><td>(u and v|image rows)", page)
-    assert counts == [("2", "u and v"), ("1", "image rows")]
-    example = re.search(r"<img class='example' src='([^']+)'", page[swapped:]).group(1)
-    assert (out / unquote(example)).is_file()  # a URL, relative to the report
-    assert "bo</a>: raykit does not import, so no test ran (0 points)" in page
-    assert re.search(r"SyntaxError[^<]*</code> in raykit/__init__\.py, line \d+</li>", page)
-    assert re.search(
-        r"cy</a>: raykit.mirrors, raykit.render, raykit.shading: do not import "
-        r"\(SyntaxError: invalid syntax \(in raykit/mirrors\.py, line \d+\)\)",
-        page,
-    )
-    assert "notes.txt: not a submission: not a folder or a zip" in page
-
-
-def test_each_student_gets_the_self_checks_page_with_the_grades_numbers(graded_class):
-    out, _ = graded_class
-    mo = html.unescape((out / "feedback/mo/index.html").read_text())
-    assert "1 of 3 tests pass: 2 of 7 points." in mo
-    assert mo.index("FAIL: 3.1") < mo.index("FAIL: 3.6") < mo.index("pass: 2.3")
-    assert '<img src="3.6.png"' in mo and (out / "feedback/mo/3.6.png").is_file()
-    bo = html.unescape((out / "feedback/bo/index.html").read_text())
-    assert bo.count(NOT_IMPORTED) == len(ONLY) and bo.count("SyntaxError") == 2  # said once
-    grace = html.unescape((out / "feedback/Grace Hopper/index.html").read_text())
-    assert "3 of 3 tests pass: 7 of 7 points." in grace
 
 
 def test_a_students_feedback_folder_holds_nothing_of_the_hidden_tests(tmp_path):
