@@ -328,8 +328,9 @@ def class_summary(rows: dict[str, dict]) -> str:
     strays = sum(s.startswith(NOT_A_SUBMISSION) for s in statuses)
     graded, broken = statuses.count(GRADED), statuses.count(DOES_NOT_IMPORT)
     failed = len(statuses) - strays - graded - broken
+    submissions = len(statuses) - strays
     return (
-        f"{len(statuses) - strays} submissions: {graded} graded"
+        f"{submissions} submission{'' if submissions == 1 else 's'}: {graded} graded"
         + (f", {broken} whose raykit does not import (0 points)" if broken else "")
         + (f", {failed} not graded (listed below)" if failed else "")
         + (f"; {strays} {'entry is' if strays == 1 else 'entries are'} not a submission"

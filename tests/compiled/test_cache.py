@@ -99,7 +99,7 @@ def test_the_cache_key_holds_every_raykit_module_whose_globals_a_kernel_reads():
                 if ours and home not in key:
                     missing.setdefault(kernel_name, set()).add(f"{home}.{name}")
     assert not missing, f"read by kernels but not in the cache's key: {missing}"
-    assert "raykit.surfaces" in key  # OFFSET_FACTOR, read in surfaces, shadows, driver, ...
+    assert "raykit.surfaces" in key  # OFFSET_FACTOR, read in surfaces, shadows, render, ...
 
 
 def test_the_cache_key_holds_the_modules_the_twins_repeat_and_no_python_side_import():

@@ -82,3 +82,4 @@ def test_the_class_summary_says_who_could_not_be_graded_and_counts_no_stray_entr
     assert class_summary({"ada": {"status": GRADED}, "bo": {"status": GRADED}}) == (
         "2 submissions: 2 graded"
     )
+    assert class_summary({"ada": {"status": GRADED}}) == "1 submission: 1 graded"
