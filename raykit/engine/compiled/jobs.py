@@ -1,9 +1,9 @@
 """The workers' jobs: how a render's pixels are cut into jobs (a screen tile's pixels, or a row of
 image points), how a worker takes them (:func:`grain_taken`, the one loop every entry point of
-:mod:`.render` runs), where each job's results go (:class:`Film`) and the room a worker keeps
-for its rays (:class:`RayRoom`, :class:`ShadingRoom`); and the mean of a pixel's samples
-(:func:`pixel_means`, which repeats :meth:`raykit.engine.regions.Image.mean`). The threads that
-run the workers are :mod:`.pool`'s."""
+:mod:`~raykit.engine.compiled.render` runs), where each job's results go (:class:`Film`) and
+the room a worker keeps for its rays (:class:`RayRoom`, :class:`ShadingRoom`); and the mean of
+a pixel's samples (:func:`pixel_means`, which repeats :meth:`raykit.engine.regions.Image.mean`).
+The threads that run the workers are :mod:`.pool`'s."""
 
 from __future__ import annotations
 
@@ -42,9 +42,10 @@ def grain_taken(work, grain):
     the end), taken from the counter ``work.taken`` that every worker of the call shares
     (:func:`take`) whenever the worker is free, so that a worker slowed by other work takes fewer;
     each job is taken by exactly one worker. False once no job is left. Every entry point of
-    :mod:`.render` loops over it, as ``while grain_taken(work, grain): for j in range(grain[0],
-    grain[1])``, its ``grain`` made once per worker (a plain kernel, not a generator: numba caches
-    no generator on disk, and compiled it again in every process)."""
+    :mod:`~raykit.engine.compiled.render` loops over it, as ``while grain_taken(work, grain):
+    for j in range(grain[0], grain[1])``, its ``grain`` made once per worker (a plain kernel,
+    not a generator: numba caches no generator on disk, and compiled it again in every
+    process)."""
     count = len(work.jobs)
     first = take(work.taken, work.grain)
     grain[0], grain[1] = first, min(count, first + work.grain)

@@ -1,7 +1,8 @@
 """The threads that run a render's workers: how many (:func:`worker_count`), how they share the
 jobs (:func:`shares`), the pool (:func:`thread_pool`), and one call of an entry point of
-:mod:`.render` on all of them (:func:`run`), compiled first where the cache has none. Plain
-Python: the workers are the kernels, each taking its jobs (:func:`.jobs.grain_taken`)."""
+:mod:`~raykit.engine.compiled.render` on all of them (:func:`run`), compiled first where the
+cache has none. Plain Python: the workers are the kernels, each taking its jobs
+(:func:`.jobs.grain_taken`)."""
 
 from __future__ import annotations
 
