@@ -8,6 +8,7 @@ for a distributed scene and :func:`trace_moving` for one whose spheres move."""
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 from typing import NamedTuple
 
@@ -26,10 +27,13 @@ from raykit.engine.compiled.camera import (
     rays_through,
     thin_lens_rays,
 )
-from raykit.engine.compiled.compiling import KERNEL, MAKES_ARRAYS, keep_freed_memory
+from raykit.engine.compiled.compiling import JOB, KERNEL, MAKES_ARRAYS, keep_freed_memory
 from raykit.engine.compiled.jobs import (
     CHUNK,
     Film,
+    RayRoom,
+    SampleRoom,
+    ShadingRoom,
     background_job,
     grain_taken,
     job_of,
@@ -199,12 +203,58 @@ def _render_sampled(prepared: Prepared, progress=None):
     band = -(-ROWS_PER_CALL * width // SAMPLED_PIXELS) if progress is not None else len(starts)
     nothing = np.zeros(0)  # no image points, no sample offsets: each pixel takes its own samples
     film = Film(width, height, nothing, nothing, np.zeros((0, 2)), -1, rgb, index, t)
+    if trace is trace_moving:
+        rooms = functools.partial(moving_rooms, prepared.arrays, prepared.noise)
+    else:
+        rooms = functools.partial(sampled_rooms, prepared.shading, prepared.noise)
     for first in range(0, len(starts), band):
         jobs = starts[first : first + band]
-        run(name, trace, *kernels, film, shares(jobs))
+        run(name, trace, *kernels, film, shares(jobs), rooms=rooms)
         if progress is not None:
             progress(min(pixels, jobs[-1] + SAMPLED_PIXELS) - jobs[0])
     return rgb.reshape(height, width, 3), index.reshape(height, width), t.reshape(height, width)
+
+
+class SampledRooms(NamedTuple):
+    """What a worker of :func:`trace_sampled` keeps: room for its rays (:class:`RayRoom`), for
+    shading them (:class:`ShadingRoom`), for their samples' numbers (:class:`SampleRoom`), and its
+    ``grain (2,)`` (:func:`grain_taken`). Made by :func:`sampled_rooms`."""
+
+    rays: RayRoom
+    shading: ShadingRoom
+    samples: SampleRoom
+    grain: np.ndarray
+
+
+class MovingRooms(NamedTuple):
+    """What a worker of :func:`trace_moving` keeps: a tree walk's ``stack`` (:func:`new_stack`),
+    room for a sample's numbers (:class:`SampleRoom`, one sample at a time), its own copy of the
+    spheres' ``centers (S, 3)``, which it moves to each ray's time, and its ``grain (2,)``. Made
+    by :func:`moving_rooms`."""
+
+    stack: np.ndarray
+    samples: SampleRoom
+    centers: np.ndarray
+    grain: np.ndarray
+
+
+def sampled_rooms(shading: Shading, noise: Noise) -> SampledRooms:
+    """A new worker's :class:`SampledRooms` for a scene with ``shading`` and ``noise``, made by the
+    kernels that make each room (called from Python, each returns its named tuple)."""
+    return SampledRooms(
+        new_ray_room(SAMPLED_LANES),
+        new_shading_room(SAMPLED_LANES, shading),
+        new_sample_room(SAMPLED_LANES, noise.dimensions),
+        np.zeros(2, np.int64),
+    )
+
+
+def moving_rooms(arrays: Arrays, noise: Noise) -> MovingRooms:
+    """A new worker's :class:`MovingRooms` for a scene of ``arrays`` with ``noise``."""
+    return MovingRooms(
+        new_stack(), new_sample_room(0, noise.dimensions), arrays.centers.copy(),
+        np.zeros(2, np.int64),
+    )  # fmt: skip
 
 
 def _mean_of_samples(color: np.ndarray, count: int) -> np.ndarray:
@@ -378,8 +428,8 @@ def lit_job(scene, tiles, camera, bounces, film, job, room, shading_room):
     pixel_means(film, job, colors, best, best_t)
 
 
-@njit(**MAKES_ARRAYS)
-def trace_sampled(scene, camera, lens, noise, bounces, film, work):
+@njit(**KERNEL)
+def trace_sampled(scene, camera, lens, noise, bounces, film, work, rooms):
     """The lecture's loop for a distributed scene (stage 5, as :class:`raykit.engine.regions.Plan`
     batches it) whose spheres stand still: for each pixel, each of its ``noise.count`` samples in
     order, from the sample's uniform numbers (:func:`~raykit.engine.compiled.noise.sample_numbers`),
@@ -396,35 +446,34 @@ def trace_sampled(scene, camera, lens, noise, bounces, film, work):
     :func:`trace_lit` takes it. A scene whose spheres move renders by :func:`trace_moving`, compiled
     apart, so that a still scene never compiles its kernels. A call is one worker, taking grains of
     jobs as :func:`trace_flat`'s does; a pixel's numbers depend on it alone, so the image does not
-    depend on which takes which."""
-    room = new_ray_room(SAMPLED_LANES)
-    shading_room = new_shading_room(SAMPLED_LANES, scene.shading)
+    depend on which takes which. The worker's ``rooms`` (:class:`SampledRooms`) are made before
+    its call (:func:`sampled_rooms`), so that the call makes no array and counts no references
+    (a KERNEL): :func:`sampled_lanes`, its one job, is copied into it (JOB)."""
+    room, shading_room, sample_room, grain = rooms
     every_object(scene.tree, scene.shading, shading_room)
-    sample_room = new_sample_room(SAMPLED_LANES, noise.dimensions)
-    grain = np.zeros(2, np.int64)
     while grain_taken(work, grain):
         for j in range(grain[0], grain[1]):
             sampled_lanes(scene, camera, lens, noise, bounces, film, work.jobs[j], sample_room,
                           room, shading_room)  # fmt: skip
 
 
-@njit(**MAKES_ARRAYS)
-def trace_moving(scene, camera, lens, noise, motion, film, work):
+@njit(**KERNEL)
+def trace_moving(scene, camera, lens, noise, motion, film, work, rooms):
     """:func:`trace_sampled` for a scene whose spheres move (``motion``: :class:`Motion`): each
     sample's ray has its own time (:func:`shutter_times`), and its viewing, shadow and mirror
     rays and its normals see the moving spheres there (:func:`center_at`): each worker keeps its
     own copy of the scene's arrays, their centres moved to the time of the ray it traces
     (:func:`spheres_at`), and the tree is :func:`every_object_tree`, as the reference tests
-    every object then. A job is one sample at a time (:func:`sampled_job`)."""
-    stack = new_stack()
-    sample_room = new_sample_room(0, noise.dimensions)
+    every object then. A job is one sample at a time (:func:`sampled_job`, copied into it as
+    :func:`trace_sampled` copies its job), with the worker's ``rooms`` (:class:`MovingRooms`,
+    :func:`moving_rooms`), the copy of the centres among them."""
+    stack, sample_room, centers, grain = rooms
     arrays = scene.arrays
-    at_time = Arrays(arrays.centers.copy(), arrays.radii, arrays.sphere_colors,
+    at_time = Arrays(centers, arrays.radii, arrays.sphere_colors,
                      arrays.corners, arrays.n, arrays.alpha_axes, arrays.beta_axes,
                      arrays.board_colors, arrays.texture_start, arrays.texture_width,
                      arrays.texture_height, arrays.texels, arrays.background)  # fmt: skip
     moved = CompiledScene(at_time, scene.tree, scene.shading)
-    grain = np.zeros(2, np.int64)
     while grain_taken(work, grain):
         for j in range(grain[0], grain[1]):
             sampled_job(arrays.centers, moved, camera, lens, noise, motion, film, work.jobs[j],
@@ -445,7 +494,7 @@ def spheres_at(standing, motion, centers, T):
             )  # fmt: skip
 
 
-@njit(**KERNEL)
+@njit(**JOB)
 def sampled_job(standing, moved, camera, lens, noise, motion, film, first, stack, sample_room):
     """One job of :func:`trace_moving`: the SAMPLED_PIXELS pixels from pixel ``first`` into
     ``film``, with the worker's ``stack`` (:func:`new_stack`), room for a sample's uniform
@@ -574,7 +623,7 @@ def cast_lanes(arrays, tree, rays, count, best, best_t, colors, t):
             colors[2, i] = b if nearer else colors[2, i]
 
 
-@njit(**KERNEL)
+@njit(**JOB)
 def sampled_lanes(
     scene, camera, lens, noise, bounces, film, first, sample_room, room, shading_room
 ):
