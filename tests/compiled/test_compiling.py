@@ -226,3 +226,35 @@ def test_a_kernel_inlined_always_is_typed_once_and_leaves_no_call_in_the_machine
     symbols = {enters.overloads[each].fndesc.mangled_name for each in enters.signatures}
     left = re.findall(r'call [^@\n]*@"?(_ZN[^"(\s]+)', nearer_of_two.inspect_llvm(signature))
     assert symbols and not symbols & set(left)  # and in the machine code, no call of it
+
+
+def test_an_entry_point_counts_no_references_and_its_job_is_copied_into_it():
+    """An entry point makes no array (its workers' rooms are made before its call) and so counts
+    no references, and its one job (JOB) is copied into it: compiled as a kernel of its own, a
+    job, most of a render's code, was made twice, as itself and inside the entry point."""
+    import numpy as np
+
+    from raykit.engine.compiled import render
+    from raykit.engine.compiled.compiling import JOB, KERNEL
+
+    entries = [render.trace_flat, render.trace_lit, render.trace_sampled, render.trace_moving]
+    jobs = [render.flat_job, render.lit_job, render.sampled_lanes, render.sampled_job]
+    assert all(entry.targetoptions.get("_nrt") is False for entry in entries)
+    assert all(job.targetoptions.get("inline") == "always" for job in jobs)
+
+    @numba.njit(**dict(JOB, cache=False))
+    def job(values, i):
+        values[i] = 2.0 * values[i]
+
+    @numba.njit(**dict(KERNEL, cache=False))
+    def entry(values, room):
+        for i in range(len(values)):
+            room[0] = values[i]
+            job(values, i)
+
+    values = np.arange(4.0)
+    entry(values, np.empty(1))
+    assert values.tolist() == [0.0, 2.0, 4.0, 6.0]
+    assert not job.overloads  # copied, never compiled as a kernel of its own
+    code = entry.inspect_llvm(entry.signatures[0])
+    assert "NRT_incref" not in code and "NRT_decref" not in code

@@ -34,7 +34,7 @@ def _times_taken(jobs, grain, workers):
     each of ``jobs``: ``(workers, jobs)``."""
     times = np.zeros((workers, jobs), dtype=np.int64)
     arguments = (np.arange(jobs), grain, np.zeros(1, np.int64), np.zeros(1, np.int64), times)
-    pool.run_workers(_take_jobs, arguments, workers)
+    pool.run_workers(_take_jobs, [arguments] * workers)
     return times
 
 

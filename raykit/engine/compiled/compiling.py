@@ -66,6 +66,13 @@ KERNEL = dict(MAKES_ARRAYS, _nrt=False)
 # a distributed scene's first use
 ONE_RAY = KERNEL
 INLINED = dict(KERNEL, forceinline=True)
+# the one job of an entry point that makes no array (a KERNEL, its rooms made before its call):
+# numba's inline="always" copies it into the entry point, which calls it once. A kernel of its
+# own, it is made twice: as itself, and again in the entry point that calls it (numba links a
+# callee's code into each caller and makes machine code of the whole), and a job holds most of a
+# render's code. Not into an entry point that makes arrays: copied there, its arrays would count
+# their references (benchmarks/compile_time.py times each kernel's compile)
+JOB = dict(KERNEL, inline="always")
 SECONDS_TABLE = Path(__file__).with_name("compile_seconds.json")
 MESSAGE = "compiling raykit's fast kernels, once"
 PRIOR_SECONDS = 5.0  # how long the table's own pace counts in the time left (seconds_left)

@@ -1,7 +1,8 @@
 """The workers' jobs: how a render's pixels are cut into jobs (a screen tile's pixels, or a row of
 image points), how a worker takes them (:func:`grain_taken`, the one loop every entry point of
 :mod:`~raykit.engine.compiled.render` runs), where each job's results go (:class:`Film`) and
-the room a worker keeps for its rays (:class:`RayRoom`, :class:`ShadingRoom`); and the mean of
+the rooms a worker keeps for its rays (:class:`RayRoom`, :class:`ShadingRoom`), made before its
+call (:func:`flat_rooms` and the like); and the mean of
 a pixel's samples (:func:`pixel_means`, which repeats :meth:`raykit.engine.regions.Image.mean`).
 The threads that run the workers are :mod:`.pool`'s."""
 
@@ -69,7 +70,7 @@ class Film(NamedTuple):
     :func:`~.render.trace_flat`), the sample ``offsets (S, 2)`` and the ``centre`` sample (-1: a ray
     of its own), and where the results go, ``rgb (P, 3)``, ``index`` and ``t (P,)``. The scene's
     arrays travel beside it, not in it: a kernel called once a job is passed only what it reads
-    (every array is a handful of numbers at each call). Made by each worker as its call starts."""
+    (every array is a handful of numbers at each call). Made once a call, for all its workers."""
 
     width: int
     height: int
@@ -207,8 +208,8 @@ class SampleRoom(NamedTuple):
     """Room for a distributed render's samples' uniform numbers: each sample's ``numbers``
     (a row each, ``(N, D)``, or ``(D,)`` for one sample at a time), the wanted ones copied into
     ``columns (D, N)`` (no columns for one at a time), and what a pixel's samples share,
-    ``keys`` (:func:`~.noise.pixel_keys`). Each worker makes its own as its call starts
-    (:func:`new_sample_room`)."""
+    ``keys`` (:func:`~.noise.pixel_keys`). Each worker has its own, made before its call
+    (:func:`new_sample_room`, :func:`sampled_rooms`)."""
 
     numbers: np.ndarray
     columns: np.ndarray
@@ -229,8 +230,8 @@ class RayRoom(NamedTuple):
     ``rays (6, N)``, its hit's object index ``best (N,)`` and ``best_t (N,)``, colour ``colors
     (3, N)``, whether it was ``made`` (:func:`~.tiles.primary_ray`), room ``ts``, ``alphas`` and
     ``betas`` for :func:`~.tiles.primary_rays`, and ``holding (HOLDING_CHUNK,)`` for
-    :func:`~.tiles.primary_ray`. Each worker makes its own as its call starts
-    (:func:`new_ray_room`)."""
+    :func:`~.tiles.primary_ray`. Each worker has its own, made before its call
+    (:func:`new_ray_room`, :func:`flat_rooms`)."""
 
     xy: np.ndarray
     rays: np.ndarray
@@ -275,3 +276,39 @@ def new_shading_room(n, shading):
                        np.empty((lists, SHADOW_CANDIDATES), dtype=np.int64),
                        np.full(len(shading.point_light), -1, dtype=np.int64), np.empty((6, 5)),
                        new_lanes(n))  # fmt: skip
+
+
+# Each worker's rooms, the last arguments of its call of an entry point of
+# raykit.engine.compiled.render: made here, before the call, by the kernels above (called from
+# Python, each returns its named tuple), so that an entry point makes no array and counts no
+# references (a KERNEL, into which its job is copied: compiling.JOB). Each ends with the worker's
+# grain (2,) (grain_taken).
+
+
+def flat_rooms(n: int) -> tuple[RayRoom, np.ndarray]:
+    """A worker's rooms for :func:`~raykit.engine.compiled.render.trace_flat`: for a job's ``n``
+    rays (:class:`RayRoom`), and its grain."""
+    return new_ray_room(n), np.zeros(2, np.int64)
+
+
+def lit_rooms(n: int, shading) -> tuple[RayRoom, ShadingRoom, np.ndarray]:
+    """A worker's rooms for :func:`~raykit.engine.compiled.render.trace_lit`: for a job's ``n``
+    rays and for shading them in a scene with ``shading`` (:class:`~.scene.Shading`), and its
+    grain."""
+    return new_ray_room(n), new_shading_room(n, shading), np.zeros(2, np.int64)
+
+
+def sampled_rooms(n: int, shading, noise) -> tuple[RayRoom, ShadingRoom, SampleRoom, np.ndarray]:
+    """A worker's rooms for :func:`~raykit.engine.compiled.render.trace_sampled`: as
+    :func:`lit_rooms`, for ``n`` samples at a time, with room for their numbers in lanes of
+    ``noise.dimensions`` (:class:`~.noise.Noise`), and its grain."""
+    return (new_ray_room(n), new_shading_room(n, shading), new_sample_room(n, noise.dimensions),
+            np.zeros(2, np.int64))  # fmt: skip
+
+
+def moving_rooms(arrays, noise) -> tuple[np.ndarray, SampleRoom, np.ndarray, np.ndarray]:
+    """A worker's rooms for :func:`~raykit.engine.compiled.render.trace_moving`: a tree walk's
+    stack, room for one sample's numbers, its own copy of the centres ``(S, 3)`` of the spheres
+    of ``arrays`` (:class:`~.scene.Arrays`), which it moves to each ray's time, and its grain."""
+    return (new_stack(), new_sample_room(0, noise.dimensions), arrays.centers.copy(),
+            np.zeros(2, np.int64))  # fmt: skip

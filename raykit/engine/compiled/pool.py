@@ -9,6 +9,7 @@ from __future__ import annotations
 import functools
 import os
 import time
+from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 
 import numba
@@ -37,35 +38,45 @@ def shares(jobs: np.ndarray) -> Work:
 READY: set[str] = set()  # entry points compiled or loaded from the cache in this process
 
 
-def run(name, entry, *arguments) -> None:
+def run(name, entry, *arguments, rooms: Callable[[], tuple] | None = None) -> None:
     """``entry(*arguments)`` on :func:`worker_count` threads at once (:func:`run_workers`), sharing
-    the jobs of its last argument, a :class:`~.jobs.Work` (:func:`shares`). The first time in a
+    the jobs of its last argument, a :class:`~.jobs.Work` (:func:`shares`); with ``rooms``, each
+    worker's call takes more arguments, those of ``rooms()``, made for it alone. The first time in a
     process whose cache has no marker for ``name``
     (:func:`~raykit.engine.compiled.compiling.marked`), it is compiled first, in this thread, with
     the progress line of its compile (:func:`~raykit.engine.compiled.compiling.compile_clock`), and
-    then marked."""
+    then marked (the kernels that make the rooms compile with it, as they are first called)."""
+    workers = worker_count(arguments[-1].jobs)
+
+    def each_worker() -> list[tuple]:
+        return [arguments if rooms is None else (*arguments, *rooms()) for _ in range(workers)]
+
     if name not in READY and not marked(name):
         started = time.perf_counter()
         with compile_clock(name):
-            entry.compile(tuple(entry.typeof_pyval(argument) for argument in arguments))
+            each = each_worker()
+            entry.compile(tuple(entry.typeof_pyval(argument) for argument in each[0]))
         finished(name, time.perf_counter() - started)
+    else:
+        each = each_worker()
     READY.add(name)
-    run_workers(entry, arguments, worker_count(arguments[-1].jobs))
+    run_workers(entry, each)
 
 
-def run_workers(entry, arguments, workers: int) -> None:
-    """``entry(*arguments)`` in ``workers`` threads at once, this one and others of a pool: the
-    kernels hold no lock of Python's (nogil), so each runs on a core of its own. Threads of
+def run_workers(entry, each: list[tuple]) -> None:
+    """``entry(*arguments)`` for each worker's ``arguments`` in ``each``, in threads at once, this
+    one and others of a pool: the kernels hold no lock of Python's (nogil), so each runs on a
+    core of its own. Threads of
     Python's, not numba's parallel loop (prange): numba compiles such a loop into a function of
     its own, and a kernel's code is made again in each function that calls it, so that the
     loop made the largest part of a first use's compile twice. Returns when every worker has;
     a worker's error is raised here."""
-    if workers == 1:
-        entry(*arguments)
+    if len(each) == 1:
+        entry(*each[0])
         return
-    others = [thread_pool(os.getpid()).submit(entry, *arguments) for _ in range(workers - 1)]
+    others = [thread_pool(os.getpid()).submit(entry, *arguments) for arguments in each[1:]]
     try:
-        entry(*arguments)
+        entry(*each[0])
     finally:  # even on a Ctrl-C: no worker writes into the arrays once this returns
         for other in others:
             other.result()

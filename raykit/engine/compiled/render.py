@@ -8,6 +8,7 @@ for a distributed scene and :func:`trace_moving` for one whose spheres move."""
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 from typing import NamedTuple
 
@@ -26,19 +27,20 @@ from raykit.engine.compiled.camera import (
     rays_through,
     thin_lens_rays,
 )
-from raykit.engine.compiled.compiling import KERNEL, MAKES_ARRAYS, keep_freed_memory
+from raykit.engine.compiled.compiling import JOB, KERNEL, MAKES_ARRAYS, keep_freed_memory
 from raykit.engine.compiled.jobs import (
     CHUNK,
     Film,
     background_job,
+    flat_rooms,
     grain_taken,
     job_of,
     job_pixel,
     job_points,
-    new_ray_room,
-    new_sample_room,
-    new_shading_room,
+    lit_rooms,
+    moving_rooms,
     pixel_means,
+    sampled_rooms,
 )
 from raykit.engine.compiled.noise import Noise, pixel_keys, sample_numbers, scene_noise
 from raykit.engine.compiled.pool import run, shares
@@ -161,6 +163,7 @@ def render(scene: Scene | Prepared, samples: int = 1, *, adaptive: bool = False,
             film,
             empty,
             shares(np.arange(first, min(first + band, tile_count))),
+            rooms=_rooms(prepared, film),
         )
         if progress is not None:
             rows = min(height, (first + band) // tiles_x * size) - first // tiles_x * size
@@ -179,7 +182,8 @@ def render(scene: Scene | Prepared, samples: int = 1, *, adaptive: bool = False,
             out = np.empty((len(x), 3))
             points = Film(width, height, x, y, at_the_point, 0, out, np.empty(len(x), np.int64),
                           np.empty(len(x)))  # fmt: skip
-            run(name, trace, *kernels, points, empty, shares(np.arange(-(-len(x) // CHUNK))))
+            run(name, trace, *kernels, points, empty, shares(np.arange(-(-len(x) // CHUNK))),
+                rooms=_rooms(prepared, points))  # fmt: skip
             return out
 
         refine(regions(scene, skip_hidden=False), colors, rgb, edge, samples)
@@ -201,7 +205,7 @@ def _render_sampled(prepared: Prepared, progress=None):
     film = Film(width, height, nothing, nothing, np.zeros((0, 2)), -1, rgb, index, t)
     for first in range(0, len(starts), band):
         jobs = starts[first : first + band]
-        run(name, trace, *kernels, film, shares(jobs))
+        run(name, trace, *kernels, film, shares(jobs), rooms=_rooms(prepared, film))
         if progress is not None:
             progress(min(pixels, jobs[-1] + SAMPLED_PIXELS) - jobs[0])
     return rgb.reshape(height, width, 3), index.reshape(height, width), t.reshape(height, width)
@@ -214,6 +218,22 @@ def _mean_of_samples(color: np.ndarray, count: int) -> np.ndarray:
     for _ in range(count):
         total = total + color
     return total / count
+
+
+def _rooms(prepared: Prepared, film: Film) -> Callable[[], tuple]:
+    """What makes each worker's rooms (:mod:`~raykit.engine.compiled.jobs`) for a call of the
+    entry point of ``prepared`` (:func:`_entry`) into ``film``: its last arguments. A tile's rays
+    or a CHUNK of image points, each with its samples and the ray through its centre; a
+    distributed render's SAMPLED_LANES samples."""
+    if prepared.noise is not None:
+        if prepared.entry == "trace_moving":
+            return functools.partial(moving_rooms, prepared.arrays, prepared.noise)
+        return functools.partial(sampled_rooms, SAMPLED_LANES, prepared.shading, prepared.noise)
+    size = prepared.tiles.size
+    n = (CHUNK if len(film.xs) else size * size) * (len(film.offsets) + 1)
+    if prepared.entry == "trace_flat":
+        return functools.partial(flat_rooms, n)
+    return functools.partial(lit_rooms, n, prepared.shading)
 
 
 def _entry(prepared: Prepared) -> tuple:
@@ -240,8 +260,8 @@ def _entry(prepared: Prepared) -> tuple:
     return name, trace_lit, (scene, prepared.tiles, prepared.camera, bounces)
 
 
-@njit(**MAKES_ARRAYS)
-def trace_flat(arrays, tiles, camera, film, empty, work):
+@njit(**KERNEL)
+def trace_flat(arrays, tiles, camera, film, empty, work, room, grain):
     """The lecture's loop for a flat scene, into ``film`` (:class:`~.jobs.Film`): for each pixel,
     per sample offset ``offsets (S, 2)`` in order, the viewing ray and its nearest hit
     (:func:`primary_ray`, or a packet of them: :func:`primary_rays`) and its flat colour, summed and
@@ -257,12 +277,12 @@ def trace_flat(arrays, tiles, camera, film, empty, work):
     * points (``xs``, ``ys (P,)``, the upper-left corners): ``work.jobs`` are CHUNKs of them.
 
     A call is one worker (:func:`~.pool.run_workers` makes one a thread, each with the same
-    arguments): with its own room for a job's rays (making it for each job cost more than a
-    small tile's rays), it takes the jobs of ``work`` a grain at a time
-    (:func:`~.jobs.grain_taken`). Each job runs on one core, whole (:func:`flat_job`)."""
+    arguments but its rooms): with its own ``room`` for a job's rays (making it for each job cost
+    more than a small tile's rays) and ``grain`` (:func:`~.jobs.flat_rooms`), it takes the jobs of
+    ``work`` a grain at a time (:func:`~.jobs.grain_taken`). Each job runs on one core, whole
+    (:func:`flat_job`, copied into it: :data:`~raykit.engine.compiled.compiling.JOB`). An entry
+    point makes no array: its rooms are made before its call, so that it counts no references."""
     points = len(film.xs)
-    room = new_ray_room((CHUNK if points else tiles.size * tiles.size) * (len(film.offsets) + 1))
-    grain = np.zeros(2, np.int64)
     while grain_taken(work, grain):
         for j in range(grain[0], grain[1]):
             job = job_of(work, j, tiles, film)
@@ -272,7 +292,7 @@ def trace_flat(arrays, tiles, camera, film, empty, work):
                 background_job(film, job, empty)
 
 
-@njit(**KERNEL)
+@njit(**JOB)
 def flat_job(arrays, tiles, camera, film, job, room):
     """One job of :func:`trace_flat` (a :class:`TileJob`) into ``film`` (:class:`Film`): its
     pixels (:func:`job_pixel`), all in its tile (-1: points, each in its own), with the
@@ -307,16 +327,13 @@ def flat_job(arrays, tiles, camera, film, job, room):
     pixel_means(film, job, room.colors, room.best, room.best_t)
 
 
-@njit(**MAKES_ARRAYS)
-def trace_lit(scene, tiles, camera, bounces, film, empty, work):
+@njit(**KERNEL)
+def trace_lit(scene, tiles, camera, bounces, film, empty, work, room, shading_room, grain):
     """:func:`trace_flat` for a shaded ``scene`` (:func:`raykit.shading.needs_shading`; a
     :class:`CompiledScene`, with its BVH and its :class:`Shading`): each job's pixels
     (:func:`lit_job`) take the colour :func:`raykit.shading.shade` gives them. A call is one
-    worker, as there."""
+    worker, as there, with its rooms (:func:`~.jobs.lit_rooms`)."""
     points = len(film.xs)
-    n = (CHUNK if points else tiles.size * tiles.size) * (len(film.offsets) + 1)
-    room, shading_room = new_ray_room(n), new_shading_room(n, scene.shading)
-    grain = np.zeros(2, np.int64)
     while grain_taken(work, grain):
         for j in range(grain[0], grain[1]):
             job = job_of(work, j, tiles, film)
@@ -326,7 +343,7 @@ def trace_lit(scene, tiles, camera, bounces, film, empty, work):
                 background_job(film, job, empty)
 
 
-@njit(**KERNEL)
+@njit(**JOB)
 def lit_job(scene, tiles, camera, bounces, film, job, room, shading_room):
     """One job of :func:`trace_lit` (a :class:`TileJob`), with the worker's ``room``
     (:class:`RayRoom`) and ``shading_room`` (:class:`ShadingRoom`): all its viewing rays' hits
@@ -378,8 +395,9 @@ def lit_job(scene, tiles, camera, bounces, film, job, room, shading_room):
     pixel_means(film, job, colors, best, best_t)
 
 
-@njit(**MAKES_ARRAYS)
-def trace_sampled(scene, camera, lens, noise, bounces, film, work):
+@njit(**KERNEL)
+def trace_sampled(scene, camera, lens, noise, bounces, film, work, room, shading_room,
+                  sample_room, grain):  # fmt: skip
     """The lecture's loop for a distributed scene (stage 5, as :class:`raykit.engine.regions.Plan`
     batches it) whose spheres stand still: for each pixel, each of its ``noise.count`` samples in
     order, from the sample's uniform numbers (:func:`~raykit.engine.compiled.noise.sample_numbers`),
@@ -396,35 +414,33 @@ def trace_sampled(scene, camera, lens, noise, bounces, film, work):
     :func:`trace_lit` takes it. A scene whose spheres move renders by :func:`trace_moving`, compiled
     apart, so that a still scene never compiles its kernels. A call is one worker, taking grains of
     jobs as :func:`trace_flat`'s does; a pixel's numbers depend on it alone, so the image does not
-    depend on which takes which."""
-    room = new_ray_room(SAMPLED_LANES)
-    shading_room = new_shading_room(SAMPLED_LANES, scene.shading)
+    depend on which takes which. Its rooms (:func:`~.jobs.sampled_rooms`), each worker's own, are
+    made before its call, as every entry point's are, and its one job, :func:`sampled_lanes`, is
+    copied into it (:data:`~raykit.engine.compiled.compiling.JOB`)."""
     every_object(scene.tree, scene.shading, shading_room)
-    sample_room = new_sample_room(SAMPLED_LANES, noise.dimensions)
-    grain = np.zeros(2, np.int64)
     while grain_taken(work, grain):
         for j in range(grain[0], grain[1]):
             sampled_lanes(scene, camera, lens, noise, bounces, film, work.jobs[j], sample_room,
                           room, shading_room)  # fmt: skip
 
 
-@njit(**MAKES_ARRAYS)
-def trace_moving(scene, camera, lens, noise, motion, film, work):
+@njit(**KERNEL)
+def trace_moving(scene, camera, lens, noise, motion, film, work, stack, sample_room, centers,
+                 grain):  # fmt: skip
     """:func:`trace_sampled` for a scene whose spheres move (``motion``: :class:`Motion`): each
     sample's ray has its own time (:func:`shutter_times`), and its viewing, shadow and mirror
     rays and its normals see the moving spheres there (:func:`center_at`): each worker keeps its
     own copy of the scene's arrays, their centres moved to the time of the ray it traces
     (:func:`spheres_at`), and the tree is :func:`every_object_tree`, as the reference tests
-    every object then. A job is one sample at a time (:func:`sampled_job`)."""
-    stack = new_stack()
-    sample_room = new_sample_room(0, noise.dimensions)
+    every object then: its ``centers (S, 3)`` are the worker's own copy of the scene's
+    (:func:`~.jobs.moving_rooms`). A job is one sample at a time (:func:`sampled_job`, copied
+    into it as :func:`trace_sampled` copies its job)."""
     arrays = scene.arrays
-    at_time = Arrays(arrays.centers.copy(), arrays.radii, arrays.sphere_colors,
+    at_time = Arrays(centers, arrays.radii, arrays.sphere_colors,
                      arrays.corners, arrays.n, arrays.alpha_axes, arrays.beta_axes,
                      arrays.board_colors, arrays.texture_start, arrays.texture_width,
                      arrays.texture_height, arrays.texels, arrays.background)  # fmt: skip
     moved = CompiledScene(at_time, scene.tree, scene.shading)
-    grain = np.zeros(2, np.int64)
     while grain_taken(work, grain):
         for j in range(grain[0], grain[1]):
             sampled_job(arrays.centers, moved, camera, lens, noise, motion, film, work.jobs[j],
@@ -445,7 +461,7 @@ def spheres_at(standing, motion, centers, T):
             )  # fmt: skip
 
 
-@njit(**KERNEL)
+@njit(**JOB)
 def sampled_job(standing, moved, camera, lens, noise, motion, film, first, stack, sample_room):
     """One job of :func:`trace_moving`: the SAMPLED_PIXELS pixels from pixel ``first`` into
     ``film``, with the worker's ``stack`` (:func:`new_stack`), room for a sample's uniform
@@ -574,7 +590,7 @@ def cast_lanes(arrays, tree, rays, count, best, best_t, colors, t):
             colors[2, i] = b if nearer else colors[2, i]
 
 
-@njit(**KERNEL)
+@njit(**JOB)
 def sampled_lanes(
     scene, camera, lens, noise, bounces, film, first, sample_room, room, shading_room
 ):

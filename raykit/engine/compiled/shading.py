@@ -119,8 +119,7 @@ class Lanes(NamedTuple):
     (3, N)``, ``n_dot_l (N,)``, the shadow ray's start ``s (3, N)`` and ``reach (N,)``, room
     ``t (N,)``, whether the light reaches the point, ``lit (N,)``, and the intensity it sends
     there, ``intensity (3, N)`` (a physically based area light's, each point's own). Each worker
-    makes its
-    own as its call starts (:func:`new_lanes`; :func:`~raykit.engine.compiled.render.trace_lit`)."""
+    has its own, made before its call (:func:`new_lanes`; :func:`~.jobs.lit_rooms`)."""
 
     p: np.ndarray
     n: np.ndarray
