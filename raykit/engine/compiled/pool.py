@@ -38,10 +38,10 @@ def shares(jobs: np.ndarray) -> Work:
 READY: set[str] = set()  # entry points compiled or loaded from the cache in this process
 
 
-def run(name, entry, *arguments, rooms: Callable[[], tuple] | None = None) -> None:
+def run(name, entry, *arguments, rooms: Callable[[], tuple]) -> None:
     """``entry(*arguments)`` on :func:`worker_count` threads at once (:func:`run_workers`), sharing
-    the jobs of its last argument, a :class:`~.jobs.Work` (:func:`shares`); with ``rooms``, each
-    worker's call takes more arguments, those of ``rooms()``, made for it alone. The first time in a
+    the jobs of its last argument, a :class:`~.jobs.Work` (:func:`shares`); each worker's call
+    takes more arguments, those of ``rooms()``, made for it alone. The first time in a
     process whose cache has no marker for ``name``
     (:func:`~raykit.engine.compiled.compiling.marked`), it is compiled first, in this thread, with
     the progress line of its compile (:func:`~raykit.engine.compiled.compiling.compile_clock`), and
@@ -49,7 +49,7 @@ def run(name, entry, *arguments, rooms: Callable[[], tuple] | None = None) -> No
     workers = worker_count(arguments[-1].jobs)
 
     def each_worker() -> list[tuple]:
-        return [arguments if rooms is None else (*arguments, *rooms()) for _ in range(workers)]
+        return [(*arguments, *rooms()) for _ in range(workers)]
 
     if name not in READY and not marked(name):
         started = time.perf_counter()
