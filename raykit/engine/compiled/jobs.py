@@ -15,7 +15,7 @@ from numba import njit
 from numba.core import types
 from numba.extending import intrinsic
 
-from raykit.engine.compiled.bvh import new_stack
+from raykit.engine.compiled.bvh import DIRECT_HITS, new_stack
 from raykit.engine.compiled.compiling import KERNEL, MAKES_ARRAYS, ONE_RAY
 from raykit.engine.compiled.shading import Lanes, new_lanes
 from raykit.engine.compiled.shadows import SHADOW_CANDIDATES
@@ -207,13 +207,15 @@ def pixel_means(film, job, colors, best, best_t):
 class SampleRoom(NamedTuple):
     """Room for a distributed render's samples' uniform numbers: each sample's ``numbers``
     (a row each, ``(N, D)``, or ``(D,)`` for one sample at a time), the wanted ones copied into
-    ``columns (D, N)`` (no columns for one at a time), and what a pixel's samples share,
-    ``keys`` (:func:`~.noise.pixel_keys`). Each worker has its own, made before its call
-    (:func:`new_sample_room`, :func:`sampled_rooms`)."""
+    ``columns (D, N)`` (no columns for one at a time), what a pixel's samples share,
+    ``keys`` (:func:`~.noise.pixel_keys`), and the objects a batch of a pinhole's samples can
+    hit, ``near (DIRECT_HITS,)`` (:func:`~.tiles.row_objects`). Each worker has its own, made
+    before its call (:func:`new_sample_room`, :func:`sampled_rooms`)."""
 
     numbers: np.ndarray
     columns: np.ndarray
     keys: np.ndarray
+    near: np.ndarray
 
 
 @njit(**MAKES_ARRAYS)
@@ -222,7 +224,8 @@ def new_sample_room(n, dimensions):
     0, for one sample at a time."""
     numbers = np.empty((max(n, 1), dimensions))
     keys = np.zeros((dimensions // 2 + 2, 6), dtype=np.uint64)
-    return SampleRoom(numbers, np.empty((dimensions, n)), keys)
+    return SampleRoom(numbers, np.empty((dimensions, n)), keys,
+                      np.empty(DIRECT_HITS, dtype=np.int64))  # fmt: skip
 
 
 class RayRoom(NamedTuple):

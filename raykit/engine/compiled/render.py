@@ -27,7 +27,7 @@ from raykit.engine.compiled.camera import (
     rays_through,
     thin_lens_rays,
 )
-from raykit.engine.compiled.compiling import JOB, KERNEL, MAKES_ARRAYS, keep_freed_memory
+from raykit.engine.compiled.compiling import JOB, KERNEL, MAKES_ARRAYS, ONE_RAY, keep_freed_memory
 from raykit.engine.compiled.jobs import (
     CHUNK,
     Film,
@@ -67,7 +67,13 @@ from raykit.engine.compiled.shading import (
 )
 from raykit.engine.compiled.shadows import SHADOW_CANDIDATES, shadow_lists
 from raykit.engine.compiled.spheres import center_at, hit_sphere
-from raykit.engine.compiled.tiles import Tiles, primary_ray, primary_rays, screen_tiles
+from raykit.engine.compiled.tiles import (
+    Tiles,
+    primary_ray,
+    primary_rays,
+    row_objects,
+    screen_tiles,
+)
 from raykit.engine.regions import refuse_grid
 from raykit.engine.tiles import regions
 from raykit.hits import Hits
@@ -78,11 +84,13 @@ keep_freed_memory()  # each render's outputs reuse the last one's pages, where g
 ROWS_PER_CALL = 32  # rows of pixels per kernel call when a progress bar is to move
 SAMPLED_PIXELS = 16  # pixels per job of a distributed render, each with all its samples
 SAMPLED_LANES = 256  # samples shaded together (sampled_lanes): of one pixel, or whole pixels
+SAMPLED_SIDE = 16  # the screen tiles of a pinhole's distributed render: a job's row in one or two
 
 
 class Prepared(NamedTuple):
     """A scene made ready for the kernels (:func:`prepare`): its :class:`Arrays`, screen tiles
-    (:func:`screen_tiles`; none for a distributed scene, whose rays they do not bound), BVH
+    (:func:`screen_tiles`; none for a distributed scene through a lens or with moving spheres,
+    whose rays they do not bound), BVH
     (:class:`Tree`, for shadow and mirror rays, and a distributed render's every ray; empty when the
     scene has none), :class:`Shading` (lights and materials) and camera (:func:`camera_tuple`); and
     a distributed scene's thin lens (:func:`lens_tuple`) and :class:`Noise` (None for another
@@ -116,9 +124,12 @@ def prepare(scene: Scene) -> Prepared:
     if scene.moving:  # no box of the spheres as they stand bounds them: every object
         tree = every_object_tree(scene)
     noise = scene_noise(scene) if scene.distributed else None
-    # a distributed scene's rays are not bounded by screen tiles (trace_sampled): it makes none,
-    # and compiles none of their kernels
-    tiles = _NO_TILES if scene.distributed else screen_tiles(scene, arrays)
+    if not scene.distributed:
+        tiles = screen_tiles(scene, arrays)
+    elif lens_tuple(scene)[0] > 0 or scene.moving:  # a lens's rays do not start at the eye,
+        tiles = _NO_TILES  # and a moving sphere has no one rectangle: no screen tile bounds them
+    else:  # a pinhole's: each sample's ray goes through a point of its own pixel (row_objects)
+        tiles = screen_tiles(scene, arrays, size=SAMPLED_SIDE, packets=False)
     return Prepared(scene, arrays, tiles, tree, shading, camera_tuple(scene), lens_tuple(scene),
                     noise, scene_motion(scene), entry_point(scene))  # fmt: skip
 
@@ -253,7 +264,7 @@ def _entry(prepared: Prepared) -> tuple:
         return name, trace_moving, (*distributed, prepared.motion)
     if name in ("trace_sampled", "trace_sampled_mirrors"):
         bounces = True if name == "trace_sampled_mirrors" else None
-        return name, trace_sampled, (*distributed, bounces)
+        return name, trace_sampled, (*distributed, prepared.tiles, bounces)
     if name == "trace_flat":
         return name, trace_flat, (prepared.arrays, prepared.tiles, prepared.camera)
     bounces = True if name == "trace_mirrors" else None
@@ -396,7 +407,7 @@ def lit_job(scene, tiles, camera, bounces, film, job, room, shading_room):
 
 
 @njit(**KERNEL)
-def trace_sampled(scene, camera, lens, noise, bounces, film, work, room, shading_room,
+def trace_sampled(scene, camera, lens, noise, tiles, bounces, film, work, room, shading_room,
                   sample_room, grain):  # fmt: skip
     """The lecture's loop for a distributed scene (stage 5, as :class:`raykit.engine.regions.Plan`
     batches it) whose spheres stand still: for each pixel, each of its ``noise.count`` samples in
@@ -407,21 +418,23 @@ def trace_sampled(scene, camera, lens, noise, bounces, film, work, room, shading
     :class:`raykit.engine.regions.Image` takes the mean; and the object index and t of the pinhole
     ray through the pixel centre. ``work.jobs (J,)``: the first pixel of each job of SAMPLED_PIXELS
     (row-major, P = ``len(film.t)``); results into ``film`` (:class:`~.jobs.Film`: ``rgb (P, 3)``,
-    ``index``, ``t (P,)``). No screen tile bounds a ray: a lens's rays do not start at the eye (as
-    the reference tests every object then), and the answer is :func:`raykit.render.cast`'s either
-    way. A job's samples go in lanes (:func:`sampled_lanes`); ``bounces``, True in a scene with
-    mirrors, else None (a type of its own to numba, for which no mirror ray is compiled), as
-    :func:`trace_lit` takes it. A scene whose spheres move renders by :func:`trace_moving`, compiled
-    apart, so that a still scene never compiles its kernels. A call is one worker, taking grains of
-    jobs as :func:`trace_flat`'s does; a pixel's numbers depend on it alone, so the image does not
-    depend on which takes which. Its rooms (:func:`~.jobs.sampled_rooms`), each worker's own, are
-    made before its call, as every entry point's are, and its one job, :func:`sampled_lanes`, is
+    ``index``, ``t (P,)``). Through a pinhole, each batch of a job's samples tests only the objects
+    its pixels' screen ``tiles`` list (:func:`~.tiles.row_objects`); a lens's rays do not start at
+    the eye, and no tile bounds them (``tiles`` is empty: as the reference, each tests every
+    object). The answer is :func:`raykit.render.cast`'s either way. A job's samples go in lanes
+    (:func:`sampled_lanes`); ``bounces``, True in a scene with mirrors, else None (a type of its own
+    to numba, for which no mirror ray is compiled), as :func:`trace_lit` takes it. A scene whose
+    spheres move renders by :func:`trace_moving`, compiled apart, so that a still scene never
+    compiles its kernels. A call is one worker, taking grains of jobs as :func:`trace_flat`'s does;
+    a pixel's numbers depend on it alone, so the image does not depend on which takes which. Its
+    rooms (:func:`~.jobs.sampled_rooms`), each worker's own, are made before its call, as every
+    entry point's are, and its one job, :func:`sampled_lanes`, is
     copied into it (:data:`~raykit.engine.compiled.compiling.JOB`)."""
     every_object(scene.tree, scene.shading, shading_room)
     while grain_taken(work, grain):
         for j in range(grain[0], grain[1]):
-            sampled_lanes(scene, camera, lens, noise, bounces, film, work.jobs[j], sample_room,
-                          room, shading_room)  # fmt: skip
+            sampled_lanes(scene, camera, lens, noise, tiles, bounces, film, work.jobs[j],
+                          sample_room, room, shading_room)  # fmt: skip
 
 
 @njit(**KERNEL)
@@ -542,12 +555,27 @@ def cast_each(arrays, tree, stack, rays, count, best, best_t, colors):
         colors[0, i], colors[1, i], colors[2, i] = hit.r, hit.g, hit.b
 
 
+@njit(**ONE_RAY)
+def cast_nearby(arrays, tree, stack, near, nearby, rays, count, best, best_t, colors, t):
+    """:func:`nearest_hit` for each of ``count`` rays ``rays (6, N)``, as :func:`cast_lanes` or
+    :func:`cast_each` find it best: of the ``nearby`` objects ``near (K,)`` that can be hit
+    (:func:`~.tiles.row_objects`; -1: every object may be), or of every object where a scene
+    has DIRECT_HITS or fewer, each in lanes; else each ray through the tree."""
+    if nearby >= 0:
+        cast_lanes(arrays, near, nearby, rays, count, best, best_t, colors, t)
+    elif len(tree.order) <= DIRECT_HITS:
+        cast_lanes(arrays, tree.order, len(tree.order), rays, count, best, best_t, colors, t)
+    else:
+        cast_each(arrays, tree, stack, rays, count, best, best_t, colors)
+
+
 @njit(**KERNEL)
-def cast_lanes(arrays, tree, rays, count, best, best_t, colors, t):
+def cast_lanes(arrays, order, objects, rays, count, best, best_t, colors, t):
     """:func:`nearest_hit` for each of ``count`` rays ``rays (6, N)`` (origins, then directions)
-    in a scene of DIRECT_HITS objects or fewer, each object in turn for all the rays
-    (``tree.order``, in the order nearest_hit tests them, :func:`keep_nearer`'s test for each
-    ray, so the same hits): the object index into ``best``, t into ``best_t`` and the colour
+    among the first ``objects`` of ``order`` (DIRECT_HITS or fewer: every object of the scene,
+    in the tree's order, or those the rays' pixels may show), each object in turn for all the
+    rays, with :func:`keep_nearer`'s test for each ray, whose outcome does not depend on the
+    order, so the same hits: the object index into ``best``, t into ``best_t`` and the colour
     into ``colors (3, N)``; ``t (N,)`` is room. The step that is the same for every ray (a
     sphere's t, a hit kept or not) is a loop the compiler turns into vector instructions."""
     background, spheres = arrays.background, len(arrays.radii)
@@ -556,8 +584,8 @@ def cast_lanes(arrays, tree, rays, count, best, best_t, colors, t):
         best[i], best_t[i] = -1, np.inf
         colors[0, i], colors[1, i], colors[2, i] = background[0], background[1], background[2]
     board_colors = arrays.board_colors
-    for m in range(len(tree.order)):
-        obj = tree.order[m]
+    for m in range(objects):
+        obj = order[m]
         board = obj - spheres
         if obj < spheres:
             c0, c1, c2, R = centers[obj, 0], centers[obj, 1], centers[obj, 2], radii[obj]
@@ -592,7 +620,7 @@ def cast_lanes(arrays, tree, rays, count, best, best_t, colors, t):
 
 @njit(**JOB)
 def sampled_lanes(
-    scene, camera, lens, noise, bounces, film, first, sample_room, room, shading_room
+    scene, camera, lens, noise, tiles, bounces, film, first, sample_room, room, shading_room
 ):
     """:func:`sampled_job` for a scene where nothing moves, its samples in lanes: SAMPLED_LANES
     samples at a time, of one pixel, or of as many whole pixels as they hold (each batch calls
@@ -600,8 +628,10 @@ def sampled_lanes(
     samples paid them for too few), each sample with its row of ``sample_room.numbers
     (SAMPLED_LANES, D)``, the wanted ones copied into the columns of its ``columns (D,
     SAMPLED_LANES)`` (:class:`~.jobs.SampleRoom`); their viewing rays,
-    their nearest hits (:func:`cast_lanes` in a scene of DIRECT_HITS objects or fewer, each ray
-    through the tree in a larger one), into ``room`` (:class:`RayRoom`), then all of them
+    their nearest hits (:func:`cast_lanes` of the objects their pixels' screen ``tiles`` list,
+    :func:`~.tiles.row_objects`, where those are DIRECT_HITS or fewer, else of every object in a
+    scene of DIRECT_HITS or fewer, else each ray through the tree), into ``room``
+    (:class:`RayRoom`), then all of them
     shaded at once as :func:`lit_job` shades a tile's rays (:func:`surface_lanes`,
     :func:`light_lanes`, each area light at each ray's own point of it), the shadow rays against
     every object (:func:`every_object`); then each mirror's rays (:func:`bounce_on`, with the
@@ -613,6 +643,7 @@ def sampled_lanes(
     arrays, tree, shading = scene
     count, wanted, reads = noise.count, noise.wanted, noise.reads
     numbers, columns, keys = sample_room.numbers, sample_room.columns, sample_room.keys
+    near, tiled = sample_room.near, len(tiles.start) > 1
     width, rgb, index, t = film.width, film.rgb, film.index, film.t
     xy, rays, best, best_t, colors = room.xy, room.rays, room.best, room.best_t, room.colors
     lanes, box, stack = shading_room.lanes, shading_room.box, shading_room.stack
@@ -622,6 +653,7 @@ def sampled_lanes(
     r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
     for p_first in range(first, last, per):
         pixels = min(per, last - p_first)
+        nearby = row_objects(tiles, width, p_first, p_first + pixels - 1, near) if tiled else -1
         for k_first in range(0, count, SAMPLED_LANES):
             samples = min(SAMPLED_LANES, count - k_first)  # of each pixel in this batch
             shaded = pixels * samples
@@ -643,10 +675,8 @@ def sampled_lanes(
                     ray = rays_through(camera, xy[0, i], xy[1, i])
                 rays[0, i], rays[1, i], rays[2, i] = ray.o0, ray.o1, ray.o2
                 rays[3, i], rays[4, i], rays[5, i] = ray.d0, ray.d1, ray.d2
-            if len(tree.order) <= DIRECT_HITS:
-                cast_lanes(arrays, tree, rays, shaded, best, best_t, colors, lanes.t)
-            else:
-                cast_each(arrays, tree, stack, rays, shaded, best, best_t, colors)
+            cast_nearby(arrays, tree, stack, near, nearby, rays, shaded, best, best_t, colors,
+                        lanes.t)  # fmt: skip
             if shading.shaded:
                 surface_lanes(arrays, shading, rays, best, best_t, colors, shaded, lanes, box)
                 if shading.lit:
@@ -683,7 +713,8 @@ def sampled_lanes(
                     ray = rays_through(camera, p % width + 0.5, p // width + 0.5)
                     rays[0, q], rays[1, q], rays[2, q] = ray.o0, ray.o1, ray.o2
                     rays[3, q], rays[4, q], rays[5, q] = ray.d0, ray.d1, ray.d2
-                cast_each(arrays, tree, stack, rays, pixels, best, best_t, colors)
+                cast_nearby(arrays, tree, stack, near, nearby, rays, pixels, best, best_t, colors,
+                            lanes.t)  # fmt: skip
                 for q in range(pixels):
                     index[p_first + q], t[p_first + q] = best[q], best_t[q]
 

@@ -180,6 +180,11 @@ TWINS = (
         "raykit.engine.tiles.regions",
         "each tile's objects as one list, nearest first, for a ray to read straight through",
     ),
+    Twin(
+        "tiles.row_objects",
+        "raykit.engine.tiles.regions",
+        "the objects a row of pixels' screen tiles list, for a pinhole's distributed samples",
+    ),
     Twin("render.trace_flat", "raykit.render.render", "render's loop for a flat scene"),
     Twin("render.trace_lit", "raykit.render.render", "render's loop for a shaded scene"),
     Twin("render.flat_job", "raykit.render.render", "render's loop over one job's pixels, flat"),
@@ -211,9 +216,14 @@ TWINS = (
         "cast's nearest hits of a batch of rays, each through the tree",
     ),
     Twin(
+        "render.cast_nearby",
+        "raykit.render.cast",
+        "cast's nearest hits of a batch of viewing rays, of the objects their pixels may show",
+    ),
+    Twin(
         "render.cast_lanes",
         "raykit.render.cast",
-        "cast's nearest hits of a pixel's samples' viewing rays, each object for all at once",
+        "cast's nearest hits of a batch of viewing rays, each object for all at once",
     ),
     Twin(
         "render.spheres_at",
