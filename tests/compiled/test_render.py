@@ -437,7 +437,7 @@ def _nearby(rng):
     screen tiles list (row_objects): few enough to test in lanes, or, past DIRECT_HITS, each ray
     through the tree; with a lens, every object; flat and shaded."""
     same_render(distributed_scene(rng, "random", lights=False, spheres=12))
-    same_render(distributed_scene(rng, "sobol", spheres=40))
+    same_render(distributed_scene(rng, "sobol", spheres=40, samples=16))
     same_render(distributed_scene(rng, "jittered", lens=True, lights=False))
 
 

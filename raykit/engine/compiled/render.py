@@ -82,7 +82,7 @@ from raykit.surfaces import OFFSET_FACTOR
 
 keep_freed_memory()  # each render's outputs reuse the last one's pages, where glibc allows
 ROWS_PER_CALL = 32  # rows of pixels per kernel call when a progress bar is to move
-SAMPLED_PIXELS = 16  # pixels per job of a distributed render, each with all its samples
+SAMPLED_PIXELS = 64  # pixels per job of a distributed render, each with all its samples
 SAMPLED_LANES = 256  # samples shaded together (sampled_lanes): of one pixel, or whole pixels
 SAMPLED_SIDE = 16  # the screen tiles of a pinhole's distributed render: a job's row in one or two
 
@@ -623,23 +623,22 @@ def sampled_lanes(
     scene, camera, lens, noise, tiles, bounces, film, first, sample_room, room, shading_room
 ):
     """:func:`sampled_job` for a scene where nothing moves, its samples in lanes: SAMPLED_LANES
-    samples at a time, of one pixel, or of as many whole pixels as they hold (each batch calls
-    kernels of its own, whose arguments cost as much as a few rays: a batch of one pixel's few
+    samples at a time, of one pixel, or of as many whole pixels of one row as they hold (each batch
+    calls kernels of its own, whose arguments cost as much as a few rays: a batch of one pixel's few
     samples paid them for too few), each sample with its row of ``sample_room.numbers
     (SAMPLED_LANES, D)``, the wanted ones copied into the columns of its ``columns (D,
-    SAMPLED_LANES)`` (:class:`~.jobs.SampleRoom`); their viewing rays,
-    their nearest hits (:func:`cast_lanes` of the objects their pixels' screen ``tiles`` list,
+    SAMPLED_LANES)`` (:class:`~.jobs.SampleRoom`); their viewing rays, their nearest hits
+    (:func:`cast_lanes` of the objects their pixels' screen ``tiles`` list,
     :func:`~.tiles.row_objects`, where those are DIRECT_HITS or fewer, else of every object in a
     scene of DIRECT_HITS or fewer, else each ray through the tree), into ``room``
-    (:class:`RayRoom`), then all of them
-    shaded at once as :func:`lit_job` shades a tile's rays (:func:`surface_lanes`,
-    :func:`light_lanes`, each area light at each ray's own point of it), the shadow rays against
-    every object (:func:`every_object`); then each mirror's rays (:func:`bounce_on`, with the
-    ray's row of numbers; only where ``bounces`` is True, not None: :func:`trace_sampled`), and
-    the samples summed in order. A step the same for every sample
-    is a loop the compiler turns into vector instructions, where one sample at a time waited on
-    its divisions and branches. Each ray's operations are :func:`shade`'s, in its order, so the
-    bits are :func:`sampled_job`'s."""
+    (:class:`RayRoom`), then all of them shaded at once as :func:`lit_job` shades a tile's rays
+    (:func:`surface_lanes`, :func:`light_lanes`, each area light at each ray's own point of it), the
+    shadow rays against every object (:func:`every_object`); then each mirror's rays
+    (:func:`bounce_on`, with the ray's row of numbers; only where ``bounces`` is True, not None:
+    :func:`trace_sampled`), and the samples summed in order. A step the same for every sample is a
+    loop the compiler turns into vector instructions, where one sample at a time waited on its
+    divisions and branches. Each ray's operations are :func:`shade`'s, in its order, so the bits are
+    :func:`sampled_job`'s."""
     arrays, tree, shading = scene
     count, wanted, reads = noise.count, noise.wanted, noise.reads
     numbers, columns, keys = sample_room.numbers, sample_room.columns, sample_room.keys
@@ -651,30 +650,37 @@ def sampled_lanes(
     per = max(1, SAMPLED_LANES // count)  # whole pixels a batch holds
     last = min(first + SAMPLED_PIXELS, len(t))
     r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
-    for p_first in range(first, last, per):
-        pixels = min(per, last - p_first)
+    p_first = first
+    while p_first < last:  # batches of whole pixels, none across two rows (row_objects)
+        pixels = min(per, last - p_first, width - p_first % width)
         nearby = row_objects(tiles, width, p_first, p_first + pixels - 1, near) if tiled else -1
         for k_first in range(0, count, SAMPLED_LANES):
             samples = min(SAMPLED_LANES, count - k_first)  # of each pixel in this batch
             shaded = pixels * samples
-            for i in range(shaded):  # lane i: sample k of pixel p
-                p, k = p_first + i // samples, k_first + i % samples
-                if k == k_first:
-                    pixel_keys(noise.sampler, noise.seed, p, wanted, keys)
-                u = numbers[i]
-                sample_numbers(noise.sampler, k, noise.n, noise.table, wanted, reads, keys, u)
-                for d in reads:
-                    columns[d, i] = u[d]
-                xy[0, i], xy[1, i] = point_in_pixel(p // width, p % width, u[noise.pixel],
-                                                    u[noise.pixel + 1])  # fmt: skip
-            for i in range(shaded):
-                if lens[0] > 0:
+            for q in range(pixels):  # lane i = q·samples + j: sample k_first + j of pixel p
+                p = p_first + q
+                row, col = p // width, p % width
+                pixel_keys(noise.sampler, noise.seed, p, wanted, keys)
+                for j in range(samples):
+                    i = q * samples + j
+                    u = numbers[i]
+                    sample_numbers(noise.sampler, k_first + j, noise.n, noise.table, wanted, reads,
+                                   keys, u)  # fmt: skip
+                    for d in reads:
+                        columns[d, i] = u[d]
+                    xy[0, i], xy[1, i] = point_in_pixel(row, col, u[noise.pixel],
+                                                        u[noise.pixel + 1])  # fmt: skip
+            if lens[0] > 0:  # a loop each, the same step for every lane
+                for i in range(shaded):
                     ray = thin_lens_rays(camera, lens, xy[0, i], xy[1, i], columns[noise.lens, i],
                                          columns[noise.lens + 1, i])  # fmt: skip
-                else:
+                    rays[0, i], rays[1, i], rays[2, i] = ray.o0, ray.o1, ray.o2
+                    rays[3, i], rays[4, i], rays[5, i] = ray.d0, ray.d1, ray.d2
+            else:
+                for i in range(shaded):
                     ray = rays_through(camera, xy[0, i], xy[1, i])
-                rays[0, i], rays[1, i], rays[2, i] = ray.o0, ray.o1, ray.o2
-                rays[3, i], rays[4, i], rays[5, i] = ray.d0, ray.d1, ray.d2
+                    rays[0, i], rays[1, i], rays[2, i] = ray.o0, ray.o1, ray.o2
+                    rays[3, i], rays[4, i], rays[5, i] = ray.d0, ray.d1, ray.d2
             cast_nearby(arrays, tree, stack, near, nearby, rays, shaded, best, best_t, colors,
                         lanes.t)  # fmt: skip
             if shading.shaded:
@@ -683,7 +689,8 @@ def sampled_lanes(
                     light_lanes(scene, stack, rays, best, shaded, lanes, shading_room.candidates,
                                 shading_room.counts, columns)  # fmt: skip
             for i in range(shaded):  # each pixel's samples summed in order
-                p, k = p_first + i // samples, k_first + i % samples
+                q, j = divmod(i, samples)
+                p, k = p_first + q, k_first + j
                 if k == 0:
                     r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
                 c0, c1, c2 = colors[0, i], colors[1, i], colors[2, i]
@@ -717,6 +724,7 @@ def sampled_lanes(
                             lanes.t)  # fmt: skip
                 for q in range(pixels):
                     index[p_first + q], t[p_first + q] = best[q], best_t[q]
+        p_first += pixels
 
 
 @njit(parallel=True, **MAKES_ARRAYS)
