@@ -42,7 +42,14 @@ from raykit.engine.compiled.jobs import (
     pixel_means,
     sampled_rooms,
 )
-from raykit.engine.compiled.noise import Noise, pixel_keys, sample_numbers, scene_noise
+from raykit.engine.compiled.noise import (
+    SOBOL,
+    Noise,
+    pixel_keys,
+    sample_numbers,
+    scene_noise,
+    sobol_numbers,
+)
 from raykit.engine.compiled.pool import run, shares
 from raykit.engine.compiled.sampling import point_in_pixel, shutter_times
 from raykit.engine.compiled.scene import (
@@ -239,7 +246,8 @@ def _rooms(prepared: Prepared, film: Film) -> Callable[[], tuple]:
     if prepared.noise is not None:
         if prepared.entry == "trace_moving":
             return functools.partial(moving_rooms, prepared.arrays, prepared.noise)
-        return functools.partial(sampled_rooms, SAMPLED_LANES, prepared.shading, prepared.noise)
+        return functools.partial(sampled_rooms, SAMPLED_LANES, min(SAMPLED_LANES, SAMPLED_PIXELS),
+                                 prepared.shading, prepared.noise)  # fmt: skip
     size = prepared.tiles.size
     n = (CHUNK if len(film.xs) else size * size) * (len(film.offsets) + 1)
     if prepared.entry == "trace_flat":
@@ -485,7 +493,7 @@ def sampled_job(standing, moved, camera, lens, noise, motion, film, first, stack
     not.)"""
     count, wanted, reads = noise.count, noise.wanted, noise.reads
     at_time, tree = moved.arrays, moved.tree
-    numbers, keys = sample_room.numbers[0], sample_room.keys
+    numbers, keys = sample_room.numbers[0], sample_room.keys[0]
     width, rgb, index, t = film.width, film.rgb, film.index, film.t
     for p in range(first, min(first + SAMPLED_PIXELS, len(t))):
         row, col = p // width, p % width
@@ -658,18 +666,26 @@ def sampled_lanes(
             samples = min(SAMPLED_LANES, count - k_first)  # of each pixel in this batch
             shaded = pixels * samples
             for q in range(pixels):  # lane i = q·samples + j: sample k_first + j of pixel p
+                pixel_keys(noise.sampler, noise.seed, p_first + q, wanted, keys[q])
+            if noise.sampler == SOBOL:  # a pair of dimensions at a time
+                sobol_numbers(k_first, samples, pixels, noise.table, wanted, keys, numbers,
+                              columns)  # fmt: skip
+            else:
+                for q in range(pixels):
+                    for j in range(samples):
+                        i = q * samples + j
+                        u = numbers[i]
+                        sample_numbers(noise.sampler, k_first + j, noise.n, noise.table, wanted,
+                                       reads, keys[q], u)  # fmt: skip
+                        for d in reads:
+                            columns[d, i] = u[d]
+            for q in range(pixels):
                 p = p_first + q
                 row, col = p // width, p % width
-                pixel_keys(noise.sampler, noise.seed, p, wanted, keys)
                 for j in range(samples):
                     i = q * samples + j
-                    u = numbers[i]
-                    sample_numbers(noise.sampler, k_first + j, noise.n, noise.table, wanted, reads,
-                                   keys, u)  # fmt: skip
-                    for d in reads:
-                        columns[d, i] = u[d]
-                    xy[0, i], xy[1, i] = point_in_pixel(row, col, u[noise.pixel],
-                                                        u[noise.pixel + 1])  # fmt: skip
+                    xy[0, i], xy[1, i] = point_in_pixel(row, col, columns[noise.pixel, i],
+                                                        columns[noise.pixel + 1, i])  # fmt: skip
             if lens[0] > 0:  # a loop each, the same step for every lane
                 for i in range(shaded):
                     ray = thin_lens_rays(camera, lens, xy[0, i], xy[1, i], columns[noise.lens, i],

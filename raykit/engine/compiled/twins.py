@@ -94,6 +94,17 @@ TWINS = (
         "sample k of one pixel, from its pixel_keys, into a row of numbers, by each sampler (the"
         " Sobol' table as data), only the dimensions the scene reads",
     ),
+    Twin(
+        "noise.shuffle_of_power",
+        "raykit.engine.noise.shuffle",
+        "the shuffle of a power-of-two count (the Sobol' sampler's), its rounds once, with no loop",
+    ),
+    Twin(
+        "noise.sobol_numbers",
+        "raykit.engine.noise.PixelSamples.of",
+        "sample_numbers of the Sobol' sampler for a batch of samples of several pixels, a pair of"
+        " dimensions at a time",
+    ),
     Twin("sampling.point_in_pixel", "raykit.sampling.point_in_pixel"),
     Twin("sampling.jittered_point", "raykit.sampling.jittered_point"),
     Twin("sampling.point_on_parallelogram", "raykit.sampling.point_on_parallelogram"),
