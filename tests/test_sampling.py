@@ -5,6 +5,7 @@ and uniform (seeded tests)."""
 import math
 import subprocess
 import sys
+from fractions import Fraction
 
 import numpy as np
 import pytest
@@ -15,6 +16,7 @@ from raykit.engine.noise import Dimensions, PixelSamples, counter_hash, shuffle,
 from raykit.rays import dot, length
 from raykit.sampling import (
     Sampling,
+    _cos_sin,
     basis_around,
     jittered_point,
     jittered_set,
@@ -74,6 +76,30 @@ def test_the_concentric_map_gives_exact_points_on_the_axes_and_diagonals():
     expected = [[0, 0], [1, 0], [0, 1], [-1, 0], [0, -1], [h, h]]
     assert np.allclose(disk, expected, atol=1e-15)
     assert disk[0].tolist() == [0.0, 0.0]  # the centre: no 0/0
+
+
+def _exact_cos_sin(angle: float) -> tuple[float, float]:
+    """cos and sin of a float64 angle, rounded once from their Taylor series in exact rationals
+    (to x^59: far below half an ulp for |angle| <= pi/4)."""
+    x = Fraction(angle)
+    cos, sin, term = Fraction(0), Fraction(0), Fraction(1)
+    for i in range(60):
+        if i % 2 == 0:
+            cos += term * (-1) ** (i // 2)
+        else:
+            sin += term * (-1) ** (i // 2)
+        term = term * x / (i + 1)
+    return float(cos), float(sin)
+
+
+def test_the_concentric_maps_cosine_and_sine_are_within_an_ulp_of_the_exact_ones():
+    rng = np.random.default_rng(57)
+    angle = np.concatenate([rng.uniform(-math.pi / 4, math.pi / 4, 400),
+                            [-math.pi / 4, math.pi / 4, 1e-300, -1e-8, 0.5]])  # fmt: skip
+    cos, sin = _cos_sin(angle)
+    exact = np.array([_exact_cos_sin(float(a)) for a in angle])
+    assert np.all(np.abs(cos - exact[:, 0]) <= np.spacing(np.abs(exact[:, 0])))
+    assert np.all(np.abs(sin - exact[:, 1]) <= np.spacing(np.abs(exact[:, 1])))
 
 
 def test_the_concentric_map_stays_in_the_disk_and_keeps_area():

@@ -91,6 +91,63 @@ def _shuffle(rng):
 
 
 @numba.njit
+def _shuffled_of_power(index, count, key):
+    out = np.empty(len(index), dtype=np.int64)
+    for i in range(len(index)):
+        k0, k1, k2, k3 = kernels.round_keys(key[i])
+        out[i] = kernels.shuffle_of_power(index[i], count, k0, k1, k2, k3)
+    return out
+
+
+def _shuffle_of_power(rng):
+    """The shuffle of a power-of-two count in one pass, every index of each count."""
+    for count in (1, 2, 4, 8, 64, 1024, 4096):
+        index = np.tile(np.arange(count), max(1, 20_000 // count))
+        key = noise.counter_hash(rng.integers(0, 2**32), rng.integers(0, 2**40, len(index)), 0, 1)
+        exactly(_shuffled_of_power(index, count, key), noise.shuffle(index, count, key))
+
+
+@numba.njit
+def _batch(seed, pixels, k_first, samples, table, wanted):
+    numbers = np.full((len(pixels) * samples, len(wanted)), np.nan)
+    columns = np.full((len(wanted), len(pixels) * samples), np.nan)
+    keys = np.zeros((len(pixels), len(wanted) // 2 + 2, 6), dtype=np.uint64)
+    for q in range(len(pixels)):
+        kernels.pixel_keys(kernels.SOBOL, seed, pixels[q], wanted, keys[q])
+    kernels.sobol_numbers(k_first, samples, len(pixels), table, wanted, keys, numbers, columns)
+    return numbers, columns
+
+
+def _sobol_batch(rng):
+    """The Sobol' sampler's numbers of a batch: samples k_first .. k_first + samples - 1 of
+    each of its pixels, row q·samples + j and its column the reference's sample k_first + j of
+    pixel q, every dimension wanted or some, the others not written."""
+    for count, k_first, samples in ((1, 0, 1), (4, 0, 4), (64, 0, 64), (512, 256, 256)):
+        for dimensions in (2, 4, 10, 11):
+            seed = int(rng.integers(0, 2**32))
+            reference = noise.PixelSamples(Sampling(count, "sobol", seed), dimensions)
+            pixels = rng.integers(0, 2**24, max(1, 256 // samples))
+            table = kernels.sobol_table(count)
+            for wanted in (np.ones(dimensions, dtype=np.bool_), _some(dimensions)):
+                numbers, columns = _batch(seed, pixels, k_first, samples, table, wanted)
+                assert np.isnan(numbers[:, ~wanted]).all() and np.isnan(columns[~wanted]).all()
+                for j in range(samples):
+                    expected = reference.of(pixels, k_first + j)[:, wanted]
+                    exactly(numbers[j::samples][:, wanted], expected)
+                    exactly(columns[wanted][:, j::samples].T, expected)
+
+
+def _some(dimensions):
+    """Some of a sample's dimensions wanted, as wanted_dimensions leaves out what a scene does not
+    read: a pinhole's lens, a light's point at a mirror depth past 0, (11) the time."""
+    some = np.ones(dimensions, dtype=np.bool_)
+    some[2 : min(4, dimensions)] = False
+    some[6:8] = False
+    some[dimensions - 1 :] = dimensions % 2 == 0
+    return some
+
+
+@numba.njit
 def _samples(sampler, seed, pixels, k, n, table, wanted):
     out = np.full((len(pixels), len(wanted)), np.nan)
     keys = np.zeros((len(wanted) // 2 + 2, 6), dtype=np.uint64)
@@ -115,10 +172,7 @@ def _pixel_sample(rng):
                        "sobol": kernels.SOBOL}[name]  # fmt: skip
             pixels = rng.integers(0, 2**24, 2000)
             every = np.ones(dimensions, dtype=np.bool_)
-            some = every.copy()
-            some[2 : min(4, dimensions)] = False  # a pinhole's lens
-            some[6:8] = False  # a light's point at a mirror depth past 0
-            some[dimensions - 1 :] = dimensions % 2 == 0  # (11) the time
+            some = _some(dimensions)
             table = kernels.sobol_table(count if name == "sobol" else 0)
             for k in range(count):
                 expected = samples.of(pixels, k)
@@ -173,5 +227,7 @@ CHECKS = {
     "noise.shuffle_by": _shuffle,
     "noise.pixel_keys": _pixel_sample,
     "noise.sample_numbers": _pixel_sample,
+    "noise.shuffle_of_power": _shuffle_of_power,
+    "noise.sobol_numbers": _sobol_batch,
 }
 test_the_twin_repeats_its_reference = twin_test("noise", CHECKS)

@@ -432,12 +432,22 @@ def _in_lanes(rng):
     same_render(distributed_scene(rng, "jittered", lens=True, spheres=18))
 
 
+def _nearby(rng):
+    """A pinhole's distributed samples, each batch of them tested against the objects its pixels'
+    screen tiles list (row_objects): few enough to test in lanes, or, past DIRECT_HITS, each ray
+    through the tree; with a lens, every object; flat and shaded."""
+    same_render(distributed_scene(rng, "random", lights=False, spheres=12))
+    same_render(distributed_scene(rng, "sobol", spheres=40, samples=16))
+    same_render(distributed_scene(rng, "jittered", lens=True, lights=False))
+
+
 CHECKS = {
     "render.trace_sampled": _distributed("jittered", lens=True, mirrors=True),
     "render.trace_moving": _distributed("jittered", lights=False, moving=True),
     "render.sampled_job": _distributed("sobol", mirrors=True, glossy=True, moving=True),
     "render.sampled_lanes": _in_lanes,
-    "render.cast_lanes": _distributed("jittered", lens=True, lights=False),
+    "render.cast_lanes": _nearby,
+    "render.cast_nearby": _nearby,
     "render.cast_each": _in_lanes,
     "render.cast_rays": caster_answers_what_cast_answers,
     "render.trace_flat": small_render("classic"),

@@ -9,12 +9,13 @@ import pytest
 from libm_power import libm_power
 
 from conftest import SCENES
+from raykit.camera import rays_through
 from raykit.engine import compiled
 from raykit.engine.compiled.billboards import billboard_color_at, hit_billboard
 from raykit.engine.compiled.spheres import hit_sphere
 from raykit.engine.compiled.tiles import lane_offer, lanes_under
 from raykit.io.scene_json import load_scene
-from raykit.render import render
+from raykit.render import cast, render
 
 from .harness import (
     crowd,
@@ -257,7 +258,47 @@ def _bin_by_tile(rng):
         assert np.all(np.diff([closest[int(obj)] for obj in listed]) >= 0)
 
 
+def _row_objects(rng):
+    """A run of pixels in one row lists, once each, every object whose screen rectangle (the
+    reference's, raykit.engine.screen_bounds) meets the pixels', so every object the numpy
+    engine sees at a random point of them; and -1 for pixels of two rows, or more objects than
+    its room holds."""
+    from raykit.engine.screen_bounds import scene_bounds
+
+    scene = crowd(rng, 60)
+    arrays = compiled.scene_arrays(scene)
+    camera = scene.camera
+    width = camera.width
+    tiles = compiled.screen_tiles(scene, arrays, 16, False)
+    bounds = scene_bounds(camera, arrays.centers, arrays.radii, scene.billboards)
+    kernels = compiled.tiles
+    room = np.empty(scene.object_count, dtype=np.int64)
+    listed_any = 0
+    for _ in range(200):
+        row = int(rng.integers(camera.height))
+        left = int(rng.integers(width))
+        right = int(rng.integers(left, min(width, left + 40)))  # the last pixel
+        count = kernels.row_objects(tiles, width, row * width + left, row * width + right, room)
+        with np.errstate(invalid="ignore"):
+            meets = ((bounds[:, 0] <= right + 1) & (left <= bounds[:, 1])
+                     & (bounds[:, 2] <= row + 1) & (row <= bounds[:, 3]))  # fmt: skip
+        listed = room[:count]
+        assert len(set(listed)) == count and set(listed) == set(np.flatnonzero(meets))
+        xs = left + rng.uniform(0, right + 1 - left, 64)
+        ys = row + rng.uniform(0, 1, 64)
+        hits = cast(scene, *rays_through(camera, xs, ys)).index
+        assert set(hits[hits >= 0]) <= set(listed)
+        listed_any += count > 0
+        if count > 1:
+            small = np.empty(count - 1, dtype=np.int64)
+            assert kernels.row_objects(tiles, width, row * width + left, row * width + right,
+                                       small) == -1  # fmt: skip
+    assert listed_any > 50
+    assert kernels.row_objects(tiles, width, width - 1, width, room) == -1  # two rows
+
+
 CHECKS = {
+    "tiles.row_objects": _row_objects,
     "tiles.primary_ray": _tiled(4, False),
     "tiles.primary_rays": _tiled(8, True),
     "tiles.lane_offer": _lane_offer,

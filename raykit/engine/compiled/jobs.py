@@ -15,7 +15,7 @@ from numba import njit
 from numba.core import types
 from numba.extending import intrinsic
 
-from raykit.engine.compiled.bvh import new_stack
+from raykit.engine.compiled.bvh import DIRECT_HITS, new_stack
 from raykit.engine.compiled.compiling import KERNEL, MAKES_ARRAYS, ONE_RAY
 from raykit.engine.compiled.shading import Lanes, new_lanes
 from raykit.engine.compiled.shadows import SHADOW_CANDIDATES
@@ -205,24 +205,27 @@ def pixel_means(film, job, colors, best, best_t):
 
 
 class SampleRoom(NamedTuple):
-    """Room for a distributed render's samples' uniform numbers: each sample's ``numbers``
-    (a row each, ``(N, D)``, or ``(D,)`` for one sample at a time), the wanted ones copied into
-    ``columns (D, N)`` (no columns for one at a time), and what a pixel's samples share,
-    ``keys`` (:func:`~.noise.pixel_keys`). Each worker has its own, made before its call
-    (:func:`new_sample_room`, :func:`sampled_rooms`)."""
+    """Room for a distributed render's samples' uniform numbers: each sample's ``numbers`` (a row
+    each, ``(N, D)``, or ``(D,)`` for one sample at a time), the wanted ones copied into ``columns
+    (D, N)`` (no columns for one at a time), what each pixel's samples share, ``keys (P, D // 2 + 2,
+    6)`` (:func:`~.noise.pixel_keys`; P = 1 for one at a time), and the objects a batch of a
+    pinhole's samples can hit, ``near (DIRECT_HITS,)`` (:func:`~.tiles.row_objects`). Each worker
+    has its own, made before its call (:func:`new_sample_room`, :func:`sampled_rooms`)."""
 
     numbers: np.ndarray
     columns: np.ndarray
     keys: np.ndarray
+    near: np.ndarray
 
 
 @njit(**MAKES_ARRAYS)
-def new_sample_room(n, dimensions):
-    """A :class:`SampleRoom` for ``n`` samples in lanes of ``dimensions`` numbers each, or, ``n``
-    0, for one sample at a time."""
+def new_sample_room(n, dimensions, pixels):
+    """A :class:`SampleRoom` for ``n`` samples in lanes of ``dimensions`` numbers each, of
+    ``pixels`` pixels at most, or, ``n`` 0, for one sample at a time."""
     numbers = np.empty((max(n, 1), dimensions))
-    keys = np.zeros((dimensions // 2 + 2, 6), dtype=np.uint64)
-    return SampleRoom(numbers, np.empty((dimensions, n)), keys)
+    keys = np.zeros((max(pixels, 1), dimensions // 2 + 2, 6), dtype=np.uint64)
+    return SampleRoom(numbers, np.empty((dimensions, n)), keys,
+                      np.empty(DIRECT_HITS, dtype=np.int64))  # fmt: skip
 
 
 class RayRoom(NamedTuple):
@@ -298,17 +301,19 @@ def lit_rooms(n: int, shading) -> tuple[RayRoom, ShadingRoom, np.ndarray]:
     return new_ray_room(n), new_shading_room(n, shading), np.zeros(2, np.int64)
 
 
-def sampled_rooms(n: int, shading, noise) -> tuple[RayRoom, ShadingRoom, SampleRoom, np.ndarray]:
+def sampled_rooms(
+    n: int, pixels: int, shading, noise
+) -> tuple[RayRoom, ShadingRoom, SampleRoom, np.ndarray]:
     """A worker's rooms for :func:`~raykit.engine.compiled.render.trace_sampled`: as
-    :func:`lit_rooms`, for ``n`` samples at a time, with room for their numbers in lanes of
-    ``noise.dimensions`` (:class:`~.noise.Noise`), and its grain."""
-    return (new_ray_room(n), new_shading_room(n, shading), new_sample_room(n, noise.dimensions),
-            np.zeros(2, np.int64))  # fmt: skip
+    :func:`lit_rooms`, for ``n`` samples of ``pixels`` pixels at most at a time, with room for
+    their numbers in lanes of ``noise.dimensions`` (:class:`~.noise.Noise`), and its grain."""
+    return (new_ray_room(n), new_shading_room(n, shading),
+            new_sample_room(n, noise.dimensions, pixels), np.zeros(2, np.int64))  # fmt: skip
 
 
 def moving_rooms(arrays, noise) -> tuple[np.ndarray, SampleRoom, np.ndarray, np.ndarray]:
     """A worker's rooms for :func:`~raykit.engine.compiled.render.trace_moving`: a tree walk's
     stack, room for one sample's numbers, its own copy of the centres ``(S, 3)`` of the spheres
     of ``arrays`` (:class:`~.scene.Arrays`), which it moves to each ray's time, and its grain."""
-    return (new_stack(), new_sample_room(0, noise.dimensions), arrays.centers.copy(),
+    return (new_stack(), new_sample_room(0, noise.dimensions, 1), arrays.centers.copy(),
             np.zeros(2, np.int64))  # fmt: skip

@@ -213,6 +213,72 @@ def sample_numbers(sampler, k, n, table, wanted, reads, keys, out):
             out[last] = (stratum + out[last]) / count
 
 
+@njit(**ONE_RAY)
+def shuffle_of_power(index, count, k0, k1, k2, k3):
+    """:func:`shuffle_by` where ``count`` is a power of two (the Sobol' sampler's every count):
+    its rounds once, with no loop, where they land in [0, count) at once (the mask is count - 1),
+    so that a loop of it over many samples becomes vector instructions; π(0) = 0 for a count of
+    1, whose mask of one bit the loop would walk back to 0."""
+    if count == 1:
+        return np.int64(0)
+    bits = 1
+    while (1 << bits) < count:
+        bits += 1
+    mask = np.uint64(count - 1)
+    down = np.uint64(max(1, bits // 2))
+    one = np.uint64(1)
+    value = np.uint64(index)
+    for k in (k0, k1, k2, k3):
+        value = value ^ (k & mask)
+        value = (value * ((k >> np.uint64(32)) | one)) & mask
+        value = value ^ (value >> down)
+        value = value ^ ((value << one) & mask)
+    return np.int64(value)
+
+
+@njit(**INLINED)
+def sobol_numbers(k_first, samples, pixels, table, wanted, keys, numbers, columns):
+    """:func:`sample_numbers` of the Sobol' sampler for a batch: samples ``k_first`` to
+    ``k_first + samples - 1`` of each of ``pixels`` pixels, from pixel q's :func:`pixel_keys`
+    ``keys[q]``, into row q·samples + j of ``numbers (N, D)`` and column of ``columns (D, N)``,
+    the dimensions ``wanted (D,)`` only: the same operations on the same integers, one pair of
+    dimensions at a time for all of a pixel's samples (a loop with no branch, which the compiler
+    turns into vector instructions; one sample at a time went through every pair's branches),
+    the shuffles by :func:`shuffle_of_power`."""
+    count = len(table)
+    dimensions = numbers.shape[1]
+    for q in range(pixels):
+        pixel = keys[q]
+        for pair in range(dimensions // 2):
+            x, y = 2 * pair, 2 * pair + 1
+            if not (wanted[x] or wanted[y]):
+                continue
+            row = pixel[1 + pair]
+            k0, k1, k2, k3, seed_x, seed_y = row[0], row[1], row[2], row[3], row[4], row[5]
+            for j in range(samples):
+                i = q * samples + j
+                cell = k_first + j
+                if pair:
+                    cell = shuffle_of_power(cell, count, k0, k1, k2, k3)
+                u = np.float64(reverse_bits(owen_hash(table[cell, 0], seed_x))) * SOBOL_UNIT
+                v = np.float64(reverse_bits(owen_hash(table[cell, 1], seed_y))) * SOBOL_UNIT
+                if wanted[x]:
+                    numbers[i, x] = u
+                    columns[x, i] = u
+                if wanted[y]:
+                    numbers[i, y] = v
+                    columns[y, i] = v
+        if dimensions % 2 and wanted[dimensions - 1]:  # a last single number (a time)
+            last = dimensions - 1
+            row = pixel[len(pixel) - 1]
+            for j in range(samples):
+                i = q * samples + j
+                stratum = shuffle_of_power(k_first + j, count, row[0], row[1], row[2], row[3])
+                u = np.float64(reverse_bits(owen_hash(stratum, row[4]))) * SOBOL_UNIT
+                numbers[i, last] = u
+                columns[last, i] = u
+
+
 def sobol_table(count: int) -> np.ndarray:
     """The Sobol' points of indices 0 .. ``count`` - 1 ``(count, 2)`` (uint64), each with its
     bits mirrored, as :func:`sample_numbers` reads them: made once a render by the reference's

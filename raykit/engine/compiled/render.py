@@ -27,7 +27,7 @@ from raykit.engine.compiled.camera import (
     rays_through,
     thin_lens_rays,
 )
-from raykit.engine.compiled.compiling import JOB, KERNEL, MAKES_ARRAYS, keep_freed_memory
+from raykit.engine.compiled.compiling import JOB, KERNEL, MAKES_ARRAYS, ONE_RAY, keep_freed_memory
 from raykit.engine.compiled.jobs import (
     CHUNK,
     Film,
@@ -42,7 +42,14 @@ from raykit.engine.compiled.jobs import (
     pixel_means,
     sampled_rooms,
 )
-from raykit.engine.compiled.noise import Noise, pixel_keys, sample_numbers, scene_noise
+from raykit.engine.compiled.noise import (
+    SOBOL,
+    Noise,
+    pixel_keys,
+    sample_numbers,
+    scene_noise,
+    sobol_numbers,
+)
 from raykit.engine.compiled.pool import run, shares
 from raykit.engine.compiled.sampling import point_in_pixel, shutter_times
 from raykit.engine.compiled.scene import (
@@ -67,7 +74,13 @@ from raykit.engine.compiled.shading import (
 )
 from raykit.engine.compiled.shadows import SHADOW_CANDIDATES, shadow_lists
 from raykit.engine.compiled.spheres import center_at, hit_sphere
-from raykit.engine.compiled.tiles import Tiles, primary_ray, primary_rays, screen_tiles
+from raykit.engine.compiled.tiles import (
+    Tiles,
+    primary_ray,
+    primary_rays,
+    row_objects,
+    screen_tiles,
+)
 from raykit.engine.regions import refuse_grid
 from raykit.engine.tiles import regions
 from raykit.hits import Hits
@@ -76,13 +89,15 @@ from raykit.surfaces import OFFSET_FACTOR
 
 keep_freed_memory()  # each render's outputs reuse the last one's pages, where glibc allows
 ROWS_PER_CALL = 32  # rows of pixels per kernel call when a progress bar is to move
-SAMPLED_PIXELS = 16  # pixels per job of a distributed render, each with all its samples
+SAMPLED_PIXELS = 64  # pixels per job of a distributed render, each with all its samples
 SAMPLED_LANES = 256  # samples shaded together (sampled_lanes): of one pixel, or whole pixels
+SAMPLED_SIDE = 16  # the screen tiles of a pinhole's distributed render: a job's row in one or two
 
 
 class Prepared(NamedTuple):
     """A scene made ready for the kernels (:func:`prepare`): its :class:`Arrays`, screen tiles
-    (:func:`screen_tiles`; none for a distributed scene, whose rays they do not bound), BVH
+    (:func:`screen_tiles`; none for a distributed scene through a lens or with moving spheres,
+    whose rays they do not bound), BVH
     (:class:`Tree`, for shadow and mirror rays, and a distributed render's every ray; empty when the
     scene has none), :class:`Shading` (lights and materials) and camera (:func:`camera_tuple`); and
     a distributed scene's thin lens (:func:`lens_tuple`) and :class:`Noise` (None for another
@@ -116,9 +131,12 @@ def prepare(scene: Scene) -> Prepared:
     if scene.moving:  # no box of the spheres as they stand bounds them: every object
         tree = every_object_tree(scene)
     noise = scene_noise(scene) if scene.distributed else None
-    # a distributed scene's rays are not bounded by screen tiles (trace_sampled): it makes none,
-    # and compiles none of their kernels
-    tiles = _NO_TILES if scene.distributed else screen_tiles(scene, arrays)
+    if not scene.distributed:
+        tiles = screen_tiles(scene, arrays)
+    elif lens_tuple(scene)[0] > 0 or scene.moving:  # a lens's rays do not start at the eye,
+        tiles = _NO_TILES  # and a moving sphere has no one rectangle: no screen tile bounds them
+    else:  # a pinhole's: each sample's ray goes through a point of its own pixel (row_objects)
+        tiles = screen_tiles(scene, arrays, size=SAMPLED_SIDE, packets=False)
     return Prepared(scene, arrays, tiles, tree, shading, camera_tuple(scene), lens_tuple(scene),
                     noise, scene_motion(scene), entry_point(scene))  # fmt: skip
 
@@ -228,7 +246,8 @@ def _rooms(prepared: Prepared, film: Film) -> Callable[[], tuple]:
     if prepared.noise is not None:
         if prepared.entry == "trace_moving":
             return functools.partial(moving_rooms, prepared.arrays, prepared.noise)
-        return functools.partial(sampled_rooms, SAMPLED_LANES, prepared.shading, prepared.noise)
+        return functools.partial(sampled_rooms, SAMPLED_LANES, min(SAMPLED_LANES, SAMPLED_PIXELS),
+                                 prepared.shading, prepared.noise)  # fmt: skip
     size = prepared.tiles.size
     n = (CHUNK if len(film.xs) else size * size) * (len(film.offsets) + 1)
     if prepared.entry == "trace_flat":
@@ -253,7 +272,7 @@ def _entry(prepared: Prepared) -> tuple:
         return name, trace_moving, (*distributed, prepared.motion)
     if name in ("trace_sampled", "trace_sampled_mirrors"):
         bounces = True if name == "trace_sampled_mirrors" else None
-        return name, trace_sampled, (*distributed, bounces)
+        return name, trace_sampled, (*distributed, prepared.tiles, bounces)
     if name == "trace_flat":
         return name, trace_flat, (prepared.arrays, prepared.tiles, prepared.camera)
     bounces = True if name == "trace_mirrors" else None
@@ -396,7 +415,7 @@ def lit_job(scene, tiles, camera, bounces, film, job, room, shading_room):
 
 
 @njit(**KERNEL)
-def trace_sampled(scene, camera, lens, noise, bounces, film, work, room, shading_room,
+def trace_sampled(scene, camera, lens, noise, tiles, bounces, film, work, room, shading_room,
                   sample_room, grain):  # fmt: skip
     """The lecture's loop for a distributed scene (stage 5, as :class:`raykit.engine.regions.Plan`
     batches it) whose spheres stand still: for each pixel, each of its ``noise.count`` samples in
@@ -407,21 +426,23 @@ def trace_sampled(scene, camera, lens, noise, bounces, film, work, room, shading
     :class:`raykit.engine.regions.Image` takes the mean; and the object index and t of the pinhole
     ray through the pixel centre. ``work.jobs (J,)``: the first pixel of each job of SAMPLED_PIXELS
     (row-major, P = ``len(film.t)``); results into ``film`` (:class:`~.jobs.Film`: ``rgb (P, 3)``,
-    ``index``, ``t (P,)``). No screen tile bounds a ray: a lens's rays do not start at the eye (as
-    the reference tests every object then), and the answer is :func:`raykit.render.cast`'s either
-    way. A job's samples go in lanes (:func:`sampled_lanes`); ``bounces``, True in a scene with
-    mirrors, else None (a type of its own to numba, for which no mirror ray is compiled), as
-    :func:`trace_lit` takes it. A scene whose spheres move renders by :func:`trace_moving`, compiled
-    apart, so that a still scene never compiles its kernels. A call is one worker, taking grains of
-    jobs as :func:`trace_flat`'s does; a pixel's numbers depend on it alone, so the image does not
-    depend on which takes which. Its rooms (:func:`~.jobs.sampled_rooms`), each worker's own, are
-    made before its call, as every entry point's are, and its one job, :func:`sampled_lanes`, is
+    ``index``, ``t (P,)``). Through a pinhole, each batch of a job's samples tests only the objects
+    its pixels' screen ``tiles`` list (:func:`~.tiles.row_objects`); a lens's rays do not start at
+    the eye, and no tile bounds them (``tiles`` is empty: as the reference, each tests every
+    object). The answer is :func:`raykit.render.cast`'s either way. A job's samples go in lanes
+    (:func:`sampled_lanes`); ``bounces``, True in a scene with mirrors, else None (a type of its own
+    to numba, for which no mirror ray is compiled), as :func:`trace_lit` takes it. A scene whose
+    spheres move renders by :func:`trace_moving`, compiled apart, so that a still scene never
+    compiles its kernels. A call is one worker, taking grains of jobs as :func:`trace_flat`'s does;
+    a pixel's numbers depend on it alone, so the image does not depend on which takes which. Its
+    rooms (:func:`~.jobs.sampled_rooms`), each worker's own, are made before its call, as every
+    entry point's are, and its one job, :func:`sampled_lanes`, is
     copied into it (:data:`~raykit.engine.compiled.compiling.JOB`)."""
     every_object(scene.tree, scene.shading, shading_room)
     while grain_taken(work, grain):
         for j in range(grain[0], grain[1]):
-            sampled_lanes(scene, camera, lens, noise, bounces, film, work.jobs[j], sample_room,
-                          room, shading_room)  # fmt: skip
+            sampled_lanes(scene, camera, lens, noise, tiles, bounces, film, work.jobs[j],
+                          sample_room, room, shading_room)  # fmt: skip
 
 
 @njit(**KERNEL)
@@ -472,7 +493,7 @@ def sampled_job(standing, moved, camera, lens, noise, motion, film, first, stack
     not.)"""
     count, wanted, reads = noise.count, noise.wanted, noise.reads
     at_time, tree = moved.arrays, moved.tree
-    numbers, keys = sample_room.numbers[0], sample_room.keys
+    numbers, keys = sample_room.numbers[0], sample_room.keys[0]
     width, rgb, index, t = film.width, film.rgb, film.index, film.t
     for p in range(first, min(first + SAMPLED_PIXELS, len(t))):
         row, col = p // width, p % width
@@ -542,12 +563,27 @@ def cast_each(arrays, tree, stack, rays, count, best, best_t, colors):
         colors[0, i], colors[1, i], colors[2, i] = hit.r, hit.g, hit.b
 
 
+@njit(**ONE_RAY)
+def cast_nearby(arrays, tree, stack, near, nearby, rays, count, best, best_t, colors, t):
+    """:func:`nearest_hit` for each of ``count`` rays ``rays (6, N)``, as :func:`cast_lanes` or
+    :func:`cast_each` find it best: of the ``nearby`` objects ``near (K,)`` that can be hit
+    (:func:`~.tiles.row_objects`; -1: every object may be), or of every object where a scene
+    has DIRECT_HITS or fewer, each in lanes; else each ray through the tree."""
+    if nearby >= 0:
+        cast_lanes(arrays, near, nearby, rays, count, best, best_t, colors, t)
+    elif len(tree.order) <= DIRECT_HITS:
+        cast_lanes(arrays, tree.order, len(tree.order), rays, count, best, best_t, colors, t)
+    else:
+        cast_each(arrays, tree, stack, rays, count, best, best_t, colors)
+
+
 @njit(**KERNEL)
-def cast_lanes(arrays, tree, rays, count, best, best_t, colors, t):
+def cast_lanes(arrays, order, objects, rays, count, best, best_t, colors, t):
     """:func:`nearest_hit` for each of ``count`` rays ``rays (6, N)`` (origins, then directions)
-    in a scene of DIRECT_HITS objects or fewer, each object in turn for all the rays
-    (``tree.order``, in the order nearest_hit tests them, :func:`keep_nearer`'s test for each
-    ray, so the same hits): the object index into ``best``, t into ``best_t`` and the colour
+    among the first ``objects`` of ``order`` (DIRECT_HITS or fewer: every object of the scene,
+    in the tree's order, or those the rays' pixels may show), each object in turn for all the
+    rays, with :func:`keep_nearer`'s test for each ray, whose outcome does not depend on the
+    order, so the same hits: the object index into ``best``, t into ``best_t`` and the colour
     into ``colors (3, N)``; ``t (N,)`` is room. The step that is the same for every ray (a
     sphere's t, a hit kept or not) is a loop the compiler turns into vector instructions."""
     background, spheres = arrays.background, len(arrays.radii)
@@ -556,8 +592,8 @@ def cast_lanes(arrays, tree, rays, count, best, best_t, colors, t):
         best[i], best_t[i] = -1, np.inf
         colors[0, i], colors[1, i], colors[2, i] = background[0], background[1], background[2]
     board_colors = arrays.board_colors
-    for m in range(len(tree.order)):
-        obj = tree.order[m]
+    for m in range(objects):
+        obj = order[m]
         board = obj - spheres
         if obj < spheres:
             c0, c1, c2, R = centers[obj, 0], centers[obj, 1], centers[obj, 2], radii[obj]
@@ -592,27 +628,29 @@ def cast_lanes(arrays, tree, rays, count, best, best_t, colors, t):
 
 @njit(**JOB)
 def sampled_lanes(
-    scene, camera, lens, noise, bounces, film, first, sample_room, room, shading_room
+    scene, camera, lens, noise, tiles, bounces, film, first, sample_room, room, shading_room
 ):
     """:func:`sampled_job` for a scene where nothing moves, its samples in lanes: SAMPLED_LANES
-    samples at a time, of one pixel, or of as many whole pixels as they hold (each batch calls
-    kernels of its own, whose arguments cost as much as a few rays: a batch of one pixel's few
+    samples at a time, of one pixel, or of as many whole pixels of one row as they hold (each batch
+    calls kernels of its own, whose arguments cost as much as a few rays: a batch of one pixel's few
     samples paid them for too few), each sample with its row of ``sample_room.numbers
     (SAMPLED_LANES, D)``, the wanted ones copied into the columns of its ``columns (D,
-    SAMPLED_LANES)`` (:class:`~.jobs.SampleRoom`); their viewing rays,
-    their nearest hits (:func:`cast_lanes` in a scene of DIRECT_HITS objects or fewer, each ray
-    through the tree in a larger one), into ``room`` (:class:`RayRoom`), then all of them
-    shaded at once as :func:`lit_job` shades a tile's rays (:func:`surface_lanes`,
-    :func:`light_lanes`, each area light at each ray's own point of it), the shadow rays against
-    every object (:func:`every_object`); then each mirror's rays (:func:`bounce_on`, with the
-    ray's row of numbers; only where ``bounces`` is True, not None: :func:`trace_sampled`), and
-    the samples summed in order. A step the same for every sample
-    is a loop the compiler turns into vector instructions, where one sample at a time waited on
-    its divisions and branches. Each ray's operations are :func:`shade`'s, in its order, so the
-    bits are :func:`sampled_job`'s."""
+    SAMPLED_LANES)`` (:class:`~.jobs.SampleRoom`); their viewing rays, their nearest hits
+    (:func:`cast_lanes` of the objects their pixels' screen ``tiles`` list,
+    :func:`~.tiles.row_objects`, where those are DIRECT_HITS or fewer, else of every object in a
+    scene of DIRECT_HITS or fewer, else each ray through the tree), into ``room``
+    (:class:`RayRoom`), then all of them shaded at once as :func:`lit_job` shades a tile's rays
+    (:func:`surface_lanes`, :func:`light_lanes`, each area light at each ray's own point of it), the
+    shadow rays against every object (:func:`every_object`); then each mirror's rays
+    (:func:`bounce_on`, with the ray's row of numbers; only where ``bounces`` is True, not None:
+    :func:`trace_sampled`), and the samples summed in order. A step the same for every sample is a
+    loop the compiler turns into vector instructions, where one sample at a time waited on its
+    divisions and branches. Each ray's operations are :func:`shade`'s, in its order, so the bits are
+    :func:`sampled_job`'s."""
     arrays, tree, shading = scene
     count, wanted, reads = noise.count, noise.wanted, noise.reads
     numbers, columns, keys = sample_room.numbers, sample_room.columns, sample_room.keys
+    near, tiled = sample_room.near, len(tiles.start) > 1
     width, rgb, index, t = film.width, film.rgb, film.index, film.t
     xy, rays, best, best_t, colors = room.xy, room.rays, room.best, room.best_t, room.colors
     lanes, box, stack = shading_room.lanes, shading_room.box, shading_room.stack
@@ -620,40 +658,55 @@ def sampled_lanes(
     per = max(1, SAMPLED_LANES // count)  # whole pixels a batch holds
     last = min(first + SAMPLED_PIXELS, len(t))
     r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
-    for p_first in range(first, last, per):
-        pixels = min(per, last - p_first)
+    p_first = first
+    while p_first < last:  # batches of whole pixels, none across two rows (row_objects)
+        pixels = min(per, last - p_first, width - p_first % width)
+        nearby = row_objects(tiles, width, p_first, p_first + pixels - 1, near) if tiled else -1
         for k_first in range(0, count, SAMPLED_LANES):
             samples = min(SAMPLED_LANES, count - k_first)  # of each pixel in this batch
             shaded = pixels * samples
-            for i in range(shaded):  # lane i: sample k of pixel p
-                p, k = p_first + i // samples, k_first + i % samples
-                if k == k_first:
-                    pixel_keys(noise.sampler, noise.seed, p, wanted, keys)
-                u = numbers[i]
-                sample_numbers(noise.sampler, k, noise.n, noise.table, wanted, reads, keys, u)
-                for d in reads:
-                    columns[d, i] = u[d]
-                xy[0, i], xy[1, i] = point_in_pixel(p // width, p % width, u[noise.pixel],
-                                                    u[noise.pixel + 1])  # fmt: skip
-            for i in range(shaded):
-                if lens[0] > 0:
+            for q in range(pixels):  # lane i = q·samples + j: sample k_first + j of pixel p
+                pixel_keys(noise.sampler, noise.seed, p_first + q, wanted, keys[q])
+            if noise.sampler == SOBOL:  # a pair of dimensions at a time
+                sobol_numbers(k_first, samples, pixels, noise.table, wanted, keys, numbers,
+                              columns)  # fmt: skip
+            else:
+                for q in range(pixels):
+                    for j in range(samples):
+                        i = q * samples + j
+                        u = numbers[i]
+                        sample_numbers(noise.sampler, k_first + j, noise.n, noise.table, wanted,
+                                       reads, keys[q], u)  # fmt: skip
+                        for d in reads:
+                            columns[d, i] = u[d]
+            for q in range(pixels):
+                p = p_first + q
+                row, col = p // width, p % width
+                for j in range(samples):
+                    i = q * samples + j
+                    xy[0, i], xy[1, i] = point_in_pixel(row, col, columns[noise.pixel, i],
+                                                        columns[noise.pixel + 1, i])  # fmt: skip
+            if lens[0] > 0:  # a loop each, the same step for every lane
+                for i in range(shaded):
                     ray = thin_lens_rays(camera, lens, xy[0, i], xy[1, i], columns[noise.lens, i],
                                          columns[noise.lens + 1, i])  # fmt: skip
-                else:
-                    ray = rays_through(camera, xy[0, i], xy[1, i])
-                rays[0, i], rays[1, i], rays[2, i] = ray.o0, ray.o1, ray.o2
-                rays[3, i], rays[4, i], rays[5, i] = ray.d0, ray.d1, ray.d2
-            if len(tree.order) <= DIRECT_HITS:
-                cast_lanes(arrays, tree, rays, shaded, best, best_t, colors, lanes.t)
+                    rays[0, i], rays[1, i], rays[2, i] = ray.o0, ray.o1, ray.o2
+                    rays[3, i], rays[4, i], rays[5, i] = ray.d0, ray.d1, ray.d2
             else:
-                cast_each(arrays, tree, stack, rays, shaded, best, best_t, colors)
+                for i in range(shaded):
+                    ray = rays_through(camera, xy[0, i], xy[1, i])
+                    rays[0, i], rays[1, i], rays[2, i] = ray.o0, ray.o1, ray.o2
+                    rays[3, i], rays[4, i], rays[5, i] = ray.d0, ray.d1, ray.d2
+            cast_nearby(arrays, tree, stack, near, nearby, rays, shaded, best, best_t, colors,
+                        lanes.t)  # fmt: skip
             if shading.shaded:
                 surface_lanes(arrays, shading, rays, best, best_t, colors, shaded, lanes, box)
                 if shading.lit:
                     light_lanes(scene, stack, rays, best, shaded, lanes, shading_room.candidates,
                                 shading_room.counts, columns)  # fmt: skip
             for i in range(shaded):  # each pixel's samples summed in order
-                p, k = p_first + i // samples, k_first + i % samples
+                q, j = divmod(i, samples)
+                p, k = p_first + q, k_first + j
                 if k == 0:
                     r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
                 c0, c1, c2 = colors[0, i], colors[1, i], colors[2, i]
@@ -683,9 +736,11 @@ def sampled_lanes(
                     ray = rays_through(camera, p % width + 0.5, p // width + 0.5)
                     rays[0, q], rays[1, q], rays[2, q] = ray.o0, ray.o1, ray.o2
                     rays[3, q], rays[4, q], rays[5, q] = ray.d0, ray.d1, ray.d2
-                cast_each(arrays, tree, stack, rays, pixels, best, best_t, colors)
+                cast_nearby(arrays, tree, stack, near, nearby, rays, pixels, best, best_t, colors,
+                            lanes.t)  # fmt: skip
                 for q in range(pixels):
                     index[p_first + q], t[p_first + q] = best[q], best_t[q]
+        p_first += pixels
 
 
 @njit(parallel=True, **MAKES_ARRAYS)

@@ -13,6 +13,7 @@ import numpy as np
 from numba import njit
 
 from raykit.engine.compiled.compiling import ONE_RAY
+from raykit.sampling import COS_COEFFICIENTS, SIN_COEFFICIENTS
 
 
 @njit(**ONE_RAY)
@@ -45,13 +46,13 @@ def point_on_parallelogram(c0, c1, c2, a0, a1, a2, b0, b1, b2, u1, u2):
 @njit(**ONE_RAY)
 def cos_sin(angle):
     """Repeats :func:`raykit.sampling._cos_sin` for one angle in [-π/4, π/4]: its Taylor
-    series, Horner's way, in the reference's order."""
+    series, Horner's way, in the reference's order, by the same coefficients."""
     x2 = angle * angle
     cos = 1.0
     sin = 1.0
-    for k in range(11, 0, -1):
-        cos = 1.0 - x2 / ((2 * k - 1) * (2 * k)) * cos
-        sin = 1.0 - x2 / ((2 * k) * (2 * k + 1)) * sin
+    for k in range(len(COS_COEFFICIENTS) - 1, -1, -1):
+        cos = 1.0 - x2 * COS_COEFFICIENTS[k] * cos
+        sin = 1.0 - x2 * SIN_COEFFICIENTS[k] * sin
     return cos, angle * sin
 
 

@@ -250,6 +250,37 @@ def take_nearer(ts, start, end, obj, r, g, b, room):
     return first_hits, taken
 
 
+@njit(**ONE_RAY)
+def row_objects(tiles, width, first, last, out):
+    """The objects a viewing ray through any point of pixels ``first`` to ``last`` (row-major,
+    ``width`` to a row) can hit, for a pinhole's distributed samples, each a point of its own
+    pixel: those of their screen tiles' lists (:func:`screen_tiles`) whose rectangle meets the
+    pixels' (as :meth:`raykit.engine.tiles.Region.holding` would hold a point of them), each
+    once, into ``out (K,)``. Returns their count, or -1 where the pixels are not of one row or
+    more than K objects meet them: then every object may be hit, as far as the tiles tell."""
+    row = first // width
+    if last // width != row:
+        return -1
+    left, right = first - row * width, last - row * width + 1  # the pixels span [left, right]
+    size = tiles.size
+    count = 0
+    for tile in range((row // size) * tiles.tiles_x + left // size,
+                      (row // size) * tiles.tiles_x + (right - 1) // size + 1):  # fmt: skip
+        for e in range(tiles.start[tile], tiles.start[tile + 1]):
+            entry = tiles.entries[e]
+            if entry[0] <= right and left <= entry[1] and entry[2] <= row + 1 and row <= entry[3]:
+                obj = tiles.objects[e]
+                listed = False
+                for m in range(count):
+                    listed = listed or out[m] == obj
+                if not listed:
+                    if count == len(out):
+                        return -1
+                    out[count] = obj
+                    count += 1
+    return count
+
+
 @njit(**KERNEL)
 def primary_rays(arrays, tiles, camera, job, samples, extra, room):
     """:func:`primary_ray` for every image point of ``room`` at once, all in the tile of ``job``

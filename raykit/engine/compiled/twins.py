@@ -94,6 +94,17 @@ TWINS = (
         "sample k of one pixel, from its pixel_keys, into a row of numbers, by each sampler (the"
         " Sobol' table as data), only the dimensions the scene reads",
     ),
+    Twin(
+        "noise.shuffle_of_power",
+        "raykit.engine.noise.shuffle",
+        "the shuffle of a power-of-two count (the Sobol' sampler's), its rounds once, with no loop",
+    ),
+    Twin(
+        "noise.sobol_numbers",
+        "raykit.engine.noise.PixelSamples.of",
+        "sample_numbers of the Sobol' sampler for a batch of samples of several pixels, a pair of"
+        " dimensions at a time",
+    ),
     Twin("sampling.point_in_pixel", "raykit.sampling.point_in_pixel"),
     Twin("sampling.jittered_point", "raykit.sampling.jittered_point"),
     Twin("sampling.point_on_parallelogram", "raykit.sampling.point_on_parallelogram"),
@@ -180,6 +191,11 @@ TWINS = (
         "raykit.engine.tiles.regions",
         "each tile's objects as one list, nearest first, for a ray to read straight through",
     ),
+    Twin(
+        "tiles.row_objects",
+        "raykit.engine.tiles.regions",
+        "the objects a row of pixels' screen tiles list, for a pinhole's distributed samples",
+    ),
     Twin("render.trace_flat", "raykit.render.render", "render's loop for a flat scene"),
     Twin("render.trace_lit", "raykit.render.render", "render's loop for a shaded scene"),
     Twin("render.flat_job", "raykit.render.render", "render's loop over one job's pixels, flat"),
@@ -211,9 +227,14 @@ TWINS = (
         "cast's nearest hits of a batch of rays, each through the tree",
     ),
     Twin(
+        "render.cast_nearby",
+        "raykit.render.cast",
+        "cast's nearest hits of a batch of viewing rays, of the objects their pixels may show",
+    ),
+    Twin(
         "render.cast_lanes",
         "raykit.render.cast",
-        "cast's nearest hits of a pixel's samples' viewing rays, each object for all at once",
+        "cast's nearest hits of a batch of viewing rays, each object for all at once",
     ),
     Twin(
         "render.spheres_at",
