@@ -447,7 +447,7 @@ CHECKS = {
     "render.sampled_job": _distributed("sobol", mirrors=True, glossy=True, moving=True),
     "render.sampled_lanes": _in_lanes,
     "render.cast_lanes": _nearby,
-    "render.cast_nearby": _nearby,
+    "render.cast_batch": _nearby,
     "render.cast_each": _in_lanes,
     "render.cast_rays": caster_answers_what_cast_answers,
     "render.trace_flat": small_render("classic"),

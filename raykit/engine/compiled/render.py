@@ -564,7 +564,7 @@ def cast_each(arrays, tree, stack, rays, count, best, best_t, colors):
 
 
 @njit(**ONE_RAY)
-def cast_nearby(arrays, tree, stack, near, nearby, rays, count, best, best_t, colors, t):
+def cast_batch(arrays, tree, stack, near, nearby, rays, count, best, best_t, colors, t):
     """:func:`nearest_hit` for each of ``count`` rays ``rays (6, N)``, as :func:`cast_lanes` or
     :func:`cast_each` find it best: of the ``nearby`` objects ``near (K,)`` that can be hit
     (:func:`~.tiles.row_objects`; -1: every object may be), or of every object where a scene
@@ -697,8 +697,8 @@ def sampled_lanes(
                     ray = rays_through(camera, xy[0, i], xy[1, i])
                     rays[0, i], rays[1, i], rays[2, i] = ray.o0, ray.o1, ray.o2
                     rays[3, i], rays[4, i], rays[5, i] = ray.d0, ray.d1, ray.d2
-            cast_nearby(arrays, tree, stack, near, nearby, rays, shaded, best, best_t, colors,
-                        lanes.t)  # fmt: skip
+            cast_batch(arrays, tree, stack, near, nearby, rays, shaded, best, best_t, colors,
+                       lanes.t)  # fmt: skip
             if shading.shaded:
                 surface_lanes(arrays, shading, rays, best, best_t, colors, shaded, lanes, box)
                 if shading.lit:
@@ -736,8 +736,8 @@ def sampled_lanes(
                     ray = rays_through(camera, p % width + 0.5, p // width + 0.5)
                     rays[0, q], rays[1, q], rays[2, q] = ray.o0, ray.o1, ray.o2
                     rays[3, q], rays[4, q], rays[5, q] = ray.d0, ray.d1, ray.d2
-                cast_nearby(arrays, tree, stack, near, nearby, rays, pixels, best, best_t, colors,
-                            lanes.t)  # fmt: skip
+                cast_batch(arrays, tree, stack, near, nearby, rays, pixels, best, best_t, colors,
+                           lanes.t)  # fmt: skip
                 for q in range(pixels):
                     index[p_first + q], t[p_first + q] = best[q], best_t[q]
         p_first += pixels

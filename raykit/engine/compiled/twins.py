@@ -227,7 +227,7 @@ TWINS = (
         "cast's nearest hits of a batch of rays, each through the tree",
     ),
     Twin(
-        "render.cast_nearby",
+        "render.cast_batch",
         "raykit.render.cast",
         "cast's nearest hits of a batch of viewing rays, of the objects their pixels may show",
     ),
