@@ -98,7 +98,8 @@ class Prepared(NamedTuple):
     """A scene made ready for the kernels (:func:`prepare`): its :class:`Arrays`, screen tiles
     (:func:`screen_tiles`; none for a distributed scene through a lens or with moving spheres, whose
     rays they do not bound), BVH (:class:`Tree`, for shadow and mirror rays, and a distributed
-    render's every ray; empty when the scene has none), :class:`Shading` (lights and materials) and
+    render's viewing rays where no short list of objects serves them, :func:`cast_batch`; empty
+    when the scene has none), :class:`Shading` (lights and materials) and
     camera (:func:`camera_tuple`); and a distributed scene's thin lens (:func:`lens_tuple`) and
     :class:`Noise` (None for another scene), and its :class:`Motion` (nothing moving but in a scene
     with a shutter; such a scene's tree is :func:`every_object_tree`); and the ``entry`` point that
