@@ -170,6 +170,7 @@ def test_the_image_does_not_depend_on_which_core_takes_which_tile():
     scenes.append(replace(mirrors, camera=replace(mirrors.camera, width=80, height=60)))
     rng = np.random.default_rng(12)  # distributed: a pixel's numbers are its own, whoever takes it
     scenes += [distributed_scene(rng, sampler, lens=True, mirrors=True) for sampler in SAMPLERS]
+    scenes += [distributed_scene(rng, sampler, spheres=12) for sampler in SAMPLERS]  # tiles
     scenes += [distributed_scene(rng, sampler, lens=True, mirrors=True, moving=True)
                for sampler in SAMPLERS]  # fmt: skip
     threads = numba.get_num_threads()
@@ -426,10 +427,26 @@ def _distributed(sampler, **effects):
 
 def _in_lanes(rng):
     """A distributed scene's samples in lanes: glossy mirrors; past DIRECT_HITS objects, the
-    viewing rays through the tree; past SHADOW_CANDIDATES, the shadow rays too."""
+    viewing rays of a crowded row of pixels, or of a lens, through the tree; past
+    SHADOW_CANDIDATES, the shadow rays too."""
     same_render(distributed_scene(rng, "sobol", mirrors=True, glossy=True))
     same_render(distributed_scene(rng, "random", spheres=12))
     same_render(distributed_scene(rng, "jittered", lens=True, spheres=18))
+
+
+def test_a_pinholes_distributed_scene_has_screen_tiles_and_a_lenss_or_a_moving_ones_none():
+    """The tile path is the one a pinhole's samples take (row_objects lists each batch's
+    objects): same_render would pass as well without it, the hits being the same."""
+    rng = np.random.default_rng(57)
+    pinhole = compiled.prepare(distributed_scene(rng, "sobol", spheres=12))
+    assert len(pinhole.tiles.start) > 1 and pinhole.tiles.size == compiled.render.SAMPLED_SIDE
+    near = np.empty(8, dtype=np.int64)
+    camera = pinhole.scene.camera
+    listed = np.array([compiled.tiles.row_objects(pinhole.tiles, camera.width, p, p + 15, near)
+                       for p in range(0, camera.width * camera.height, 16)])  # fmt: skip
+    assert np.mean(listed >= 0) > 0.9 and listed.max() < pinhole.scene.object_count
+    for effects in ({"lens": True}, {"moving": True}):
+        assert len(compiled.prepare(distributed_scene(rng, "sobol", **effects)).tiles.start) == 1
 
 
 def _nearby(rng):

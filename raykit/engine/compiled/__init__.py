@@ -57,25 +57,27 @@ vectorised power in the reference, which disagree by one unit in the last place 
 cent of points; with the reference given the same pow, the two engines agree
 bit for bit, and as they stand, within 4 units in the last place and to the PNG byte (tests).
 
-Distributed scenes (stage 5). A scene with area lights, a thin lens, glossy mirrors or many
-samples per pixel renders in a loop of its own (:func:`.render.trace_sampled`): each job a few
-pixels, each pixel all its samples in order, every ray (viewing, shadow, mirror) through the
-tree. A sample's uniform numbers are :mod:`raykit.engine.noise`'s, hashed from (seed, pixel,
-sample, dimension) in wrapping uint64 arithmetic (:mod:`.noise`; the Sobol' points and their
-scrambling too), so no number depends on which worker takes which pixel; the sample
-patterns (:mod:`.sampling`), an area light's point (:func:`.lights.sampled`), the thin lens's
-rays (:func:`.camera.thin_lens_rays`) and a glossy mirror's ray
-(:func:`.mirrors.glossy_reflect`) repeat the reference's operations in its order. Motion
-blur: each sample's ray has its own time in the shutter interval (:func:`.sampling.shutter_times`),
-and each worker moves its copy of the sphere centres there (:func:`.spheres.center_at`,
-:func:`.render.spheres_at`) before the ray, its shadow and mirror rays and its normals read
-them; the tree is then one leaf of every object (:func:`.scene.every_object_tree`), as the
-reference tests every object of a scene that moves. Such a scene renders by an entry point of
-its own (:func:`.render.trace_moving`), and a still scene's compiles its mirror rays only where
-it has mirrors, so that no scene compiles the kernels of another kind. One corner differs: the
-reference takes a still sphere's normal from c + T·0, which turns a centre coordinate of -0.0
-into +0.0 where its hit test keeps -0.0; the engine keeps c for both, so a normal's component
-can differ in the sign of a zero where a hit point's coordinate is exactly -0.0 too.
+Distributed scenes (stage 5). A scene with area lights, a thin lens, glossy mirrors or many samples
+per pixel renders in a loop of its own (:func:`.render.trace_sampled`): each job a few pixels, each
+pixel all its samples in order; through a pinhole, a batch's viewing rays tested against the objects
+its pixels' screen tiles list (:func:`.tiles.row_objects`), every other ray (viewing, shadow,
+mirror) against every object or through the tree. A sample's uniform numbers are
+:mod:`raykit.engine.noise`'s, hashed from (seed, pixel, sample, dimension) in wrapping uint64
+arithmetic (:mod:`.noise`; the Sobol' points and their scrambling too), so no number depends on
+which worker takes which pixel; the sample patterns (:mod:`.sampling`), an area light's point
+(:func:`.lights.sampled`), the thin lens's rays (:func:`.camera.thin_lens_rays`) and a glossy
+mirror's ray (:func:`.mirrors.glossy_reflect`) repeat the reference's operations in its order.
+Motion blur: each sample's ray has its own time in the shutter interval
+(:func:`.sampling.shutter_times`), and each worker moves its copy of the sphere centres there
+(:func:`.spheres.center_at`, :func:`.render.spheres_at`) before the ray, its shadow and mirror rays
+and its normals read them; the tree is then one leaf of every object
+(:func:`.scene.every_object_tree`), as the reference tests every object of a scene that moves. Such
+a scene renders by an entry point of its own (:func:`.render.trace_moving`), and a still scene's
+compiles its mirror rays only where it has mirrors, so that no scene compiles the kernels of another
+kind. One corner differs: the reference takes a still sphere's normal from c + T·0, which turns a
+centre coordinate of -0.0 into +0.0 where its hit test keeps -0.0; the engine keeps c for both, so a
+normal's component can differ in the sign of a zero where a hit point's coordinate is exactly -0.0
+too.
 
 Compiling. Each kernel is compiled on first use, with the kernels it calls, and cached on disk,
 kernel by kernel, in a folder keyed on the sources they are made from (the reference modules

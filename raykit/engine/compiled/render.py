@@ -91,20 +91,20 @@ keep_freed_memory()  # each render's outputs reuse the last one's pages, where g
 ROWS_PER_CALL = 32  # rows of pixels per kernel call when a progress bar is to move
 SAMPLED_PIXELS = 64  # pixels per job of a distributed render, each with all its samples
 SAMPLED_LANES = 256  # samples shaded together (sampled_lanes): of one pixel, or whole pixels
-SAMPLED_SIDE = 16  # the screen tiles of a pinhole's distributed render: a job's row in one or two
+SAMPLED_SIDE = 16  # the side of a pinhole's distributed render's screen tiles (row_objects)
 
 
 class Prepared(NamedTuple):
     """A scene made ready for the kernels (:func:`prepare`): its :class:`Arrays`, screen tiles
-    (:func:`screen_tiles`; none for a distributed scene through a lens or with moving spheres,
-    whose rays they do not bound), BVH
-    (:class:`Tree`, for shadow and mirror rays, and a distributed render's every ray; empty when the
-    scene has none), :class:`Shading` (lights and materials) and camera (:func:`camera_tuple`); and
-    a distributed scene's thin lens (:func:`lens_tuple`) and :class:`Noise` (None for another
-    scene), and its :class:`Motion` (nothing moving but in a scene with a shutter; such a scene's
-    tree is :func:`every_object_tree`); and the ``entry`` point that renders it
-    (:func:`raykit.engine.choice.entry_point`, which asks every object's material: asked once here,
-    not at each render)."""
+    (:func:`screen_tiles`; none for a distributed scene through a lens or with moving spheres, whose
+    rays they do not bound), BVH (:class:`Tree`, for shadow and mirror rays, and a distributed
+    render's viewing rays where no short list of objects serves them, :func:`cast_batch`; empty
+    when the scene has none), :class:`Shading` (lights and materials) and
+    camera (:func:`camera_tuple`); and a distributed scene's thin lens (:func:`lens_tuple`) and
+    :class:`Noise` (None for another scene), and its :class:`Motion` (nothing moving but in a scene
+    with a shutter; such a scene's tree is :func:`every_object_tree`); and the ``entry`` point that
+    renders it (:func:`raykit.engine.choice.entry_point`, which asks every object's material: asked
+    once here, not at each render)."""
 
     scene: Scene
     arrays: Arrays
@@ -436,8 +436,8 @@ def trace_sampled(scene, camera, lens, noise, tiles, bounces, film, work, room, 
     compiles its kernels. A call is one worker, taking grains of jobs as :func:`trace_flat`'s does;
     a pixel's numbers depend on it alone, so the image does not depend on which takes which. Its
     rooms (:func:`~.jobs.sampled_rooms`), each worker's own, are made before its call, as every
-    entry point's are, and its one job, :func:`sampled_lanes`, is
-    copied into it (:data:`~raykit.engine.compiled.compiling.JOB`)."""
+    entry point's are, and its one job, :func:`sampled_lanes`, is copied into it
+    (:data:`~raykit.engine.compiled.compiling.JOB`)."""
     every_object(scene.tree, scene.shading, shading_room)
     while grain_taken(work, grain):
         for j in range(grain[0], grain[1]):
