@@ -72,11 +72,13 @@ def _shuffled(index, count, key):
 
 
 @numba.njit
-def _shuffled_by(index, count, key):
+def _shuffled_by(shuffle, index, count, key):
+    """``shuffle`` (shuffle_by or shuffle_of_power) of each index, its rounds' keys from
+    round_keys."""
     out = np.empty(len(index), dtype=np.int64)
     for i in range(len(index)):
         k0, k1, k2, k3 = kernels.round_keys(key[i])
-        out[i] = kernels.shuffle_by(index[i], count, k0, k1, k2, k3)
+        out[i] = shuffle(index[i], count, k0, k1, k2, k3)
     return out
 
 
@@ -87,16 +89,7 @@ def _shuffle(rng):
         key = noise.counter_hash(rng.integers(0, 2**32), rng.integers(0, 2**40, 20_000), 0, 1)
         expected = noise.shuffle(index, count, key)
         exactly(_shuffled(index, count, key), expected)
-        exactly(_shuffled_by(index, count, key), expected)
-
-
-@numba.njit
-def _shuffled_of_power(index, count, key):
-    out = np.empty(len(index), dtype=np.int64)
-    for i in range(len(index)):
-        k0, k1, k2, k3 = kernels.round_keys(key[i])
-        out[i] = kernels.shuffle_of_power(index[i], count, k0, k1, k2, k3)
-    return out
+        exactly(_shuffled_by(kernels.shuffle_by, index, count, key), expected)
 
 
 def _shuffle_of_power(rng):
@@ -104,7 +97,8 @@ def _shuffle_of_power(rng):
     for count in (1, 2, 4, 8, 64, 1024, 4096):
         index = np.tile(np.arange(count), max(1, 20_000 // count))
         key = noise.counter_hash(rng.integers(0, 2**32), rng.integers(0, 2**40, len(index)), 0, 1)
-        exactly(_shuffled_of_power(index, count, key), noise.shuffle(index, count, key))
+        expected = noise.shuffle(index, count, key)
+        exactly(_shuffled_by(kernels.shuffle_of_power, index, count, key), expected)
 
 
 @numba.njit
