@@ -319,11 +319,12 @@ def submission_wrapping(tmp_path: Path, wrappers: dict[str, tuple[str, str]]) ->
 
 
 def processes_naming(marker: str) -> list[str]:
-    """The pids of this machine's processes whose command line holds ``marker``."""
+    """The pids of this machine's processes whose command line holds ``marker``. A command line
+    is bytes, read as bytes: another test's may name a file whose name is not UTF-8."""
     found = []
     for proc in Path("/proc").iterdir():
         try:
-            if proc.name.isdigit() and marker in (proc / "cmdline").read_text():
+            if proc.name.isdigit() and marker.encode() in (proc / "cmdline").read_bytes():
                 found.append(proc.name)
         except OSError:
             pass
