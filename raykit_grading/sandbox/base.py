@@ -67,6 +67,10 @@ GRADER = Path(__file__).parents[1]
 CHILD_SCRIPT = GRADER / "inside" / "child.py"
 TASKS_SCRIPT = GRADER / "kit" / "tasks.py"  # the child loads it by path
 OUTPUT_EXCERPT = 2000
+# the preflight's probe runs only the grader's code and the libraries, never the submission's:
+# it gets this long whatever a test may take, so that a loaded machine's slow start of Python
+# and numpy is not taken for a sandbox that cannot work (which would grade nothing)
+PROBE_SECONDS = 60.0
 
 
 @dataclass(frozen=True)
@@ -155,7 +159,7 @@ class Sandbox:
         saying why in one line."""
         self._prepare()
         self.ready = True
-        ran = self.run("probe", {}, {})
+        ran = self.run("probe", {}, {}, wall_seconds=max(self.limits.wall_seconds, PROBE_SECONDS))
         if ran.outputs is None or "ok" not in ran.outputs:
             self.ready = False
             said = (ran.output.strip().splitlines() or [ran.problem])[-1]

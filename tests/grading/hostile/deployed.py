@@ -211,9 +211,18 @@ def grade_as_deployed(
         ), results["extra_data"]
         return results, run
     results = json.loads(path.read_text())
-    sandbox = results["extra_data"].get("sandbox", "")
-    assert sandbox.startswith(expected_sandbox) or sandbox.startswith("none"), sandbox
+    _assert_sandbox(results, expected_sandbox, run.stderr)
     return results, run
+
+
+def _assert_sandbox(results: dict, expected: str, said: str) -> None:
+    """The grading ran in the ``expected`` kind of sandbox (or ran nothing of the submission);
+    where the grader could not grade, the message says why, in its words and its last lines."""
+    sandbox = results["extra_data"].get("sandbox", "")
+    assert sandbox.startswith(expected) or sandbox.startswith("none"), (
+        f"sandbox {sandbox!r}; not graded: {results['extra_data'].get('not_graded')}\n"
+        f"{said[-3000:]}"
+    )
 
 
 def _grade_in_a_container(
@@ -230,8 +239,7 @@ def _grade_in_a_container(
     )  # fmt: skip
     CONTAINERS.append(graded.container)
     assert graded.results is not None, f"{graded.problem}:\n{graded.output[-3000:]}"
-    sandbox = graded.results["extra_data"].get("sandbox", "")
-    assert sandbox.startswith("chroot+uid+") or sandbox.startswith("none"), sandbox
+    _assert_sandbox(graded.results, "chroot+uid+", graded.output)
     run = subprocess.CompletedProcess(
         ["docker", "start", "--attach"], graded.status, graded.output, graded.output
     )
@@ -259,8 +267,7 @@ def _grade_as_prairielearn(
     CONTAINERS.append(graded.container)
     assert graded.results is not None, f"{graded.problem}:\n{graded.output[-3000:]}"
     results = as_gradescope(graded.results, only)
-    sandbox = results["extra_data"].get("sandbox", "")
-    assert sandbox.startswith("chroot+uid+") or sandbox.startswith("none"), sandbox
+    _assert_sandbox(results, "chroot+uid+", graded.output)
     output = graded.output
     run = subprocess.CompletedProcess(["docker", "run"], graded.status, output, output)
     return results, run

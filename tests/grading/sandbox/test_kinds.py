@@ -77,3 +77,28 @@ def test_the_sandbox_cost_benchmark_times_every_sandbox_kind_this_user_can_make(
     expected = ["| what", "| bare", *kinds, *(f"| test, {k}" for k in kinds)]
     expected = [e if e.startswith("| ") else f"| {e}" for e in expected]
     assert rows == expected + (["| copy the submission"] if AS_ROOT else [])
+
+
+@pytest.mark.parametrize("kind", ["bubblewrap", "chroot"])
+def test_the_preflight_probe_is_not_held_to_a_tests_wall_time(kind, tmp_path, child_python):
+    """The probe (Python imports numpy and Pillow) runs only the grader's code: it gets
+    PROBE_SECONDS, so a wall time shorter than Python's start, or a loaded machine, makes tests
+    time out rather than the grader refuse to grade; the test after it is held to its wall."""
+    from raykit_grading.grading.submissions import stage
+    from raykit_grading.sandbox.base import Limits
+    from raykit_grading.sandbox.kinds import KINDS
+    from raykit_grading.sandbox.workspace import Workspace
+
+    if kind == "chroot" and not AS_ROOT:
+        pytest.skip("a chroot sandbox needs root")
+    submitted = tmp_path / "submitted/raykit"
+    submitted.mkdir(parents=True)
+    (submitted / "__init__.py").write_text("")
+    with Workspace(tmp_path) as workspace:
+        staged = stage(submitted.parent, workspace / "submission")
+        box = KINDS[kind](staged.root, workspace, child_python, Limits(wall_seconds=0.001))
+        if kind == "bubblewrap" and shutil.which("bwrap") is None:
+            pytest.skip("bubblewrap is not installed")
+        box.check()  # raised IsolationUnavailable ("took longer than 0.001 s") before
+        ran = box.run("probe", {}, {})
+    assert ran.outputs is None and "took longer than 0.001 s" in ran.problem, ran.problem
