@@ -72,24 +72,37 @@ def _shuffled(index, count, key):
 
 
 @numba.njit
-def _shuffled_by(shuffle, index, count, key):
-    """``shuffle`` (shuffle_by or shuffle_of_power) of each index, its rounds' keys from
-    round_keys."""
+def _shuffled_by(index, count, key):
+    """shuffle_by of each index, its rounds' keys from round_keys."""
     out = np.empty(len(index), dtype=np.int64)
     for i in range(len(index)):
         k0, k1, k2, k3 = kernels.round_keys(key[i])
-        out[i] = shuffle(index[i], count, k0, k1, k2, k3)
+        out[i] = kernels.shuffle_by(index[i], count, k0, k1, k2, k3)
+    return out
+
+
+@numba.njit
+def _shuffled_of_power(index, count, key):
+    """shuffle_of_power of each index, its mask and shift made once, as sobol_numbers makes
+    them."""
+    _, down = kernels.shuffle_shape(count)
+    mask = np.uint64(count - 1)
+    out = np.empty(len(index), dtype=np.int64)
+    for i in range(len(index)):
+        k0, k1, k2, k3 = kernels.round_keys(key[i])
+        out[i] = kernels.shuffle_of_power(index[i], mask, down, k0, k1, k2, k3)
     return out
 
 
 def _shuffle(rng):
-    """The shuffle, and it again from its rounds' keys made before (round_keys, shuffle_by)."""
+    """The shuffle, and it again from its rounds' keys made before (round_keys, shuffle_by, and
+    in it shuffle_shape and shuffle_rounds)."""
     for count in (1, 2, 3, 4, 9, 16, 17, 64, 100, 256):
         index = rng.integers(0, count, 20_000)
         key = noise.counter_hash(rng.integers(0, 2**32), rng.integers(0, 2**40, 20_000), 0, 1)
         expected = noise.shuffle(index, count, key)
         exactly(_shuffled(index, count, key), expected)
-        exactly(_shuffled_by(kernels.shuffle_by, index, count, key), expected)
+        exactly(_shuffled_by(index, count, key), expected)
 
 
 def _shuffle_of_power(rng):
@@ -98,7 +111,7 @@ def _shuffle_of_power(rng):
         index = np.tile(np.arange(count), max(1, 20_000 // count))
         key = noise.counter_hash(rng.integers(0, 2**32), rng.integers(0, 2**40, len(index)), 0, 1)
         expected = noise.shuffle(index, count, key)
-        exactly(_shuffled_by(kernels.shuffle_of_power, index, count, key), expected)
+        exactly(_shuffled_of_power(index, count, key), expected)
 
 
 @numba.njit
@@ -219,6 +232,8 @@ CHECKS = {
     "noise.uniform": _hash_in_parts,
     "noise.round_keys": _shuffle,
     "noise.shuffle_by": _shuffle,
+    "noise.shuffle_shape": _shuffle,
+    "noise.shuffle_rounds": _shuffle,
     "noise.pixel_keys": _pixel_sample,
     "noise.sample_numbers": _pixel_sample,
     "noise.shuffle_of_power": _shuffle_of_power,

@@ -116,23 +116,39 @@ def shuffle(index, count, key):
 @njit(**ONE_RAY)
 def shuffle_by(index, count, k0, k1, k2, k3):
     """Repeats :func:`raykit.engine.noise.shuffle` for one ``index`` in [0, count), its rounds'
-    keys made beforehand (:func:`round_keys`): π(index), as an int."""
-    bits = 1
-    while (1 << bits) < count:  # (count - 1).bit_length(), at least 1
-        bits += 1
-    mask = np.uint64((1 << bits) - 1)
-    down = np.uint64(max(1, bits // 2))
+    keys made beforehand (:func:`round_keys`): π(index), as an int. Its rounds walk the value
+    back into [0, count) from the next power of two (:func:`shuffle_shape`)."""
+    mask, down = shuffle_shape(count)
     value = np.uint64(index)
     limit = np.uint64(count)
-    one = np.uint64(1)
     while True:
-        for k in (k0, k1, k2, k3):
-            value = value ^ (k & mask)
-            value = (value * ((k >> np.uint64(32)) | one)) & mask  # odd: a bijection
-            value = value ^ (value >> down)
-            value = value ^ ((value << one) & mask)
+        value = shuffle_rounds(value, mask, down, k0, k1, k2, k3)
         if value < limit:
             return np.int64(value)
+
+
+@njit(**INLINED)
+def shuffle_shape(count):
+    """What :func:`raykit.engine.noise.shuffle`'s rounds take from ``count``: the ``mask`` of its
+    bits, 2^bits - 1 with bits = (count - 1).bit_length(), at least 1, and the shift ``down``,
+    max(1, bits // 2) (uint64 each)."""
+    bits = 1
+    while (1 << bits) < count:
+        bits += 1
+    return np.uint64((1 << bits) - 1), np.uint64(max(1, bits // 2))
+
+
+@njit(**INLINED)
+def shuffle_rounds(value, mask, down, k0, k1, k2, k3):
+    """The four rounds of :func:`raykit.engine.noise.shuffle` on ``value`` (uint64), within
+    ``mask``, by the round keys k0 .. k3: each a bijection of [0, mask]."""
+    one = np.uint64(1)
+    for k in (k0, k1, k2, k3):
+        value = value ^ (k & mask)
+        value = (value * ((k >> np.uint64(32)) | one)) & mask  # odd: a bijection
+        value = value ^ (value >> down)
+        value = value ^ ((value << one) & mask)
+    return value
 
 
 @njit(**ONE_RAY)
@@ -214,26 +230,13 @@ def sample_numbers(sampler, k, n, table, wanted, reads, keys, out):
 
 
 @njit(**ONE_RAY)
-def shuffle_of_power(index, count, k0, k1, k2, k3):
-    """:func:`shuffle_by` where ``count`` is a power of two (the Sobol' sampler's every count):
-    its rounds once, with no loop, where they land in [0, count) at once (the mask is count - 1),
-    so that a loop of it over many samples becomes vector instructions; π(0) = 0 for a count of
-    1, whose mask of one bit the loop would walk back to 0."""
-    if count == 1:
-        return np.int64(0)
-    bits = 1
-    while (1 << bits) < count:
-        bits += 1
-    mask = np.uint64(count - 1)
-    down = np.uint64(max(1, bits // 2))
-    one = np.uint64(1)
-    value = np.uint64(index)
-    for k in (k0, k1, k2, k3):
-        value = value ^ (k & mask)
-        value = (value * ((k >> np.uint64(32)) | one)) & mask
-        value = value ^ (value >> down)
-        value = value ^ ((value << one) & mask)
-    return np.int64(value)
+def shuffle_of_power(index, mask, down, k0, k1, k2, k3):
+    """:func:`shuffle_by` where the count is a power of two (the Sobol' sampler's every count),
+    its ``mask`` count - 1 and ``down`` as :func:`shuffle_shape` makes them, once for a batch: its
+    rounds once, with no loop, since they land in [0, count) at once, so that a loop of it over
+    many samples becomes vector instructions. For a count of 1, the mask 0 gives π(0) = 0, where
+    :func:`shuffle_shape`'s mask of one bit would have to walk back to 0."""
+    return np.int64(shuffle_rounds(np.uint64(index), mask, down, k0, k1, k2, k3))
 
 
 @njit(**INLINED)
@@ -246,6 +249,8 @@ def sobol_numbers(k_first, samples, pixels, table, wanted, keys, numbers, column
     turns into vector instructions; one sample at a time went through every pair's branches),
     the shuffles by :func:`shuffle_of_power`."""
     count = len(table)
+    _, down = shuffle_shape(count)
+    mask = np.uint64(count - 1)  # shuffle_shape's mask for a power of two, but 0 for 1
     dimensions = numbers.shape[1]
     for q in range(pixels):
         pixel = keys[q]
@@ -259,7 +264,7 @@ def sobol_numbers(k_first, samples, pixels, table, wanted, keys, numbers, column
                 i = q * samples + j
                 cell = k_first + j
                 if pair:
-                    cell = shuffle_of_power(cell, count, k0, k1, k2, k3)
+                    cell = shuffle_of_power(cell, mask, down, k0, k1, k2, k3)
                 u = np.float64(reverse_bits(owen_hash(table[cell, 0], seed_x))) * SOBOL_UNIT
                 v = np.float64(reverse_bits(owen_hash(table[cell, 1], seed_y))) * SOBOL_UNIT
                 if wanted[x]:
@@ -273,7 +278,7 @@ def sobol_numbers(k_first, samples, pixels, table, wanted, keys, numbers, column
             row = pixel[len(pixel) - 1]
             for j in range(samples):
                 i = q * samples + j
-                stratum = shuffle_of_power(k_first + j, count, row[0], row[1], row[2], row[3])
+                stratum = shuffle_of_power(k_first + j, mask, down, row[0], row[1], row[2], row[3])
                 u = np.float64(reverse_bits(owen_hash(stratum, row[4]))) * SOBOL_UNIT
                 numbers[i, last] = u
                 columns[last, i] = u

@@ -84,6 +84,16 @@ TWINS = (
         "its rounds, their keys made before (round_keys)",
     ),
     Twin(
+        "noise.shuffle_shape",
+        "raykit.engine.noise.shuffle",
+        "the mask and shift of its rounds, from the count",
+    ),
+    Twin(
+        "noise.shuffle_rounds",
+        "raykit.engine.noise.shuffle",
+        "its four rounds on one value, which shuffle_by walks and shuffle_of_power takes once",
+    ),
+    Twin(
         "noise.pixel_keys",
         "raykit.engine.noise.PixelSamples.of",
         "what its numbers of one pixel take from the pixel alone, made once for all its samples",
