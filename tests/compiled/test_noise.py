@@ -114,13 +114,18 @@ def _shuffle_of_power(rng):
         exactly(_shuffled_of_power(index, count, key), expected)
 
 
+# what the keys' room holds before pixel_keys writes into it: keys it leaves out (a shuffle's
+# for one sample a pixel) must not matter
+GARBAGE = np.uint64(0x9E3779B97F4A7C15)
+
+
 @numba.njit
 def _batch(seed, pixels, k_first, samples, table, wanted):
     numbers = np.full((len(pixels) * samples, len(wanted)), np.nan)
     columns = np.full((len(wanted), len(pixels) * samples), np.nan)
-    keys = np.zeros((len(pixels), len(wanted) // 2 + 2, 6), dtype=np.uint64)
+    keys = np.full((len(pixels), len(wanted) // 2 + 2, 6), GARBAGE, dtype=np.uint64)
     for q in range(len(pixels)):
-        kernels.pixel_keys(kernels.SOBOL, seed, pixels[q], wanted, keys[q])
+        kernels.pixel_keys(kernels.SOBOL, seed, pixels[q], len(table), wanted, keys[q])
     kernels.sobol_numbers(k_first, samples, len(pixels), table, wanted, keys, numbers, columns)
     return numbers, columns
 
@@ -157,10 +162,11 @@ def _some(dimensions):
 @numba.njit
 def _samples(sampler, seed, pixels, k, n, table, wanted):
     out = np.full((len(pixels), len(wanted)), np.nan)
-    keys = np.zeros((len(wanted) // 2 + 2, 6), dtype=np.uint64)
+    keys = np.full((len(wanted) // 2 + 2, 6), GARBAGE, dtype=np.uint64)
     reads = np.flatnonzero(wanted)
+    count = len(table) if sampler == kernels.SOBOL else n * n
     for i in range(len(pixels)):
-        kernels.pixel_keys(sampler, seed, pixels[i], wanted, keys)
+        kernels.pixel_keys(sampler, seed, pixels[i], count, wanted, keys)
         kernels.sample_numbers(sampler, k, n, table, wanted, reads, keys, out[i])
     return out
 
@@ -170,8 +176,8 @@ def _pixel_sample(rng):
     last single number left out, as :func:`~raykit.engine.compiled.noise.wanted_dimensions`
     leaves what a scene does not read): the wanted ones the reference's, the others not
     written."""
-    for name, count in (("random", 5), ("jittered", 16), ("jittered", 9), ("sobol", 8),
-                        ("sobol", 64)):  # fmt: skip
+    for name, count in (("random", 5), ("jittered", 16), ("jittered", 9), ("jittered", 1),
+                        ("sobol", 8), ("sobol", 64), ("sobol", 1)):  # fmt: skip
         for dimensions in (2, 4, 10, 11):  # 11: a last single number (a time), in strata
             seed = int(rng.integers(0, 2**32))
             samples = noise.PixelSamples(Sampling(count, name, seed), dimensions)

@@ -152,31 +152,34 @@ def shuffle_rounds(value, mask, down, k0, k1, k2, k3):
 
 
 @njit(**ONE_RAY)
-def pixel_keys(sampler, seed, pixel, wanted, keys):
+def pixel_keys(sampler, seed, pixel, count, wanted, keys):
     """What sample k of ``pixel`` (r·width + c) takes from the pixel alone, for
     :func:`sample_numbers`: into ``keys (D // 2 + 2, 6)`` (uint64), at [0, 0] the hash of (seed,
     pixel) (:func:`pixel_hash`); in row 1 + pair, the round keys (:func:`round_keys`) of the
     shuffle of each pair after the first (columns 0 to 3), and for the Sobol' sampler its two
     dimensions' scrambling seeds (columns 4 and 5); in the last row, those of a last single
     number's strata (columns 0 to 3) and its seed (column 4). Only for the dimensions ``wanted
-    (D,)`` says the scene reads."""
+    (D,)`` says the scene reads, and no round keys for a ``count`` of one sample a pixel, whose
+    shuffle is π(0) = 0 whatever its keys (its users shuffle nothing then)."""
     dimensions = len(wanted)
     h = pixel_hash(seed, pixel)
     keys[0, 0] = h
     if sampler == RANDOM:
         return
     top = np.uint64(32)
+    shuffled = count > 1
     for pair in range(dimensions // 2):
         if wanted[2 * pair] or wanted[2 * pair + 1]:
             row = keys[1 + pair]
-            if pair:
+            if pair and shuffled:
                 row[0], row[1], row[2], row[3] = round_keys(hash_on(h, SHUFFLE_SAMPLE, pair))
             if sampler == SOBOL:
                 row[4] = hash_on(h, SCRAMBLE_SAMPLE, 2 * pair) >> top
                 row[5] = hash_on(h, SCRAMBLE_SAMPLE, 2 * pair + 1) >> top
     if dimensions % 2 and wanted[dimensions - 1]:
         row = keys[len(keys) - 1]
-        row[0], row[1], row[2], row[3] = round_keys(hash_on(h, STRATUM_SAMPLE, dimensions - 1))
+        if shuffled:
+            row[0], row[1], row[2], row[3] = round_keys(hash_on(h, STRATUM_SAMPLE, dimensions - 1))
         if sampler == SOBOL:
             row[4] = hash_on(h, SCRAMBLE_SAMPLE, dimensions - 1) >> top
 
@@ -206,7 +209,7 @@ def sample_numbers(sampler, k, n, table, wanted, reads, keys, out):
             continue
         cell = k
         row = keys[1 + pair]
-        if pair:
+        if pair and count > 1:  # (a shuffle of one sample is the identity: pixel_keys)
             cell = shuffle_by(k, count, row[0], row[1], row[2], row[3])
         if sampler == SOBOL:  # point π(k) of the pixel's own scrambled net
             if wanted[2 * pair]:
@@ -222,7 +225,7 @@ def sample_numbers(sampler, k, n, table, wanted, reads, keys, out):
     if dimensions % 2 and wanted[dimensions - 1]:  # a last single number (a time): sample k in
         last = dimensions - 1  # stratum π(k) of the count
         row = keys[len(keys) - 1]
-        stratum = shuffle_by(k, count, row[0], row[1], row[2], row[3])
+        stratum = shuffle_by(k, count, row[0], row[1], row[2], row[3]) if count > 1 else 0
         if sampler == SOBOL:  # van der Corput's point π(k), scrambled: π(k) is it mirrored
             out[last] = np.float64(reverse_bits(owen_hash(stratum, row[4]))) * SOBOL_UNIT
         else:
@@ -263,7 +266,7 @@ def sobol_numbers(k_first, samples, pixels, table, wanted, keys, numbers, column
             for j in range(samples):
                 i = q * samples + j
                 cell = k_first + j
-                if pair:
+                if pair and count > 1:  # (a shuffle of one sample is the identity: pixel_keys)
                     cell = shuffle_of_power(cell, mask, down, k0, k1, k2, k3)
                 u = np.float64(reverse_bits(owen_hash(table[cell, 0], seed_x))) * SOBOL_UNIT
                 v = np.float64(reverse_bits(owen_hash(table[cell, 1], seed_y))) * SOBOL_UNIT
@@ -278,7 +281,9 @@ def sobol_numbers(k_first, samples, pixels, table, wanted, keys, numbers, column
             row = pixel[len(pixel) - 1]
             for j in range(samples):
                 i = q * samples + j
-                stratum = shuffle_of_power(k_first + j, mask, down, row[0], row[1], row[2], row[3])
+                stratum = k_first + j
+                if count > 1:
+                    stratum = shuffle_of_power(stratum, mask, down, row[0], row[1], row[2], row[3])
                 u = np.float64(reverse_bits(owen_hash(stratum, row[4]))) * SOBOL_UNIT
                 numbers[i, last] = u
                 columns[last, i] = u

@@ -498,7 +498,7 @@ def sampled_job(standing, moved, camera, lens, noise, motion, film, first, stack
     for p in range(first, min(first + SAMPLED_PIXELS, len(t))):
         row, col = p // width, p % width
         r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
-        pixel_keys(noise.sampler, noise.seed, p, wanted, keys)
+        pixel_keys(noise.sampler, noise.seed, p, noise.count, wanted, keys)
         for k in range(count):
             sample_numbers(noise.sampler, k, noise.n, noise.table, wanted, reads, keys, numbers)
             if motion.moving:  # the ray's time: its own, or the shutter's opening
@@ -666,7 +666,7 @@ def sampled_lanes(
             samples = min(SAMPLED_LANES, count - k_first)  # of each pixel in this batch
             shaded = pixels * samples
             for q in range(pixels):  # lane i = q·samples + j: sample k_first + j of pixel p
-                pixel_keys(noise.sampler, noise.seed, p_first + q, wanted, keys[q])
+                pixel_keys(noise.sampler, noise.seed, p_first + q, count, wanted, keys[q])
             if noise.sampler == SOBOL:  # a pair of dimensions at a time
                 sobol_numbers(k_first, samples, pixels, noise.table, wanted, keys, numbers,
                               columns)  # fmt: skip
