@@ -125,8 +125,11 @@ def _batch(seed, pixels, k_first, samples, table, wanted):
     columns = np.full((len(wanted), len(pixels) * samples), np.nan)
     keys = np.full((len(pixels), len(wanted) // 2 + 2, 6), GARBAGE, dtype=np.uint64)
     for q in range(len(pixels)):
-        kernels.pixel_keys(kernels.SOBOL, seed, pixels[q], len(table), wanted, keys[q])
-    kernels.sobol_numbers(k_first, samples, len(pixels), table, wanted, keys, numbers, columns)
+        kernels.pixel_keys(kernels.SOBOL, seed, pixels[q], table.shape[1], wanted, keys[q])
+    cells = np.empty(len(pixels) * samples, dtype=np.uint32)
+    seeds = np.empty(len(pixels) * samples, dtype=np.uint32)
+    kernels.sobol_numbers(k_first, samples, len(pixels), table, wanted, keys, numbers, columns,
+                          cells, seeds)  # fmt: skip
     return numbers, columns
 
 
@@ -164,7 +167,7 @@ def _samples(sampler, seed, pixels, k, n, table, wanted):
     out = np.full((len(pixels), len(wanted)), np.nan)
     keys = np.full((len(wanted) // 2 + 2, 6), GARBAGE, dtype=np.uint64)
     reads = np.flatnonzero(wanted)
-    count = len(table) if sampler == kernels.SOBOL else n * n
+    count = table.shape[1] if sampler == kernels.SOBOL else n * n
     for i in range(len(pixels)):
         kernels.pixel_keys(sampler, seed, pixels[i], count, wanted, keys)
         kernels.sample_numbers(sampler, k, n, table, wanted, reads, keys, out[i])

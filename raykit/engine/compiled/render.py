@@ -669,7 +669,7 @@ def sampled_lanes(
                 pixel_keys(noise.sampler, noise.seed, p_first + q, count, wanted, keys[q])
             if noise.sampler == SOBOL:  # a pair of dimensions at a time
                 sobol_numbers(k_first, samples, pixels, noise.table, wanted, keys, numbers,
-                              columns)  # fmt: skip
+                              columns, sample_room.cells, sample_room.seeds)  # fmt: skip
             else:
                 for q in range(pixels):
                     for j in range(samples):

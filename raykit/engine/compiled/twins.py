@@ -129,6 +129,11 @@ TWINS = (
     Twin("sampling.perturbed_direction", "raykit.sampling.perturbed_direction"),
     Twin("sampling.shutter_times", "raykit.sampling.shutter_times"),
     Twin("sampling.reverse_bits", "raykit.sampling.reverse_bits"),
+    Twin(
+        "sampling.unit_number",
+        "raykit.sampling.sobol_set",
+        "a point's 32-bit integer times 2^-32, exactly, by a conversion AVX2 makes for vectors",
+    ),
     Twin("sampling.sobol_points", "raykit.sampling.sobol_points"),
     Twin("sampling.owen_scramble", "raykit.sampling.owen_scramble"),
     Twin(
