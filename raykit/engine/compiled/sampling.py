@@ -12,7 +12,7 @@ import math
 import numpy as np
 from numba import njit
 
-from raykit.engine.compiled.compiling import ONE_RAY
+from raykit.engine.compiled.compiling import INLINED, ONE_RAY
 from raykit.sampling import COS_COEFFICIENTS, SIN_COEFFICIENTS
 
 
@@ -43,7 +43,7 @@ def point_on_parallelogram(c0, c1, c2, a0, a1, a2, b0, b1, b2, u1, u2):
     return c0 + u1 * a0 + u2 * b0, c1 + u1 * a1 + u2 * b1, c2 + u1 * a2 + u2 * b2
 
 
-@njit(**ONE_RAY)
+@njit(**INLINED)
 def cos_sin(angle):
     """Repeats :func:`raykit.sampling._cos_sin` for one angle in [-π/4, π/4]: its Taylor
     series, Horner's way, in the reference's order, by the same coefficients."""
@@ -56,7 +56,7 @@ def cos_sin(angle):
     return cos, angle * sin
 
 
-@njit(**ONE_RAY)
+@njit(**INLINED)
 def point_on_disk(u1, u2):
     """Repeats :func:`raykit.sampling.point_on_disk` for one sample: Shirley and Chiu's
     concentric map of (ξ1, ξ2) to the unit disk."""
@@ -74,7 +74,7 @@ def point_on_disk(u1, u2):
     return radius * sin, radius * cos
 
 
-@njit(**ONE_RAY)
+@njit(**INLINED)
 def point_on_lens(e0, e1, e2, u0, u1, u2, v0, v1, v2, aperture, x1, x2):
     """Repeats :func:`raykit.sampling.point_on_lens` for one sample (ξ1, ξ2) = (``x1``, ``x2``):
     e + (aperture/2)·(x·u + y·v), (x, y) the point on the unit disk."""
