@@ -72,24 +72,37 @@ def _shuffled(index, count, key):
 
 
 @numba.njit
-def _shuffled_by(shuffle, index, count, key):
-    """``shuffle`` (shuffle_by or shuffle_of_power) of each index, its rounds' keys from
-    round_keys."""
+def _shuffled_by(index, count, key):
+    """shuffle_by of each index, its rounds' keys from round_keys."""
     out = np.empty(len(index), dtype=np.int64)
     for i in range(len(index)):
         k0, k1, k2, k3 = kernels.round_keys(key[i])
-        out[i] = shuffle(index[i], count, k0, k1, k2, k3)
+        out[i] = kernels.shuffle_by(index[i], count, k0, k1, k2, k3)
+    return out
+
+
+@numba.njit
+def _shuffled_of_power(index, count, key):
+    """shuffle_of_power of each index, its mask and shift made once, as sobol_numbers makes
+    them."""
+    _, down = kernels.shuffle_shape(count)
+    mask = np.uint64(count - 1)
+    out = np.empty(len(index), dtype=np.int64)
+    for i in range(len(index)):
+        k0, k1, k2, k3 = kernels.round_keys(key[i])
+        out[i] = kernels.shuffle_of_power(index[i], mask, down, k0, k1, k2, k3)
     return out
 
 
 def _shuffle(rng):
-    """The shuffle, and it again from its rounds' keys made before (round_keys, shuffle_by)."""
+    """The shuffle, and it again from its rounds' keys made before (round_keys, shuffle_by, and
+    in it shuffle_shape and shuffle_rounds)."""
     for count in (1, 2, 3, 4, 9, 16, 17, 64, 100, 256):
         index = rng.integers(0, count, 20_000)
         key = noise.counter_hash(rng.integers(0, 2**32), rng.integers(0, 2**40, 20_000), 0, 1)
         expected = noise.shuffle(index, count, key)
         exactly(_shuffled(index, count, key), expected)
-        exactly(_shuffled_by(kernels.shuffle_by, index, count, key), expected)
+        exactly(_shuffled_by(index, count, key), expected)
 
 
 def _shuffle_of_power(rng):
@@ -98,17 +111,25 @@ def _shuffle_of_power(rng):
         index = np.tile(np.arange(count), max(1, 20_000 // count))
         key = noise.counter_hash(rng.integers(0, 2**32), rng.integers(0, 2**40, len(index)), 0, 1)
         expected = noise.shuffle(index, count, key)
-        exactly(_shuffled_by(kernels.shuffle_of_power, index, count, key), expected)
+        exactly(_shuffled_of_power(index, count, key), expected)
+
+
+# what the keys' room holds before pixel_keys writes into it: keys it leaves out (a shuffle's
+# for one sample a pixel) must not matter
+GARBAGE = np.uint64(0x9E3779B97F4A7C15)
 
 
 @numba.njit
 def _batch(seed, pixels, k_first, samples, table, wanted):
     numbers = np.full((len(pixels) * samples, len(wanted)), np.nan)
     columns = np.full((len(wanted), len(pixels) * samples), np.nan)
-    keys = np.zeros((len(pixels), len(wanted) // 2 + 2, 6), dtype=np.uint64)
+    keys = np.full((len(pixels), len(wanted) // 2 + 2, 6), GARBAGE, dtype=np.uint64)
     for q in range(len(pixels)):
-        kernels.pixel_keys(kernels.SOBOL, seed, pixels[q], wanted, keys[q])
-    kernels.sobol_numbers(k_first, samples, len(pixels), table, wanted, keys, numbers, columns)
+        kernels.pixel_keys(kernels.SOBOL, seed, pixels[q], table.shape[1], wanted, keys[q])
+    cells = np.empty(len(pixels) * samples, dtype=np.uint32)
+    seeds = np.empty(len(pixels) * samples, dtype=np.uint32)
+    kernels.sobol_numbers(k_first, samples, len(pixels), table, wanted, keys, numbers, columns,
+                          cells, seeds)  # fmt: skip
     return numbers, columns
 
 
@@ -144,10 +165,11 @@ def _some(dimensions):
 @numba.njit
 def _samples(sampler, seed, pixels, k, n, table, wanted):
     out = np.full((len(pixels), len(wanted)), np.nan)
-    keys = np.zeros((len(wanted) // 2 + 2, 6), dtype=np.uint64)
+    keys = np.full((len(wanted) // 2 + 2, 6), GARBAGE, dtype=np.uint64)
     reads = np.flatnonzero(wanted)
+    count = table.shape[1] if sampler == kernels.SOBOL else n * n
     for i in range(len(pixels)):
-        kernels.pixel_keys(sampler, seed, pixels[i], wanted, keys)
+        kernels.pixel_keys(sampler, seed, pixels[i], count, wanted, keys)
         kernels.sample_numbers(sampler, k, n, table, wanted, reads, keys, out[i])
     return out
 
@@ -157,8 +179,8 @@ def _pixel_sample(rng):
     last single number left out, as :func:`~raykit.engine.compiled.noise.wanted_dimensions`
     leaves what a scene does not read): the wanted ones the reference's, the others not
     written."""
-    for name, count in (("random", 5), ("jittered", 16), ("jittered", 9), ("sobol", 8),
-                        ("sobol", 64)):  # fmt: skip
+    for name, count in (("random", 5), ("jittered", 16), ("jittered", 9), ("jittered", 1),
+                        ("sobol", 8), ("sobol", 64), ("sobol", 1)):  # fmt: skip
         for dimensions in (2, 4, 10, 11):  # 11: a last single number (a time), in strata
             seed = int(rng.integers(0, 2**32))
             samples = noise.PixelSamples(Sampling(count, name, seed), dimensions)
@@ -219,6 +241,8 @@ CHECKS = {
     "noise.uniform": _hash_in_parts,
     "noise.round_keys": _shuffle,
     "noise.shuffle_by": _shuffle,
+    "noise.shuffle_shape": _shuffle,
+    "noise.shuffle_rounds": _shuffle,
     "noise.pixel_keys": _pixel_sample,
     "noise.sample_numbers": _pixel_sample,
     "noise.shuffle_of_power": _shuffle_of_power,

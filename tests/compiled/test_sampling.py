@@ -208,7 +208,23 @@ def _sobol(rng):
     exactly(got[:, 5], got[:, 3])
 
 
+@numba.njit
+def _unit_numbers(values):
+    out = np.empty(len(values))
+    for i in range(len(values)):
+        out[i] = kernels.unit_number(values[i])
+    return out
+
+
+def _unit_number(rng):
+    """A point's integer times 2^-32 as sobol_set makes it, for every top bit and the ends."""
+    values = np.concatenate([[0, 1, 2**31 - 1, 2**31, 2**31 + 1, 2**32 - 1], 2 ** np.arange(32),
+                             rng.integers(0, 2**32, 20_000)]).astype(np.uint32)  # fmt: skip
+    exactly(_unit_numbers(values), values.astype(np.uint64) * 2.0**-32)
+
+
 CHECKS = {
+    "sampling.unit_number": _unit_number,
     "sampling.reverse_bits": _sobol,
     "sampling.sobol_points": _sobol,
     "sampling.owen_scramble": _sobol,

@@ -8,7 +8,7 @@ from typing import NamedTuple
 
 from numba import njit
 
-from raykit.engine.compiled.compiling import ONE_RAY
+from raykit.engine.compiled.compiling import INLINED, ONE_RAY
 from raykit.engine.compiled.rays import Ray
 from raykit.engine.compiled.sampling import point_on_lens
 from raykit.scene import Scene
@@ -61,7 +61,10 @@ def rays_through(camera, x, y):
                d0=x0 / length, d1=x1 / length, d2=x2 / length)  # fmt: skip
 
 
-@njit(**ONE_RAY)
+# INLINED, and the lens's kernels it calls (point_on_lens, point_on_disk, cos_sin): a loop of it
+# over a batch's samples (sampled_lanes) becomes vector instructions only when each is copied
+# into it; left to LLVM's rule, they stayed calls, one ray at a time
+@njit(**INLINED)
 def thin_lens_rays(camera, lens, x, y, xi1, xi2):
     """Repeats :func:`raykit.camera.thin_lens_rays` for one image point (x, y) and the uniform
     numbers (ξ1, ξ2) of its point on the lens: its :class:`~raykit.engine.compiled.rays.Ray`,

@@ -208,14 +208,18 @@ class SampleRoom(NamedTuple):
     """Room for a distributed render's samples' uniform numbers: each sample's ``numbers`` (a row
     each, ``(N, D)``, or ``(D,)`` for one sample at a time), the wanted ones copied into ``columns
     (D, N)`` (no columns for one at a time), what each pixel's samples share, ``keys (P, D // 2 + 2,
-    6)`` (:func:`~.noise.pixel_keys`; P = 1 for one at a time), and the objects a batch of a
-    pinhole's samples can hit, ``near (DIRECT_HITS,)`` (:func:`~.tiles.row_objects`). Each worker
-    has its own, made before its call (:func:`new_sample_room`, :func:`sampled_rooms`)."""
+    6)`` (:func:`~.noise.pixel_keys`; P = 1 for one at a time), the objects a batch of a
+    pinhole's samples can hit, ``near (DIRECT_HITS,)`` (:func:`~.tiles.row_objects`), and each
+    sample's Sobol' point and seed in one dimension, ``cells (N,)`` and ``seeds (N,)`` (uint32,
+    :func:`~.noise.sobol_numbers`). Each worker has its own, made before its call
+    (:func:`new_sample_room`, :func:`sampled_rooms`)."""
 
     numbers: np.ndarray
     columns: np.ndarray
     keys: np.ndarray
     near: np.ndarray
+    cells: np.ndarray
+    seeds: np.ndarray
 
 
 @njit(**MAKES_ARRAYS)
@@ -224,8 +228,9 @@ def new_sample_room(n, dimensions, pixels):
     ``pixels`` pixels at most, or, ``n`` 0, for one sample at a time."""
     numbers = np.empty((max(n, 1), dimensions))
     keys = np.zeros((max(pixels, 1), dimensions // 2 + 2, 6), dtype=np.uint64)
-    return SampleRoom(numbers, np.empty((dimensions, n)), keys,
-                      np.empty(DIRECT_HITS, dtype=np.int64))  # fmt: skip
+    near = np.empty(DIRECT_HITS, dtype=np.int64)
+    cells, seeds = np.empty(n, dtype=np.uint32), np.empty(n, dtype=np.uint32)
+    return SampleRoom(numbers, np.empty((dimensions, n)), keys, near, cells, seeds)
 
 
 class RayRoom(NamedTuple):

@@ -21,7 +21,7 @@ from numba import njit
 
 from raykit.engine.compiled.camera import lens_tuple
 from raykit.engine.compiled.compiling import INLINED, ONE_RAY
-from raykit.engine.compiled.sampling import jittered_point, owen_hash, reverse_bits
+from raykit.engine.compiled.sampling import jittered_point, owen_hash, reverse_bits, unit_number
 from raykit.engine.noise import (
     GAMMA,
     MIX1,
@@ -33,13 +33,12 @@ from raykit.engine.noise import (
     Dimensions,
     PixelSamples,
 )
-from raykit.sampling import SOBOL_BITS, sobol_points
 from raykit.sampling import reverse_bits as mirrored
+from raykit.sampling import sobol_points
 from raykit.scene import Scene
 
 # the samplers' numbers, as the kernels take them (raykit.sampling.SAMPLERS' order)
 RANDOM, JITTERED, SOBOL = 0, 1, 2
-SOBOL_UNIT = 2.0**-SOBOL_BITS  # a Sobol' point's integer times it: its number in [0, 1)
 
 
 @njit(**ONE_RAY)
@@ -116,51 +115,73 @@ def shuffle(index, count, key):
 @njit(**ONE_RAY)
 def shuffle_by(index, count, k0, k1, k2, k3):
     """Repeats :func:`raykit.engine.noise.shuffle` for one ``index`` in [0, count), its rounds'
-    keys made beforehand (:func:`round_keys`): π(index), as an int."""
-    bits = 1
-    while (1 << bits) < count:  # (count - 1).bit_length(), at least 1
-        bits += 1
-    mask = np.uint64((1 << bits) - 1)
-    down = np.uint64(max(1, bits // 2))
-    value = np.uint64(index)
-    limit = np.uint64(count)
-    one = np.uint64(1)
+    keys made beforehand (:func:`round_keys`): π(index), as an int. Its rounds walk the value
+    back into [0, count) from the next power of two (:func:`shuffle_shape`)."""
+    mask, down = shuffle_shape(count)
+    value = np.uint32(index)
+    limit = np.uint32(count)
     while True:
-        for k in (k0, k1, k2, k3):
-            value = value ^ (k & mask)
-            value = (value * ((k >> np.uint64(32)) | one)) & mask  # odd: a bijection
-            value = value ^ (value >> down)
-            value = value ^ ((value << one) & mask)
+        value = shuffle_rounds(value, mask, down, k0, k1, k2, k3)
         if value < limit:
             return np.int64(value)
 
 
+@njit(**INLINED)
+def shuffle_shape(count):
+    """What :func:`raykit.engine.noise.shuffle`'s rounds take from ``count`` (at most 2^32): the
+    ``mask`` of its bits, 2^bits - 1 with bits = (count - 1).bit_length(), at least 1, and the
+    shift ``down``, max(1, bits // 2) (uint32 each)."""
+    bits = 1
+    while (1 << bits) < count:
+        bits += 1
+    return np.uint32((1 << bits) - 1), np.uint32(max(1, bits // 2))
+
+
+@njit(**INLINED)
+def shuffle_rounds(value, mask, down, k0, k1, k2, k3):
+    """The four rounds of :func:`raykit.engine.noise.shuffle` on ``value`` (uint32), within
+    ``mask``, by the round keys k0 .. k3 (uint64): each a bijection of [0, mask]. In uint32, as
+    :mod:`raykit.engine.compiled.sampling` says why: a key's low 32 bits are all that its mask
+    keeps, and of a product, its low 32 bits."""
+    one = np.uint32(1)
+    for k in (k0, k1, k2, k3):
+        low, high = np.uint32(k), np.uint32(k >> np.uint64(32))
+        value = np.uint32(value ^ (low & mask))
+        value = np.uint32(np.uint32(value * (high | one)) & mask)  # odd: a bijection
+        value = np.uint32(value ^ (value >> down))
+        value = np.uint32(value ^ (np.uint32(value << one) & mask))
+    return value
+
+
 @njit(**ONE_RAY)
-def pixel_keys(sampler, seed, pixel, wanted, keys):
+def pixel_keys(sampler, seed, pixel, count, wanted, keys):
     """What sample k of ``pixel`` (r·width + c) takes from the pixel alone, for
     :func:`sample_numbers`: into ``keys (D // 2 + 2, 6)`` (uint64), at [0, 0] the hash of (seed,
     pixel) (:func:`pixel_hash`); in row 1 + pair, the round keys (:func:`round_keys`) of the
     shuffle of each pair after the first (columns 0 to 3), and for the Sobol' sampler its two
     dimensions' scrambling seeds (columns 4 and 5); in the last row, those of a last single
     number's strata (columns 0 to 3) and its seed (column 4). Only for the dimensions ``wanted
-    (D,)`` says the scene reads."""
+    (D,)`` says the scene reads, and no round keys for a ``count`` of one sample a pixel, whose
+    shuffle is π(0) = 0 whatever its keys (its users shuffle nothing then)."""
     dimensions = len(wanted)
     h = pixel_hash(seed, pixel)
     keys[0, 0] = h
     if sampler == RANDOM:
         return
     top = np.uint64(32)
+    shuffled = count > 1
     for pair in range(dimensions // 2):
         if wanted[2 * pair] or wanted[2 * pair + 1]:
             row = keys[1 + pair]
-            if pair:
+            if pair and shuffled:
                 row[0], row[1], row[2], row[3] = round_keys(hash_on(h, SHUFFLE_SAMPLE, pair))
             if sampler == SOBOL:
                 row[4] = hash_on(h, SCRAMBLE_SAMPLE, 2 * pair) >> top
                 row[5] = hash_on(h, SCRAMBLE_SAMPLE, 2 * pair + 1) >> top
     if dimensions % 2 and wanted[dimensions - 1]:
         row = keys[len(keys) - 1]
-        row[0], row[1], row[2], row[3] = round_keys(hash_on(h, STRATUM_SAMPLE, dimensions - 1))
+        if shuffled:
+            row[0], row[1], row[2], row[3] = round_keys(hash_on(h, STRATUM_SAMPLE, dimensions - 1))
         if sampler == SOBOL:
             row[4] = hash_on(h, SCRAMBLE_SAMPLE, dimensions - 1) >> top
 
@@ -168,9 +189,9 @@ def pixel_keys(sampler, seed, pixel, wanted, keys):
 @njit(**INLINED)
 def sample_numbers(sampler, k, n, table, wanted, reads, keys, out):
     """Repeats :meth:`raykit.engine.noise.PixelSamples.of` for one pixel, from its
-    :func:`pixel_keys`, and its sample k of ``count`` = n x n (jittered) or ``len(table)`` (Sobol'):
-    the sample's uniform numbers into ``out (D,)``, by the ``sampler`` (:data:`RANDOM`,
-    :data:`JITTERED`, or :data:`SOBOL` with ``table (count, 2)``, the Sobol' points of indices 0 ..
+    :func:`pixel_keys`, and its sample k of ``count`` = n x n (jittered) or ``table.shape[1]``
+    (Sobol'): the sample's uniform numbers into ``out (D,)``, by the ``sampler`` (:data:`RANDOM`,
+    :data:`JITTERED`, or :data:`SOBOL` with ``table (2, count)``, the Sobol' points of indices 0 ..
     count - 1 with their bits mirrored, :func:`sobol_table`), each dimension ``wanted (D,)``, and
     nothing written to the others (numbers no ray of the scene reads). ``reads``: the dimensions
     wanted, in order (``np.flatnonzero(wanted)``): the loops of one number each go through them
@@ -178,7 +199,7 @@ def sample_numbers(sampler, k, n, table, wanted, reads, keys, out):
     ones too and throws them away."""
     h = keys[0, 0]
     dimensions = len(out)
-    count = len(table) if sampler == SOBOL else n * n
+    count = table.shape[1] if sampler == SOBOL else n * n
     if sampler != SOBOL:
         sample_hash = fold(h, k)  # (seed, pixel, sample): what the dimensions' hashes share
         for d in reads:
@@ -190,15 +211,13 @@ def sample_numbers(sampler, k, n, table, wanted, reads, keys, out):
             continue
         cell = k
         row = keys[1 + pair]
-        if pair:
+        if pair and count > 1:  # (a shuffle of one sample is the identity: pixel_keys)
             cell = shuffle_by(k, count, row[0], row[1], row[2], row[3])
         if sampler == SOBOL:  # point π(k) of the pixel's own scrambled net
             if wanted[2 * pair]:
-                x = reverse_bits(owen_hash(table[cell, 0], row[4]))
-                out[2 * pair] = np.float64(x) * SOBOL_UNIT
+                out[2 * pair] = unit_number(reverse_bits(owen_hash(table[0, cell], row[4])))
             if wanted[2 * pair + 1]:
-                y = reverse_bits(owen_hash(table[cell, 1], row[5]))
-                out[2 * pair + 1] = np.float64(y) * SOBOL_UNIT
+                out[2 * pair + 1] = unit_number(reverse_bits(owen_hash(table[1, cell], row[5])))
         else:
             out[2 * pair], out[2 * pair + 1] = jittered_point(
                 cell, n, out[2 * pair], out[2 * pair + 1]
@@ -206,92 +225,86 @@ def sample_numbers(sampler, k, n, table, wanted, reads, keys, out):
     if dimensions % 2 and wanted[dimensions - 1]:  # a last single number (a time): sample k in
         last = dimensions - 1  # stratum π(k) of the count
         row = keys[len(keys) - 1]
-        stratum = shuffle_by(k, count, row[0], row[1], row[2], row[3])
+        stratum = shuffle_by(k, count, row[0], row[1], row[2], row[3]) if count > 1 else 0
         if sampler == SOBOL:  # van der Corput's point π(k), scrambled: π(k) is it mirrored
-            out[last] = np.float64(reverse_bits(owen_hash(stratum, row[4]))) * SOBOL_UNIT
+            out[last] = unit_number(reverse_bits(owen_hash(stratum, row[4])))
         else:
             out[last] = (stratum + out[last]) / count
 
 
 @njit(**ONE_RAY)
-def shuffle_of_power(index, count, k0, k1, k2, k3):
-    """:func:`shuffle_by` where ``count`` is a power of two (the Sobol' sampler's every count):
-    its rounds once, with no loop, where they land in [0, count) at once (the mask is count - 1),
-    so that a loop of it over many samples becomes vector instructions; π(0) = 0 for a count of
-    1, whose mask of one bit the loop would walk back to 0."""
-    if count == 1:
-        return np.int64(0)
-    bits = 1
-    while (1 << bits) < count:
-        bits += 1
-    mask = np.uint64(count - 1)
-    down = np.uint64(max(1, bits // 2))
-    one = np.uint64(1)
-    value = np.uint64(index)
-    for k in (k0, k1, k2, k3):
-        value = value ^ (k & mask)
-        value = (value * ((k >> np.uint64(32)) | one)) & mask
-        value = value ^ (value >> down)
-        value = value ^ ((value << one) & mask)
-    return np.int64(value)
+def shuffle_of_power(index, mask, down, k0, k1, k2, k3):
+    """:func:`shuffle_by` where the count is a power of two (the Sobol' sampler's every count),
+    its ``mask`` count - 1 and ``down`` as :func:`shuffle_shape` makes them, once for a batch: its
+    rounds once, with no loop, since they land in [0, count) at once, so that a loop of it over
+    many samples becomes vector instructions. For a count of 1, the mask 0 gives π(0) = 0, where
+    :func:`shuffle_shape`'s mask of one bit would have to walk back to 0."""
+    return np.int64(shuffle_rounds(np.uint64(index), mask, down, k0, k1, k2, k3))
 
 
 @njit(**INLINED)
-def sobol_numbers(k_first, samples, pixels, table, wanted, keys, numbers, columns):
+def sobol_numbers(k_first, samples, pixels, table, wanted, keys, numbers, columns, cells, seeds):
     """:func:`sample_numbers` of the Sobol' sampler for a batch: samples ``k_first`` to
     ``k_first + samples - 1`` of each of ``pixels`` pixels, from pixel q's :func:`pixel_keys`
-    ``keys[q]``, into row q·samples + j of ``numbers (N, D)`` and column of ``columns (D, N)``,
-    the dimensions ``wanted (D,)`` only: the same operations on the same integers, one pair of
-    dimensions at a time for all of a pixel's samples (a loop with no branch, which the compiler
-    turns into vector instructions; one sample at a time went through every pair's branches),
-    the shuffles by :func:`shuffle_of_power`."""
-    count = len(table)
+    ``keys[q]``, into column i = q·samples + j of ``columns (D, N)`` and row i of ``numbers (N,
+    D)``, the dimensions ``wanted (D,)`` only: the same operations on the same integers, in 32-bit
+    integers, one dimension at a time for every sample of the batch. Each sample's point in the
+    table (its cell, shuffled by :func:`shuffle_of_power`) and its pixel's seed are laid in
+    ``cells (N,)`` and ``seeds (N,)`` (uint32), the points read from the table into ``cells`` one
+    at a time, then all of them scrambled into a row of ``columns`` in one loop with no branch,
+    which the compiler turns into vector instructions (read from the table in it, or with a
+    pixel's samples alone in it, it stayed one sample at a time, or too few for its vectors); the
+    rows of ``numbers`` are copied from ``columns`` after."""
+    count = table.shape[1]
+    _, down = shuffle_shape(count)
+    mask = np.uint32(count - 1)  # shuffle_shape's mask for a power of two, but 0 for 1
+    shuffled = count > 1  # (a shuffle of one sample is the identity: pixel_keys)
     dimensions = numbers.shape[1]
-    for q in range(pixels):
-        pixel = keys[q]
-        for pair in range(dimensions // 2):
-            x, y = 2 * pair, 2 * pair + 1
-            if not (wanted[x] or wanted[y]):
-                continue
-            row = pixel[1 + pair]
-            k0, k1, k2, k3, seed_x, seed_y = row[0], row[1], row[2], row[3], row[4], row[5]
+    lanes = pixels * samples
+    for d in range(dimensions):
+        if not wanted[d]:
+            continue
+        single = dimensions % 2 == 1 and d == dimensions - 1  # a last number (a time)
+        for q in range(pixels):
+            row = keys[q, len(keys[q]) - 1] if single else keys[q, 1 + d // 2]
+            first = q * samples
+            if (d >= 2 or single) and shuffled:  # the pixel's own pair keeps cell k
+                k0, k1, k2, k3 = row[0], row[1], row[2], row[3]
+                for j in range(samples):
+                    cells[first + j] = shuffle_of_power(k_first + j, mask, down, k0, k1, k2, k3)
+            else:
+                for j in range(samples):
+                    cells[first + j] = k_first + j
+            # the second of a pair takes the pair's second seed and row of the table
+            seed = np.uint32(row[5] if d % 2 else row[4])
             for j in range(samples):
-                i = q * samples + j
-                cell = k_first + j
-                if pair:
-                    cell = shuffle_of_power(cell, count, k0, k1, k2, k3)
-                u = np.float64(reverse_bits(owen_hash(table[cell, 0], seed_x))) * SOBOL_UNIT
-                v = np.float64(reverse_bits(owen_hash(table[cell, 1], seed_y))) * SOBOL_UNIT
-                if wanted[x]:
-                    numbers[i, x] = u
-                    columns[x, i] = u
-                if wanted[y]:
-                    numbers[i, y] = v
-                    columns[y, i] = v
-        if dimensions % 2 and wanted[dimensions - 1]:  # a last single number (a time)
-            last = dimensions - 1
-            row = pixel[len(pixel) - 1]
-            for j in range(samples):
-                i = q * samples + j
-                stratum = shuffle_of_power(k_first + j, count, row[0], row[1], row[2], row[3])
-                u = np.float64(reverse_bits(owen_hash(stratum, row[4]))) * SOBOL_UNIT
-                numbers[i, last] = u
-                columns[last, i] = u
+                seeds[first + j] = seed
+        # a last single number (its index even) is van der Corput's point π(k), π(k) mirrored:
+        # the table's first row holds each index mirrored twice, the index itself
+        points = table[d % 2]
+        for i in range(lanes):
+            cells[i] = points[cells[i]]
+        out = columns[d]
+        for i in range(lanes):
+            out[i] = unit_number(reverse_bits(owen_hash(cells[i], seeds[i])))
+        for i in range(lanes):
+            numbers[i, d] = out[i]
 
 
 def sobol_table(count: int) -> np.ndarray:
-    """The Sobol' points of indices 0 .. ``count`` - 1 ``(count, 2)`` (uint64), each with its
-    bits mirrored, as :func:`sample_numbers` reads them: made once a render by the reference's
-    own :func:`raykit.sampling.sobol_points` and :func:`raykit.sampling.reverse_bits`, the same
-    for every pixel (each scrambles its own copy)."""
-    return np.require(mirrored(sobol_points(np.arange(count))), np.uint64, "CAW")
+    """The Sobol' points of indices 0 .. ``count`` - 1, a row per dimension ``(2, count)``
+    (uint32), each with its bits mirrored, as :func:`sample_numbers` reads them: made once a
+    render by the reference's own :func:`raykit.sampling.sobol_points` and
+    :func:`raykit.sampling.reverse_bits`, the same for every pixel (each scrambles its own
+    copy)."""
+    return np.require(mirrored(sobol_points(np.arange(count))).T, np.uint32, "CAW")
 
 
 class Noise(NamedTuple):
     """A distributed render's sampling (:mod:`raykit.engine.noise`) as
     :func:`~.render.trace_sampled` takes it: the ``sampler`` (:data:`RANDOM`, ``JITTERED`` or
     ``SOBOL``), the ``seed``, the samples per pixel ``count`` (``n`` x ``n`` for the jittered
-    sampler), the Sobol' points ``table (count, 2)`` (:func:`sobol_table`; no rows for the other
+    sampler), the Sobol' points ``table (2, count)`` (:func:`sobol_table`; no columns for the other
     samplers), the ``dimensions`` D of a sample, where in them the point in the pixel and on the
     lens lie (``pixel``, ``lens``: :class:`raykit.engine.noise.Dimensions`), and which of them a ray
     of the scene may read, ``wanted (D,)`` (:func:`wanted_dimensions`), and their indices,

@@ -498,7 +498,7 @@ def sampled_job(standing, moved, camera, lens, noise, motion, film, first, stack
     for p in range(first, min(first + SAMPLED_PIXELS, len(t))):
         row, col = p // width, p % width
         r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
-        pixel_keys(noise.sampler, noise.seed, p, wanted, keys)
+        pixel_keys(noise.sampler, noise.seed, p, noise.count, wanted, keys)
         for k in range(count):
             sample_numbers(noise.sampler, k, noise.n, noise.table, wanted, reads, keys, numbers)
             if motion.moving:  # the ray's time: its own, or the shutter's opening
@@ -666,10 +666,10 @@ def sampled_lanes(
             samples = min(SAMPLED_LANES, count - k_first)  # of each pixel in this batch
             shaded = pixels * samples
             for q in range(pixels):  # lane i = q·samples + j: sample k_first + j of pixel p
-                pixel_keys(noise.sampler, noise.seed, p_first + q, wanted, keys[q])
+                pixel_keys(noise.sampler, noise.seed, p_first + q, count, wanted, keys[q])
             if noise.sampler == SOBOL:  # a pair of dimensions at a time
                 sobol_numbers(k_first, samples, pixels, noise.table, wanted, keys, numbers,
-                              columns)  # fmt: skip
+                              columns, sample_room.cells, sample_room.seeds)  # fmt: skip
             else:
                 for q in range(pixels):
                     for j in range(samples):
@@ -704,29 +704,30 @@ def sampled_lanes(
                 if shading.lit:
                     light_lanes(scene, stack, rays, best, shaded, lanes, shading_room.candidates,
                                 shading_room.counts, columns)  # fmt: skip
-            for i in range(shaded):  # each pixel's samples summed in order
-                q, j = divmod(i, samples)
-                p, k = p_first + q, k_first + j
-                if k == 0:
+            for q in range(pixels):  # each pixel's samples summed in order
+                if k_first == 0:
                     r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
-                c0, c1, c2 = colors[0, i], colors[1, i], colors[2, i]
-                hit = best[i]
-                if shading.shaded:  # as shade weighs them: 1 x the colour, added to nothing
-                    if hit >= 0:
-                        c0, c1, c2 = total[0, i], total[1, i], total[2, i]
-                    c0, c1, c2 = 0.0 + 1.0 * c0, 0.0 + 1.0 * c1, 0.0 + 1.0 * c2
-                if bounces is not None:  # None in a scene with no mirror: not compiled
-                    if shading.shaded and hit >= 0:
-                        c0, c1, c2 = bounce_on(
-                            scene, stack, 0, hit, (point[0, i], point[1, i], point[2, i]),
-                            (normal[0, i], normal[1, i], normal[2, i]),
-                            (rays[3, i], rays[4, i], rays[5, i]), error[i], (c0, c1, c2),
-                            (1.0, 1.0, 1.0), numbers[i],
-                        )  # fmt: skip
-                r_sum += c0
-                g_sum += c1
-                b_sum += c2
-                if k == count - 1:  # the pixel's last sample: its mean
+                for j in range(samples):
+                    i = q * samples + j
+                    c0, c1, c2 = colors[0, i], colors[1, i], colors[2, i]
+                    hit = best[i]
+                    if shading.shaded:  # as shade weighs them: 1 x the colour, added to nothing
+                        if hit >= 0:
+                            c0, c1, c2 = total[0, i], total[1, i], total[2, i]
+                        c0, c1, c2 = 0.0 + 1.0 * c0, 0.0 + 1.0 * c1, 0.0 + 1.0 * c2
+                    if bounces is not None:  # None in a scene with no mirror: not compiled
+                        if shading.shaded and hit >= 0:
+                            c0, c1, c2 = bounce_on(
+                                scene, stack, 0, hit, (point[0, i], point[1, i], point[2, i]),
+                                (normal[0, i], normal[1, i], normal[2, i]),
+                                (rays[3, i], rays[4, i], rays[5, i]), error[i], (c0, c1, c2),
+                                (1.0, 1.0, 1.0), numbers[i],
+                            )  # fmt: skip
+                    r_sum += c0
+                    g_sum += c1
+                    b_sum += c2
+                if k_first + samples == count:  # the pixel's last sample: its mean
+                    p = p_first + q
                     rgb[p, 0] = r_sum / count
                     rgb[p, 1] = g_sum / count
                     rgb[p, 2] = b_sum / count

@@ -12,7 +12,7 @@ import math
 import numpy as np
 from numba import njit
 
-from raykit.engine.compiled.compiling import ONE_RAY
+from raykit.engine.compiled.compiling import INLINED, ONE_RAY
 from raykit.sampling import COS_COEFFICIENTS, SIN_COEFFICIENTS
 
 
@@ -43,7 +43,7 @@ def point_on_parallelogram(c0, c1, c2, a0, a1, a2, b0, b1, b2, u1, u2):
     return c0 + u1 * a0 + u2 * b0, c1 + u1 * a1 + u2 * b1, c2 + u1 * a2 + u2 * b2
 
 
-@njit(**ONE_RAY)
+@njit(**INLINED)
 def cos_sin(angle):
     """Repeats :func:`raykit.sampling._cos_sin` for one angle in [-π/4, π/4]: its Taylor
     series, Horner's way, in the reference's order, by the same coefficients."""
@@ -56,7 +56,7 @@ def cos_sin(angle):
     return cos, angle * sin
 
 
-@njit(**ONE_RAY)
+@njit(**INLINED)
 def point_on_disk(u1, u2):
     """Repeats :func:`raykit.sampling.point_on_disk` for one sample: Shirley and Chiu's
     concentric map of (ξ1, ξ2) to the unit disk."""
@@ -74,7 +74,7 @@ def point_on_disk(u1, u2):
     return radius * sin, radius * cos
 
 
-@njit(**ONE_RAY)
+@njit(**INLINED)
 def point_on_lens(e0, e1, e2, u0, u1, u2, v0, v1, v2, aperture, x1, x2):
     """Repeats :func:`raykit.sampling.point_on_lens` for one sample (ξ1, ξ2) = (``x1``, ``x2``):
     e + (aperture/2)·(x·u + y·v), (x, y) the point on the unit disk."""
@@ -130,27 +130,43 @@ def shutter_times(shutter_open, shutter_close, u):
     return shutter_open + u * (shutter_close - shutter_open)
 
 
-_MASK = np.uint64(0xFFFFFFFF)
+# the Sobol' sampler's integers are below 2^32, and the reference's uint64 operations on them keep
+# only their low 32 bits (each product masked): the same operations in uint32 give the same bits,
+# and a loop of them makes vector instructions of twice the lanes, with the 32-bit multiply
+# that AVX2 has (it has no 64-bit one). numba widens a uint32 sum or product to 64 bits: each
+# step is cut back to 32 (np.uint32), which the compiler keeps as 32-bit arithmetic.
+_U1, _U2, _U4, _U8, _U16 = (np.uint32(k) for k in (1, 2, 4, 8, 16))
+_SWAPS = (
+    np.uint32(0x55555555),
+    np.uint32(0x33333333),
+    np.uint32(0x0F0F0F0F),
+    np.uint32(0x00FF00FF),
+)
+_OWEN = tuple(np.uint32(c) for c in (0x3D20ADEA, 0x05526C56, 0x53A22864))
+_TOP_BIT = np.uint32(0x80000000)
 
 
 @njit(**ONE_RAY)
 def reverse_bits(value):
-    """Repeats :func:`raykit.sampling.reverse_bits` for one uint64 below 2^32: its 32 bits in
-    reverse order."""
-    v = np.uint64(value)
-    v = ((v >> np.uint64(1)) & np.uint64(0x55555555)) | (
-        (v & np.uint64(0x55555555)) << np.uint64(1)
-    )
-    v = ((v >> np.uint64(2)) & np.uint64(0x33333333)) | (
-        (v & np.uint64(0x33333333)) << np.uint64(2)
-    )
-    v = ((v >> np.uint64(4)) & np.uint64(0x0F0F0F0F)) | (
-        (v & np.uint64(0x0F0F0F0F)) << np.uint64(4)
-    )
-    v = ((v >> np.uint64(8)) & np.uint64(0x00FF00FF)) | (
-        (v & np.uint64(0x00FF00FF)) << np.uint64(8)
-    )
-    return ((v >> np.uint64(16)) | (v << np.uint64(16))) & _MASK
+    """Repeats :func:`raykit.sampling.reverse_bits` for one integer below 2^32: its 32 bits in
+    reverse order, as uint32."""
+    m1, m2, m4, m8 = _SWAPS
+    v = np.uint32(value)
+    v = np.uint32(((v >> _U1) & m1) | ((v & m1) << _U1))
+    v = np.uint32(((v >> _U2) & m2) | ((v & m2) << _U2))
+    v = np.uint32(((v >> _U4) & m4) | ((v & m4) << _U4))
+    v = np.uint32(((v >> _U8) & m8) | ((v & m8) << _U8))
+    return np.uint32((v >> _U16) | (v << _U16))
+
+
+@njit(**ONE_RAY)
+def unit_number(value):
+    """A point's 32-bit integer ``value`` (uint32) times 2^-32, in [0, 1), as
+    :func:`raykit.sampling.sobol_set` makes it: float(value)·2^-32 exactly, float(value) taken as
+    the signed value - 2^31 plus 2^31 (each exact), a conversion AVX2 makes for vectors, where it
+    has none from unsigned integers."""
+    signed = np.int32(np.uint32(value) ^ _TOP_BIT)  # value - 2^31, as a signed 32-bit integer
+    return (np.float64(signed) + 2147483648.0) * 2.0**-32
 
 
 @njit(**ONE_RAY)
@@ -180,12 +196,13 @@ def owen_scramble(value, seed):
 @njit(**ONE_RAY)
 def owen_hash(mirrored, seed):
     """The hash of :func:`raykit.sampling.owen_scramble` alone, on a 32-bit value whose bits are
-    mirrored already, and its 32-bit seed (both uint64): the scrambled value, still mirrored. (A
+    mirrored already, and its 32-bit seed: the scrambled value, still mirrored, as uint32. (A
     Sobol' point's first dimension is its index mirrored: its scramble needs no mirroring in.)"""
-    seed = np.uint64(seed)
-    v = np.uint64(mirrored)
-    v = v ^ ((v * np.uint64(0x3D20ADEA)) & _MASK)
-    v = (v + seed) & _MASK
-    v = (v * ((seed >> np.uint64(16)) | np.uint64(1))) & _MASK
-    v = v ^ ((v * np.uint64(0x05526C56)) & _MASK)
-    return v ^ ((v * np.uint64(0x53A22864)) & _MASK)
+    c1, c2, c3 = _OWEN
+    seed = np.uint32(seed)
+    v = np.uint32(mirrored)
+    v = np.uint32(v ^ np.uint32(v * c1))
+    v = np.uint32(v + seed)
+    v = np.uint32(v * np.uint32((seed >> _U16) | _U1))
+    v = np.uint32(v ^ np.uint32(v * c2))
+    return np.uint32(v ^ np.uint32(v * c3))

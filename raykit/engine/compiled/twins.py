@@ -84,6 +84,16 @@ TWINS = (
         "its rounds, their keys made before (round_keys)",
     ),
     Twin(
+        "noise.shuffle_shape",
+        "raykit.engine.noise.shuffle",
+        "the mask and shift of its rounds, from the count",
+    ),
+    Twin(
+        "noise.shuffle_rounds",
+        "raykit.engine.noise.shuffle",
+        "its four rounds on one value, which shuffle_by walks and shuffle_of_power takes once",
+    ),
+    Twin(
         "noise.pixel_keys",
         "raykit.engine.noise.PixelSamples.of",
         "what its numbers of one pixel take from the pixel alone, made once for all its samples",
@@ -119,6 +129,11 @@ TWINS = (
     Twin("sampling.perturbed_direction", "raykit.sampling.perturbed_direction"),
     Twin("sampling.shutter_times", "raykit.sampling.shutter_times"),
     Twin("sampling.reverse_bits", "raykit.sampling.reverse_bits"),
+    Twin(
+        "sampling.unit_number",
+        "raykit.sampling.sobol_set",
+        "a point's 32-bit integer times 2^-32, exactly, by a conversion AVX2 makes for vectors",
+    ),
     Twin("sampling.sobol_points", "raykit.sampling.sobol_points"),
     Twin("sampling.owen_scramble", "raykit.sampling.owen_scramble"),
     Twin(
