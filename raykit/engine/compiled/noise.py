@@ -8,9 +8,10 @@ reads (a pinhole camera reads no point on the lens, a scene without mirrors no l
 the first surface): the same operations on the same integers as the reference's, fewer of them per
 sample. A scene's sampling reaches the kernels as one :class:`Noise` (:func:`scene_noise`).
 
-Every integer here is uint64 and every constant is made one (``np.uint64(...)``): numba, like
+Every hash here is uint64 and every constant is made one (``np.uint64(...)``): numba, like
 numpy, wraps uint64 arithmetic, but it turns uint64 mixed with a signed integer into float64,
-which would round the hash."""
+which would round the hash. The shuffles' rounds and the Sobol' points are below 2^32, and kept
+in uint32, as :mod:`raykit.engine.compiled.sampling` says why."""
 
 from __future__ import annotations
 
@@ -239,7 +240,7 @@ def shuffle_of_power(index, mask, down, k0, k1, k2, k3):
     rounds once, with no loop, since they land in [0, count) at once, so that a loop of it over
     many samples becomes vector instructions. For a count of 1, the mask 0 gives π(0) = 0, where
     :func:`shuffle_shape`'s mask of one bit would have to walk back to 0."""
-    return np.int64(shuffle_rounds(np.uint64(index), mask, down, k0, k1, k2, k3))
+    return np.int64(shuffle_rounds(np.uint32(index), mask, down, k0, k1, k2, k3))
 
 
 @njit(**INLINED)
