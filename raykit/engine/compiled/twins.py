@@ -112,8 +112,8 @@ TWINS = (
     Twin(
         "noise.sobol_numbers",
         "raykit.engine.noise.PixelSamples.of",
-        "sample_numbers of the Sobol' sampler for a batch of samples of several pixels, a pair of"
-        " dimensions at a time",
+        "sample_numbers of the Sobol' sampler for a batch of samples of several pixels, a"
+        " dimension at a time for all of them, in 32-bit integers",
     ),
     Twin("sampling.point_in_pixel", "raykit.sampling.point_in_pixel"),
     Twin("sampling.jittered_point", "raykit.sampling.jittered_point"),
