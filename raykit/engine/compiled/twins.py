@@ -52,6 +52,11 @@ TWINS = (
     ),
     Twin("lights.sampled", "raykit.lights.sampled"),
     Twin("lights.area_intensity", "raykit.lights.area_intensity"),
+    Twin(
+        "lights.area_light",
+        "raykit.lights.area_intensity",
+        "the light's numbers it reads (its AreaLight), read once before a loop over points",
+    ),
     Twin("camera.thin_lens_rays", "raykit.camera.thin_lens_rays"),
     Twin("noise.mix64", "raykit.engine.noise.mix64"),
     Twin("noise.counter_hash", "raykit.engine.noise.counter_hash"),
