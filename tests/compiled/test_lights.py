@@ -49,7 +49,7 @@ def _intensities(shading, j, l, distance):
     out = np.empty((len(l), 3))
     for i in range(len(l)):
         out[i, 0], out[i, 1], out[i, 2] = kernels.area_intensity(
-            shading, j, l[i, 0], l[i, 1], l[i, 2], distance[i]
+            kernels.area_light(shading, j), l[i, 0], l[i, 1], l[i, 2], distance[i]
         )
     return out
 
@@ -75,5 +75,6 @@ CHECKS = {
     "lights.toward_point_light": _toward_point_light,
     "lights.sampled": _sampled,
     "lights.area_intensity": _area_intensity,
+    "lights.area_light": _area_intensity,
 }
 test_the_twin_repeats_its_reference = twin_test("lights", CHECKS)

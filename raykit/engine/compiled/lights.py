@@ -21,18 +21,29 @@ def toward_point_light(v0, v1, v2, p0, p1, p2):
 
 
 @njit(**ONE_RAY)
-def area_intensity(shading, j, l0, l1, l2, distance):
-    """Repeats :func:`raykit.lights.area_intensity` for one point: the intensity I of area light
-    j (of ``shading``) toward it, l the unit vector to its sampled point and ``distance`` the
-    distance: the light's colour (FOCG's), or a physically based light's L·A·cos θ_L/(π·r²)."""
-    color = shading.light_colors
-    if not shading.physical[j]:
-        return color[j, 0], color[j, 1], color[j, 2]
-    normal = shading.light_normals
-    cos_light = -(l0 * normal[j, 0] + l1 * normal[j, 1] + l2 * normal[j, 2])
+def area_light(shading, j):
+    """Area light j of ``shading`` as :func:`area_intensity` takes it, numbers read once: whether
+    it is physically based, its colour (r, g, b), unit normal (n0, n1, n2) and area A. (Read
+    from the arrays in a loop over many points, they might be among the arrays that the loop
+    writes, to the compiler, which then kept the loop one point at a time.)"""
+    color, normal = shading.light_colors, shading.light_normals
+    return (shading.physical[j], color[j, 0], color[j, 1], color[j, 2], normal[j, 0],
+            normal[j, 1], normal[j, 2], shading.light_area[j])  # fmt: skip
+
+
+@njit(**ONE_RAY)
+def area_intensity(light, l0, l1, l2, distance):
+    """Repeats :func:`raykit.lights.area_intensity` for one point: the intensity I of the area
+    ``light`` (:func:`area_light`) toward it, l the unit vector to its sampled point and
+    ``distance`` the distance: the light's colour (FOCG's), or a physically based light's
+    L·A·cos θ_L/(π·r²)."""
+    physical, c0, c1, c2, n0, n1, n2, area = light
+    if not physical:
+        return c0, c1, c2
+    cos_light = -(l0 * n0 + l1 * n1 + l2 * n2)
     facing = cos_light if cos_light > 0 else 0.0  # the back of the light: none (NaN too)
-    share = shading.light_area[j] * facing / (math.pi * distance * distance)
-    return color[j, 0] * share, color[j, 1] * share, color[j, 2] * share
+    share = area * facing / (math.pi * distance * distance)
+    return c0 * share, c1 * share, c2 * share
 
 
 @njit(**ONE_RAY)

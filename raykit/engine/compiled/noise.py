@@ -154,7 +154,9 @@ def shuffle_rounds(value, mask, down, k0, k1, k2, k3):
     return value
 
 
-@njit(**ONE_RAY)
+# INLINED: a call of it per pixel passed its arrays and kept it apart from the loop over a
+# batch's pixels, whose hashes the processor could otherwise overlap
+@njit(**INLINED)
 def pixel_keys(sampler, seed, pixel, count, wanted, keys):
     """What sample k of ``pixel`` (r·width + c) takes from the pixel alone, for
     :func:`sample_numbers`: into ``keys (D // 2 + 2, 6)`` (uint64), at [0, 0] the hash of (seed,

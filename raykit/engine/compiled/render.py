@@ -667,7 +667,7 @@ def sampled_lanes(
             shaded = pixels * samples
             for q in range(pixels):  # lane i = q·samples + j: sample k_first + j of pixel p
                 pixel_keys(noise.sampler, noise.seed, p_first + q, count, wanted, keys[q])
-            if noise.sampler == SOBOL:  # a pair of dimensions at a time
+            if noise.sampler == SOBOL:  # a dimension at a time, for the whole batch
                 sobol_numbers(k_first, samples, pixels, noise.table, wanted, keys, numbers,
                               columns, sample_room.cells, sample_room.seeds)  # fmt: skip
             else:

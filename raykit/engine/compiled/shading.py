@@ -15,7 +15,7 @@ from numba import njit
 from raykit.engine.compiled.billboards import billboard_color_at, hit_billboard
 from raykit.engine.compiled.bvh import nearest_hit
 from raykit.engine.compiled.compiling import INLINED, KERNEL, MAKES_ARRAYS, ONE_RAY
-from raykit.engine.compiled.lights import area_intensity, sampled, toward_point_light
+from raykit.engine.compiled.lights import area_intensity, area_light, sampled, toward_point_light
 from raykit.engine.compiled.mirrors import glossy_reflect, reflect
 from raykit.engine.compiled.sampling import point_on_parallelogram
 from raykit.engine.compiled.shadows import point_light_reach
@@ -97,7 +97,7 @@ def surface_color(scene, stack, hit, p, n, d, error, color, uniforms, depth):
                 continue
         I0, I1, I2 = intensity[j, 0], intensity[j, 1], intensity[j, 2]
         if area >= 0:  # raykit.lights.area_intensity: a physically based light's falls off
-            I0, I1, I2 = area_intensity(shading, j, l0, l1, l2, distance)
+            I0, I1, I2 = area_intensity(area_light(shading, j), l0, l1, l2, distance)
         a0, a1, a2 = lambert((k0, k1, k2), (I0, I1, I2), n_dot_l)
         total0, total1, total2 = total0 + a0, total1 + a1, total2 + a2
         v0, v1, v2 = -d0, -d1, -d2
@@ -219,13 +219,19 @@ def light_lanes(scene, stack, rays, best, count, lanes, candidates, counts, unif
             first = shading.light_dims[0, area]
             e = shading.light_edges
             e0, e1, e2, e3, e4, e5 = e[j, 0], e[j, 1], e[j, 2], e[j, 3], e[j, 4], e[j, 5]
+            light = area_light(shading, j)  # the same: read before the loop
+            # two loops, each of which the compiler makes vector instructions (one loop with
+            # all of it wrote to more arrays than it checks apart): the point on the light, held
+            # in s until the shadow ray's start takes its place
             for i in range(count):
                 u1, u2 = uniforms[first, i], uniforms[first + 1, i]
                 a0, a1, a2 = point_on_parallelogram(v0, v1, v2, e0, e1, e2, e3, e4, e5, u1, u2)
                 l0, l1, l2, distance = toward_point_light(a0, a1, a2, p[0, i], p[1, i], p[2, i])
                 l[0, i], l[1, i], l[2, i] = l0, l1, l2
-                each[0, i], each[1, i], each[2, i] = area_intensity(shading, j, l0, l1, l2,
-                                                                    distance)  # fmt: skip
+                each[0, i], each[1, i], each[2, i] = area_intensity(light, l0, l1, l2, distance)
+                s[0, i], s[1, i], s[2, i] = a0, a1, a2
+            for i in range(count):
+                a0, a1, a2 = s[0, i], s[1, i], s[2, i]
                 s[0, i], s[1, i], s[2, i] = start(
                     p[0, i], p[1, i], p[2, i], n[0, i], n[1, i], n[2, i], error[i], l[0, i],
                     l[1, i], l[2, i],

@@ -52,6 +52,11 @@ TWINS = (
     ),
     Twin("lights.sampled", "raykit.lights.sampled"),
     Twin("lights.area_intensity", "raykit.lights.area_intensity"),
+    Twin(
+        "lights.area_light",
+        "raykit.lights.area_intensity",
+        "the light's numbers it reads (its AreaLight), read once before a loop over points",
+    ),
     Twin("camera.thin_lens_rays", "raykit.camera.thin_lens_rays"),
     Twin("noise.mix64", "raykit.engine.noise.mix64"),
     Twin("noise.counter_hash", "raykit.engine.noise.counter_hash"),
@@ -112,8 +117,8 @@ TWINS = (
     Twin(
         "noise.sobol_numbers",
         "raykit.engine.noise.PixelSamples.of",
-        "sample_numbers of the Sobol' sampler for a batch of samples of several pixels, a pair of"
-        " dimensions at a time",
+        "sample_numbers of the Sobol' sampler for a batch of samples of several pixels, a"
+        " dimension at a time for all of them, in 32-bit integers",
     ),
     Twin("sampling.point_in_pixel", "raykit.sampling.point_in_pixel"),
     Twin("sampling.jittered_point", "raykit.sampling.jittered_point"),
