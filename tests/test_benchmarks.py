@@ -256,6 +256,29 @@ def test_a_mitsuba_variant_that_cannot_start_is_a_failed_row_and_the_run_goes_on
     assert sum(" | raykit numpy | " in row for row in rows) == 4
 
 
+def test_the_mitsuba_summary_puts_each_thread_counts_ratios_side_by_side(capsys):
+    module = _benchmark_module("mitsuba_compare")
+    rows = []
+    for threads, ratio in ((1, "0.40"), (2, "0.45")):
+        rows += [
+            {"scene": "classic", "renderer": f"raykit compiled, {threads} t.", "cpu": "native",
+             "threads": threads, "ratio": ratio, "whole_ratio": "0.30", "cold_ratio": None},
+            {"scene": "textured", "renderer": f"raykit compiled, {threads} t.", "cpu": "native",
+             "threads": threads, "ratio": "0.20", "whole_ratio": "0.25", "cold_ratio": "0.55"},
+            {"scene": "classic", "renderer": f"Mitsuba 3.9 llvm_ad_rgb, {threads} t.",
+             "cpu": "native", "threads": threads, "render": 0.1},
+        ]  # fmt: skip
+    module.summary(rows)
+    table = [line for line in capsys.readouterr().out.splitlines() if line.startswith("| ")]
+    assert table == [
+        "| scene | instruction set | 1 t.: render | 1 t.: load + prepare + render |"
+        " 2 t.: render | 2 t.: load + prepare + render |",
+        "| classic | native | 0.40 | 0.30 | 0.45 | 0.30 |",
+        "| textured | native | 0.20 | 0.25 (textures not cached: 0.55) | 0.20 |"
+        " 0.25 (textures not cached: 0.55) |",
+    ]
+
+
 def test_a_mitsuba_child_that_dies_during_the_renders_is_a_failure_not_a_crash():
     pytest.importorskip("mitsuba")
     module = _benchmark_module("mitsuba_compare")
