@@ -526,6 +526,8 @@ def embree_avx2(folder: Path) -> dict | None:
 
 
 CHILD_SECONDS = 600  # for one answer of a Mitsuba child: a child slower than that has hung
+STILL_SECONDS = 0.002  # a child whose threads ran for none of this long is still
+SETTLE_SECONDS = 1.0  # the longest wait for a child to be still after its render
 
 
 class MitsubaChild:
@@ -579,9 +581,34 @@ class MitsubaChild:
 
     def render_once(self) -> float:
         """Render once in the child: the seconds it took, by the child's clock (NaN once the
-        child has failed)."""
+        child has failed); returns once the child is still (:meth:`settle`)."""
         took = self.ask("render", float) if self.failure is None else None
+        self.settle()
         return float("nan") if took is None else took
+
+    def settle(self) -> None:
+        """Wait, SETTLE_SECONDS at most, until none of the child's threads has run for
+        STILL_SECONDS. Dr.Jit's thread pool goes on running for some milliseconds after a
+        render has returned, waiting for more work, on the cores the next renderer's render
+        would take: timed then, a render of raykit's on all cores took up to twice its time.
+        Where the threads' times cannot be read (no /proc), it returns at once."""
+        ran = self._ran()
+        waited = time.perf_counter()
+        while ran is not None and time.perf_counter() - waited < SETTLE_SECONDS:
+            time.sleep(STILL_SECONDS)
+            ran, before = self._ran(), ran
+            if ran == before:
+                return
+
+    def _ran(self) -> int | None:
+        """Nanoseconds the child's threads have run so far (Linux's schedstat), or None."""
+        total = None
+        for stat in Path(f"/proc/{self.process.pid}/task").glob("*/schedstat"):
+            try:
+                total = (total or 0) + int(stat.read_text().split()[0])
+            except (OSError, ValueError, IndexError):  # a thread that ended meanwhile
+                continue
+        return total
 
     def close(self) -> None:
         if self.failure is None:
