@@ -11,7 +11,7 @@ import functools
 import os
 import time
 from collections.abc import Callable
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import Future, ThreadPoolExecutor
 
 import numba
 import numpy as np
@@ -73,23 +73,28 @@ def run_workers(entry, each: list[tuple]) -> None:
     loop made the largest part of a first use's compile twice. Returns when every worker has;
     a worker's error is raised here.
 
-    The other workers are kept off this thread's core while they run (:func:`elsewhere`):
+    The other workers are kept off this thread's core while they run (:func:`submit_elsewhere`):
     Linux wakes a sleeping thread on the core of the thread that wakes it when it deems the
     other cores busy, as it may just after another program's threads ran on them, and then
     this thread and the worker share that core for the whole render while another idles."""
     if len(each) == 1:
         entry(*each[0])
         return
-    away = elsewhere()
-    others = [
-        thread_pool(os.getpid()).submit(_away_from, away, entry, *arguments)
-        for arguments in each[1:]
-    ]
+    submit = submit_elsewhere()
+    others = [submit(entry, *arguments) for arguments in each[1:]]
     try:
         entry(*each[0])
     finally:  # even on a Ctrl-C: no worker writes into the arrays once this returns
         for other in others:
             other.result()
+
+
+def submit_elsewhere() -> Callable[..., Future]:
+    """A ``submit(function, *arguments)`` to the pool's threads (:func:`thread_pool`) whose
+    calls run off the core this thread runs on now (:func:`elsewhere`), as a render's other
+    workers do (:func:`run_workers`)."""
+    away, pool = elsewhere(), thread_pool(os.getpid())
+    return functools.partial(pool.submit, _away_from, away)
 
 
 def elsewhere() -> set[int] | None:
