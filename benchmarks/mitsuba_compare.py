@@ -764,7 +764,7 @@ def run(args: argparse.Namespace, cpu: str, threads: int | None) -> list[dict]:
     """Both tables, flat and lit scenes, for one instruction set (``cpu``) and each renderer's
     ``threads`` (None: one a core); the plot's and the summary's rows."""
     title = "Native instruction set" if cpu == "native" else "AVX2 (haswell)"
-    each = f", {threads} thread{'s' * (threads > 1)} each" if threads else ""
+    each = f", {_threads(threads)} each" if threads else ""
     print(f"## {title}{each}\n")
     print(machine_line(cpu, threads) + "\n")
     if args.engine != "numpy":
@@ -819,7 +819,7 @@ def run(args: argparse.Namespace, cpu: str, threads: int | None) -> list[dict]:
     growth(timing.compiled_renders, args.repeats)
     rows = [{**row, "threads": threads} for row in flat + lit_rows]
     if len(args.threads or ()) > 1:  # the plot's bars of each count apart
-        rows = [{**row, "renderer": f"{row['renderer']}, {threads} t."} for row in rows]
+        rows = [{**row, "renderer": f"{row['renderer']}, {_threads(threads)}"} for row in rows]
     if cpu == "native":
         return rows
     return [
@@ -842,7 +842,7 @@ def summary(rows: list[dict]) -> None:
     scenes = list(dict.fromkeys((row["scene"], row["cpu"]) for row in ours))
     by = {(row["scene"], row["cpu"], row["threads"]): row for row in ours}
     print("\n## raykit compiled against Mitsuba llvm, every run\n")
-    head = "".join(f" {n} t.: render | {n} t.: load + prepare + render |" for n in counts)
+    head = "".join(f" {_threads(n)}: render | load + prepare + render |" for n in counts)
     print(f"| scene | instruction set |{head}")
     print("|---|---|" + "---|---|" * len(counts))
     for scene, cpu in scenes:
@@ -856,8 +856,12 @@ def summary(rows: list[dict]) -> None:
         print(f"| {scene} | {cpu} |{cells}")
     print(
         "\nEach ratio is raykit compiled's time over Mitsuba llvm's, from the run's own table"
-        " above (t.: threads of each renderer)."
+        " above (threads: of each renderer)."
     )
+
+
+def _threads(count: int) -> str:
+    return f"{count} thread{'s' * (count > 1)}"
 
 
 def machine_line(cpu: str, threads: int | None = None) -> str:

@@ -261,18 +261,18 @@ def test_the_mitsuba_summary_puts_each_thread_counts_ratios_side_by_side(capsys)
     rows = []
     for threads, ratio in ((1, "0.40"), (2, "0.45")):
         rows += [
-            {"scene": "classic", "renderer": f"raykit compiled, {threads} t.", "cpu": "native",
+            {"scene": "classic", "renderer": f"raykit compiled, {threads} t", "cpu": "native",
              "threads": threads, "ratio": ratio, "whole_ratio": "0.30", "cold_ratio": None},
-            {"scene": "textured", "renderer": f"raykit compiled, {threads} t.", "cpu": "native",
+            {"scene": "textured", "renderer": f"raykit compiled, {threads} t", "cpu": "native",
              "threads": threads, "ratio": "0.20", "whole_ratio": "0.25", "cold_ratio": "0.55"},
-            {"scene": "classic", "renderer": f"Mitsuba 3.9 llvm_ad_rgb, {threads} t.",
+            {"scene": "classic", "renderer": f"Mitsuba 3.9 llvm_ad_rgb, {threads} threads",
              "cpu": "native", "threads": threads, "render": 0.1},
         ]  # fmt: skip
     module.summary(rows)
     table = [line for line in capsys.readouterr().out.splitlines() if line.startswith("| ")]
     assert table == [
-        "| scene | instruction set | 1 t.: render | 1 t.: load + prepare + render |"
-        " 2 t.: render | 2 t.: load + prepare + render |",
+        "| scene | instruction set | 1 thread: render | load + prepare + render |"
+        " 2 threads: render | load + prepare + render |",
         "| classic | native | 0.40 | 0.30 | 0.45 | 0.30 |",
         "| textured | native | 0.20 | 0.25 (textures not cached: 0.55) | 0.20 |"
         " 0.25 (textures not cached: 0.55) |",
