@@ -84,7 +84,7 @@ def _no_cycle_collection() -> Iterator[None]:
     """Python's collector of reference cycles off meanwhile, if it was on: parsing a file makes a
     container for each of its objects and lists, none of them in a cycle, and the collector,
     woken every few hundred new containers, looks over all those made so far, again and again:
-    it took half the time of loading a scene of 600,000 spheres."""
+    a large part of loading a scene of many spheres."""
     was_on = gc.isenabled()
     gc.disable()
     try:

@@ -129,10 +129,13 @@ def _current_core() -> int | None:
 def _away_from(cores: set[int] | None, entry, *arguments) -> None:
     """``entry(*arguments)`` in this worker thread, which may run only on ``cores`` meanwhile
     (None: anywhere), and where it might before once it returns."""
+    if cores is None:
+        entry(*arguments)
+        return
     try:
         before = os.sched_getaffinity(0)
         os.sched_setaffinity(0, cores)
-    except (TypeError, OSError):  # no cores given, or one taken away meanwhile: anywhere
+    except OSError:  # a core taken away meanwhile: anywhere
         entry(*arguments)
         return
     try:
