@@ -2,7 +2,7 @@
 per pixel, pure ray casting (flat scenes) and direct lighting with shadows (lit scenes).
 
     python benchmarks/mitsuba_compare.py [--quick] [--repeats N] [--plot mitsuba_compare.png]
-        [--cpu native haswell] [--threads N] [--pictures FOLDER]
+        [--cpu native haswell] [--threads N [N ...]] [--pictures FOLDER]
 
 Mitsuba is an optional benchmark dependency, never a runtime one (``pip install mitsuba``).
 Its ``llvm_ad_rgb`` variant needs an LLVM it can load: on Debian 12, ``apt install libllvm19``
@@ -57,9 +57,12 @@ as shipped. Each run's page section names the processor and the instruction set.
 
 Threads. ``--threads N`` gives every renderer N threads: raykit's compiled engine N numba
 threads, each Mitsuba variant a Dr.Jit thread pool of N (``drjit.set_thread_count``, which
-both variants render with); by default each takes every core. On a shared machine, one thread
-each times the work more steadily: a render in many threads waits at its end for the slowest,
-and one that a neighbour holds up waits for the scheduler's next turn.
+both variants render with); by default each takes every core. ``--threads 1 2`` makes a run for
+each count, one after the other, each a section of the page, and ends the page with raykit
+compiled's ratios to Mitsuba llvm side by side, a column pair per count (:func:`summary`). On
+a shared machine, one thread each times the work more steadily: a render in many threads waits
+at its end for the slowest, and one that a neighbour holds up waits for the scheduler's next
+turn.
 
 Load: raykit from the scene's file (:func:`set_up_raykit`: the JSON read and checked, each
 texture's header read; a median of 3), Mitsuba ``load_dict`` (which builds its BVH, and reads
@@ -523,6 +526,8 @@ def embree_avx2(folder: Path) -> dict | None:
 
 
 CHILD_SECONDS = 600  # for one answer of a Mitsuba child: a child slower than that has hung
+STILL_SECONDS = 0.002  # a child whose threads ran for none of this long is still
+SETTLE_SECONDS = 1.0  # the longest wait for a child to be still after its render
 
 
 class MitsubaChild:
@@ -576,9 +581,34 @@ class MitsubaChild:
 
     def render_once(self) -> float:
         """Render once in the child: the seconds it took, by the child's clock (NaN once the
-        child has failed)."""
+        child has failed); returns once the child is still (:meth:`settle`)."""
         took = self.ask("render", float) if self.failure is None else None
+        self.settle()
         return float("nan") if took is None else took
+
+    def settle(self) -> None:
+        """Wait, SETTLE_SECONDS at most, until none of the child's threads has run for
+        STILL_SECONDS. Dr.Jit's thread pool goes on running for some milliseconds after a
+        render has returned, waiting for more work, on the cores the next renderer's render
+        would take: timed then, a render of raykit's on all cores took up to twice its time.
+        Where the threads' times cannot be read (no /proc), it returns at once."""
+        ran = self._ran()
+        waited = time.perf_counter()
+        while ran is not None and time.perf_counter() - waited < SETTLE_SECONDS:
+            time.sleep(STILL_SECONDS)
+            ran, before = self._ran(), ran
+            if ran == before:
+                return
+
+    def _ran(self) -> int | None:
+        """Nanoseconds the child's threads have run so far (Linux's schedstat), or None."""
+        total = None
+        for stat in Path(f"/proc/{self.process.pid}/task").glob("*/schedstat"):
+            try:
+                total = (total or 0) + int(stat.read_text().split()[0])
+            except (OSError, ValueError, IndexError):  # a thread that ended meanwhile
+                continue
+        return total
 
     def close(self) -> None:
         if self.failure is None:
@@ -669,7 +699,10 @@ def main() -> None:
         help="instruction sets, a run for each: native (the default), haswell (AVX2)",
     )
     parser.add_argument(
-        "--threads", type=int, help="threads of each renderer (default: one a core)"
+        "--threads",
+        type=int,
+        nargs="+",
+        help="threads of each renderer, a run for each count (default: one run, one a core)",
     )
     parser.add_argument("--pictures", type=Path, help="save the lit scenes' pictures here (PNG)")
     parser.add_argument("--child", help=argparse.SUPPRESS)
@@ -682,24 +715,29 @@ def main() -> None:
     )
     if "--child" in sys.argv:  # one Mitsuba variant, for the parent (MitsubaChild)
         args = parser.parse_args()
-        mitsuba_child(args.child, args.cpu[0], args.threads)
+        mitsuba_child(args.child, args.cpu[0], args.threads[0] if args.threads else None)
         return
     if "--rows" in sys.argv:  # one instruction set's run, for the parent (run_for)
         args = parser.parse_args()
-        args.rows.write_text(json.dumps(run(args, args.cpu[0])))
+        args.rows.write_text(json.dumps(run(args, args.cpu[0], args.threads[0])))
         return
     args = parse(parser)
     if args.pictures:
         args.pictures.mkdir(parents=True, exist_ok=True)
-    if args.cpu == ["native"]:
-        rows = run(args, "native")
-    else:
-        rows = [row for cpu in args.cpu for row in run_for(cpu, args)]
+    counts = args.threads or [None]
+    rows = [
+        row
+        for cpu in args.cpu
+        for threads in counts
+        for row in (run(args, cpu, threads) if cpu == "native" else run_for(cpu, args, threads))
+    ]
+    if len(counts) > 1:
+        summary(rows)
     if args.plot:
         plot(args.plot, rows)
 
 
-def run_for(cpu: str, args: argparse.Namespace) -> list[dict]:
+def run_for(cpu: str, args: argparse.Namespace, threads: int | None) -> list[dict]:
     """:func:`run` for ``cpu`` in a process of its own, since numba reads its target from the
     environment once, as it is imported: "haswell" is numba's AVX2 (its CPU name and that
     CPU's own features, not the host's, which it would otherwise add). Its tables go to
@@ -712,7 +750,7 @@ def run_for(cpu: str, args: argparse.Namespace) -> list[dict]:
     if cpu == "haswell" and engine == "auto" and compiled_available():
         engine = "compiled"
     command = [sys.executable, __file__, "--repeats", str(args.repeats), "--engine", engine]
-    command += ["--quick"] * args.quick + ["--threads", str(args.threads)] * bool(args.threads)
+    command += ["--quick"] * args.quick + ["--threads", str(threads)] * bool(threads)
     command += ["--pictures", str(args.pictures)] if args.pictures else []
     with tempfile.TemporaryDirectory() as folder:
         rows = Path(folder) / "rows.json"
@@ -722,17 +760,20 @@ def run_for(cpu: str, args: argparse.Namespace) -> list[dict]:
         return json.loads(rows.read_text())
 
 
-def run(args: argparse.Namespace, cpu: str) -> list[dict]:
-    """Both tables, flat and lit scenes, for one instruction set (``cpu``); the plot's rows."""
-    print(f"## {'Native instruction set' if cpu == 'native' else 'AVX2 (haswell)'}\n")
-    print(machine_line(cpu, args.threads) + "\n")
-    if args.threads and args.engine != "numpy":
+def run(args: argparse.Namespace, cpu: str, threads: int | None) -> list[dict]:
+    """Both tables, flat and lit scenes, for one instruction set (``cpu``) and each renderer's
+    ``threads`` (None: one a core); the plot's and the summary's rows."""
+    title = "Native instruction set" if cpu == "native" else "AVX2 (haswell)"
+    each = f", {_threads(threads)} each" if threads else ""
+    print(f"## {title}{each}\n")
+    print(machine_line(cpu, threads) + "\n")
+    if args.engine != "numpy":
         from raykit.engine.choice import compiled_available
 
         if compiled_available():
             import numba
 
-            numba.set_num_threads(args.threads)
+            numba.set_num_threads(threads or numba.config.NUMBA_NUM_THREADS)
     try:
         import mitsuba
 
@@ -745,7 +786,7 @@ def run(args: argparse.Namespace, cpu: str) -> list[dict]:
         env = embree_avx2(Path(folder)) if cpu == "haswell" and version else None
         if cpu == "haswell" and version and env is None:
             print("No C compiler: Mitsuba's Embree takes the widest instruction set it finds.\n")
-        timing = Timing(args, version, engines, cpu, env, Path(folder))
+        timing = Timing(args, version, engines, cpu, env, Path(folder), threads)
         flat = timing.table(benchmark_scenes(args.quick, Path(folder)))
         print(
             f"\nMedians of {args.repeats} renders after a warm-up, every renderer of a scene in"
@@ -776,14 +817,51 @@ def run(args: argparse.Namespace, cpu: str) -> list[dict]:
     if timing.targets:
         print(f"Dr.Jit's LLVM backend compiled for: {'; '.join(sorted(timing.targets))}.")
     growth(timing.compiled_renders, args.repeats)
-    rows = flat + lit_rows
+    rows = [{**row, "threads": threads} for row in flat + lit_rows]
+    if len(args.threads or ()) > 1:  # the plot's bars of each count apart
+        rows = [{**row, "renderer": f"{row['renderer']}, {_threads(threads)}"} for row in rows]
     if cpu == "native":
         return rows
     return [
         {**row, "renderer": row["renderer"] + AVX2}
         for row in rows
-        if row["renderer"] == "raykit compiled" or row["renderer"].endswith("llvm_ad_rgb")
+        if row["renderer"].startswith("raykit compiled") or "llvm_ad_rgb" in row["renderer"]
     ]
+
+
+def summary(rows: list[dict]) -> None:
+    """raykit compiled's ratios to Mitsuba llvm of every run, side by side: a row per scene
+    (and instruction set), a column pair per thread count, render alone and load + prepare +
+    render; and the cold-cache ratio of a textured scene where a run measured one. ``rows``: the
+    runs' rows, with their ``threads`` and the ratios :meth:`Timing.scene_rows` gives raykit
+    compiled's."""
+    ours = [row for row in rows if "ratio" in row]
+    if not ours:  # raykit's numpy engine alone: no compiled rows
+        return
+    counts = list(dict.fromkeys(row["threads"] for row in ours))
+    scenes = list(dict.fromkeys((row["scene"], row["cpu"]) for row in ours))
+    by = {(row["scene"], row["cpu"], row["threads"]): row for row in ours}
+    print("\n## raykit compiled against Mitsuba llvm, every run\n")
+    head = "".join(f" {_threads(n)}: render | load + prepare + render |" for n in counts)
+    print(f"| scene | instruction set |{head}")
+    print("|---|---|" + "---|---|" * len(counts))
+    for scene, cpu in scenes:
+        cells = ""
+        for n in counts:
+            row = by.get((scene, cpu, n), {})
+            whole = row.get("whole_ratio") or "-"
+            if row.get("cold_ratio"):
+                whole += f" (textures not cached: {row['cold_ratio']})"
+            cells += f" {row.get('ratio') or '-'} | {whole} |"
+        print(f"| {scene} | {cpu} |{cells}")
+    print(
+        "\nEach ratio is raykit compiled's time over Mitsuba llvm's, from the run's own table"
+        " above (threads: of each renderer)."
+    )
+
+
+def _threads(count: int) -> str:
+    return f"{count} thread{'s' * (count > 1)}"
 
 
 def machine_line(cpu: str, threads: int | None = None) -> str:
@@ -823,8 +901,9 @@ class Timing:
     line and the plot need (``compiled_renders``, rows) and Dr.Jit's targets."""
 
     def __init__(self, args, version: str | None, engines: list[str], cpu: str, env: dict | None,
-                 folder: Path):  # fmt: skip
+                 folder: Path, threads: int | None):  # fmt: skip
         self.args, self.version, self.engines, self.cpu, self.env = args, version, engines, cpu, env
+        self.threads = threads  # of each renderer (None: one a core)
         self.folder = folder  # where raykit's scene files are written (set_up_raykit)
         self.compiled_renders: dict = {}
         self.cold: dict = {}  # per textured scene: (prepare with no decoded textures, ratio)
@@ -856,7 +935,7 @@ class Timing:
             save_image(picture[0], self.args.pictures / f"{_slug(name)}_raykit.png")
         ours = picture[1] >= 0  # the last engine's (all give the same picture)
         for variant in VARIANTS if self.version is not None else ():
-            child = MitsubaChild(variant, data, self.cpu, self.env, threads=self.args.threads)
+            child = MitsubaChild(variant, data, self.cpu, self.env, threads=self.threads)
             renderer = f"Mitsuba {self.version} {variant}"
             check = child.check() if lit and child.failure is None else None
             if child.failure:
@@ -896,19 +975,22 @@ class Timing:
         rows = []
         for renderer, (load, prepare, first, render_once, agree) in renderers.items():
             took = medians.get(renderer)
-            rows.append({"scene": name, "renderer": renderer, "render": took})
+            row = {"scene": name, "renderer": renderer, "render": took, "cpu": self.cpu}
+            rows.append(row)
             if isinstance(load, str):
                 print(f"| {name} | {renderer} | {load} | | | | | | | |" + " |" * lit)
                 continue
+            whole = load + prepare + took
+            ratio = f"{took / llvm:.2f}" if llvm else "-"
+            whole_ratio = f"{whole / llvm_whole:.2f}" if llvm_whole else "-"
             if renderer == "raykit compiled":
                 self.compiled_renders[name] = (load + prepare, took, render_once)
+                row.update(ratio=ratio, whole_ratio=whole_ratio)
                 if any(board.texture for board in scene.billboards):
                     cold = cold_prepare(self.folder / "scene.json")  # this scene's file
                     whole_cold = (load + cold + took) / llvm_whole if llvm_whole else None
                     self.cold[name] = (cold, whole_cold)
-            whole = load + prepare + took
-            ratio = f"{took / llvm:.2f}" if llvm else "-"
-            whole_ratio = f"{whole / llvm_whole:.2f}" if llvm_whole else "-"
+                    row["cold_ratio"] = f"{whole_cold:.2f}" if whole_cold else None
             print(
                 f"| {name} | {renderer} | {seconds(load, 1)} "
                 f"| {seconds(prepare, 1) if prepare else '-'} | {seconds(first, 1)} "

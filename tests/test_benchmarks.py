@@ -256,6 +256,62 @@ def test_a_mitsuba_variant_that_cannot_start_is_a_failed_row_and_the_run_goes_on
     assert sum(" | raykit numpy | " in row for row in rows) == 4
 
 
+def test_the_mitsuba_summary_puts_each_thread_counts_ratios_side_by_side(capsys):
+    module = _benchmark_module("mitsuba_compare")
+    rows = []
+    for threads, ratio in ((1, "0.40"), (2, "0.45")):
+        rows += [
+            {"scene": "classic", "renderer": f"raykit compiled, {threads} t", "cpu": "native",
+             "threads": threads, "ratio": ratio, "whole_ratio": "0.30", "cold_ratio": None},
+            {"scene": "textured", "renderer": f"raykit compiled, {threads} t", "cpu": "native",
+             "threads": threads, "ratio": "0.20", "whole_ratio": "0.25", "cold_ratio": "0.55"},
+            {"scene": "classic", "renderer": f"Mitsuba 3.9 llvm_ad_rgb, {threads} threads",
+             "cpu": "native", "threads": threads, "render": 0.1},
+        ]  # fmt: skip
+    module.summary(rows)
+    table = [line for line in capsys.readouterr().out.splitlines() if line.startswith("| ")]
+    assert table == [
+        "| scene | instruction set | 1 thread: render | load + prepare + render |"
+        " 2 threads: render | load + prepare + render |",
+        "| classic | native | 0.40 | 0.30 | 0.45 | 0.30 |",
+        "| textured | native | 0.20 | 0.25 (textures not cached: 0.55) | 0.20 |"
+        " 0.25 (textures not cached: 0.55) |",
+    ]
+
+
+def test_a_mitsuba_childs_run_time_is_read_and_settle_returns_for_a_still_or_gone_child():
+    # settle() waits while the child's threads run (Dr.Jit's pool after a render); here a
+    # stand-in child computes, then sleeps: its run time grows, and a sleeping or gone child
+    # is still
+    module = _benchmark_module("mitsuba_compare")
+    child = object.__new__(module.MitsubaChild)
+    code = "\n".join(
+        ["import time", "print(0, flush=True)", "input()", "sum(range(3_000_000))",
+         "print(1, flush=True)", "time.sleep(60)"]
+    )  # fmt: skip
+    child.process = subprocess.Popen(
+        [sys.executable, "-c", code], stdin=subprocess.PIPE, stdout=subprocess.PIPE
+    )
+    try:
+        assert child.process.stdout.readline() == b"0\n"  # started, waiting
+        first = child._ran()
+        if first is None:
+            pytest.skip("no /proc/PID/task/*/schedstat here")
+        child.process.stdin.write(b"go\n")
+        child.process.stdin.flush()
+        assert child.process.stdout.readline() == b"1\n"  # done computing
+        assert child._ran() > first
+        child.settle()  # asleep: still
+        assert child._ran() == child._ran()
+    finally:
+        child.process.kill()
+        child.process.wait()
+        child.process.stdout.close()
+        child.process.stdin.close()
+    assert child._ran() is None
+    child.settle()  # gone: returns at once
+
+
 def test_a_mitsuba_child_that_dies_during_the_renders_is_a_failure_not_a_crash():
     pytest.importorskip("mitsuba")
     module = _benchmark_module("mitsuba_compare")

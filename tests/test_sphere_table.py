@@ -88,3 +88,30 @@ def test_a_scene_renders_the_same_bits_from_the_table_and_from_the_tuple(lit):
     table, listed = (render(s, 2, engine="numpy") for s in (scene, _as_tuple(scene)))
     for name in ("rgb", "object_index", "t"):
         assert np.array_equal(getattr(table, name), getattr(listed, name))
+
+
+@pytest.mark.parametrize("collector_on", [True, False])
+def test_a_scene_file_is_parsed_and_dropped_with_the_cycle_collector_off_then_as_before(
+    tmp_path, monkeypatch, collector_on
+):
+    # the collector looked over the parsed file's containers again and again as they were made
+    import gc
+    import json
+
+    from raykit.io import fields
+    from raykit.io.scene_json import load_scene
+
+    path = tmp_path / "scene.json"
+    path.write_text(json.dumps(_plain_scene_dict(20, seed=4)))
+    seen = []
+    parse = json.loads
+    monkeypatch.setattr(
+        fields.json, "loads", lambda text: seen.append(gc.isenabled()) or parse(text)
+    )
+    (gc.enable if collector_on else gc.disable)()
+    try:
+        scene = load_scene(path)
+        assert gc.isenabled() is collector_on  # as it was, once the file is read
+    finally:
+        gc.enable()
+    assert seen == [False] and len(scene.spheres) == 20

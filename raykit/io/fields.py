@@ -14,10 +14,12 @@ start.
 
 from __future__ import annotations
 
+import contextlib
 import difflib
+import gc
 import json
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any, TypeVar
 
@@ -67,13 +69,29 @@ def read_json_file(path: str | Path) -> tuple[Any, str]:
     except OSError as exc:
         raise SceneError(source, "", f"scene file cannot be read ({exc.strerror})") from None
     try:
-        return json.loads(text), source
+        with _no_cycle_collection():
+            return json.loads(text), source
     except json.JSONDecodeError as exc:
         raise SceneError(
             source, "", f"not valid JSON: {exc.msg} (line {exc.lineno}, column {exc.colno})"
         ) from None
     except RecursionError:
         raise SceneError(source, "", "not valid JSON: nested too deeply") from None
+
+
+@contextlib.contextmanager
+def _no_cycle_collection() -> Iterator[None]:
+    """Python's collector of reference cycles off meanwhile, if it was on: parsing a file makes a
+    container for each of its objects and lists, none of them in a cycle, and the collector,
+    woken every few hundred new containers, looks over all those made so far, again and again:
+    a large part of loading a scene of many spheres."""
+    was_on = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if was_on:
+            gc.enable()
 
 
 class Field:
@@ -249,7 +267,14 @@ def refuse_other_format(data: Any, source: str, expected: str) -> None:
 
 def read_scene_file(path: str | Path, from_dict: Callable[..., SceneT]) -> SceneT:
     """The scene ``from_dict(data, source=, folder=)`` builds from the JSON file at ``path``:
-    the file named in every error, the images it names found beside it."""
+    the file named in every error, the images it names found beside it. The parsed file is made
+    and dropped with the cycle collector off (:func:`_no_cycle_collection`): on again once it is
+    gone, the collector does not look it over either."""
+    with _no_cycle_collection():
+        return _built(path, from_dict)
+
+
+def _built(path: str | Path, from_dict: Callable[..., SceneT]) -> SceneT:
     data, source = read_json_file(path)
     return from_dict(data, source=source, folder=Path(path).parent)
 

@@ -41,3 +41,44 @@ def test_a_process_forked_after_a_render_renders_with_worker_threads_of_its_own(
         os.waitpid(child, 0)
         pytest.fail("the forked child's render did not end within 120 s")
     assert os.waitstatus_to_exitcode(status[1]) == 0
+
+
+def _cores(entry_saw: list):
+    """An entry point stand-in that keeps the cores its thread may run on."""
+
+    def entry(*arguments):
+        entry_saw.append(os.sched_getaffinity(0))
+
+    return entry
+
+
+@pytest.mark.skipif(
+    not hasattr(os, "sched_getaffinity") or len(os.sched_getaffinity(0)) < 2,
+    reason="needs a thread that may run on two cores at least",
+)
+def test_the_other_workers_run_off_the_callers_core_and_anywhere_after():
+    allowed = os.sched_getaffinity(0)
+    assert pool._current_core() in allowed
+    elsewhere = pool.elsewhere()  # all but the core this thread runs on as it asks
+    assert elsewhere < allowed and len(elsewhere) == len(allowed) - 1
+    away = allowed - {min(allowed)}  # as elsewhere() gives, for a caller on min(allowed)
+    saw = []
+    worker = pool.thread_pool(os.getpid())
+    worker.submit(pool._away_from, away, _cores(saw)).result()
+    assert saw == [away]  # kept off the caller's core while it ran
+    assert worker.submit(os.sched_getaffinity, 0).result() == allowed  # anywhere again after
+    saw.clear()
+    pool.run_workers(_cores(saw), [()] * 2)  # the caller's and a worker's, in either order
+    assert len(saw) == 2 and allowed in saw  # the caller's own, untouched
+    assert len(min(saw, key=len)) == len(allowed) - 1  # the worker's: all but one core
+
+
+def test_a_worker_that_cannot_be_kept_off_a_core_still_runs(monkeypatch):
+    def refused(*arguments):
+        raise OSError("not permitted")
+
+    monkeypatch.setattr(os, "sched_setaffinity", refused)
+    saw = []
+    pool.thread_pool(os.getpid()).submit(pool._away_from, {0}, _cores(saw)).result()
+    pool.thread_pool(os.getpid()).submit(pool._away_from, None, _cores(saw)).result()
+    assert len(saw) == 2

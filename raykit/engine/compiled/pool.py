@@ -6,11 +6,12 @@ cache has none. Plain Python: the workers are the kernels, each taking its jobs
 
 from __future__ import annotations
 
+import ctypes
 import functools
 import os
 import time
 from collections.abc import Callable
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import Future, ThreadPoolExecutor
 
 import numba
 import numpy as np
@@ -70,16 +71,80 @@ def run_workers(entry, each: list[tuple]) -> None:
     Python's, not numba's parallel loop (prange): numba compiles such a loop into a function of
     its own, and a kernel's code is made again in each function that calls it, so that the
     loop made the largest part of a first use's compile twice. Returns when every worker has;
-    a worker's error is raised here."""
+    a worker's error is raised here.
+
+    The other workers are kept off this thread's core while they run (:func:`submit_elsewhere`):
+    Linux wakes a sleeping thread on the core of the thread that wakes it when it deems the
+    other cores busy, as it may just after another program's threads ran on them, and then
+    this thread and the worker share that core for the whole render while another idles."""
     if len(each) == 1:
         entry(*each[0])
         return
-    others = [thread_pool(os.getpid()).submit(entry, *arguments) for arguments in each[1:]]
+    submit = submit_elsewhere()
+    others = [submit(entry, *arguments) for arguments in each[1:]]
     try:
         entry(*each[0])
     finally:  # even on a Ctrl-C: no worker writes into the arrays once this returns
         for other in others:
             other.result()
+
+
+def submit_elsewhere() -> Callable[..., Future]:
+    """A ``submit(function, *arguments)`` to the pool's threads (:func:`thread_pool`) whose
+    calls run off the core this thread runs on now (:func:`elsewhere`), as a render's other
+    workers do (:func:`run_workers`)."""
+    away, pool = elsewhere(), thread_pool(os.getpid())
+    return functools.partial(pool.submit, _away_from, away)
+
+
+def elsewhere() -> set[int] | None:
+    """The cores this thread may run on but the one it runs on now: where the other workers of
+    a call run (:func:`_away_from`). None where that cannot be told, or leaves none."""
+    try:
+        allowed = os.sched_getaffinity(0)
+    except (AttributeError, OSError):  # not Linux
+        return None
+    here = _current_core()
+    if here is None or here not in allowed or len(allowed) < 2:
+        return None
+    return allowed - {here}
+
+
+@functools.cache
+def _sched_getcpu():
+    """The C library's sched_getcpu, or None where it has none."""
+    try:
+        return ctypes.CDLL(None).sched_getcpu
+    except (OSError, AttributeError):
+        return None
+
+
+def _current_core() -> int | None:
+    """The core this thread runs on now, or None."""
+    getcpu = _sched_getcpu()
+    core = getcpu() if getcpu is not None else -1
+    return core if core >= 0 else None
+
+
+def _away_from(cores: set[int] | None, entry, *arguments) -> None:
+    """``entry(*arguments)`` in this worker thread, which may run only on ``cores`` meanwhile
+    (None: anywhere), and where it might before once it returns."""
+    if cores is None:
+        entry(*arguments)
+        return
+    try:
+        before = os.sched_getaffinity(0)
+        os.sched_setaffinity(0, cores)
+    except OSError:  # a core taken away meanwhile: anywhere
+        entry(*arguments)
+        return
+    try:
+        entry(*arguments)
+    finally:
+        try:
+            os.sched_setaffinity(0, before)
+        except OSError:  # a core taken away meanwhile: the next call sets its own
+            pass
 
 
 @functools.cache

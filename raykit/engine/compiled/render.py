@@ -12,6 +12,7 @@ import functools
 from collections.abc import Callable
 from typing import NamedTuple
 
+import numba
 import numpy as np
 from numba import njit, prange
 
@@ -50,7 +51,7 @@ from raykit.engine.compiled.noise import (
     scene_noise,
     sobol_numbers,
 )
-from raykit.engine.compiled.pool import run, shares
+from raykit.engine.compiled.pool import run, shares, submit_elsewhere
 from raykit.engine.compiled.sampling import point_in_pixel, shutter_times
 from raykit.engine.compiled.scene import (
     _NO_TREE,
@@ -84,6 +85,7 @@ from raykit.engine.compiled.tiles import (
 from raykit.engine.regions import refuse_grid
 from raykit.engine.tiles import regions
 from raykit.hits import Hits
+from raykit.io.textures import Texture, decode_all
 from raykit.scene import Scene
 from raykit.surfaces import OFFSET_FACTOR
 
@@ -123,8 +125,12 @@ def prepare(scene: Scene) -> Prepared:
     it can be rendered many times (:func:`render`). It is what Mitsuba's ``load_dict`` does when
     it builds its BVH, and the camera's screen tiles besides (a raykit scene holds its camera).
     Refuses, in one line, what no kernel renders yet
-    (:func:`raykit.engine.choice.refuse_distributed`)."""
+    (:func:`raykit.engine.choice.refuse_distributed`). The textures are decoded first, on as
+    many threads as a render takes, as its workers run (:func:`raykit.io.textures.decode_all`,
+    :func:`~raykit.engine.compiled.pool.submit_elsewhere`)."""
     refuse_distributed(scene)
+    textures = [board.texture for board in scene.billboards if isinstance(board.texture, Texture)]
+    decode_all(textures, numba.get_num_threads(), submit_elsewhere())
     arrays = scene_arrays(scene)
     shading = scene_shading(scene)
     tree = scene_tree(scene) if shading.shaded or scene.distributed else _NO_TREE
