@@ -1,10 +1,8 @@
 import os
 import subprocess
 import sys
-import threading
 
 import numpy as np
-import pytest
 from PIL import Image
 
 from conftest import SCENES
@@ -204,47 +202,19 @@ def test_the_cache_is_looked_over_only_when_this_process_may_have_filled_it(tmp_
     assert looks == [1, 1, 1] and len(_cached_files(tmp_path / "cache")) == 3
 
 
-def test_decode_all_decodes_each_texture_once_on_threads_at_a_time(tmp_path, monkeypatch):
+def test_textures_decoded_on_threads_at_once_are_each_decoded_once_and_kept(tmp_path, monkeypatch):
+    # as the compiled engine's prepare decodes a scene's (pool.each_at_once): the cache's
+    # bookkeeping of the room its writes took is shared by the threads
     from concurrent.futures import ThreadPoolExecutor
 
     monkeypatch.setenv("RAYKIT_CACHE_DIR", str(tmp_path / "cache"))
-    made = [_large_texture(tmp_path / f"t{k}.png", seed=k) for k in range(5)]
-    loaded = [
-        Texture(tmp_path / f"t{k}.png", "scene.json", f"billboards[{k}].image") for k in range(5)
-    ]
-    loaded[1].rgba  # noqa: B018 (decoded already: not again)
-    decodes, threads = _decodes(monkeypatch), set()
-    decode = Texture._decode
-    monkeypatch.setattr(
-        Texture, "_decode", lambda self, *a: threads.add(threading.get_ident()) or decode(self, *a)
-    )
-    with ThreadPoolExecutor(1) as pool:
-        textures.decode_all(loaded + loaded[:2], 2, pool.submit)  # each once, as named
-    assert len(decodes) == 4 and len(threads) == 2  # each once, on two threads
-    assert all(texture.decoded for texture in loaded)
-    assert all(np.array_equal(t.rgba, m) for t, m in zip(loaded, made, strict=True))
-    assert len(_cached_files(tmp_path / "cache")) == 5  # both threads kept theirs
-
-
-def test_decode_all_on_one_thread_uses_no_other(tmp_path):
-    made = _large_texture(tmp_path / "t.png", seed=3)
-    loaded = [Texture(tmp_path / "t.png", "scene.json", "billboards[0].image")]
-    textures.decode_all(loaded, 1, lambda *a: pytest.fail("a thread was asked"))
-    assert np.array_equal(loaded[0].rgba, made)
-
-
-def test_decode_all_raises_the_first_bad_textures_error_after_decoding_the_rest(tmp_path):
-    from concurrent.futures import ThreadPoolExecutor
-
-    for k in range(4):
-        _large_texture(tmp_path / f"t{k}.png", seed=k)
+    made = [_large_texture(tmp_path / f"t{k}.png", seed=k) for k in range(4)]
     loaded = [
         Texture(tmp_path / f"t{k}.png", "scene.json", f"billboards[{k}].image") for k in range(4)
     ]
-    for k in (1, 2):  # spoiled after the header was read, as a file changed between load and render
-        data = (tmp_path / f"t{k}.png").read_bytes()
-        (tmp_path / f"t{k}.png").write_bytes(data[:200])
-    with ThreadPoolExecutor(1) as pool, pytest.raises(textures.SceneError) as raised:
-        textures.decode_all(loaded, 2, pool.submit)
-    assert "billboards[1].image" in str(raised.value)  # the first in order, whichever thread
-    assert loaded[0].decoded and loaded[3].decoded
+    decodes = _decodes(monkeypatch)
+    with ThreadPoolExecutor(2) as pool:
+        texels = list(pool.map(lambda texture: texture.rgba, loaded))
+    assert len(decodes) == 4 and all(texture.decoded for texture in loaded)
+    assert all(np.array_equal(t, m) for t, m in zip(texels, made, strict=True))
+    assert len(_cached_files(tmp_path / "cache")) == 4

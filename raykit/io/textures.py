@@ -19,9 +19,8 @@ its last look may overfill it until then); a cache that cannot be written or rea
 (the texture is decoded, as without one). Smaller textures decode faster than a file is
 written, and are decoded each time.
 
-Many at once: :func:`decode_all` decodes a scene's textures on several threads at a time
-(Pillow lets go of Python's lock while it inflates a PNG), for a renderer that needs them all
-before its first ray.
+Textures may be decoded on several threads at once (Pillow lets go of Python's lock while it
+inflates a PNG), as the compiled engine's ``prepare`` decodes a scene's.
 """
 
 from __future__ import annotations
@@ -32,8 +31,6 @@ import os
 import tempfile
 import threading
 import warnings
-from collections.abc import Callable, Iterable
-from concurrent.futures import Future
 from pathlib import Path
 
 import numpy as np
@@ -138,37 +135,6 @@ class Texture:
             raise self._error(f"texture cannot be decoded: {self.path} ({exc})") from None
 
 
-def decode_all(
-    textures: Iterable[Texture], threads: int, submit: Callable[..., Future] | None = None
-) -> None:
-    """Decode each of ``textures`` not decoded yet (:attr:`Texture.rgba`), ``threads`` at a
-    time: one share of them in this thread, the others by ``submit`` (an executor's, such as
-    :meth:`concurrent.futures.ThreadPoolExecutor.submit`) at the same time; one by one without
-    it. A texture that cannot be decoded raises its error once all are done: the first in the
-    order given, as decoding them one by one would."""
-    waiting = [texture for texture in dict.fromkeys(textures) if not texture.decoded]
-    count = max(1, min(threads, len(waiting))) if submit is not None else 1
-    shares = [waiting[k::count] for k in range(count)]
-    errors: dict[int, SceneError] = {}
-    order = {id(texture): k for k, texture in enumerate(waiting)}
-
-    def decode(share: list[Texture]) -> None:
-        for texture in share:
-            try:
-                texture.rgba  # noqa: B018 (decoded and kept by the property)
-            except SceneError as error:
-                errors[order[id(texture)]] = error
-
-    others = [submit(decode, share) for share in shares[1:]] if submit is not None else []
-    try:
-        decode(shares[0])
-    finally:
-        for other in others:
-            other.result()
-    if errors:
-        raise errors[min(errors)]
-
-
 def cache_folder() -> Path | None:
     """The decoded textures' folder, ``raykit/textures`` under ``$RAYKIT_CACHE_DIR``, else
     ``$XDG_CACHE_HOME`` or ``~/.cache``, as the compiled kernels' cache
@@ -216,7 +182,7 @@ def _cached(path: Path, shape: tuple[int, int, int]) -> np.ndarray | None:
 # folder again (:func:`_evict`): a look stats every file, and most writes leave the cache far
 # below CACHE_BYTES. Another process's writes are seen at this one's next look.
 _room: dict[Path, int] = {}
-_room_lock = threading.Lock()  # decode_all's threads keep their decodes at once
+_room_lock = threading.Lock()  # threads that decode at once keep their decodes at once
 
 
 def _keep(folder: Path, key: str, rgba: np.ndarray) -> None:

@@ -82,3 +82,30 @@ def test_a_worker_that_cannot_be_kept_off_a_core_still_runs(monkeypatch):
     pool.thread_pool(os.getpid()).submit(pool._away_from, {0}, _cores(saw)).result()
     pool.thread_pool(os.getpid()).submit(pool._away_from, None, _cores(saw)).result()
     assert len(saw) == 2
+
+
+@two_threads()
+def test_each_at_once_calls_each_item_once_on_as_many_threads_as_asked():
+    import threading
+
+    calls = []
+    pool.each_at_once(lambda item: calls.append((item, threading.get_ident())), list(range(6)), 2)
+    assert sorted(item for item, _ in calls) == list(range(6))
+    assert len({thread for _, thread in calls}) == 2
+    calls.clear()
+    pool.each_at_once(lambda item: calls.append((item, threading.get_ident())), list(range(6)), 1)
+    assert calls == [(item, threading.get_ident()) for item in range(6)]  # here, in order
+
+
+@two_threads()
+def test_each_at_once_raises_the_first_items_error_in_order_once_all_are_done():
+    done = []
+
+    def call(item):
+        if item in (1, 2):  # 1 in the other thread's share, 2 in this one's
+            raise ValueError(f"item {item}")
+        done.append(item)
+
+    with pytest.raises(ValueError, match="item 1"):
+        pool.each_at_once(call, list(range(4)), 2)
+    assert sorted(done) == [0, 3]

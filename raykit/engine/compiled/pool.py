@@ -89,6 +89,32 @@ def run_workers(entry, each: list[tuple]) -> None:
             other.result()
 
 
+def each_at_once(function: Callable, items: list, threads: int) -> None:
+    """``function(item)`` for each of ``items``, ``threads`` of them at a time: a share in this
+    thread, the others on the pool's threads off its core (:func:`submit_elsewhere`). An item
+    whose call raises raises its error once all are done: the first item's in order, as calling
+    them one by one would."""
+    count = max(1, min(threads, len(items)))
+    shares = [list(enumerate(items))[k::count] for k in range(count)]
+    errors: dict[int, Exception] = {}
+
+    def call(share: list[tuple[int, object]]) -> None:
+        for k, item in share:
+            try:
+                function(item)
+            except Exception as error:  # noqa: BLE001 (raised below, in order)
+                errors[k] = error
+
+    others = [submit_elsewhere()(call, share) for share in shares[1:]] if count > 1 else []
+    try:
+        call(shares[0])
+    finally:
+        for other in others:
+            other.result()
+    if errors:
+        raise errors[min(errors)]
+
+
 def submit_elsewhere() -> Callable[..., Future]:
     """A ``submit(function, *arguments)`` to the pool's threads (:func:`thread_pool`) whose
     calls run off the core this thread runs on now (:func:`elsewhere`), as a render's other

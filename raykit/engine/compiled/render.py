@@ -51,7 +51,7 @@ from raykit.engine.compiled.noise import (
     scene_noise,
     sobol_numbers,
 )
-from raykit.engine.compiled.pool import run, shares, submit_elsewhere
+from raykit.engine.compiled.pool import each_at_once, run, shares
 from raykit.engine.compiled.sampling import point_in_pixel, shutter_times
 from raykit.engine.compiled.scene import (
     _NO_TREE,
@@ -85,7 +85,6 @@ from raykit.engine.compiled.tiles import (
 from raykit.engine.regions import refuse_grid
 from raykit.engine.tiles import regions
 from raykit.hits import Hits
-from raykit.io.textures import Texture, decode_all
 from raykit.scene import Scene
 from raykit.surfaces import OFFSET_FACTOR
 
@@ -125,12 +124,12 @@ def prepare(scene: Scene) -> Prepared:
     it can be rendered many times (:func:`render`). It is what Mitsuba's ``load_dict`` does when
     it builds its BVH, and the camera's screen tiles besides (a raykit scene holds its camera).
     Refuses, in one line, what no kernel renders yet
-    (:func:`raykit.engine.choice.refuse_distributed`). The textures are decoded first, on as
-    many threads as a render takes, as its workers run (:func:`raykit.io.textures.decode_all`,
-    :func:`~raykit.engine.compiled.pool.submit_elsewhere`)."""
+    (:func:`raykit.engine.choice.refuse_distributed`). The textures' texels are got first, on
+    as many threads as a render takes (:func:`~raykit.engine.compiled.pool.each_at_once`): a
+    texture read from a file decodes then."""
     refuse_distributed(scene)
-    textures = [board.texture for board in scene.billboards if isinstance(board.texture, Texture)]
-    decode_all(textures, numba.get_num_threads(), submit_elsewhere())
+    textures = list(dict.fromkeys(b.texture for b in scene.billboards if b.texture is not None))
+    each_at_once(_texels, textures, numba.get_num_threads())
     arrays = scene_arrays(scene)
     shading = scene_shading(scene)
     tree = scene_tree(scene) if shading.shaded or scene.distributed else _NO_TREE
@@ -145,6 +144,11 @@ def prepare(scene: Scene) -> Prepared:
         tiles = screen_tiles(scene, arrays, size=SAMPLED_SIDE, packets=False)
     return Prepared(scene, arrays, tiles, tree, shading, camera_tuple(scene), lens_tuple(scene),
                     noise, scene_motion(scene), entry_point(scene))  # fmt: skip
+
+
+def _texels(texture) -> None:
+    """A texture's texels, got (and, read from a file, decoded and kept by it)."""
+    texture.rgba  # noqa: B018
 
 
 _NO_TILES = Tiles(np.zeros(1, np.int64), np.zeros(0, np.int64), np.zeros((0, 5)), 1, 1, False)
