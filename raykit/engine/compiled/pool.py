@@ -71,31 +71,24 @@ def run_workers(entry, each: list[tuple]) -> None:
     Python's, not numba's parallel loop (prange): numba compiles such a loop into a function of
     its own, and a kernel's code is made again in each function that calls it, so that the
     loop made the largest part of a first use's compile twice. Returns when every worker has;
-    a worker's error is raised here.
+    the first worker's error, in order, is raised here (:func:`each_at_once`, which runs them).
 
     The other workers are kept off this thread's core while they run (:func:`submit_elsewhere`):
     Linux wakes a sleeping thread on the core of the thread that wakes it when it deems the
     other cores busy, as it may just after another program's threads ran on them, and then
     this thread and the worker share that core for the whole render while another idles."""
-    if len(each) == 1:
-        entry(*each[0])
-        return
-    submit = submit_elsewhere()
-    others = [submit(entry, *arguments) for arguments in each[1:]]
-    try:
-        entry(*each[0])
-    finally:  # even on a Ctrl-C: no worker writes into the arrays once this returns
-        for other in others:
-            other.result()
+    each_at_once(lambda arguments: entry(*arguments), each, len(each))
 
 
 def each_at_once(function: Callable, items: list, threads: int) -> None:
     """``function(item)`` for each of ``items``, ``threads`` of them at a time: a share in this
     thread, the others on the pool's threads off its core (:func:`submit_elsewhere`). An item
     whose call raises raises its error once all are done: the first item's in order, as calling
-    them one by one would."""
+    them one by one would. Returns when every thread has, even on a Ctrl-C here: nothing of
+    theirs runs on once it returns."""
     count = max(1, min(threads, len(items)))
-    shares = [list(enumerate(items))[k::count] for k in range(count)]
+    numbered = list(enumerate(items))
+    shares = [numbered[k::count] for k in range(count)]
     errors: dict[int, Exception] = {}
 
     def call(share: list[tuple[int, object]]) -> None:
@@ -105,10 +98,11 @@ def each_at_once(function: Callable, items: list, threads: int) -> None:
             except Exception as error:  # noqa: BLE001 (raised below, in order)
                 errors[k] = error
 
-    others = [submit_elsewhere()(call, share) for share in shares[1:]] if count > 1 else []
+    submit = submit_elsewhere() if count > 1 else None
+    others = [submit(call, share) for share in shares[1:]]
     try:
         call(shares[0])
-    finally:
+    finally:  # no worker writes into a render's arrays once this returns
         for other in others:
             other.result()
     if errors:
