@@ -76,7 +76,11 @@ texels or more comes from raykit's cache of decoded textures once any render has
 prepare is that one, and a line below the flat table gives the textured scene's prepare with the
 cache empty, every texture decoded (:func:`cold_prepare`). The flat scenes include classic with
 each texture 256 x 256 RGBA (:func:`scenes.classic_with_large_textures`). Its render renders the
-prepared scene, as Mitsuba's renders its loaded one (``raykit.render.render`` does both).
+prepared scene, as Mitsuba's renders its loaded one (``raykit.render.render`` does both). Each
+timed render, raykit's and Mitsuba's, makes the picture alone: raykit's with ``hits=False``, no
+object index and t per pixel (which a render keeps by default, and which Mitsuba's depth
+integrator does not make), as ``raykit render`` renders a PNG; the agreement check takes them
+from an untimed render.
 Render: the median of ``--repeats`` renders after a first one (for ``llvm_ad_rgb`` the first
 compiles its kernels; it is shown too), every renderer of a scene in turns, so that the
 machine's other work falls on all alike (:func:`common.medians_in_turns`; each timed render
@@ -1046,12 +1050,12 @@ def set_up_raykit(engine: str, data: dict, folder: Path) -> tuple:
         start = time.perf_counter()
         first = render(loaded, engine=engine)
         took = time.perf_counter() - start
-        call = timer(lambda: render(loaded, engine=engine))
+        call = timer(lambda: render(loaded, engine=engine, hits=False))
         return load, 0.0, took, call, (first.rgb, first.object_index, first.t)
     from raykit.engine import compiled
 
     start = time.perf_counter()
-    picture = compiled.render.render(loaded)
+    compiled.render.render(loaded, hits=False)
     first = time.perf_counter() - start
     preparing = []
     for _ in range(3):
@@ -1060,7 +1064,9 @@ def set_up_raykit(engine: str, data: dict, folder: Path) -> tuple:
         prepared = compiled.prepare(fresh)
         preparing.append(time.perf_counter() - start)
     prepare = statistics.median(preparing)
-    return load, prepare, first, timer(lambda: compiled.render.render(prepared)), picture
+    picture = compiled.render.render(prepared)  # untimed: the hits too, for agreement
+    render_once = timer(lambda: compiled.render.render(prepared, hits=False))
+    return load, prepare, first, render_once, picture
 
 
 def cold_prepare(path: Path) -> float:
