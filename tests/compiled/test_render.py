@@ -103,6 +103,17 @@ def test_random_distributed_scenes_render_the_same_with_both_engines(effect, sam
     same_render(scene)
 
 
+@pytest.mark.parametrize("sampler,samples", [("random", 257), ("jittered", 289), ("sobol", 512)])
+def test_more_samples_a_pixel_than_a_batch_of_lanes_render_the_same_with_both_engines(
+    sampler, samples
+):
+    """A pixel's samples in more than one batch of SAMPLED_LANES, its sums carried over."""
+    assert samples > compiled.render.SAMPLED_LANES
+    rng = np.random.default_rng(samples)
+    scene = distributed_scene(rng, sampler, lens=True, mirrors=True, samples=samples)
+    same_render(replace(scene, camera=replace(scene.camera, width=4, height=2)))
+
+
 @pytest.mark.parametrize("sampler", SAMPLERS)
 def test_an_orthographic_camera_with_an_area_light_renders_the_same_with_both_engines(sampler):
     scene = load_scene(SCENES / "orthographic.json")
