@@ -805,7 +805,7 @@ def run(args: argparse.Namespace, cpu: str, threads: int | None) -> list[dict]:
             print(
                 f"{name}, raykit compiled with its cache of decoded textures empty: prepare"
                 f" {seconds(cold, 1)}, load + prepare + render / Mitsuba llvm"
-                f" {f'{ratio:.2f}' if ratio else '-'} (median of 3 prepares).\n"
+                f" {f'{ratio:.2f}' if ratio else '-'} (median of {COLD_PREPARES} prepares).\n"
             )
         lit_rows = timing.table(lit_scenes(args.quick), lit=True)
     print(
@@ -1069,16 +1069,19 @@ def set_up_raykit(engine: str, data: dict, folder: Path) -> tuple:
     return load, prepare, first, render_once, picture
 
 
+COLD_PREPARES = 9  # a prepare of a few textures takes milliseconds: a median of 3 moved by half
+
+
 def cold_prepare(path: Path) -> float:
-    """The median of 3 ``raykit.engine.compiled.prepare`` of the scene file at ``path``, each
-    just loaded with raykit's cache of decoded textures empty (a new folder each time), so each
-    of its textures is decoded."""
+    """The median of COLD_PREPARES ``raykit.engine.compiled.prepare`` of the scene file at
+    ``path``, each just loaded with raykit's cache of decoded textures empty (a new folder each
+    time), so each of its textures is decoded."""
     from raykit.engine import compiled
 
     took = []
     cache = os.environ.get("RAYKIT_CACHE_DIR")
     try:
-        for _ in range(3):
+        for _ in range(COLD_PREPARES):
             with tempfile.TemporaryDirectory() as empty:
                 os.environ["RAYKIT_CACHE_DIR"] = empty  # read by each decode
                 fresh = load_scene(path)

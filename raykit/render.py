@@ -97,13 +97,11 @@ def render(
         return Render(
             *compiled.render.render(scene, samples, adaptive=adaptive, progress=progress, hits=hits)
         )
-    refined = adaptive and samples > 1
     plan = Plan(
-        scene, cast, samples, skip_hidden=skip_hidden, dtype=dtype, progress=progress,
-        hits=hits or refined,  # the refinement finds edges by object index
-    )  # fmt: skip
-    if refined:
-        first = _adaptive(scene, plan)
+        scene, cast, samples, skip_hidden=skip_hidden, dtype=dtype, progress=progress, hits=hits
+    )
+    if adaptive and samples > 1:
+        first = _adaptive(scene, plan)  # whose first render keeps the hits: edges are found by them
         return first if hits else Render(first.rgb, None, None)
     image = Image(plan)
     for batch in plan.batches():  # for each pixel (a tile of them, at one sample offset):
