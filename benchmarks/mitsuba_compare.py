@@ -76,7 +76,11 @@ texels or more comes from raykit's cache of decoded textures once any render has
 prepare is that one, and a line below the flat table gives the textured scene's prepare with the
 cache empty, every texture decoded (:func:`cold_prepare`). The flat scenes include classic with
 each texture 256 x 256 RGBA (:func:`scenes.classic_with_large_textures`). Its render renders the
-prepared scene, as Mitsuba's renders its loaded one (``raykit.render.render`` does both).
+prepared scene, as Mitsuba's renders its loaded one (``raykit.render.render`` does both). Each
+timed render, raykit's and Mitsuba's, makes the picture alone: raykit's with ``hits=False``, no
+object index and t per pixel (which a render keeps by default, and which Mitsuba's depth
+integrator does not make), as ``raykit render`` renders a PNG; the agreement check takes them
+from an untimed render.
 Render: the median of ``--repeats`` renders after a first one (for ``llvm_ad_rgb`` the first
 compiles its kernels; it is shown too), every renderer of a scene in turns, so that the
 machine's other work falls on all alike (:func:`common.medians_in_turns`; each timed render
@@ -801,7 +805,7 @@ def run(args: argparse.Namespace, cpu: str, threads: int | None) -> list[dict]:
             print(
                 f"{name}, raykit compiled with its cache of decoded textures empty: prepare"
                 f" {seconds(cold, 1)}, load + prepare + render / Mitsuba llvm"
-                f" {f'{ratio:.2f}' if ratio else '-'} (median of 3 prepares).\n"
+                f" {f'{ratio:.2f}' if ratio else '-'} (median of {COLD_PREPARES} prepares).\n"
             )
         lit_rows = timing.table(lit_scenes(args.quick), lit=True)
     print(
@@ -1046,12 +1050,12 @@ def set_up_raykit(engine: str, data: dict, folder: Path) -> tuple:
         start = time.perf_counter()
         first = render(loaded, engine=engine)
         took = time.perf_counter() - start
-        call = timer(lambda: render(loaded, engine=engine))
+        call = timer(lambda: render(loaded, engine=engine, hits=False))
         return load, 0.0, took, call, (first.rgb, first.object_index, first.t)
     from raykit.engine import compiled
 
     start = time.perf_counter()
-    picture = compiled.render.render(loaded)
+    compiled.render.render(loaded, hits=False)
     first = time.perf_counter() - start
     preparing = []
     for _ in range(3):
@@ -1060,19 +1064,24 @@ def set_up_raykit(engine: str, data: dict, folder: Path) -> tuple:
         prepared = compiled.prepare(fresh)
         preparing.append(time.perf_counter() - start)
     prepare = statistics.median(preparing)
-    return load, prepare, first, timer(lambda: compiled.render.render(prepared)), picture
+    picture = compiled.render.render(prepared)  # untimed: the hits too, for agreement
+    render_once = timer(lambda: compiled.render.render(prepared, hits=False))
+    return load, prepare, first, render_once, picture
+
+
+COLD_PREPARES = 9  # a prepare of a few textures takes milliseconds: a median of 3 moved by half
 
 
 def cold_prepare(path: Path) -> float:
-    """The median of 3 ``raykit.engine.compiled.prepare`` of the scene file at ``path``, each
-    just loaded with raykit's cache of decoded textures empty (a new folder each time), so each
-    of its textures is decoded."""
+    """The median of COLD_PREPARES ``raykit.engine.compiled.prepare`` of the scene file at
+    ``path``, each just loaded with raykit's cache of decoded textures empty (a new folder each
+    time), so each of its textures is decoded."""
     from raykit.engine import compiled
 
     took = []
     cache = os.environ.get("RAYKIT_CACHE_DIR")
     try:
-        for _ in range(3):
+        for _ in range(COLD_PREPARES):
             with tempfile.TemporaryDirectory() as empty:
                 os.environ["RAYKIT_CACHE_DIR"] = empty  # read by each decode
                 fresh = load_scene(path)

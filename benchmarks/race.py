@@ -43,7 +43,9 @@ child of a Dr.Jit thread pool of that size each), all of an effect's renders in 
 (:func:`common.medians_in_turns`), over ``--repeats`` seeds: the RMS error over the pixels, channels
 and seeds against the common reference, and the median time. Render alone: raykit's compiled
 engine's render of a scene prepared before (``raykit.engine.compiled.prepare``; its sampling made
-inside the time), Mitsuba's ``mi.render`` of a scene ``load_dict`` loaded before. Load + render:
+inside the time), of the picture alone (``hits=False``: no object index and t per pixel, so no
+ray through each pixel's centre for them, as ``raykit render`` renders a PNG), Mitsuba's
+``mi.render`` of a scene ``load_dict`` loaded before. Load + render:
 that plus the median time of loading the scene from its file and making it ready (raykit:
 ``load_scene`` and ``prepare``; Mitsuba: ``load_dict``, which builds its BVH), each timed
 ``--repeats`` times in the same turns. The time to reach each error level of :data:`LEVELS` is read
@@ -263,7 +265,8 @@ def raykit_timers(effect: Effect, scene, path: Path, curve: Curve, truth: np.nda
             sampled = replace(scene, sampling=Sampling(n, curve.sampler, next(seeds)))
             start = time.perf_counter()  # the seed's own sampling (at 1 sample a pixel,
             noise = compiled.scene_noise(sampled) if sampled.distributed else None  # none)
-            image = compiled.render.render(prepared[n]._replace(scene=sampled, noise=noise))[0]
+            image = compiled.render.render(prepared[n]._replace(scene=sampled, noise=noise),
+                                           hits=False)[0]  # fmt: skip
             took = time.perf_counter() - start
             curve.squared[n].append(float(np.mean((image - truth) ** 2)))
             return took

@@ -332,8 +332,9 @@ def _run_render(args: argparse.Namespace) -> None:
     # on a terminal, a bar of pixels done, tile by tile, once the render has taken a second
     with progress_bar(camera.width * camera.height, "render", "px") as advance:
         image = render(
-            scene, samples=args.samples, adaptive=args.adaptive, progress=advance, engine=engine
-        )
+            scene, samples=args.samples, adaptive=args.adaptive, progress=advance, engine=engine,
+            hits=False,  # the PNG is the picture alone
+        )  # fmt: skip
     save_image(image.rgb, args.output)
     seconds = time.perf_counter() - start
     sampling = scene.sampling

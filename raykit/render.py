@@ -58,11 +58,11 @@ from raykit.spheres import center_at, hit_sphere
 class Render:
     """A rendered image: ``rgb (H, W, 3)`` float in [0, 1]; for the ray through each pixel
     centre, ``object_index (H, W)`` int (-1 for the background) and hit distance ``t (H, W)``
-    (inf for the background)."""
+    (inf for the background), both None in a render of the picture alone (``hits=False``)."""
 
     rgb: np.ndarray
-    object_index: np.ndarray
-    t: np.ndarray
+    object_index: np.ndarray | None
+    t: np.ndarray | None
 
 
 def render(
@@ -74,6 +74,7 @@ def render(
     dtype: type = np.float64,
     progress: Callable[[int], object] | None = None,
     engine: str = "auto",
+    hits: bool = True,
 ) -> Render:
     """Render ``scene`` with ``samples`` x ``samples`` rays per pixel.
 
@@ -87,14 +88,21 @@ def render(
     ``engine``: "numpy" runs the loop below; "compiled" runs the same loop as machine code, the
     same bits (:mod:`raykit.engine.compiled`, needs ``pip install "raykit[fast]"``); "auto"
     takes the compiled one only where that makes the whole run faster (:mod:`raykit.engine.choice`).
+    ``hits``: False renders the picture alone, ``object_index`` and ``t`` None; where no sample
+    passes through the pixel centre (an even n, a distributed scene), no ray is cast for them.
     """
     if choose(engine, scene, samples, dtype) == "compiled":
         from raykit.engine import compiled  # imports numba: only when it is used
 
-        return Render(*compiled.render.render(scene, samples, adaptive=adaptive, progress=progress))
-    plan = Plan(scene, cast, samples, skip_hidden=skip_hidden, dtype=dtype, progress=progress)
+        return Render(
+            *compiled.render.render(scene, samples, adaptive=adaptive, progress=progress, hits=hits)
+        )
+    plan = Plan(
+        scene, cast, samples, skip_hidden=skip_hidden, dtype=dtype, progress=progress, hits=hits
+    )
     if adaptive and samples > 1:
-        return _adaptive(scene, plan)
+        first = _adaptive(scene, plan)  # whose first render keeps the hits: edges are found by them
+        return first if hits else Render(first.rgb, None, None)
     image = Image(plan)
     for batch in plan.batches():  # for each pixel (a tile of them, at one sample offset):
         rays = plan.viewing_rays(batch)  # compute the viewing ray

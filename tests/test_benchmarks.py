@@ -673,7 +673,7 @@ render = sys.modules["raykit.engine.compiled.render"]  # the package's render is
 assert bvh.DIRECT_HITS == render.DIRECT_HITS == compiled.DIRECT_HITS == 0
 assert tiles.HOLDING_CHUNK == jobs.HOLDING_CHUNK == compiled.HOLDING_CHUNK == 3
 assert shadows.shadow_lists.targetoptions["_nrt"] is True
-assert "_nrt" not in render.trace_flat.targetoptions  # one that makes arrays: left alone
+assert "_nrt" not in render.cast_rays.targetoptions  # one that makes arrays: left alone
 assert compiling.KERNEL["_nrt"] is thresholds.code_value(thresholds.CONSTANTS[-1])
 """
     run = subprocess.run(

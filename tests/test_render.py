@@ -1,4 +1,5 @@
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -189,6 +190,36 @@ def test_object_index_and_t_describe_the_pixel_centre_whatever_the_samples(sampl
     one, many = render(scene), render(scene, samples=samples)
     assert np.array_equal(one.object_index, many.object_index)
     assert np.array_equal(one.t, many.t)
+
+
+PICTURES_ALONE = [
+    ("classic", 1, False),
+    ("classic", 2, False),  # no sample at the centre
+    ("classic_lit", 3, True),
+    ("soft_shadows", 1, False),  # distributed
+]
+
+
+@pytest.mark.parametrize("name,samples,adaptive", PICTURES_ALONE)
+def test_the_picture_alone_is_the_picture_with_hits_and_casts_no_centre_ray(
+    name, samples, adaptive
+):
+    from raykit.engine.regions import Plan
+    from raykit.render import cast
+
+    scene = load_scene(SCENES / f"{name}.json")
+    scene = replace(scene, camera=replace(scene.camera, width=40, height=30))
+    told = []
+    whole = render(scene, samples, adaptive=adaptive, engine="numpy")
+    alone = render(
+        scene, samples, adaptive=adaptive, engine="numpy", hits=False, progress=told.append
+    )
+    assert alone.object_index is None and alone.t is None
+    assert np.array_equal(alone.rgb, whole.rgb)
+    assert sum(told) == 40 * 30
+    batches = list(Plan(scene, cast, samples, hits=False).batches())
+    assert not any(batch.centre or not batch.colour for batch in batches)
+    assert sum(batch.finishes for batch in batches) == 40 * 30
 
 
 def test_band_and_tile_sizes_do_not_change_the_image(monkeypatch):

@@ -156,6 +156,7 @@ class Plan:
         skip_hidden: bool = True,
         dtype: type = np.float64,
         progress: Callable[[int], object] | None = None,
+        hits: bool = True,
     ) -> None:
         self.scene = eye_relative(scene, dtype) if dtype != np.float64 else scene
         self.cast = cast
@@ -173,6 +174,7 @@ class Plan:
         self.skip_hidden = skip_hidden
         self.dtype = dtype
         self.progress = progress  # told each finished tile's pixel count
+        self.hits = hits  # False: no pixel's centre hit kept, and no ray cast for it
         self.arrays = SceneArrays.of(self.scene)
         shaded = needs_shading(self.scene)
         self.secondary = secondary_caster(self.scene, cast, self.arrays) if shaded else None
@@ -189,7 +191,7 @@ class Plan:
             yield from self._distributed_batches()
             return
         offsets = self.offsets
-        centre = centre_sample(self.samples)
+        centre = centre_sample(self.samples) if self.hits else -1  # -1: no sample's hits kept
         for region in self.regions():
             pixels = len(region.rows) * len(region.cols)
             for k, (a, b) in enumerate(offsets):
@@ -204,7 +206,7 @@ class Plan:
         """A distributed render's batches: each region's pixels at sample k, for every k, each
         point in its pixel (and on the lens and lights, its glossy perturbations and its time)
         by the sample's uniform numbers; then the pixel centres, cast only for the hits the
-        image keeps (at the shutter's opening, in a scene that moves)."""
+        image keeps (at the shutter's opening, in a scene that moves), where it keeps them."""
         width = self.scene.camera.width
         shutter = self.scene.sampling.shutter
         for region in self.regions():
@@ -216,7 +218,11 @@ class Plan:
                 uniforms = self.pixel_samples.of(pixels, k)
                 x, y = point_in_pixel(rows, cols, uniforms[:, 0:2])
                 at = None if times is None else times[:, k]
-                yield Batch(region, x, y, None, uniforms=uniforms, times=at)
+                last = k == self.sample_count - 1 and not self.hits
+                yield Batch(region, x, y, None, uniforms=uniforms, times=at,
+                            finishes=len(pixels) * last)  # fmt: skip
+            if not self.hits:
+                continue
             x, y = region_points(region.rows, region.cols)
             at = None if times is None else np.full(len(pixels), float(shutter[0]))
             yield Batch(
@@ -336,8 +342,9 @@ class Image:
         camera = plan.scene.camera
         self.plan = plan
         self.rgb = np.zeros((camera.height, camera.width, 3))
-        self.object_index = np.empty((camera.height, camera.width), dtype=np.int64)
-        self.t = np.empty((camera.height, camera.width))
+        shape = (camera.height, camera.width)
+        self.object_index = np.empty(shape, dtype=np.int64) if plan.hits else None
+        self.t = np.empty(shape) if plan.hits else None
 
     def store(self, batch: Batch, rays: ViewingRays, hits: Hits, colors: np.ndarray) -> None:
         """Add the batch's colours to its pixels' sums; keep a centre batch's hits."""

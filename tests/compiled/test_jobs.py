@@ -49,3 +49,29 @@ CHECKS = {
     "jobs.pixel_means": small_render("classic", samples=3),
 }
 test_the_twin_repeats_its_reference = twin_test("jobs", CHECKS)
+
+
+@pytest.mark.parametrize("hits", [True, False])
+@pytest.mark.parametrize("n", [1, 2, 3])
+def test_a_job_casts_a_centre_ray_of_its_own_only_for_hits_kept_and_no_sample_at_the_centre(
+    n, hits
+):
+    from raykit.camera import centre_sample, sample_offsets
+    from raykit.engine.compiled.jobs import TileJob, job_points
+
+    offsets, centre = sample_offsets(n), centre_sample(n)
+    pixels = 4 * 2
+    kept = pixels if hits else 0  # a film without index and t: the picture alone
+    index, t = np.empty(kept, np.int64), np.empty(kept)
+    centre_index = -1 if centre is None else centre
+    film = compiled.Film(4, 2, np.zeros(0), np.zeros(0), offsets, centre_index,
+                         np.empty((pixels, 3)), index, t)  # fmt: skip
+    xy = np.full((2, pixels * (n * n + 1)), np.nan)
+    rays = job_points(film, TileJob(0, 2, 0, 0, 4, 0), xy)
+    extra = hits and centre is None
+    assert rays == pixels * (n * n + extra)
+    centres = xy[:, pixels * n * n :].T
+    if extra:  # after all the samples, each pixel's centre, row by row
+        assert centres.tolist() == [[x + 0.5, y + 0.5] for y in range(2) for x in range(4)]
+    else:
+        assert np.isnan(centres).all()

@@ -103,6 +103,17 @@ def test_random_distributed_scenes_render_the_same_with_both_engines(effect, sam
     same_render(scene)
 
 
+@pytest.mark.parametrize("sampler,samples", [("random", 257), ("jittered", 289), ("sobol", 512)])
+def test_more_samples_a_pixel_than_a_batch_of_lanes_render_the_same_with_both_engines(
+    sampler, samples
+):
+    """A pixel's samples in more than one batch of SAMPLED_LANES, its sums carried over."""
+    assert samples > compiled.render.SAMPLED_LANES
+    rng = np.random.default_rng(samples)
+    scene = distributed_scene(rng, sampler, lens=True, mirrors=True, samples=samples)
+    same_render(replace(scene, camera=replace(scene.camera, width=4, height=2)))
+
+
 @pytest.mark.parametrize("sampler", SAMPLERS)
 def test_an_orthographic_camera_with_an_area_light_renders_the_same_with_both_engines(sampler):
     scene = load_scene(SCENES / "orthographic.json")
@@ -132,6 +143,43 @@ def test_a_distributed_render_tells_progress_of_every_pixel_once():
     rgb, _, _ = compiled.render.render(scene, progress=told.append)
     assert sum(told) == 48 * 36 and len(told) > 1
     exactly(rgb, compiled.render.render(scene)[0])
+
+
+def _picture_scenes():
+    """A scene of each path the kernels take, 48 x 32 or 48 x 36 pixels, and its render's samples
+    and adaptive: flat, one sample a pixel and an even n (no sample at the centre), lit and
+    refined (its edges' samples as image points), mirrors, orthographic, and distributed: a
+    pinhole's, a lens's, a moving one."""
+
+    def example(name):
+        scene = load_scene(SCENES / f"{name}.json")
+        return replace(scene, camera=replace(scene.camera, width=48, height=32))
+
+    rng = np.random.default_rng(60)
+    return {
+        "flat": (example("classic"), 1, False),
+        "flat 2x2": (example("classic"), 2, False),
+        "lit 3x3 adaptive": (example("classic_lit"), 3, True),
+        "mirrors 2x2": (example("mirror_balls"), 2, False),
+        "orthographic": (example("orthographic"), 1, False),
+        "area lights": (distributed_scene(rng, "sobol"), 1, False),
+        "lens and mirrors": (distributed_scene(rng, "random", lens=True, mirrors=True), 1, False),
+        "moving": (distributed_scene(rng, "jittered", moving=True), 1, False),
+    }
+
+
+@pytest.mark.parametrize("kind", list(_picture_scenes()))
+def test_the_picture_alone_is_the_picture_with_hits_of_every_path(kind):
+    scene, samples, adaptive = _picture_scenes()[kind]
+    whole = render(scene, samples, adaptive=adaptive, engine="compiled")
+    told = []
+    alone = render(scene, samples, adaptive=adaptive, engine="compiled", hits=False,
+                   progress=told.append)  # fmt: skip
+    assert alone.object_index is None and alone.t is None
+    exactly(alone.rgb, whole.rgb)
+    width, height = scene.camera.width, scene.camera.height
+    assert sum(told) == width * height
+    assert whole.object_index.shape == whole.t.shape == (height, width)
 
 
 @pytest.mark.parametrize("samples,adaptive", [(2, False), (3, False), (3, True)])

@@ -148,9 +148,15 @@ def test_tile_side_sends_rays_in_packets_unless_the_picture_is_crowded():
     assert compiled.prepare(classic).tiles[-2:] == (compiled.WIDE_SIDE, True)
     width = height = 64
     rng = np.random.default_rng(3)
-    corners = rng.uniform(0, 48, size=(800, 2))  # 800 squares 16 pixels wide on 64 x 64
+    # 1,000 squares 1 pixel wide on 64 x 64: 20 to an 8-pixel tile, 6 to a 4-pixel one
+    corners = rng.uniform(0, 63, size=(1000, 2))
+    dots = np.column_stack([corners[:, 0], corners[:, 0] + 1, corners[:, 1], corners[:, 1] + 1])
+    assert compiled.tile_side(dots, width, height) == (compiled.CROWDED_SIDE, False)
+    dense = np.concatenate([dots, dots + 0.25, dots + 0.5])  # 3,000: 19 to a 4-pixel tile
+    assert compiled.tile_side(dense, width, height) == (compiled.DENSE_SIDE, False)
+    corners = corners[:800] * 48 / 63  # 800 squares 16 pixels wide: 78 to a 4-pixel tile
     bounds = np.column_stack([corners[:, 0], corners[:, 0] + 16, corners[:, 1], corners[:, 1] + 16])
-    assert compiled.tile_side(bounds, width, height) == (compiled.CROWDED_SIDE, False)
+    assert compiled.tile_side(bounds, width, height) == (compiled.DENSE_SIDE, False)
     few = bounds[:160] / 4  # 160 squares 4 pixels wide: 10 to a 16-pixel tile, 4 to an 8
     assert compiled.tile_side(few, width, height) == (compiled.PACKET_SIDE, True)
     # 40 such squares leave most 8-pixel tiles empty, and an empty tile costs no ray

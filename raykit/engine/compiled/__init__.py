@@ -153,6 +153,7 @@ from raykit.engine.compiled.spheres import hit_sphere
 from raykit.engine.compiled.surfaces import start, surface_points
 from raykit.engine.compiled.tiles import (
     CROWDED_SIDE,
+    DENSE_SIDE,
     HOLDING_CHUNK,
     PACKET_SIDE,
     WIDE_SIDE,
@@ -165,7 +166,8 @@ from raykit.engine.compiled.tiles import (
 from raykit.surfaces import OFFSET_FACTOR
 
 __all__ = [
-    "CHUNK", "CROWDED_SIDE", "CameraNumbers", "DIRECT_HITS", "DIRECT_LISTS", "HOLDING_CHUNK",
+    "CHUNK", "CROWDED_SIDE", "CameraNumbers", "DENSE_SIDE", "DIRECT_HITS", "DIRECT_LISTS",
+    "HOLDING_CHUNK",
     "CompiledScene", "Film", "KERNEL", "OFFSET_FACTOR", "PACKET_SIDE", "SHADOW_CANDIDATES",
     "WIDE_SIDE", "Arrays", "Lanes", "NearestHit", "Noise", "Prepared", "Ray", "RayRoom",
     "SampleRoom", "Shading", "ShadingRoom", "Tiles", "Tree", "Work", "billboard_color_at",

@@ -68,7 +68,8 @@ class Film(NamedTuple):
     """The image a call of :func:`~.render.trace_flat` or :func:`~.render.trace_lit` exposes: its
     ``width`` and ``height``, the image points ``xs``, ``ys`` (empty: whole tiles' pixels, see
     :func:`~.render.trace_flat`), the sample ``offsets (S, 2)`` and the ``centre`` sample (-1: a ray
-    of its own), and where the results go, ``rgb (P, 3)``, ``index`` and ``t (P,)``. The scene's
+    of its own), and where the results go, ``rgb (P, 3)``, ``index`` and ``t (P,)`` (both empty:
+    the picture alone, see :func:`keeps_hits`). The scene's
     arrays travel beside it, not in it: a kernel called once a job is passed only what it reads
     (every array is a handful of numbers at each call). Made once a call, for all its workers."""
 
@@ -94,6 +95,21 @@ class TileJob(NamedTuple):
     left: int
     across: int
     tile: int
+
+
+@njit(**ONE_RAY)
+def keeps_hits(film):
+    """Whether ``film`` keeps each pixel's object index and t: not where its ``index`` and ``t``
+    are empty (a render of the picture alone, ``hits=False`` in :func:`raykit.render.render`),
+    which then casts no ray for them."""
+    return len(film.t) > 0
+
+
+@njit(**ONE_RAY)
+def centre_rays(film):
+    """1 where ``film`` casts a ray of its own through each pixel centre, for its object index and
+    t: where no sample is the centre (``centre`` -1) and the film keeps them; else 0."""
+    return 1 if film.centre < 0 and keeps_hits(film) else 0
 
 
 @njit(**ONE_RAY)
@@ -129,22 +145,24 @@ def background_job(film, job, empty):
     """A tile that no object's screen rectangle meets: its pixels get ``empty (3,)``, index -1
     and t = inf, and no ray."""
     rgb, index, t = film.rgb, film.index, film.t
+    hits = keeps_hits(film)
     for down in range(job.rows):
         for along in range(job.across):
             p = (job.top + down) * film.width + job.left + along
             rgb[p, 0], rgb[p, 1], rgb[p, 2] = empty[0], empty[1], empty[2]
-            index[p], t[p] = -1, np.inf
+            if hits:
+                index[p], t[p] = -1, np.inf
 
 
 @njit(**KERNEL)
 def job_points(film, job, xy):
     """Each of a job's rays' image points into ``xy (2, N)``: ray i is sample i % S of the
-    job's pixel i // S; the rays through the pixel centres, if cast apart (``centre`` -1), come
-    after all those. Returns how many rays."""
+    job's pixel i // S; the rays through the pixel centres, if cast apart (:func:`centre_rays`),
+    come after all those. Returns how many rays."""
     offsets = film.offsets
     samples = len(offsets)
     pixels = job.rows * job.across
-    extra = 1 if film.centre < 0 else 0
+    extra = centre_rays(film)
     if samples == 1 and not extra and len(film.xs) == 0:  # a tile's pixels, one point each
         along_x, down_y = offsets[0, 0], offsets[0, 1]
         for down in range(job.rows):
@@ -171,10 +189,11 @@ def job_points(film, job, xy):
 def pixel_means(film, job, colors, best, best_t):
     """Each of a job's pixels: the mean of its samples' ``colors (3, N)`` (laid out as
     :func:`job_points` lays out the rays) into ``rgb``, and the object index and t of the ray
-    through its centre into ``index`` and ``t``."""
+    through its centre into ``index`` and ``t``, where it keeps them (:func:`keeps_hits`)."""
     rgb, index, t, centre = film.rgb, film.index, film.t, film.centre
     samples = len(film.offsets)
     pixels = job.rows * job.across
+    hits = keeps_hits(film)
     if samples == 1 and centre == 0:  # one sample, through the centre: as below, without /1
         for down in range(job.rows):
             first, _, _ = job_pixel(film, job, down, 0)  # a row's pixels lie side by side
@@ -185,7 +204,8 @@ def pixel_means(film, job, colors, best, best_t):
                 rgb[p, 0] = 0.0 + colors[0, q]
                 rgb[p, 1] = 0.0 + colors[1, q]
                 rgb[p, 2] = 0.0 + colors[2, q]
-                index[p], t[p] = best[q], best_t[q]
+                if hits:
+                    index[p], t[p] = best[q], best_t[q]
         return
     for down in range(job.rows):
         for along in range(job.across):
@@ -200,8 +220,9 @@ def pixel_means(film, job, colors, best, best_t):
             rgb[p, 0] = r_sum / samples
             rgb[p, 1] = g_sum / samples
             rgb[p, 2] = b_sum / samples
-            i = pixels * samples + q if centre < 0 else q * samples + centre
-            index[p], t[p] = best[i], best_t[i]
+            if hits:
+                i = pixels * samples + q if centre < 0 else q * samples + centre
+                index[p], t[p] = best[i], best_t[i]
 
 
 class SampleRoom(NamedTuple):

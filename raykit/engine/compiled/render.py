@@ -33,11 +33,13 @@ from raykit.engine.compiled.jobs import (
     CHUNK,
     Film,
     background_job,
+    centre_rays,
     flat_rooms,
     grain_taken,
     job_of,
     job_pixel,
     job_points,
+    keeps_hits,
     lit_rooms,
     moving_rooms,
     pixel_means,
@@ -154,11 +156,19 @@ def _texels(texture) -> None:
 _NO_TILES = Tiles(np.zeros(1, np.int64), np.zeros(0, np.int64), np.zeros((0, 5)), 1, 1, False)
 
 
-def render(scene: Scene | Prepared, samples: int = 1, *, adaptive: bool = False, progress=None):
+def render(
+    scene: Scene | Prepared,
+    samples: int = 1,
+    *,
+    adaptive: bool = False,
+    progress=None,
+    hits: bool = True,
+):
     """What :func:`raykit.render.render` renders, with the kernels above:
     ``(rgb (H, W, 3), object_index (H, W), t (H, W))``, of a scene or of a :class:`Prepared`
-    one. ``progress`` is told each band of finished pixels, as the numpy engine tells it each
-    tile. A distributed scene takes its own samples (:func:`trace_sampled`)."""
+    one; with ``hits`` False, ``(rgb, None, None)``, and no ray is cast for the two
+    (:func:`~.jobs.keeps_hits`). ``progress`` is told each band of finished pixels, as the numpy
+    engine tells it each tile. A distributed scene takes its own samples (:func:`trace_sampled`)."""
     offsets = sample_offsets(samples)  # refuses n < 1 before any work
     n = 1 if adaptive else samples  # adaptive: one ray per pixel first, as the numpy engine
     if n != samples:
@@ -166,15 +176,17 @@ def render(scene: Scene | Prepared, samples: int = 1, *, adaptive: bool = False,
     refuse_grid(scene.scene if isinstance(scene, Prepared) else scene, samples)
     prepared = scene if isinstance(scene, Prepared) else prepare(scene)
     if prepared.noise is not None:
-        return _render_sampled(prepared, progress)
+        return _render_sampled(prepared, progress, hits)
     scene, arrays, tiles = prepared.scene, prepared.arrays, prepared.tiles
     name, trace, kernels = _entry(prepared)
     width, height = scene.camera.width, scene.camera.height
     centre = centre_sample(n)
     empty = _mean_of_samples(arrays.background, len(offsets))
     rgb = np.empty((height * width, 3))  # first written by the workers: faster than by numpy
-    index = np.empty(height * width, dtype=np.int64)
-    t = np.empty(height * width)
+    refined = adaptive and samples > 1
+    kept = height * width if hits or refined else 0  # the refinement finds edges by index
+    index = np.empty(kept, dtype=np.int64)
+    t = np.empty(kept)
     tiles_x, size = tiles.tiles_x, tiles.size
     tile_count = -(-height // size) * tiles_x
     # tiles per kernel call: bands of rows for a progress bar, else all at once (each call
@@ -198,10 +210,10 @@ def render(scene: Scene | Prepared, samples: int = 1, *, adaptive: bool = False,
             progress(rows * width)
     rgb, index, t = (
         rgb.reshape(height, width, 3),
-        index.reshape(height, width),
-        t.reshape(height, width),
+        index.reshape(height, width) if kept else None,
+        t.reshape(height, width) if kept else None,
     )
-    if adaptive and samples > 1:  # the numpy engine's refinement, with these colours
+    if refined:  # the numpy engine's refinement, with these colours
         edge = edge_pixels(rgb, index)
         at_the_point = np.zeros((1, 2))  # each point its own one sample
 
@@ -215,18 +227,18 @@ def render(scene: Scene | Prepared, samples: int = 1, *, adaptive: bool = False,
             return out
 
         refine(regions(scene, skip_hidden=False), colors, rgb, edge, samples)
-    return rgb, index, t
+    return (rgb, index, t) if hits else (rgb, None, None)
 
 
-def _render_sampled(prepared: Prepared, progress=None):
+def _render_sampled(prepared: Prepared, progress=None, hits: bool = True):
     """:func:`render` of a distributed scene, prepared (:func:`trace_sampled`): in one call,
-    or in bands of ROWS_PER_CALL rows for a progress bar."""
+    or in bands of ROWS_PER_CALL rows for a progress bar; its pixels' hits where ``hits``."""
     name, trace, kernels = _entry(prepared)
     width, height = prepared.scene.camera.width, prepared.scene.camera.height
     pixels = width * height
     rgb = np.empty((pixels, 3))
-    index = np.empty(pixels, dtype=np.int64)
-    t = np.empty(pixels)
+    index = np.empty(pixels if hits else 0, dtype=np.int64)
+    t = np.empty(pixels if hits else 0)
     starts = np.arange(0, pixels, SAMPLED_PIXELS)
     band = -(-ROWS_PER_CALL * width // SAMPLED_PIXELS) if progress is not None else len(starts)
     nothing = np.zeros(0)  # no image points, no sample offsets: each pixel takes its own samples
@@ -236,6 +248,8 @@ def _render_sampled(prepared: Prepared, progress=None):
         run(name, trace, *kernels, film, shares(jobs), rooms=_rooms(prepared, film))
         if progress is not None:
             progress(min(pixels, jobs[-1] + SAMPLED_PIXELS) - jobs[0])
+    if not hits:
+        return rgb.reshape(height, width, 3), None, None
     return rgb.reshape(height, width, 3), index.reshape(height, width), t.reshape(height, width)
 
 
@@ -295,7 +309,8 @@ def trace_flat(arrays, tiles, camera, film, empty, work, room, grain):
     per sample offset ``offsets (S, 2)`` in order, the viewing ray and its nearest hit
     (:func:`primary_ray`, or a packet of them: :func:`primary_rays`) and its flat colour, summed and
     divided by S as :class:`raykit.engine.regions.Image` takes the mean; and the object index and t
-    of the ray through the pixel centre, which is sample ``centre`` (-1: cast one more ray there).
+    of the ray through the pixel centre, which is sample ``centre`` (-1: cast one more ray there),
+    where the film keeps them (:func:`~.jobs.keeps_hits`).
     Results go to ``rgb (P, 3)``, ``index``, ``t (P,)``. Which pixels, either way:
 
     * whole tiles (``xs`` empty): ``work.jobs (J,)`` are tile numbers (:func:`screen_tiles`),
@@ -331,6 +346,7 @@ def flat_job(arrays, tiles, camera, film, job, room):
     offsets, rgb, index, t, centre = film.offsets, film.rgb, film.index, film.t, film.centre
     samples = len(offsets)
     tile = job.tile
+    hits, extra = keeps_hits(film), centre_rays(film)
     if tile < 0 or not tiles.packets:
         for down in range(job.rows):
             for along in range(job.across):
@@ -339,7 +355,7 @@ def flat_job(arrays, tiles, camera, film, job, room):
                 for sample in range(samples):
                     x, y = px + offsets[sample, 0], py + offsets[sample, 1]
                     hit = primary_ray(arrays, tiles, camera, x, y, tile, room.holding).nearest
-                    if sample == centre:
+                    if sample == centre and hits:
                         index[p], t[p] = hit.index, hit.t
                     r_sum += hit.r
                     g_sum += hit.g
@@ -347,12 +363,12 @@ def flat_job(arrays, tiles, camera, film, job, room):
                 rgb[p, 0] = r_sum / samples
                 rgb[p, 1] = g_sum / samples
                 rgb[p, 2] = b_sum / samples
-                if centre < 0:
+                if extra:
                     hit = primary_ray(arrays, tiles, camera, px + 0.5, py + 0.5, tile, room.holding)
                     index[p], t[p] = hit.nearest.index, hit.nearest.t
         return
     job_points(film, job, room.xy)
-    primary_rays(arrays, tiles, camera, job, len(offsets), int(centre < 0), room)
+    primary_rays(arrays, tiles, camera, job, len(offsets), extra, room)
     pixel_means(film, job, room.colors, room.best, room.best_t)
 
 
@@ -392,7 +408,7 @@ def lit_job(scene, tiles, camera, bounces, film, job, room, shading_room):
     candidates, counts = shading_room.candidates, shading_room.counts
     n = job_points(film, job, xy)
     if tile >= 0 and tiles.packets:
-        primary_rays(arrays, tiles, camera, job, len(film.offsets), int(film.centre < 0), room)
+        primary_rays(arrays, tiles, camera, job, len(film.offsets), centre_rays(film), room)
     else:
         for i in range(n):
             viewing = primary_ray(arrays, tiles, camera, xy[0, i], xy[1, i], tile, holding)
@@ -434,8 +450,9 @@ def trace_sampled(scene, camera, lens, noise, tiles, bounces, film, work, room, 
     its nearest hit, and its colour, flat or shaded (its points on the area lights and its glossy
     perturbations from the same numbers), summed and divided by the count as
     :class:`raykit.engine.regions.Image` takes the mean; and the object index and t of the pinhole
-    ray through the pixel centre. ``work.jobs (J,)``: the first pixel of each job of SAMPLED_PIXELS
-    (row-major, P = ``len(film.t)``); results into ``film`` (:class:`~.jobs.Film`: ``rgb (P, 3)``,
+    ray through the pixel centre, where the film keeps them (:func:`~.jobs.keeps_hits`).
+    ``work.jobs (J,)``: the first pixel of each job of SAMPLED_PIXELS (row-major, P =
+    ``len(film.rgb)``); results into ``film`` (:class:`~.jobs.Film`: ``rgb (P, 3)``,
     ``index``, ``t (P,)``). Through a pinhole, each batch of a job's samples tests only the objects
     its pixels' screen ``tiles`` list (:func:`~.tiles.row_objects`); a lens's rays do not start at
     the eye, and no tile bounds them (``tiles`` is empty: as the reference, each tests every
@@ -505,7 +522,8 @@ def sampled_job(standing, moved, camera, lens, noise, motion, film, first, stack
     at_time, tree = moved.arrays, moved.tree
     numbers, keys = sample_room.numbers[0], sample_room.keys[0]
     width, rgb, index, t = film.width, film.rgb, film.index, film.t
-    for p in range(first, min(first + SAMPLED_PIXELS, len(t))):
+    hits = keeps_hits(film)
+    for p in range(first, min(first + SAMPLED_PIXELS, len(rgb))):
         row, col = p // width, p % width
         r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
         pixel_keys(noise.sampler, noise.seed, p, noise.count, wanted, keys)
@@ -536,6 +554,8 @@ def sampled_job(standing, moved, camera, lens, noise, motion, film, first, stack
         rgb[p, 0] = r_sum / count
         rgb[p, 1] = g_sum / count
         rgb[p, 2] = b_sum / count
+        if not hits:
+            continue
         ray = rays_through(camera, col + 0.5, row + 0.5)  # the pinhole's, with a lens
         if motion.moving:  # at the shutter's opening
             spheres_at(standing, motion, at_time.centers, motion.shutter_open)
@@ -662,11 +682,12 @@ def sampled_lanes(
     numbers, columns, keys = sample_room.numbers, sample_room.columns, sample_room.keys
     near, tiled = sample_room.near, len(tiles.start) > 1
     width, rgb, index, t = film.width, film.rgb, film.index, film.t
+    hits = keeps_hits(film)
     xy, rays, best, best_t, colors = room.xy, room.rays, room.best, room.best_t, room.colors
     lanes, box, stack = shading_room.lanes, shading_room.box, shading_room.stack
     total, point, normal, error = lanes.total, lanes.p, lanes.n, lanes.error
     per = max(1, SAMPLED_LANES // count)  # whole pixels a batch holds
-    last = min(first + SAMPLED_PIXELS, len(t))
+    last = min(first + SAMPLED_PIXELS, len(rgb))
     r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
     p_first = first
     while p_first < last:  # batches of whole pixels, none across two rows (row_objects)
@@ -741,7 +762,7 @@ def sampled_lanes(
                     rgb[p, 0] = r_sum / count
                     rgb[p, 1] = g_sum / count
                     rgb[p, 2] = b_sum / count
-            if k_first + samples == count:  # the batch's pixels are done: their centres' hits
+            if k_first + samples == count and hits:  # the batch's pixels done: their centres' hits
                 for q in range(pixels):  # the pinhole's ray, with a lens too
                     p = p_first + q
                     ray = rays_through(camera, p % width + 0.5, p // width + 0.5)

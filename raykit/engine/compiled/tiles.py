@@ -413,7 +413,8 @@ def screen_tiles(
 WIDE_SIDE = 16  # packets of this many pixels a side
 PACKET_SIDE = 8  # or of this side (fewer rays fill too few vectors), whichever costs less,
 PACKET_OBJECTS = 12  # where tiles of PACKET_SIDE list this many objects or fewer on average;
-CROWDED_SIDE = 4  # else one ray at a time, in tiles of this side
+CROWDED_SIDE = 4  # else one ray at a time, in tiles of this side,
+DENSE_SIDE = 2  # or of this one where those list more objects than they have pixels
 # what a packet costs besides its rays' tests (its rays' image points, set-up, the call), in
 # tests of one object against one ray: fitted to the 1-thread renders of classic and 1,000
 # spheres at 1080p in packets of both sides (python benchmarks/compile_time.py --cpus native)
@@ -455,8 +456,12 @@ def tile_side(bounds: np.ndarray, width: int, height: int) -> tuple[int, bool]:
     The larger the packet, the fewer tiles' costs, but the more rays each object is tested against,
     and the fewer tiles see nothing. So: packets where tiles of PACKET_SIDE list PACKET_OBJECTS or
     fewer on average, of WIDE_SIDE or PACKET_SIDE, whichever :func:`packet_cost` finds cheaper, and
-    else one ray at a time in CROWDED_SIDE tiles. ``python benchmarks/engines.py --tile-sides``
-    times each choice (docs/benchmarks/tile_sides.md)."""
+    else one ray at a time in CROWDED_SIDE tiles; in DENSE_SIDE ones where those list more
+    objects than they have pixels on average. Each ray scans its tile's list, so a tile that lists
+    more objects than it has rays spends more on scanning than a smaller tile, whose lists hold
+    fewer of the small objects a dense picture is made of, spends on its more tiles.
+    ``python benchmarks/engines.py --tile-sides`` times each choice
+    (docs/benchmarks/tile_sides.md)."""
     seen = bounds[~np.isnan(bounds).any(axis=1)]
 
     def listed(side: int) -> float:  # objects in an average tile of this side
@@ -465,6 +470,8 @@ def tile_side(bounds: np.ndarray, width: int, height: int) -> tuple[int, bool]:
         return (across * down).sum() / (-(-width // side) * -(-height // side))
 
     if listed(PACKET_SIDE) > PACKET_OBJECTS:
+        if listed(CROWDED_SIDE) > CROWDED_SIDE * CROWDED_SIDE:
+            return DENSE_SIDE, False
         return CROWDED_SIDE, False
     wide = packet_cost(seen, width, height, WIDE_SIDE)
     if wide <= packet_cost(seen, width, height, PACKET_SIDE):

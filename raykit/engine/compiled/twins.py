@@ -280,6 +280,8 @@ OWN = {
     "jobs.job_of": "a job's pixels: the workers' own cut of the image",
     "jobs.job_pixel": "a pixel of a job",
     "jobs.job_points": "a job's image points",
+    "jobs.keeps_hits": "whether a render keeps each pixel's object index and t",
+    "jobs.centre_rays": "whether a job casts a ray of its own through each pixel centre",
     "jobs.background_job": "a tile no object is seen in: the background, with no ray",
     "render.every_object": "a distributed render's shadow lists: every object, as the reference",
     "tiles.lanes_under": "the lanes of a packet an object's screen rectangle can hold",
