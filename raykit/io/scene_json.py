@@ -356,9 +356,9 @@ def _read_billboard(
                 'a billboard with an "image" takes its diffuse colour from the image'
             )
         path = folder / f["image"].string()
-        texture = textures.get(path.resolve())
+        texture = textures.get(same := path.resolve())
         if texture is None:
-            texture = textures[path.resolve()] = Texture(path, f["image"].source, f["image"].path)
+            texture = textures[same] = Texture(path, f["image"].source, f["image"].path)
     name = f["name"].string() if "name" in f else None
     return Billboard(
         upper_left, lower_left, upper_right, color, texture, name, material=_read_material(f, v2)
