@@ -135,6 +135,7 @@ def test_a_large_texture_is_decoded_once_and_then_read_from_the_cache(tmp_path, 
     again = _texels(tmp_path / "t.png")
     assert len(decodes) == 1 and len(_cached_files(tmp_path / "cache")) == 1
     assert type(again) is np.ndarray and again.dtype == np.uint8
+    assert not first.flags.writeable and not again.flags.writeable  # nobody's to change
     assert np.array_equal(first, made) and np.array_equal(again, made)
 
 

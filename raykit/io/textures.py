@@ -204,6 +204,7 @@ def _cached(path: Path, shape: tuple[int, int, int]) -> np.ndarray | None:
         os.utime(path)
     except OSError:
         return None
+    rgba.flags.writeable = False  # as a decode's, which are Pillow's bytes
     return rgba
 
 
