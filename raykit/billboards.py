@@ -36,7 +36,7 @@ import numpy as np
 from raykit.hits import ColorAt, solid
 from raykit.materials import PLAIN, Material
 from raykit.planes import hit_plane, hit_points_on_plane
-from raykit.rays import MISS, dot, length, normalize
+from raykit.rays import MISS, cross, dot, length, normalize
 
 OPAQUE_FROM = 128  # a texel whose alpha is below this is a hole
 
@@ -82,13 +82,13 @@ class Billboard:
     @cached_property
     def n(self) -> np.ndarray:
         """Normal a × b, ``(3,)`` (not unit length)."""
-        return np.cross(self.a, self.b)
+        return cross(self.a, self.b)
 
     @cached_property
     def dual_axes(self) -> tuple[np.ndarray, np.ndarray]:
         """The dual vectors ((b × n)/|n|², (n × a)/|n|²) that turn a point into (alpha, beta)."""
         n_squared = dot(self.n, self.n)
-        return np.cross(self.b, self.n) / n_squared, np.cross(self.n, self.a) / n_squared
+        return cross(self.b, self.n) / n_squared, cross(self.n, self.a) / n_squared
 
 
 def _floats(point) -> np.ndarray:
@@ -99,7 +99,7 @@ def _floats(point) -> np.ndarray:
 
 def is_degenerate(a: np.ndarray, b: np.ndarray) -> bool:
     """True when edges a and b ``(3,)`` span no parallelogram (zero or parallel)."""
-    return bool(length(np.cross(a, b)) <= 1e-12 * length(a) * length(b))
+    return bool(length(cross(a, b)) <= 1e-12 * length(a) * length(b))
 
 
 def hit_billboard(

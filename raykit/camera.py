@@ -89,7 +89,7 @@ class Camera:
         """The orthonormal camera frame (u, v, w), each ``(3,)``."""
         return camera_frame(self.eye, self.lookat, self.up)
 
-    @property
+    @cached_property
     def d(self) -> float:
         """Distance from the eye to the image plane, |lookat - eye|."""
         return float(length(np.asarray(self.lookat, float) - np.asarray(self.eye, float)))

@@ -38,7 +38,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from raykit.rays import dot, normalize
+from raykit.rays import cross, dot, normalize
 from raykit.sampling import point_on_parallelogram
 
 LIGHT_TYPES = ("directional", "point", "area")
@@ -76,7 +76,7 @@ class AreaLight:
     def frame(self) -> tuple[float, np.ndarray]:
         """Its area A = |a × b| and unit normal n_L = (a × b)/A ``(3,)``, the side it lights
         when it is physically based."""
-        normal = np.cross(np.asarray(self.edge1, float), np.asarray(self.edge2, float))
+        normal = cross(np.asarray(self.edge1, float), np.asarray(self.edge2, float))
         area = float(np.sqrt(dot(normal, normal)))
         return area, normal / area
 

@@ -7,39 +7,15 @@ import types
 
 import numpy as np
 import pytest
+from benchmark_runs import TIMEOUT, benchmark_module, table_rows, tables
 
 from conftest import REPO
 from raykit.engine.choice import compiled_refuses
 from raykit.io.scene_json import load_scene
 
-# a benchmark's process may first compile the compiled engine's kernels (raykit[fast] installed,
-# nothing of this source cached; how long: docs/benchmarks/compile_time.md), then load them
-TIMEOUT = 1200
-
-
-def _tables(script: str, *extra: str, repeats: bool = True) -> list[list[str]]:
-    """The lines of each block (blank-line separated) ``script --quick`` prints, with
-    ``--repeats 1`` unless ``repeats`` is false (a benchmark that times nothing takes no
-    --repeats); the script must succeed."""
-    once = ["--repeats", "1"] if repeats else []
-    run = subprocess.run(
-        [sys.executable, str(REPO / "benchmarks" / script), "--quick", *once, *extra],
-        capture_output=True,
-        text=True,
-        timeout=TIMEOUT,
-    )
-    assert run.returncode == 0, run.stderr
-    return [t.splitlines() for t in run.stdout.split("\n\n")]
-
-
-def _table_rows(script: str, *extra: str, repeats: bool = True) -> list[str]:
-    """The rows of the first table :func:`_tables` finds."""
-    first = next(t for t in _tables(script, *extra, repeats=repeats) if t and t[0].startswith("| "))
-    return [line for line in first if line.startswith("| ")][1:]  # the first table's rows
-
 
 def test_render_speed_quick_prints_a_row_per_scene_with_every_variant():
-    rows = _table_rows("render_speed.py")
+    rows = table_rows("render_speed.py")
     assert [row.split(" | ")[0] for row in rows] == [
         "| classic",
         "| sphereflake 2",
@@ -83,7 +59,7 @@ def test_render_speed_whole_process_says_where_the_time_of_raykit_render_goes():
 
 
 def test_time_vs_error_quick_prints_every_mode():
-    rows = _table_rows("time_vs_error.py")
+    rows = table_rows("time_vs_error.py")
     assert len(rows) == 7
     assert sum("adaptive" in row for row in rows) == 3
 
@@ -130,8 +106,8 @@ def test_raykit_bench_runs_every_benchmark_and_writes_the_plots(tmp_path):
 
 
 def test_mitsuba_comparison_times_raykit_and_mitsuba_when_installed():
-    tables = [t for t in _tables("mitsuba_compare.py") if t and t[0].startswith("| scene |")]
-    flat, lit = ([line.split(" | ") for line in t[2:]] for t in tables)
+    printed = [t for t in tables("mitsuba_compare.py") if t and t[0].startswith("| scene |")]
+    flat, lit = ([line.split(" | ") for line in t[2:]] for t in printed)
     assert [row[0] for row in lit] == [row[0] + " lit" for row in flat]  # the same scenes, lit
     for rows in (flat, lit):
         renderers = [row[1] for row in rows]
@@ -216,22 +192,15 @@ def test_billboard_becomes_a_mitsuba_rectangle_with_the_same_corners():
 
 
 def test_object_order_quick_prints_a_row_per_object_count():
-    rows = _table_rows("object_order.py")
+    rows = table_rows("object_order.py")
     assert [row.split(" | ")[0] for row in rows] == ["| 1", "| 10", "| 100"]
     assert all(row.count(" ms") + row.count(" s ") >= 3 for row in rows)
 
 
 def test_forward_backward_quick_prints_both_directions():
-    rows = _table_rows("forward_backward.py")
+    rows = table_rows("forward_backward.py")
     directions = [row.split(" | ")[0] for row in rows]
     assert directions == ["| backward"] * 2 + ["| forward"] * 2
-
-
-def _benchmark_module(name):
-    sys.path.insert(0, str(REPO / "benchmarks"))
-    import importlib
-
-    return importlib.import_module(name)
 
 
 def test_a_mitsuba_variant_that_cannot_start_is_a_failed_row_and_the_run_goes_on(
@@ -240,7 +209,7 @@ def test_a_mitsuba_variant_that_cannot_start_is_a_failed_row_and_the_run_goes_on
     # Mitsuba "installed" (a stand-in module here; the child imports the real one, or fails
     # to): a variant that cannot start gives each scene a one-line "failed: ..." row, and
     # every scene is still timed
-    module = _benchmark_module("mitsuba_compare")
+    module = benchmark_module("mitsuba_compare")
     stand_in = types.ModuleType("mitsuba")
     stand_in.__version__ = "0.0"
     monkeypatch.setitem(sys.modules, "mitsuba", stand_in)
@@ -257,7 +226,7 @@ def test_a_mitsuba_variant_that_cannot_start_is_a_failed_row_and_the_run_goes_on
 
 
 def test_the_mitsuba_summary_puts_each_thread_counts_ratios_side_by_side(capsys):
-    module = _benchmark_module("mitsuba_compare")
+    module = benchmark_module("mitsuba_compare")
     rows = []
     for threads, ratio in ((1, "0.40"), (2, "0.45")):
         rows += [
@@ -283,7 +252,7 @@ def test_a_mitsuba_childs_run_time_is_read_and_settle_returns_for_a_still_or_gon
     # settle() waits while the child's threads run (Dr.Jit's pool after a render); here a
     # stand-in child computes, then sleeps: its run time grows, and a sleeping or gone child
     # is still
-    module = _benchmark_module("mitsuba_compare")
+    module = benchmark_module("mitsuba_compare")
     child = object.__new__(module.MitsubaChild)
     code = "\n".join(
         ["import time", "print(0, flush=True)", "input()", "sum(range(3_000_000))",
@@ -314,7 +283,7 @@ def test_a_mitsuba_childs_run_time_is_read_and_settle_returns_for_a_still_or_gon
 
 def test_a_mitsuba_child_that_dies_during_the_renders_is_a_failure_not_a_crash():
     pytest.importorskip("mitsuba")
-    module = _benchmark_module("mitsuba_compare")
+    module = benchmark_module("mitsuba_compare")
     data = module.scene_data(module.benchmark_scenes(True)["sphereflake 2 128x128"])
     child = module.MitsubaChild("scalar_rgb", data)
     assert child.failure is None and child.render_once() > 0
@@ -326,7 +295,7 @@ def test_a_mitsuba_child_that_dies_during_the_renders_is_a_failure_not_a_crash()
 
 
 def test_turns_give_each_timer_its_own_median_and_warm_it_first():
-    module = _benchmark_module("common")
+    module = benchmark_module("common")
     calls = []
 
     def timer(key, seconds):
@@ -356,7 +325,7 @@ def test_mitsuba_plot_draws_a_bar_per_scene_and_renderer(tmp_path, monkeypatch):
     # Mitsuba is not installed here: made-up rows exercise the plot, a failed variant included
     import matplotlib.pyplot as plt
 
-    module = _benchmark_module("mitsuba_compare")
+    module = benchmark_module("mitsuba_compare")
     rows = [
         {"scene": "classic", "renderer": "raykit", "render": 0.081},
         {"scene": "classic", "renderer": "Mitsuba 3.6 scalar_rgb", "render": 0.4},
@@ -387,7 +356,7 @@ def test_mitsuba_plot_draws_a_bar_per_scene_and_renderer(tmp_path, monkeypatch):
 def test_shading_cost_plot_draws_flat_shaded_and_unculled_per_scene(tmp_path, monkeypatch):
     import matplotlib.pyplot as plt
 
-    module = _benchmark_module("shading_cost")
+    module = benchmark_module("shading_cost")
     rows = [
         {"scene": "classic", "image": "640x480", "flat": 0.08, "shaded": 0.08, "unculled": 0.076},
         {"scene": "mirror_balls", "image": "640x480", "flat": 0.067, "shaded": 0.35}
@@ -407,7 +376,7 @@ def test_shading_cost_plot_draws_flat_shaded_and_unculled_per_scene(tmp_path, mo
 def test_a_bar_plot_panel_title_breaks_a_long_scene_name_after_an_underscore(tmp_path, monkeypatch):
     import matplotlib.pyplot as plt
 
-    common = _benchmark_module("common")
+    common = benchmark_module("common")
     drawn = {}
     monkeypatch.setattr(plt, "close", lambda figure: drawn.setdefault("figure", figure))
     common.bar_plot(tmp_path / "bars.png", ["shadow_on_billboard_far_away"], {"a": [0.002]}, "ms")
@@ -418,12 +387,10 @@ def test_a_bar_plot_panel_title_breaks_a_long_scene_name_after_an_underscore(tmp
 _SCENES = {p.stem: load_scene(p) for p in sorted((REPO / "scenes").glob("*.json"))}
 # the example scenes the compiled engine renders (every one, motion blur included)
 EXAMPLES = [name for name, scene in _SCENES.items() if compiled_refuses(scene) is None]
-# those whose rays the screen tiles serve (stage 5's distributed ones walk the tree)
-PINHOLE_EXAMPLES = [name for name in EXAMPLES if not _SCENES[name].distributed]
 
 
 def test_engines_benchmark_times_both_engines_on_every_example_scene():
-    rows = _table_rows("engines.py")
+    rows = table_rows("engines.py")
     assert [row.split(" | ")[0][2:] for row in rows] == EXAMPLES
     try:
         import numba  # noqa: F401
@@ -433,19 +400,9 @@ def test_engines_benchmark_times_both_engines_on_every_example_scene():
     assert all(row.split(" | ")[4].endswith("ms") for row in rows)  # a compiled time each
 
 
-def test_tile_sides_benchmark_marks_the_side_the_compiled_engine_chooses():
-    pytest.importorskip("numba")
-    rows = _table_rows("engines.py", "--tile-sides")
-    assert [row.split(" | ")[0][2:] for row in rows] == PINHOLE_EXAMPLES
-    for row in rows:
-        cells = row.strip("| ").split(" | ")[1:]
-        assert len(cells) == 8 and all("ms" in cell for cell in cells)
-        assert sum(cell.endswith("*") for cell in cells) == 1  # tile_side's choice, once
-
-
 def test_compile_time_times_each_entry_points_first_use_from_an_empty_cache():
     pytest.importorskip("numba")
-    rows = _table_rows("compile_time.py")
+    rows = table_rows("compile_time.py")
     entries = [("classic", "trace_flat"), ("classic_lit", "trace_lit"),
                ("mirror_balls", "trace_mirrors"), ("soft_shadows", "trace_sampled"),
                ("glossy", "trace_sampled_mirrors"), ("motion_blur", "trace_moving")]  # fmt: skip
@@ -455,52 +412,10 @@ def test_compile_time_times_each_entry_points_first_use_from_an_empty_cache():
     assert all(row.endswith(" MB |") for row in rows)  # each with its peak memory
 
 
-def test_a_render_child_renders_its_engines_scene_each_time_it_is_asked_and_says_how_long():
-    """The child process each engine's renders are timed in (compile_time.py, parts 2 and 3)."""
-    pytest.importorskip("numba")
-    compile_time = _benchmark_module("compile_time")
-    children = {"now": compile_time.render_child("now", ["cutouts"], [None], None, True)}
-    child, _, chosen = children["now"]
-    try:
-        took = [
-            compile_time.timed_render(child, "cutouts", None, threads, clock)()
-            for threads, clock in ((1, "wall"), (2, "wall"), (1, "cpu"))
-        ]
-    finally:
-        compile_time.close(children)
-    assert all(0 < seconds < 60 for seconds in took)
-    assert list(chosen) == ["cutouts"] and chosen["cutouts"][0] in (4, 8, 16)
-    assert child.returncode == 0
-
-
-def test_engine_agreement_prints_each_kind_of_scene_and_saves_a_scene_that_loads(tmp_path):
-    pytest.importorskip("numba")
-    rows = _table_rows(
-        "engine_agreement.py", "--scenes", "3", "--out", str(tmp_path / "out"), repeats=False
-    )
-    assert rows and all(row.count(" | ") == 2 for row in rows)  # kind | scenes | mismatches
-    assert all(row.strip("| ").split(" | ")[2] == "0" for row in rows)  # the engines agree
-    assert not (tmp_path / "out").exists()  # no scene that disagrees saved
-    save = _benchmark_module("engine_agreement").save
-    from random_scenes import make_textures, random_scene
-
-    from raykit.io.scene_json import load_scene
-
-    rng = np.random.default_rng(5)
-    textures = make_textures(rng, tmp_path / "work" / "textures")
-    data = random_scene(rng, textures)[0]
-    data["billboards"] = [*data.get("billboards", []), {
-        "upper_left": [0, 1, 0], "lower_left": [0, 0, 0], "upper_right": [1, 1, 0],
-        "image": "textures/" + textures[0],
-    }]  # fmt: skip
-    saved = save(data, tmp_path / "out", "a_scene", tmp_path / "work")
-    assert load_scene(saved).billboards[-1].texture.rgba.shape[:2] == (1, 1)
-
-
 def test_the_large_textures_bench_scene_is_classic_with_each_texture_256_square_rgba(tmp_path):
     from raykit.io.scene_json import load_scene
 
-    scenes = _benchmark_module("scenes")
+    scenes = benchmark_module("scenes")
     scene = load_scene(scenes.classic_with_large_textures(tmp_path))
     classic = load_scene(REPO / "scenes/classic.json")
     assert len(scene.spheres) == len(classic.spheres) and len(scene.billboards) == 4
@@ -540,7 +455,7 @@ def test_sampling_error_quick_prints_each_effect_every_sampler_and_their_slopes(
 
 
 def test_race_reads_times_to_error_off_log_log_curves():
-    module = _benchmark_module("race")
+    module = benchmark_module("race")
     spp = [1, 4, 16, 64]
     steep = module.Curve("raykit", "jittered", 1, spp, {n: [n**-1.5] for n in spp})
     steep.seconds, steep.load = {n: 0.01 * n for n in spp}, 0.5  # time proportional to samples
@@ -557,7 +472,7 @@ def test_race_reads_times_to_error_off_log_log_curves():
 
 
 def test_race_prints_no_ratio_at_a_level_below_the_references_noise(capsys):
-    module = _benchmark_module("race")
+    module = benchmark_module("race")
     spp = [1, 4, 16, 64]
     curves = []
     for renderer, seconds in (("raykit", 0.01), ("Mitsuba", 0.02)):
@@ -594,7 +509,7 @@ def test_race_converts_each_effect_to_the_same_picture_in_mitsuba():
     radiance lighting the side a × b points to, the flat scenes' objects as emitters of their
     colours; the converged pictures are compared by race.py itself."""
     mi = pytest.importorskip("mitsuba")
-    module = _benchmark_module("race")
+    module = benchmark_module("race")
     mi.set_variant("scalar_rgb")
     made = {effect.name: effect for effect in module.effects(32, 24)}
     assert list(made) == ["antialiasing", "soft shadows", "depth of field"]
@@ -642,9 +557,9 @@ NUMPY_CONSTANTS = ["BVH_FROM", "TILE", "CROWDED", "POINTS_PER_CALL"]
 def test_thresholds_prints_each_constant_with_the_code_value_and_times_the_numpy_engines():
     """The compiled engine's constants compile a child per value (minutes): --only leaves them
     out, and the summary still names each with its value in the code."""
-    thresholds = _benchmark_module("thresholds")
-    tables = _tables("thresholds.py", "--only", ",".join(NUMPY_CONSTANTS))
-    summary = next(t for t in tables if t[0] == "| constant | module | in the code | measured | |")
+    thresholds = benchmark_module("thresholds")
+    printed = tables("thresholds.py", "--only", ",".join(NUMPY_CONSTANTS))
+    summary = next(t for t in printed if t[0] == "| constant | module | in the code | measured | |")
     rows = [row.strip("| ").split(" | ") for row in summary[2:]]
     assert [row[0] for row in rows] == [c.name for c in thresholds.CONSTANTS]
     for row, constant in zip(rows, thresholds.CONSTANTS, strict=True):
@@ -654,32 +569,6 @@ def test_thresholds_prints_each_constant_with_the_code_value_and_times_the_numpy
         else:
             assert row[3] == "not run"
     for constant in thresholds.CONSTANTS[: len(NUMPY_CONSTANTS)]:  # the code's choice, once a row
-        heading = tables.index([f"## {constant.name} ({constant.module})"])
-        rows = [row for row in tables[heading + 2][2:] if not row.startswith("| time / ")]
+        heading = printed.index([f"## {constant.name} ({constant.module})"])
+        rows = [row for row in printed[heading + 2][2:] if not row.startswith("| time / ")]
         assert rows and all(row.count("*") == 1 for row in rows)
-
-
-def test_thresholds_sets_a_compiled_constant_in_every_module_that_holds_it_before_compiling():
-    pytest.importorskip("numba")
-    code = """
-import sys
-sys.path.insert(0, {benchmarks!r})
-import thresholds
-thresholds.set_constants({{"raykit.engine.compiled.bvh.DIRECT_HITS": 0,
-                          "raykit.engine.compiled.tiles.HOLDING_CHUNK": 3, "_nrt": True}})
-from raykit.engine import compiled
-from raykit.engine.compiled import bvh, compiling, jobs, shadows, tiles
-render = sys.modules["raykit.engine.compiled.render"]  # the package's render is the function
-assert bvh.DIRECT_HITS == render.DIRECT_HITS == compiled.DIRECT_HITS == 0
-assert tiles.HOLDING_CHUNK == jobs.HOLDING_CHUNK == compiled.HOLDING_CHUNK == 3
-assert shadows.shadow_lists.targetoptions["_nrt"] is True
-assert "_nrt" not in render.cast_rays.targetoptions  # one that makes arrays: left alone
-assert compiling.KERNEL["_nrt"] is thresholds.code_value(thresholds.CONSTANTS[-1])
-"""
-    run = subprocess.run(
-        [sys.executable, "-c", code.format(benchmarks=str(REPO / "benchmarks"))],
-        capture_output=True,
-        text=True,
-        timeout=TIMEOUT,
-    )
-    assert run.returncode == 0, run.stderr

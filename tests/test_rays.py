@@ -85,3 +85,21 @@ def test_dot_with_a_unit_vector_is_the_length_of_the_projection():
 def _angle(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     cos = np.einsum("ij,ij->i", a, b) / (np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1))
     return np.arccos(np.clip(cos, -1, 1))
+
+
+@pytest.mark.parametrize("dtype", [np.float64, np.float32])
+def test_cross_is_numpys_cross_bit_for_bit_in_its_dtype_and_broadcasts(dtype):
+    """raykit.rays.cross makes np.cross's products and differences: the same bits, for single
+    vectors, rows, and a vector against rows."""
+    from raykit.rays import cross
+
+    rng = np.random.default_rng(23)
+    a, b = (
+        (rng.normal(size=(40, 3)) * 10.0 ** rng.integers(-6, 7, (40, 1))).astype(dtype)
+        for _ in "ab"
+    )
+    for x, y in ((a, b), (a[0], b[0]), (a, b[0]), (a[0], b)):
+        made = cross(x, y)
+        assert made.dtype == np.cross(x, y).dtype == dtype
+        assert made.tobytes() == np.cross(x, y).tobytes()
+    assert cross([1, 0, 0], [0, 1, 0]).tolist() == [0, 0, 1]  # x × y = z: right-handed

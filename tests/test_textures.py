@@ -1,6 +1,7 @@
 import os
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 from PIL import Image
@@ -115,7 +116,7 @@ def _texels(path) -> np.ndarray:
 
 
 def _cached_files(cache) -> list:
-    return sorted((cache / "raykit" / "textures").glob("*.npy"))
+    return sorted((cache / "raykit" / "textures").glob("*.rgba"))
 
 
 def _decodes(monkeypatch) -> list:
@@ -134,6 +135,7 @@ def test_a_large_texture_is_decoded_once_and_then_read_from_the_cache(tmp_path, 
     again = _texels(tmp_path / "t.png")
     assert len(decodes) == 1 and len(_cached_files(tmp_path / "cache")) == 1
     assert type(again) is np.ndarray and again.dtype == np.uint8
+    assert not first.flags.writeable and not again.flags.writeable  # nobody's to change
     assert np.array_equal(first, made) and np.array_equal(again, made)
 
 
@@ -158,7 +160,7 @@ def test_a_small_texture_is_decoded_each_time_and_never_cached(tmp_path, monkeyp
 
 def test_the_cache_drops_the_least_recently_used_decodes_beyond_its_size(tmp_path, monkeypatch):
     monkeypatch.setenv("RAYKIT_CACHE_DIR", str(tmp_path / "cache"))
-    one_decode = CACHED_FROM * 4 + 128  # a .npy file: the texels and its header
+    one_decode = CACHED_FROM * 4  # a kept decode: the texels' bytes alone
     monkeypatch.setattr(textures, "CACHE_BYTES", 2 * one_decode)
     paths = [tmp_path / f"t{k}.png" for k in range(3)]
     made = [_large_texture(path, seed=k) for k, path in enumerate(paths)]
@@ -186,7 +188,7 @@ def test_a_cache_that_cannot_be_written_only_decodes(tmp_path, monkeypatch):
 
 def test_the_cache_is_looked_over_only_when_this_process_may_have_filled_it(tmp_path, monkeypatch):
     monkeypatch.setenv("RAYKIT_CACHE_DIR", str(tmp_path / "cache"))
-    one_decode = CACHED_FROM * 4 + 128
+    one_decode = CACHED_FROM * 4
     monkeypatch.setattr(textures, "CACHE_BYTES", 3 * one_decode)
     looks = []
     evict = textures._evict
@@ -218,3 +220,45 @@ def test_textures_decoded_on_threads_at_once_are_each_decoded_once_and_kept(tmp_
     assert len(decodes) == 4 and all(texture.decoded for texture in loaded)
     assert all(np.array_equal(t, m) for t, m in zip(texels, made, strict=True))
     assert len(_cached_files(tmp_path / "cache")) == 4
+
+
+def test_a_kept_decode_of_the_wrong_size_is_no_decode_and_is_decoded_anew(tmp_path, monkeypatch):
+    monkeypatch.setenv("RAYKIT_CACHE_DIR", str(tmp_path / "cache"))
+    made = _large_texture(tmp_path / "t.png", seed=4)
+    _texels(tmp_path / "t.png")
+    (kept,) = _cached_files(tmp_path / "cache")
+    kept.write_bytes(kept.read_bytes()[:-1])  # cut short, as by a full disk
+    decodes = _decodes(monkeypatch)
+    assert np.array_equal(_texels(tmp_path / "t.png"), made) and decodes == [1]
+    assert kept.stat().st_size == made.nbytes  # kept whole again
+
+
+def test_an_older_formats_decodes_count_in_the_cache_and_go_first(tmp_path, monkeypatch):
+    monkeypatch.setenv("RAYKIT_CACHE_DIR", str(tmp_path / "cache"))
+    folder = textures.cache_folder()
+    older = folder / "0123.npy"  # as an older raykit kept its decodes
+    older.write_bytes(bytes(CACHED_FROM * 4 + 128))
+    os.utime(older, (1, 1))
+    monkeypatch.setattr(textures, "CACHE_BYTES", CACHED_FROM * 4)
+    _large_texture(tmp_path / "t.png", seed=5)
+    _texels(tmp_path / "t.png")
+    assert not older.exists() and len(_cached_files(tmp_path / "cache")) == 1
+
+
+def test_in_cache_looks_without_decoding_and_a_decode_after_it_reads_the_file_once(
+    tmp_path, monkeypatch
+):
+    monkeypatch.setenv("RAYKIT_CACHE_DIR", str(tmp_path / "cache"))
+    made = _large_texture(tmp_path / "t.png", seed=6)
+    texture = Texture(tmp_path / "t.png", "scene.json", "billboards[0].image")
+    decodes = _decodes(monkeypatch)
+    reads = []
+    read_bytes = Path.read_bytes
+    monkeypatch.setattr(Path, "read_bytes", lambda self: reads.append(1) or read_bytes(self))
+    assert not texture.in_cache() and not texture.decoded and decodes == []
+    assert np.array_equal(texture.rgba, made) and decodes == [1] and reads == [1]
+    again = Texture(tmp_path / "t.png", "scene.json", "billboards[0].image")
+    assert again.in_cache() and again.decoded and decodes == [1]
+    small = tmp_path / "small.png"
+    Image.new("RGBA", (16, 16)).save(small)
+    assert not Texture(small, "scene.json", "billboards[1].image").in_cache()

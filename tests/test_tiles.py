@@ -185,6 +185,29 @@ def test_objects_behind_the_eye_have_no_bounds_and_ones_around_it_the_whole_imag
     assert x0 == 0 and x1 == 640 and y1 == 480 and 100 < y0 < 300  # below the horizon
 
 
+@pytest.mark.parametrize("projection", ["perspective", "orthographic"])
+def test_the_billboards_bounds_at_once_are_each_ones_own(projection):
+    """billboards_bounds computes every billboard's rectangle in one pass: no row depends on
+    another's, whether seen, behind the eye, around it or off the image."""
+    from dataclasses import replace
+
+    from raykit.billboards import Billboard
+    from raykit.engine.screen_bounds import billboards_bounds
+
+    camera = replace(load_scene(SCENES / "classic.json").camera, projection=projection)
+    rng = np.random.default_rng(31)
+    corners = [rng.normal(size=3) * 6 for _ in range(12)] + [np.array([0.0, 3.0, 14.0])]
+    corners += [np.array([0.0, 3.0, 9.9]), np.array([500.0, 3.0, 0.0])]  # behind, around, off
+    boards = [
+        Billboard(c, c + rng.normal(size=3), c + rng.normal(size=3), np.ones(3)) for c in corners
+    ]
+    together = billboards_bounds(camera, boards)
+    for board, row in zip(boards, together, strict=True):
+        alone = billboard_bounds(camera, board)
+        assert (alone is None and np.isnan(row).all()) or tuple(row) == alone
+    assert np.isnan(together).all(axis=1).any() and np.isfinite(together).all(axis=1).any()
+
+
 def test_a_sphere_bound_is_tight_to_a_pixel():
     camera = load_scene(SCENES / "classic.json").camera
     sphere = load_scene(SCENES / "classic.json").spheres[0]  # the red ball, fully in view

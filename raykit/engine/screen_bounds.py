@@ -43,13 +43,6 @@ def _camera_coordinates(camera: Camera, points: np.ndarray) -> np.ndarray:
     return np.stack([dot(relative, u), dot(relative, v), -dot(relative, w)], axis=-1)
 
 
-def _to_image(camera: Camera, s: np.ndarray, t: np.ndarray) -> Bounds | None:
-    """Image-plane extents [s] x [t] as a clipped, margined pixel rectangle (None if off)."""
-    extents = (np.array([v]) for v in (s.min(), s.max(), t.min(), t.max()))
-    row = _to_image_rows(camera, *extents)[0]
-    return None if np.isnan(row).any() else tuple(float(v) for v in row)
-
-
 def _whole_image(camera: Camera) -> Bounds:
     return (0.0, float(camera.width), 0.0, float(camera.height))
 
@@ -88,7 +81,7 @@ def _to_image_rows(
     camera: Camera, s0: np.ndarray, s1: np.ndarray, t0: np.ndarray, t1: np.ndarray
 ) -> np.ndarray:
     """Image-plane extents [s0, s1] x [t0, t1] ``(S,)`` as clipped, margined pixel rectangles
-    ``(S, 4)``, NaN rows for those off the image: :func:`_to_image` for many at once."""
+    ``(S, 4)``, NaN rows for those off the image."""
     Wp, Hp = camera.plane_size
     x0 = (s0 + Wp / 2) * camera.width / Wp - MARGIN
     x1 = (s1 + Wp / 2) * camera.width / Wp + MARGIN
@@ -114,31 +107,45 @@ def sphere_bounds(camera: Camera, sphere: Sphere) -> Bounds | None:
 
 
 def billboard_bounds(camera: Camera, billboard: Billboard) -> Bounds | None:
-    """The screen rectangle of a billboard (see the module docstring)."""
-    ul = np.asarray(billboard.upper_left, float)
-    corners = np.stack([ul, ul + billboard.a, ul + billboard.b, ul + billboard.a + billboard.b])
-    x, y, depth = _camera_coordinates(camera, corners).T
-    if (depth <= 0).all():
-        return None  # wholly behind the eye
+    """The screen rectangle of one billboard, or None (see :func:`billboards_bounds`)."""
+    row = billboards_bounds(camera, [billboard])[0]
+    return None if np.isnan(row).any() else tuple(float(v) for v in row)
+
+
+def billboards_bounds(camera: Camera, billboards) -> np.ndarray:
+    """Screen rectangles of B billboards at once (see the module docstring), ``(B, 4)`` rows
+    (x0, x1, y0, y1); NaN rows for billboards never visible."""
+    bounds = np.full((len(billboards), 4), np.nan)
+    if not billboards:
+        return bounds
+    ul = np.array([np.asarray(board.upper_left, float) for board in billboards])
+    a = np.array([board.a for board in billboards], float)
+    b = np.array([board.b for board in billboards], float)
+    corners = np.stack([ul, ul + a, ul + b, ul + a + b], axis=1)  # (B, 4, 3)
+    x, y, depth = np.moveaxis(_camera_coordinates(camera, corners), -1, 0)  # each (B, 4)
+    seen = ~(depth <= 0).all(axis=1)  # else wholly behind the eye
     if camera.projection == "orthographic":
-        return _to_image(camera, x, y)
-    scale = np.abs(corners - camera.eye).max()
-    if (depth <= 1e-9 * scale).any():
-        return _whole_image(camera)  # crosses the eye's plane
-    return _to_image(camera, camera.d * x / depth, camera.d * y / depth)
+        s, t = x, y
+    else:
+        scale = np.abs(corners - camera.eye).max(axis=(1, 2))
+        whole = seen & (depth <= 1e-9 * scale[:, None]).any(axis=1)  # crosses the eye's plane
+        bounds[whole] = _whole_image(camera)
+        seen &= ~whole
+        with np.errstate(divide="ignore", invalid="ignore"):
+            s, t = camera.d * x / depth, camera.d * y / depth
+    rows = _to_image_rows(camera, s.min(axis=1), s.max(axis=1), t.min(axis=1), t.max(axis=1))
+    bounds[seen] = rows[seen]
+    return bounds
 
 
 def scene_bounds(camera: Camera, centers: np.ndarray, radii: np.ndarray, billboards) -> np.ndarray:
     """Bounds of a scene's K objects in index order, the spheres (``centers (S, 3)``, ``radii
-    (S,)``, all at once, :func:`spheres_bounds`) then the billboards (one by one): ``(K, 4)``
+    (S,)``, :func:`spheres_bounds`) then the billboards (:func:`billboards_bounds`): ``(K, 4)``
     rows (x0, x1, y0, y1); NaN rows for never visible."""
     bounds = np.full((len(radii) + len(billboards), 4), np.nan)
     if len(radii):
         bounds[: len(radii)] = spheres_bounds(camera, centers, radii)
-    for i, board in enumerate(billboards, start=len(radii)):
-        found = billboard_bounds(camera, board)
-        if found is not None:
-            bounds[i] = found
+    bounds[len(radii) :] = billboards_bounds(camera, billboards)
     return bounds
 
 

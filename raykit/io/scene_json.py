@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 
 from raykit.billboards import Billboard, is_degenerate
-from raykit.camera import PROJECTIONS, Camera, DegenerateFrameError, camera_frame
+from raykit.camera import PROJECTIONS, Camera, DegenerateFrameError
 from raykit.io.fields import Field, read_scene_file, top_fields
 from raykit.io.textures import Texture
 from raykit.lights import LIGHT_TYPES, AreaLight, DirectionalLight, Light, PointLight
@@ -269,11 +269,12 @@ def _read_camera(node: Field, v2: bool = False) -> Camera:
     projection = f["projection"].string(PROJECTIONS) if "projection" in f else "perspective"
     if aperture > 0 and projection == "orthographic":
         raise f["aperture"].error("an orthographic camera has no lens: its rays are parallel")
+    camera = Camera(eye, lookat, up, fov_angle, width, height, projection, aperture, focus_distance)
     try:
-        camera_frame(eye, lookat, up)
+        camera.frame  # noqa: B018 (made once, here, and kept for every ray the camera makes)
     except DegenerateFrameError as exc:
         raise f[exc.culprit].error(str(exc)) from None
-    return Camera(eye, lookat, up, fov_angle, width, height, projection, aperture, focus_distance)
+    return camera
 
 
 def _read_spheres(node: Field, v2: bool = False) -> Sequence[Sphere]:
@@ -356,9 +357,9 @@ def _read_billboard(
                 'a billboard with an "image" takes its diffuse colour from the image'
             )
         path = folder / f["image"].string()
-        texture = textures.get(path.resolve())
+        texture = textures.get(same := path.resolve())
         if texture is None:
-            texture = textures[path.resolve()] = Texture(path, f["image"].source, f["image"].path)
+            texture = textures[same] = Texture(path, f["image"].source, f["image"].path)
     name = f["name"].string() if "name" in f else None
     return Billboard(
         upper_left, lower_left, upper_right, color, texture, name, material=_read_material(f, v2)

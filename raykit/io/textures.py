@@ -12,7 +12,9 @@ no image, or an absurd size, at scene-load time. The pixels are decoded on first
 Decoded once. A texture of :data:`CACHED_FROM` texels or more is kept, decoded, in a cache on
 disk (:func:`cache_folder`), under a hash of the file's bytes, of Pillow's version and of
 :data:`CACHE_FORMAT`, so an edited file, another Pillow or another conversion is decoded anew,
-never served from an older one; read back memory-mapped, it is the same bytes the decode made.
+never served from an older one. A kept decode is the texels' bytes alone, row by row (the
+texture's header gives their shape, and a file of another size is no decode): read back, they
+are the same bytes the decode made, for less than a ``.npy`` file's header costs to parse.
 The cache keeps at most :data:`CACHE_BYTES`, the least recently used going first (a process
 looks at what the folder holds when its own writes may have filled it, so writes of others since
 its last look may overfill it until then); a cache that cannot be written or read is no cache
@@ -25,10 +27,10 @@ inflates a PNG), as the compiled engine's ``prepare`` decodes a scene's.
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import io
 import os
-import tempfile
 import threading
 import warnings
 from pathlib import Path
@@ -43,7 +45,8 @@ MAX_TEXTURE_SIDE = 16384
 MAX_TEXTURE_PIXELS = 64 * 1024 * 1024
 CACHED_FROM = 256 * 256  # texels: a texture this large or larger is cached once decoded
 CACHE_BYTES = 512 * 1024 * 1024  # at most this many bytes of decoded textures on disk
-CACHE_FORMAT = 1  # raise it when to_rgba8 changes what it makes, so no older decode is read
+CACHE_FORMAT = 2  # raise it when to_rgba8 or the kept file changes, so no older decode is read
+CACHE_SUFFIX = ".rgba"  # a kept decode's; a file being written ends in ".part"
 
 
 class Texture:
@@ -55,6 +58,7 @@ class Texture:
         self.field = field
         self.width, self.height = self._read_header()
         self._rgba: np.ndarray | None = None
+        self._missed: tuple[Path, str, bytes] | None = None  # where in_cache found no decode
 
     def _error(self, problem: str) -> SceneError:
         return SceneError(self.source, self.field, problem)
@@ -103,25 +107,47 @@ class Texture:
         """The texels, ``(H, W, 4)`` uint8, row 0 at the top; decoded on first use, or read
         from the cache of decoded textures (a large one, see the module's page), and kept,
         so that :attr:`decoded` can tell."""
-        if self._rgba is None:
-            self._rgba = self._texels()
+        if self._rgba is None and not self.in_cache():
+            self._rgba = self._decoded_and_kept()
         return self._rgba
 
-    def _texels(self) -> np.ndarray:
-        folder = cache_folder() if self.width * self.height >= CACHED_FROM else None
+    @property
+    def large(self) -> bool:
+        """Whether the texture has :data:`CACHED_FROM` texels or more: kept in the cache once
+        decoded, and long to decode."""
+        return self.width * self.height >= CACHED_FROM
+
+    def in_cache(self) -> bool:
+        """Whether :attr:`rgba` is at hand without a decode: got already, or read now from the
+        cache of decoded textures (and kept). Never for a small texture not yet decoded, which
+        is not cached. Looking costs a read of the file and its hash, which a decode after it
+        does not repeat."""
+        if self._rgba is not None:
+            return True
+        if self._missed is not None:  # looked already
+            return False
+        folder = cache_folder() if self.large else None
         if folder is None:
-            return self._decode()
+            return False
         try:
             content = self.path.read_bytes()
         except OSError:
-            return self._decode()  # which words the error
-        shape = (self.height, self.width, 4)
+            return False  # the decode words the error
         key = _cache_key(content)
-        cached = _cached(folder / f"{key}.npy", shape)
-        if cached is not None:
-            return cached
+        self._rgba = _cached(folder / f"{key}{CACHE_SUFFIX}", (self.height, self.width, 4))
+        if self._rgba is None:
+            self._missed = (folder, key, content)
+        return self._rgba is not None
+
+    def _decoded_and_kept(self) -> np.ndarray:
+        """The texels decoded, and kept in the cache when it lacked them (:meth:`in_cache`,
+        which looked first, says where and under what name)."""
+        missed, self._missed = self._missed, None
+        if missed is None:
+            return self._decode()
+        folder, key, content = missed
         rgba = self._decode(content)
-        if rgba.shape == shape:
+        if rgba.shape == (self.height, self.width, 4):
             _keep(folder, key, rgba)
         return rgba
 
@@ -166,16 +192,20 @@ def _cache_key(content: bytes) -> str:
 
 
 def _cached(path: Path, shape: tuple[int, int, int]) -> np.ndarray | None:
-    """The decode kept at ``path``, memory-mapped read-only, if it is there and of ``shape``
-    (uint8); it is marked as used now, for :func:`_evict`."""
+    """The decode kept at ``path``, if it is there and of ``shape`` (uint8, as many bytes); it
+    is marked as used now, for :func:`_evict`."""
+    rgba = np.empty(shape, np.uint8)
     try:
-        rgba = np.load(path, mmap_mode="r", allow_pickle=False)
+        with open(path, "rb", buffering=0) as file:
+            if os.fstat(file.fileno()).st_size != rgba.nbytes:
+                return None
+            if file.readinto(memoryview(rgba).cast("B")) != rgba.nbytes:
+                return None
         os.utime(path)
-    except (OSError, ValueError):
+    except OSError:
         return None
-    if rgba.shape != shape or rgba.dtype != np.uint8:
-        return None
-    return rgba.view(np.ndarray)  # the same bytes, without np.memmap's own type
+    rgba.flags.writeable = False  # as a decode's, which are Pillow's bytes
+    return rgba
 
 
 # Per cache folder, the bytes this process may still write into it before it looks at the
@@ -190,18 +220,19 @@ def _keep(folder: Path, key: str, rgba: np.ndarray) -> None:
     rename); then, if this process's writes may have filled the cache since it last looked,
     remove the least recently used decodes while it holds more than :data:`CACHE_BYTES`. A
     cache that cannot be written is left as it is."""
-    part = None
+    part = folder / f"{key}.{os.getpid()}.{threading.get_ident()}.part"  # this thread's own
     try:
-        with tempfile.NamedTemporaryFile(dir=folder, suffix=".part", delete=False) as part:
-            np.save(part, rgba, allow_pickle=False)
-            size = part.tell()
-        os.replace(part.name, folder / f"{key}.npy")
+        with open(part, "wb", buffering=0) as file:
+            left = memoryview(np.ascontiguousarray(rgba)).cast("B")
+            while left:
+                left = left[file.write(left) :]
+        os.replace(part, folder / f"{key}{CACHE_SUFFIX}")
         with _room_lock:
-            room = _room.get(folder, 0) - size  # a folder not yet looked at: look now
+            room = _room.get(folder, 0) - rgba.nbytes  # a folder not yet looked at: look now
             _room[folder] = room if room >= 0 else CACHE_BYTES - _evict(folder)
     except OSError:
-        if part is not None:
-            Path(part.name).unlink(missing_ok=True)
+        with contextlib.suppress(OSError):
+            part.unlink(missing_ok=True)
 
 
 def _evict(folder: Path) -> int:
@@ -211,8 +242,8 @@ def _evict(folder: Path) -> int:
     kept = []
     with os.scandir(folder) as entries:
         for entry in entries:
-            if not entry.name.endswith(".npy"):
-                continue
+            if entry.name.endswith(".part") or not entry.is_file(follow_symlinks=False):
+                continue  # being written, or no decode
             try:
                 status = entry.stat()
             except FileNotFoundError:

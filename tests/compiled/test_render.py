@@ -36,6 +36,43 @@ from .harness import (
 EXAMPLES = sorted(SCENES.glob("*.json"))  # motion_blur.json among them
 
 
+def test_prepare_decodes_on_other_threads_only_the_large_textures_the_cache_lacks(
+    tmp_path, monkeypatch
+):
+    # a cached decode's read and a small decode are Python's work, which other threads only slow
+    from PIL import Image
+
+    from raykit.io.textures import CACHED_FROM
+
+    monkeypatch.setenv("RAYKIT_CACHE_DIR", str(tmp_path / "cache"))
+    side = int(CACHED_FROM**0.5)
+    rng = np.random.default_rng(7)
+    for name, size in (("small", 8), ("cached", side), ("new", side)):
+        rgba = rng.integers(0, 256, (size, size, 4), dtype=np.uint8)
+        Image.fromarray(rgba, "RGBA").save(tmp_path / f"{name}.png")
+    data = json.loads((SCENES / "classic.json").read_text())
+    for board, name in zip(data["billboards"], ("small", "cached", "new", "cached"), strict=False):
+        board["image"] = f"{name}.png"
+    load_scene_with = lambda: scene_from_dict(data, "scene.json", tmp_path)  # noqa: E731
+    load_scene_with().billboards[1].texture.rgba  # noqa: B018 (decoded once: now cached)
+    handed = []
+    each_at_once = compiled.render.each_at_once
+    monkeypatch.setattr(
+        compiled.render,
+        "each_at_once",
+        lambda function, items, threads: (
+            handed.append([t.path.name for t in items]) or each_at_once(function, items, threads)
+        ),
+    )
+    scene = load_scene_with()
+    prepared = compiled.prepare(scene)
+    assert handed == [["new.png"]]
+    assert all(board.texture.decoded for board in scene.billboards)
+    again = compiled.prepare(load_scene_with())
+    assert handed == [["new.png"], []]  # both large ones are cached now
+    assert np.array_equal(prepared.arrays.texels, again.arrays.texels)
+
+
 def test_the_renderers_loop_is_a_module_as_the_reference_is():
     import raykit.engine.compiled.render as loop  # the module, not a function of its name
 

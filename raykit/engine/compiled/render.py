@@ -126,12 +126,16 @@ def prepare(scene: Scene) -> Prepared:
     it can be rendered many times (:func:`render`). It is what Mitsuba's ``load_dict`` does when
     it builds its BVH, and the camera's screen tiles besides (a raykit scene holds its camera).
     Refuses, in one line, what no kernel renders yet
-    (:func:`raykit.engine.choice.refuse_distributed`). The textures' texels are got first, on
-    as many threads as a render takes (:func:`~raykit.engine.compiled.pool.each_at_once`): a
-    texture read from a file decodes then."""
+    (:func:`raykit.engine.choice.refuse_distributed`). The textures' texels are got first:
+    those the cache of decoded textures holds, and the small ones, on this thread; the large
+    ones it lacks decode on as many threads as a render takes
+    (:func:`~raykit.engine.compiled.pool.each_at_once`). Only a large decode lets go of Python's
+    lock for long (Pillow inflates a PNG without it): other threads would only slow the rest,
+    which is Python's work."""
     refuse_distributed(scene)
     textures = list(dict.fromkeys(b.texture for b in scene.billboards if b.texture is not None))
-    each_at_once(_texels, textures, numba.get_num_threads())
+    undecoded = [texture for texture in textures if _long_to_decode(texture)]
+    each_at_once(_texels, undecoded, numba.get_num_threads())
     arrays = scene_arrays(scene)
     shading = scene_shading(scene)
     tree = scene_tree(scene) if shading.shaded or scene.distributed else _NO_TREE
@@ -148,8 +152,16 @@ def prepare(scene: Scene) -> Prepared:
                     noise, scene_motion(scene), entry_point(scene))  # fmt: skip
 
 
+def _long_to_decode(texture) -> bool:
+    """Whether getting ``texture``'s texels is a long decode: a large texture file that the
+    cache lacks (:meth:`raykit.io.textures.Texture.in_cache`, which reads it if it has it).
+    Texels given as an array (:class:`raykit.billboards.Texels`) are at hand."""
+    in_cache = getattr(texture, "in_cache", None)
+    return in_cache is not None and texture.large and not in_cache()
+
+
 def _texels(texture) -> None:
-    """A texture's texels, got (and, read from a file, decoded and kept by it)."""
+    """A texture's texels, got (decoded, and kept by it)."""
     texture.rgba  # noqa: B018
 
 
