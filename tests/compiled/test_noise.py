@@ -7,6 +7,7 @@ import numba
 import numpy as np
 
 from raykit.engine import noise
+from raykit.engine.compiled import jobs
 from raykit.engine.compiled import noise as kernels
 from raykit.sampling import Sampling
 
@@ -121,16 +122,14 @@ GARBAGE = np.uint64(0x9E3779B97F4A7C15)
 
 @numba.njit
 def _batch(seed, pixels, k_first, samples, table, wanted):
-    numbers = np.full((len(pixels) * samples, len(wanted)), np.nan)
-    columns = np.full((len(wanted), len(pixels) * samples), np.nan)
-    keys = np.full((len(pixels), len(wanted) // 2 + 2, 6), GARBAGE, dtype=np.uint64)
+    room = jobs.new_sample_room(len(pixels) * samples, len(wanted), len(pixels))
+    room.numbers[:] = np.nan
+    room.columns[:] = np.nan
+    room.keys[:] = GARBAGE
     for q in range(len(pixels)):
-        kernels.pixel_keys(kernels.SOBOL, seed, pixels[q], table.shape[1], wanted, keys[q])
-    cells = np.empty(len(pixels) * samples, dtype=np.uint32)
-    seeds = np.empty(len(pixels) * samples, dtype=np.uint32)
-    kernels.sobol_numbers(k_first, samples, len(pixels), table, wanted, keys, numbers, columns,
-                          cells, seeds)  # fmt: skip
-    return numbers, columns
+        kernels.pixel_keys(kernels.SOBOL, seed, pixels[q], table.shape[1], wanted, room.keys[q])
+    kernels.sobol_numbers(k_first, samples, len(pixels), table, wanted, room)
+    return room.numbers, room.columns
 
 
 def _sobol_batch(rng):

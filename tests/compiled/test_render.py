@@ -151,6 +151,25 @@ def test_more_samples_a_pixel_than_a_batch_of_lanes_render_the_same_with_both_en
     same_render(replace(scene, camera=replace(scene.camera, width=4, height=2)))
 
 
+@pytest.mark.parametrize("sampler,samples,moving", [
+    ("random", 1, False), ("jittered", 1, False), ("sobol", 1, False), ("sobol", 2, False),
+    ("random", 3, False), ("sobol", 1, True),
+])  # fmt: skip
+def test_few_samples_a_pixel_in_jobs_across_rows_render_the_same_with_both_engines(
+    sampler, samples, moving
+):
+    """With fewer samples a pixel than fill a batch's lanes, a job holds more pixels than
+    SAMPLED_PIXELS (job_pixels), here running over the end of a row: its batches stop there.
+    A scene that moves takes jobs of the same pixels, one sample at a time."""
+    job = compiled.render.job_pixels(samples)
+    assert job > compiled.render.SAMPLED_PIXELS
+    rng = np.random.default_rng(samples * 7 + len(sampler))
+    scene = distributed_scene(rng, sampler, samples=samples, moving=moving)
+    assert scene.moving == moving
+    width = job + 37  # a job ends inside a row, and the next runs into the row below
+    same_render(replace(scene, camera=replace(scene.camera, width=width, height=3)))
+
+
 @pytest.mark.parametrize("sampler", SAMPLERS)
 def test_an_orthographic_camera_with_an_area_light_renders_the_same_with_both_engines(sampler):
     scene = load_scene(SCENES / "orthographic.json")

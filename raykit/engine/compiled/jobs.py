@@ -230,17 +230,21 @@ class SampleRoom(NamedTuple):
     each, ``(N, D)``, or ``(D,)`` for one sample at a time), the wanted ones copied into ``columns
     (D, N)`` (no columns for one at a time), what each pixel's samples share, ``keys (P, D // 2 + 2,
     6)`` (:func:`~.noise.pixel_keys`; P = 1 for one at a time), the objects a batch of a
-    pinhole's samples can hit, ``near (DIRECT_HITS,)`` (:func:`~.tiles.row_objects`), and each
-    sample's Sobol' point and seed in one dimension, ``cells (N,)`` and ``seeds (N,)`` (uint32,
-    :func:`~.noise.sobol_numbers`). Each worker has its own, made before its call
-    (:func:`new_sample_room`, :func:`sampled_rooms`)."""
+    pinhole's samples can hit, ``near (DIRECT_HITS,)`` (:func:`~.tiles.row_objects`), and, for
+    :func:`~.noise.sobol_numbers`, each sample's Sobol' cell and point in one pair of dimensions,
+    ``cells (N,)`` and ``points (N,)``, its pixel's scrambling seeds of the pair, ``seeds (2,
+    N)`` (uint32 each), and its pixel's round keys of the pair's shuffle, ``rounds (4, N)``
+    (uint64). Each worker has its own, made before its call (:func:`new_sample_room`,
+    :func:`sampled_rooms`)."""
 
     numbers: np.ndarray
     columns: np.ndarray
     keys: np.ndarray
     near: np.ndarray
     cells: np.ndarray
+    points: np.ndarray
     seeds: np.ndarray
+    rounds: np.ndarray
 
 
 @njit(**MAKES_ARRAYS)
@@ -250,8 +254,10 @@ def new_sample_room(n, dimensions, pixels):
     numbers = np.empty((max(n, 1), dimensions))
     keys = np.zeros((max(pixels, 1), dimensions // 2 + 2, 6), dtype=np.uint64)
     near = np.empty(DIRECT_HITS, dtype=np.int64)
-    cells, seeds = np.empty(n, dtype=np.uint32), np.empty(n, dtype=np.uint32)
-    return SampleRoom(numbers, np.empty((dimensions, n)), keys, near, cells, seeds)
+    cells, points = np.empty(n, dtype=np.uint32), np.empty(n, dtype=np.uint32)
+    seeds, rounds = np.empty((2, n), dtype=np.uint32), np.empty((4, n), dtype=np.uint64)
+    return SampleRoom(numbers, np.empty((dimensions, n)), keys, near, cells, points, seeds,
+                      rounds)  # fmt: skip
 
 
 class RayRoom(NamedTuple):

@@ -246,52 +246,63 @@ def shuffle_of_power(index, mask, down, k0, k1, k2, k3):
 
 
 @njit(**INLINED)
-def sobol_numbers(k_first, samples, pixels, table, wanted, keys, numbers, columns, cells, seeds):
+def sobol_numbers(k_first, samples, pixels, table, wanted, room):
     """:func:`sample_numbers` of the Sobol' sampler for a batch: samples ``k_first`` to
     ``k_first + samples - 1`` of each of ``pixels`` pixels, from pixel q's :func:`pixel_keys`
-    ``keys[q]``, into column i = q·samples + j of ``columns (D, N)`` and row i of ``numbers (N,
-    D)``, the dimensions ``wanted (D,)`` only: the same operations on the same integers, in 32-bit
-    integers, one dimension at a time for every sample of the batch. Each sample's point in the
-    table (its cell, shuffled by :func:`shuffle_of_power`) and its pixel's seed are laid in
-    ``cells (N,)`` and ``seeds (N,)`` (uint32), the points read from the table into ``cells`` one
-    at a time, then all of them scrambled into a row of ``columns`` in one loop with no branch,
-    which the compiler turns into vector instructions (read from the table in it, or with a
-    pixel's samples alone in it, it stayed one sample at a time, or too few for its vectors); the
-    rows of ``numbers`` are copied from ``columns`` after."""
+    ``room.keys[q]``, into column i = q·samples + j of ``room.columns (D, N)`` and row i of
+    ``room.numbers (N, D)`` (a :class:`~.jobs.SampleRoom`), the dimensions ``wanted (D,)`` only:
+    the same operations on the same integers, in 32-bit integers, for every sample of the batch
+    at once. A pair of dimensions (or a last single number, a time) at a time: each sample's cell
+    and its pixel's keys are laid in lanes, ``room.cells (N,)``, ``room.rounds (4, N)`` (the
+    shuffle's round keys) and ``room.seeds (2, N)`` (the pair's scrambling seeds), in one pass
+    over the batch's pixels; then the cells shuffled, the pair's points read from the table into
+    ``room.points (N,)``, and each scrambled into a row of ``columns``, each in a loop of its own
+    with no branch, which the compiler turns into vector instructions. (A pixel's few samples
+    alone in such a loop stayed one at a time, or too few for its vectors; the table read in it,
+    too.) Both dimensions of a pair take the same cells, shuffled once. The rows of ``numbers``
+    are copied from ``columns`` after."""
+    keys, numbers, columns = room.keys, room.numbers, room.columns
+    cells, points, seeds, rounds = room.cells, room.points, room.seeds, room.rounds
     count = table.shape[1]
     _, down = shuffle_shape(count)
     mask = np.uint32(count - 1)  # shuffle_shape's mask for a power of two, but 0 for 1
-    shuffled = count > 1  # (a shuffle of one sample is the identity: pixel_keys)
     dimensions = numbers.shape[1]
     lanes = pixels * samples
-    for d in range(dimensions):
-        if not wanted[d]:
+    last_row = keys.shape[1] - 1
+    for first_dimension in range(0, dimensions, 2):
+        single = first_dimension == dimensions - 1  # a last number (a time), its index even
+        group = 1 if single else 2
+        if not wanted[first_dimension] and (single or not wanted[first_dimension + 1]):
             continue
-        single = dimensions % 2 == 1 and d == dimensions - 1  # a last number (a time)
+        row = last_row if single else 1 + first_dimension // 2
+        # the pixel's own pair keeps cell k; a shuffle of one sample is the identity (pixel_keys)
+        shuffled = (first_dimension >= 2 or single) and count > 1
         for q in range(pixels):
-            row = keys[q, len(keys[q]) - 1] if single else keys[q, 1 + d // 2]
-            first = q * samples
-            if (d >= 2 or single) and shuffled:  # the pixel's own pair keeps cell k
-                k0, k1, k2, k3 = row[0], row[1], row[2], row[3]
-                for j in range(samples):
-                    cells[first + j] = shuffle_of_power(k_first + j, mask, down, k0, k1, k2, k3)
-            else:
-                for j in range(samples):
-                    cells[first + j] = k_first + j
-            # the second of a pair takes the pair's second seed and row of the table
-            seed = np.uint32(row[5] if d % 2 else row[4])
-            for j in range(samples):
-                seeds[first + j] = seed
-        # a last single number (its index even) is van der Corput's point π(k), π(k) mirrored:
-        # the table's first row holds each index mirrored twice, the index itself
-        points = table[d % 2]
-        for i in range(lanes):
-            cells[i] = points[cells[i]]
-        out = columns[d]
-        for i in range(lanes):
-            out[i] = unit_number(reverse_bits(owen_hash(cells[i], seeds[i])))
-        for i in range(lanes):
-            numbers[i, d] = out[i]
+            seed0, seed1 = np.uint32(keys[q, row, 4]), np.uint32(keys[q, row, 5])
+            k0, k1, k2, k3 = keys[q, row, 0], keys[q, row, 1], keys[q, row, 2], keys[q, row, 3]
+            for i in range(q * samples, (q + 1) * samples):
+                cells[i] = k_first + i - q * samples
+                seeds[0, i], seeds[1, i] = seed0, seed1
+                if shuffled:
+                    rounds[0, i], rounds[1, i], rounds[2, i], rounds[3, i] = k0, k1, k2, k3
+        if shuffled:
+            for i in range(lanes):
+                cells[i] = shuffle_of_power(cells[i], mask, down, rounds[0, i], rounds[1, i],
+                                            rounds[2, i], rounds[3, i])  # fmt: skip
+        for second in range(group):  # the pair's second takes its own seed and row of the table
+            d = first_dimension + second
+            if not wanted[d]:
+                continue
+            # a single number is van der Corput's point π(k), π(k) mirrored: the table's first
+            # row holds each index mirrored twice, the index itself
+            table_row = table[second]
+            for i in range(lanes):
+                points[i] = table_row[cells[i]]
+            out, seed = columns[d], seeds[second]
+            for i in range(lanes):
+                out[i] = unit_number(reverse_bits(owen_hash(points[i], seed[i])))
+            for i in range(lanes):
+                numbers[i, d] = out[i]
 
 
 def sobol_table(count: int) -> np.ndarray:

@@ -15,6 +15,7 @@ from typing import NamedTuple
 import numba
 import numpy as np
 from numba import njit, prange
+from numba.extending import register_jitable
 
 from raykit.camera import centre_sample, sample_offsets
 from raykit.engine.adaptive import edge_pixels, refine
@@ -92,9 +93,19 @@ from raykit.surfaces import OFFSET_FACTOR
 
 keep_freed_memory()  # each render's outputs reuse the last one's pages, where glibc allows
 ROWS_PER_CALL = 32  # rows of pixels per kernel call when a progress bar is to move
-SAMPLED_PIXELS = 64  # pixels per job of a distributed render, each with all its samples
+SAMPLED_PIXELS = 64  # pixels per job of a distributed render at least, each with all its samples
 SAMPLED_LANES = 256  # samples shaded together (sampled_lanes): of one pixel, or whole pixels
 SAMPLED_SIDE = 16  # the side of a pinhole's distributed render's screen tiles (row_objects)
+
+
+@register_jitable
+def job_pixels(count: int) -> int:
+    """The pixels of each job of a distributed render of ``count`` samples a pixel, for the
+    caller that lays the jobs out and the kernels that take them (plain Python in one, compiled
+    into the other): SAMPLED_PIXELS, or as many as fill SAMPLED_LANES lanes where a pixel's
+    samples are fewer than SAMPLED_LANES // SAMPLED_PIXELS (:func:`sampled_lanes` batches no
+    more than a job, and a batch of too few lanes pays its kernels' calls for too few)."""
+    return max(SAMPLED_PIXELS, SAMPLED_LANES // count)
 
 
 class Prepared(NamedTuple):
@@ -251,15 +262,16 @@ def _render_sampled(prepared: Prepared, progress=None, hits: bool = True):
     rgb = np.empty((pixels, 3))
     index = np.empty(pixels if hits else 0, dtype=np.int64)
     t = np.empty(pixels if hits else 0)
-    starts = np.arange(0, pixels, SAMPLED_PIXELS)
-    band = -(-ROWS_PER_CALL * width // SAMPLED_PIXELS) if progress is not None else len(starts)
+    job = job_pixels(prepared.noise.count)
+    starts = np.arange(0, pixels, job)
+    band = -(-ROWS_PER_CALL * width // job) if progress is not None else len(starts)
     nothing = np.zeros(0)  # no image points, no sample offsets: each pixel takes its own samples
     film = Film(width, height, nothing, nothing, np.zeros((0, 2)), -1, rgb, index, t)
     for first in range(0, len(starts), band):
         jobs = starts[first : first + band]
         run(name, trace, *kernels, film, shares(jobs), rooms=_rooms(prepared, film))
         if progress is not None:
-            progress(min(pixels, jobs[-1] + SAMPLED_PIXELS) - jobs[0])
+            progress(min(pixels, jobs[-1] + job) - jobs[0])
     if not hits:
         return rgb.reshape(height, width, 3), None, None
     return rgb.reshape(height, width, 3), index.reshape(height, width), t.reshape(height, width)
@@ -278,12 +290,13 @@ def _rooms(prepared: Prepared, film: Film) -> Callable[[], tuple]:
     """What makes each worker's rooms (:mod:`~raykit.engine.compiled.jobs`) for a call of the
     entry point of ``prepared`` (:func:`_entry`) into ``film``: its last arguments. A tile's rays
     or a CHUNK of image points, each with its samples and the ray through its centre; a
-    distributed render's SAMPLED_LANES samples."""
-    if prepared.noise is not None:
+    distributed render's SAMPLED_LANES samples, of as many pixels as a job's."""
+    noise = prepared.noise
+    if noise is not None:
         if prepared.entry == "trace_moving":
-            return functools.partial(moving_rooms, prepared.arrays, prepared.noise)
-        return functools.partial(sampled_rooms, SAMPLED_LANES, min(SAMPLED_LANES, SAMPLED_PIXELS),
-                                 prepared.shading, prepared.noise)  # fmt: skip
+            return functools.partial(moving_rooms, prepared.arrays, noise)
+        pixels = min(SAMPLED_LANES, job_pixels(noise.count))
+        return functools.partial(sampled_rooms, SAMPLED_LANES, pixels, prepared.shading, noise)
     size = prepared.tiles.size
     n = (CHUNK if len(film.xs) else size * size) * (len(film.offsets) + 1)
     if prepared.entry == "trace_flat":
@@ -463,7 +476,7 @@ def trace_sampled(scene, camera, lens, noise, tiles, bounces, film, work, room, 
     perturbations from the same numbers), summed and divided by the count as
     :class:`raykit.engine.regions.Image` takes the mean; and the object index and t of the pinhole
     ray through the pixel centre, where the film keeps them (:func:`~.jobs.keeps_hits`).
-    ``work.jobs (J,)``: the first pixel of each job of SAMPLED_PIXELS (row-major, P =
+    ``work.jobs (J,)``: the first pixel of each job of :func:`job_pixels` (row-major, P =
     ``len(film.rgb)``); results into ``film`` (:class:`~.jobs.Film`: ``rgb (P, 3)``,
     ``index``, ``t (P,)``). Through a pinhole, each batch of a job's samples tests only the objects
     its pixels' screen ``tiles`` list (:func:`~.tiles.row_objects`); a lens's rays do not start at
@@ -523,7 +536,7 @@ def spheres_at(standing, motion, centers, T):
 
 @njit(**JOB)
 def sampled_job(standing, moved, camera, lens, noise, motion, film, first, stack, sample_room):
-    """One job of :func:`trace_moving`: the SAMPLED_PIXELS pixels from pixel ``first`` into
+    """One job of :func:`trace_moving`: the :func:`job_pixels` pixels from pixel ``first`` into
     ``film``, with the worker's ``stack`` (:func:`new_stack`), room for a sample's uniform
     numbers and what its pixel's samples share (:class:`~.jobs.SampleRoom`), and the worker's
     copy of the scene, ``moved``, whose sphere centres it moves from where they stand,
@@ -535,7 +548,7 @@ def sampled_job(standing, moved, camera, lens, noise, motion, film, first, stack
     numbers, keys = sample_room.numbers[0], sample_room.keys[0]
     width, rgb, index, t = film.width, film.rgb, film.index, film.t
     hits = keeps_hits(film)
-    for p in range(first, min(first + SAMPLED_PIXELS, len(rgb))):
+    for p in range(first, min(first + job_pixels(count), len(rgb))):
         row, col = p // width, p % width
         r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
         pixel_keys(noise.sampler, noise.seed, p, noise.count, wanted, keys)
@@ -699,7 +712,7 @@ def sampled_lanes(
     lanes, box, stack = shading_room.lanes, shading_room.box, shading_room.stack
     total, point, normal, error = lanes.total, lanes.p, lanes.n, lanes.error
     per = max(1, SAMPLED_LANES // count)  # whole pixels a batch holds
-    last = min(first + SAMPLED_PIXELS, len(rgb))
+    last = min(first + job_pixels(count), len(rgb))
     r_sum, g_sum, b_sum = 0.0, 0.0, 0.0
     p_first = first
     while p_first < last:  # batches of whole pixels, none across two rows (row_objects)
@@ -711,8 +724,7 @@ def sampled_lanes(
             for q in range(pixels):  # lane i = q·samples + j: sample k_first + j of pixel p
                 pixel_keys(noise.sampler, noise.seed, p_first + q, count, wanted, keys[q])
             if noise.sampler == SOBOL:  # a dimension at a time, for the whole batch
-                sobol_numbers(k_first, samples, pixels, noise.table, wanted, keys, numbers,
-                              columns, sample_room.cells, sample_room.seeds)  # fmt: skip
+                sobol_numbers(k_first, samples, pixels, noise.table, wanted, sample_room)
             else:
                 for q in range(pixels):
                     for j in range(samples):
@@ -722,9 +734,9 @@ def sampled_lanes(
                                        reads, keys[q], u)  # fmt: skip
                         for d in reads:
                             columns[d, i] = u[d]
+            row = p_first // width  # of every pixel of the batch
             for q in range(pixels):
-                p = p_first + q
-                row, col = p // width, p % width
+                col = p_first - row * width + q
                 for j in range(samples):
                     i = q * samples + j
                     xy[0, i], xy[1, i] = point_in_pixel(row, col, columns[noise.pixel, i],
