@@ -20,7 +20,7 @@ from raykit.engine.compiled.mirrors import glossy_reflect, reflect
 from raykit.engine.compiled.sampling import point_on_parallelogram
 from raykit.engine.compiled.shadows import point_light_reach
 from raykit.engine.compiled.spheres import hit_sphere
-from raykit.engine.compiled.surfaces import start, surface_points
+from raykit.engine.compiled.surfaces import hit_object, point_and_normal, start, surface_points
 
 
 @njit(**ONE_RAY)
@@ -151,25 +151,19 @@ def surface_lanes(arrays, shading, rays, best, best_t, colors, count, lanes, box
     ``colors (3, N)``): its surface point, normal and rounding bound (:func:`surface_points`),
     k and the ambient term (in an unlit scene, the flat colour), into ``lanes``; and the box
     of the points into ``box (2, 3)`` (empty: lower > upper). Returns the largest rounding
-    bound."""
+    bound. What each hit reads of its object (:func:`hit_object`) is read one ray at a time,
+    into room that :func:`light_lanes` writes before it reads (``lanes.s`` and ``lanes.t``);
+    then the points and normals of all the rays are made in one loop the compiler turns into
+    vector instructions (:func:`point_and_normal`)."""
     p, n, error_of, k, total = lanes.p, lanes.n, lanes.error, lanes.k, lanes.total
-    box[0, :], box[1, :] = np.inf, -np.inf
-    largest = 0.0
+    held, radius = lanes.s, lanes.t
     ambient = shading.ambient
     for i in range(count):
         hit = best[i]
-        if hit < 0:  # zeros, not whatever the room held: arithmetic on them is thrown away
-            for row in range(3):
-                p[row, i], n[row, i] = 0.0, 0.0
-            error_of[i] = 0.0
+        if hit < 0:  # numbers for the arithmetic below, which is thrown away
+            held[0, i], held[1, i], held[2, i], radius[i] = 0.0, 0.0, 0.0, 0.0
             continue
-        p0, p1, p2, n0, n1, n2, error = surface_points(
-            arrays, shading, rays[0, i], rays[1, i], rays[2, i], rays[3, i], rays[4, i],
-            rays[5, i], hit, best_t[i],
-        )  # fmt: skip
-        p[0, i], p[1, i], p[2, i] = p0, p1, p2
-        n[0, i], n[1, i], n[2, i] = n0, n1, n2
-        error_of[i] = error
+        held[0, i], held[1, i], held[2, i], radius[i] = hit_object(arrays, shading, hit)
         if shading.has_diffuse[hit]:
             k0, k1, k2 = shading.diffuse[hit, 0], shading.diffuse[hit, 1], shading.diffuse[hit, 2]
         else:
@@ -182,10 +176,25 @@ def surface_lanes(arrays, shading, rays, best, best_t, colors, count, lanes, box
         else:  # an unlit scene's surface colour is its flat colour
             total[0, i], total[1, i] = colors[0, i], colors[1, i]
             total[2, i] = colors[2, i]
-        box[0, 0], box[1, 0] = min(box[0, 0], p0), max(box[1, 0], p0)
-        box[0, 1], box[1, 1] = min(box[0, 1], p1), max(box[1, 1], p1)
-        box[0, 2], box[1, 2] = min(box[0, 2], p2), max(box[1, 2], p2)
-        largest = max(largest, error)
+    for i in range(count):
+        p[0, i], p[1, i], p[2, i], n[0, i], n[1, i], n[2, i], error_of[i] = point_and_normal(
+            rays[0, i], rays[1, i], rays[2, i], rays[3, i], rays[4, i], rays[5, i], best_t[i],
+            held[0, i], held[1, i], held[2, i], radius[i],
+        )  # fmt: skip
+    low0, low1, low2, high0, high1, high2 = np.inf, np.inf, np.inf, -np.inf, -np.inf, -np.inf
+    largest = 0.0
+    for i in range(count):  # the box in numbers of its own: in box, each step waited on a store
+        if best[i] < 0:  # zeros, not whatever the room held: arithmetic on them is thrown away
+            for row in range(3):
+                p[row, i], n[row, i] = 0.0, 0.0
+            error_of[i] = 0.0
+            continue
+        low0, high0 = min(low0, p[0, i]), max(high0, p[0, i])
+        low1, high1 = min(low1, p[1, i]), max(high1, p[1, i])
+        low2, high2 = min(low2, p[2, i]), max(high2, p[2, i])
+        largest = max(largest, error_of[i])
+    box[0, 0], box[0, 1], box[0, 2] = low0, low1, low2
+    box[1, 0], box[1, 1], box[1, 2] = high0, high1, high2
     return largest
 
 

@@ -148,6 +148,12 @@ TWINS = (
         " dimension is its index mirrored)",
     ),
     Twin("surfaces.surface_points", "raykit.surfaces.surface_points"),
+    Twin(
+        "surfaces.point_and_normal",
+        "raykit.surfaces.surface_points",
+        "its object's numbers given (hit_object), with no branch: the step of surface_lanes's"
+        " vector loop",
+    ),
     Twin("surfaces.start", "raykit.surfaces.SurfacePoints.start"),
     Twin(
         "shadows.point_light_reach",
@@ -284,6 +290,7 @@ OWN = {
     "jobs.centre_rays": "whether a job casts a ray of its own through each pixel centre",
     "jobs.background_job": "a tile no object is seen in: the background, with no ray",
     "render.every_object": "a distributed render's shadow lists: every object, as the reference",
+    "surfaces.hit_object": "what a hit's surface point reads of its object, read one ray at a time",
     "tiles.lanes_under": "the lanes of a packet an object's screen rectangle can hold",
     "tiles.farthest_hit": "where a packet stops: the farthest of its lanes' hits",
     "tiles.take_nearer": "a packet's lanes take the hits lane_offer chose, an array at a time",
